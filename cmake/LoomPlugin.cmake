@@ -1,0 +1,34 @@
+# loom_add_plugin(NAME SOURCES a.cpp b.cpp ... [LIBRARIES targets...])
+#
+# Builds libloom_NAME.so into LOOM_PLUGIN_OUTPUT_DIR with hidden visibility,
+# and writes its manifest libloom_NAME.loom.json beside it by asking the
+# `loom` runner to load it: the manifest lets a run load only the plugins its
+# graph uses. Works in the Loom tree and, after find_package(loom), outside it.
+function(loom_add_plugin name)
+  cmake_parse_arguments(ARG "NO_INSTALL" "" "SOURCES;LIBRARIES" ${ARGN})
+  set(target loom_${name})
+  add_library(${target} MODULE ${ARG_SOURCES})
+  target_link_libraries(${target} PRIVATE loom::loom ${ARG_LIBRARIES})
+  if(NOT LOOM_PLUGIN_OUTPUT_DIR)
+    set(LOOM_PLUGIN_OUTPUT_DIR "${CMAKE_BINARY_DIR}/lib/loom/plugins")
+  endif()
+  set_target_properties(${target} PROPERTIES
+    PREFIX "lib"
+    CXX_VISIBILITY_PRESET hidden
+    VISIBILITY_INLINES_HIDDEN ON
+    LIBRARY_OUTPUT_DIRECTORY "${LOOM_PLUGIN_OUTPUT_DIR}"
+    BUILD_RPATH "$ORIGIN/../.."
+    INSTALL_RPATH "$ORIGIN/../..")
+  if(TARGET loom-runner)
+    add_dependencies(${target} loom-runner)
+  endif()
+  set(manifest "${LOOM_PLUGIN_OUTPUT_DIR}/libloom_${name}.loom.json")
+  add_custom_command(TARGET ${target} POST_BUILD
+    COMMAND loom::runner plugins --manifest "$<TARGET_FILE:${target}>" --output "${manifest}"
+    COMMENT "Writing the manifest of plugin ${name}"
+    VERBATIM)
+  if(NOT ARG_NO_INSTALL)
+    install(TARGETS ${target} LIBRARY DESTINATION lib/loom/plugins)
+    install(FILES "${manifest}" DESTINATION lib/loom/plugins)
+  endif()
+endfunction()

@@ -1,0 +1,252 @@
+#include "loom/builtin_types.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "loom/point_pairs.hpp"
+
+namespace loom {
+
+std::string describe_json(const json& j) {
+  std::string text = j.dump();
+  if (text.size() > 60) text = text.substr(0, 57) + "...";
+  const char* kind = j.is_null()              ? "null"
+                     : j.is_boolean()         ? "a boolean"
+                     : j.is_number_integer()  ? "an integer"
+                     : j.is_number()          ? "a number"
+                     : j.is_string()          ? "a string"
+                     : j.is_array()           ? "an array"
+                                              : "an object";
+  return text + " (" + kind + ")";
+}
+
+namespace {
+
+[[noreturn]] void expected(const char* what, const json& j) {
+  throw Error(std::string("expected ") + what + ", got " + describe_json(j));
+}
+
+double number(const json& j, const char* what) {
+  if (!j.is_number()) expected(what, j);
+  double v = j.get<double>();
+  if (!std::isfinite(v)) expected(what, j);
+  return v;
+}
+
+int integer(const json& j, const char* what) {
+  if (j.is_number_integer()) {
+    auto v = j.get<long long>();
+    if (v >= -2147483647LL && v <= 2147483647LL) return static_cast<int>(v);
+  } else if (j.is_number_float()) {
+    double d = j.get<double>();
+    if (std::floor(d) == d && std::abs(d) < 2147483647.0) return static_cast<int>(d);
+  }
+  expected(what, j);
+}
+
+template <class Vec, class Read>
+Vec fixed_vector(const json& j, const char* what, Read read) {
+  if (!j.is_array() || j.size() != static_cast<std::size_t>(Vec::RowsAtCompileTime))
+    expected(what, j);
+  Vec v;
+  for (int i = 0; i < Vec::RowsAtCompileTime; ++i) v[i] = read(j[i], what);
+  return v;
+}
+
+template <class Vec>
+json vector_json(const Vec& v) {
+  json a = json::array();
+  for (int i = 0; i < v.size(); ++i) a.push_back(v[i]);
+  return a;
+}
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+bool TypeTraits<bool>::from_json(const json& j) {
+  if (!j.is_boolean()) expected("true or false", j);
+  return j.get<bool>();
+}
+json TypeTraits<bool>::to_json(const bool& v) { return v; }
+std::string TypeTraits<bool>::summary(const bool& v) { return v ? "true" : "false"; }
+
+int TypeTraits<int>::from_json(const json& j) { return integer(j, "an integer"); }
+json TypeTraits<int>::to_json(const int& v) { return v; }
+std::string TypeTraits<int>::summary(const int& v) { return std::to_string(v); }
+
+double TypeTraits<double>::from_json(const json& j) { return number(j, "a number"); }
+json TypeTraits<double>::to_json(const double& v) { return v; }
+std::string TypeTraits<double>::summary(const double& v) { return fmt(v); }
+
+std::string TypeTraits<std::string>::from_json(const json& j) {
+  if (!j.is_string()) expected("a string", j);
+  return j.get<std::string>();
+}
+json TypeTraits<std::string>::to_json(const std::string& v) { return v; }
+std::string TypeTraits<std::string>::summary(const std::string& v) { return json(v).dump(); }
+
+Vec2i TypeTraits<Vec2i>::from_json(const json& j) {
+  return fixed_vector<Vec2i>(j, "[x, y] with two integers", integer);
+}
+json TypeTraits<Vec2i>::to_json(const Vec2i& v) { return vector_json(v); }
+std::string TypeTraits<Vec2i>::summary(const Vec2i& v) { return to_json(v).dump(); }
+
+Vec2 TypeTraits<Vec2>::from_json(const json& j) {
+  return fixed_vector<Vec2>(j, "[x, y] with two numbers", number);
+}
+json TypeTraits<Vec2>::to_json(const Vec2& v) { return vector_json(v); }
+std::string TypeTraits<Vec2>::summary(const Vec2& v) { return to_json(v).dump(); }
+
+Vec3i TypeTraits<Vec3i>::from_json(const json& j) {
+  return fixed_vector<Vec3i>(j, "[x, y, z] with three integers", integer);
+}
+json TypeTraits<Vec3i>::to_json(const Vec3i& v) { return vector_json(v); }
+std::string TypeTraits<Vec3i>::summary(const Vec3i& v) { return to_json(v).dump(); }
+
+Vec3 TypeTraits<Vec3>::from_json(const json& j) {
+  return fixed_vector<Vec3>(j, "[x, y, z] with three numbers", number);
+}
+json TypeTraits<Vec3>::to_json(const Vec3& v) { return vector_json(v); }
+std::string TypeTraits<Vec3>::summary(const Vec3& v) { return to_json(v).dump(); }
+
+Color TypeTraits<Color>::from_json(const json& j) {
+  const char* what = "a color: [r, g, b], [r, g, b, a] or \"#rrggbb[aa]\"";
+  Color c;
+  if (j.is_string()) {
+    std::string s = j.get<std::string>();
+    if ((s.size() != 7 && s.size() != 9) || s[0] != '#') expected(what, j);
+    for (std::size_t k = 0; k + 1 < s.size(); k += 2) {
+      unsigned v = 0;
+      if (std::sscanf(s.c_str() + 1 + k, "%2x", &v) != 1) expected(what, j);
+      c.rgba[static_cast<int>(k / 2)] = v / 255.0;
+    }
+    return c;
+  }
+  if (!j.is_array() || (j.size() != 3 && j.size() != 4)) expected(what, j);
+  for (std::size_t k = 0; k < j.size(); ++k) c.rgba[static_cast<int>(k)] = number(j[k], what);
+  return c;
+}
+json TypeTraits<Color>::to_json(const Color& v) { return vector_json(v.rgba); }
+std::string TypeTraits<Color>::summary(const Color& v) { return to_json(v).dump(); }
+
+namespace {
+template <class T, class Read>
+std::vector<T> list(const json& j, const char* what, Read read) {
+  if (!j.is_array()) expected(what, j);
+  std::vector<T> out;
+  out.reserve(j.size());
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    try {
+      out.push_back(read(j[i]));
+    } catch (const Error& e) {
+      throw Error("item " + std::to_string(i) + ": " + e.what());
+    }
+  }
+  return out;
+}
+template <class T>
+std::string list_summary(const std::vector<T>& v, const char* name) {
+  return std::string(name) + " of " + std::to_string(v.size());
+}
+}  // namespace
+
+std::vector<int> TypeTraits<std::vector<int>>::from_json(const json& j) {
+  return list<int>(j, "a list of integers", [](const json& x) { return integer(x, "an integer"); });
+}
+json TypeTraits<std::vector<int>>::to_json(const std::vector<int>& v) { return v; }
+std::string TypeTraits<std::vector<int>>::summary(const std::vector<int>& v) {
+  return list_summary(v, "IntList");
+}
+
+std::vector<double> TypeTraits<std::vector<double>>::from_json(const json& j) {
+  return list<double>(j, "a list of numbers", [](const json& x) { return number(x, "a number"); });
+}
+json TypeTraits<std::vector<double>>::to_json(const std::vector<double>& v) { return v; }
+std::string TypeTraits<std::vector<double>>::summary(const std::vector<double>& v) {
+  return list_summary(v, "FloatList");
+}
+
+std::vector<std::string> TypeTraits<std::vector<std::string>>::from_json(const json& j) {
+  return list<std::string>(j, "a list of strings",
+                           [](const json& x) { return TypeTraits<std::string>::from_json(x); });
+}
+json TypeTraits<std::vector<std::string>>::to_json(const std::vector<std::string>& v) { return v; }
+std::string TypeTraits<std::vector<std::string>>::summary(const std::vector<std::string>& v) {
+  return list_summary(v, "StringList");
+}
+
+std::vector<Vec2> TypeTraits<std::vector<Vec2>>::from_json(const json& j) {
+  return list<Vec2>(j, "a list of [x, y] points", TypeTraits<Vec2>::from_json);
+}
+json TypeTraits<std::vector<Vec2>>::to_json(const std::vector<Vec2>& v) {
+  json a = json::array();
+  for (const auto& p : v) a.push_back(vector_json(p));
+  return a;
+}
+std::string TypeTraits<std::vector<Vec2>>::summary(const std::vector<Vec2>& v) {
+  return list_summary(v, "Vec2List");
+}
+
+std::vector<Vec3> TypeTraits<std::vector<Vec3>>::from_json(const json& j) {
+  return list<Vec3>(j, "a list of [x, y, z] points", TypeTraits<Vec3>::from_json);
+}
+json TypeTraits<std::vector<Vec3>>::to_json(const std::vector<Vec3>& v) {
+  json a = json::array();
+  for (const auto& p : v) a.push_back(vector_json(p));
+  return a;
+}
+std::string TypeTraits<std::vector<Vec3>>::summary(const std::vector<Vec3>& v) {
+  return list_summary(v, "Vec3List");
+}
+
+json TypeTraits<json>::from_json(const json& j) { return j; }
+json TypeTraits<json>::to_json(const json& v) { return v; }
+std::string TypeTraits<json>::summary(const json& v) {
+  std::string s = v.dump();
+  return s.size() > 80 ? s.substr(0, 77) + "..." : s;
+}
+
+const TypeInfo& enum_type() {
+  static const TypeInfo& info =
+      register_alias("Enum", "one of a fixed set of strings", type_of<std::string>());
+  return info;
+}
+
+PointPairs TypeTraits<PointPairs>::from_json(const json& j) {
+  const char* what = "point pairs: [[px, py, qx, qy], ...] or [{\"p\": [x, y], \"q\": [x, y]}, ...]";
+  if (!j.is_array()) expected(what, j);
+  PointPairs pairs;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const json& e = j[i];
+    try {
+      if (e.is_object()) {
+        if (!e.contains("p") || !e.contains("q")) expected("{\"p\": [x, y], \"q\": [x, y]}", e);
+        pairs.p.push_back(TypeTraits<Vec2>::from_json(e["p"]));
+        pairs.q.push_back(TypeTraits<Vec2>::from_json(e["q"]));
+      } else {
+        if (!e.is_array() || e.size() != 4) expected("[px, py, qx, qy]", e);
+        pairs.p.emplace_back(number(e[0], "a number"), number(e[1], "a number"));
+        pairs.q.emplace_back(number(e[2], "a number"), number(e[3], "a number"));
+      }
+    } catch (const Error& err) {
+      throw Error("pair " + std::to_string(i) + ": " + err.what());
+    }
+  }
+  return pairs;
+}
+json TypeTraits<PointPairs>::to_json(const PointPairs& v) {
+  json a = json::array();
+  for (std::size_t i = 0; i < v.size(); ++i) a.push_back({v.p[i].x(), v.p[i].y(), v.q[i].x(), v.q[i].y()});
+  return a;
+}
+std::string TypeTraits<PointPairs>::summary(const PointPairs& v) {
+  return "PointPairs of " + std::to_string(v.size());
+}
+
+}  // namespace loom

@@ -1,0 +1,330 @@
+#include "loom/graph.hpp"
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "literal.hpp"
+
+namespace loom {
+
+namespace detail {
+
+std::string pointer_escape(const std::string& token) {
+  std::string out;
+  for (char c : token) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
+}
+
+namespace {
+void check_range(const InputSpec& spec, const json& j) {
+  if (j.is_number()) {
+    double v = j.get<double>();
+    if ((spec.min && v < *spec.min) || (spec.max && v > *spec.max)) {
+      std::ostringstream s;
+      s << "value " << j.dump() << " is out of range: expected ";
+      if (spec.min && spec.max) s << "between " << *spec.min << " and " << *spec.max;
+      else if (spec.min) s << "at least " << *spec.min;
+      else s << "at most " << *spec.max;
+      throw Error(s.str());
+    }
+  } else if (j.is_array()) {
+    for (const json& e : j) check_range(spec, e);
+  }
+}
+}  // namespace
+
+Value literal_value(const InputSpec& spec, const json& literal) {
+  if (!spec.type->literal())
+    throw Error(spec.type->name + " values cannot be written in a graph file: link this input " +
+                "to a node output, e.g. {\"from\": \"ID.OUTPUT\"}");
+  Value v(spec.type, spec.type->from_json(literal));
+  if (!spec.choices.empty()) {
+    const auto& s = v.as<std::string>();
+    bool found = false;
+    for (const auto& c : spec.choices) found = found || c == s;
+    if (!found) {
+      std::string list;
+      for (const auto& c : spec.choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+      throw Error("\"" + s + "\" is not one of the choices: " + list);
+    }
+  }
+  if (spec.min || spec.max) check_range(spec, literal);
+  return v;
+}
+
+}  // namespace detail
+
+namespace {
+
+std::string issues_text(const std::string& file, const std::vector<GraphIssue>& issues) {
+  std::string text;
+  for (const auto& i : issues) {
+    if (!text.empty()) text += "\n";
+    text += file + ": " + (i.pointer.empty() ? "" : i.pointer + ": ") + i.message;
+  }
+  return text;
+}
+
+std::string node_pointer(const std::string& id) { return "/nodes/" + detail::pointer_escape(id); }
+std::string input_pointer(const std::string& id, const std::string& input) {
+  return node_pointer(id) + "/inputs/" + detail::pointer_escape(input);
+}
+
+}  // namespace
+
+GraphError::GraphError(std::string file, std::vector<GraphIssue> issues)
+    : Error(issues_text(file, issues)), file_(std::move(file)), issues_(std::move(issues)) {}
+
+Graph parse_graph(const json& doc, const std::filesystem::path& file) {
+  Graph g;
+  g.file = file;
+  std::vector<GraphIssue> issues;
+  auto fail = [&](std::string pointer, std::string message) {
+    issues.push_back({std::move(pointer), std::move(message)});
+  };
+  const std::string name = file.empty() ? "<graph>" : file.string();
+
+  if (!doc.is_object()) throw GraphError(name, {{"", "expected a JSON object, got " + describe_json(doc)}});
+  for (const auto& [key, value] : doc.items())
+    if (key != "loom" && key != "seed" && key != "nodes" && key != "description")
+      fail("/" + detail::pointer_escape(key),
+           "unknown key (expected \"loom\", \"seed\", \"nodes\" or \"description\")");
+  if (!doc.contains("loom"))
+    fail("/loom", "missing: a graph file starts with {\"loom\": 1, ...}");
+  else if (!doc["loom"].is_number_integer() || doc["loom"].get<long long>() != kGraphFormatVersion)
+    fail("/loom", "expected format version 1, got " + describe_json(doc["loom"]) +
+                      (doc["loom"].is_number_integer() && doc["loom"].get<long long>() > 1
+                           ? ": this file is from a newer Loom"
+                           : ""));
+  if (doc.contains("seed")) {
+    if (!doc["seed"].is_number_unsigned())
+      fail("/seed", "expected a non-negative integer, got " + describe_json(doc["seed"]));
+    else
+      g.seed = doc["seed"].get<std::uint64_t>();
+  }
+  if (!doc.contains("nodes") || !doc["nodes"].is_object()) {
+    fail("/nodes", doc.contains("nodes") ? "expected an object of nodes by id, got " +
+                                               describe_json(doc["nodes"])
+                                         : "missing: the nodes, as {\"ID\": {\"type\": ...}}");
+    throw GraphError(name, issues);
+  }
+
+  for (const auto& [id, node] : doc["nodes"].items()) {
+    const std::string np = node_pointer(id);
+    if (id.empty() || id.find('.') != std::string::npos) {
+      fail(np, "node ids must be non-empty and contain no '.' (links are written \"ID.OUTPUT\")");
+      continue;
+    }
+    if (!node.is_object()) {
+      fail(np, "expected a node object {\"type\": ..., \"inputs\": {...}}, got " + describe_json(node));
+      continue;
+    }
+    GraphNode n;
+    n.id = id;
+    for (const auto& [key, value] : node.items())
+      if (key != "type" && key != "inputs" && key != "ui")
+        fail(np + "/" + detail::pointer_escape(key),
+             "unknown key (expected \"type\", \"inputs\" or \"ui\")");
+    if (!node.contains("type") || !node["type"].is_string())
+      fail(np + "/type", node.contains("type") ? "expected a node type name, got " + describe_json(node["type"])
+                                               : "missing: every node needs a \"type\"");
+    else
+      n.type = node["type"].get<std::string>();
+    if (node.contains("ui")) n.ui = node["ui"];
+    if (node.contains("inputs")) {
+      if (!node["inputs"].is_object()) {
+        fail(np + "/inputs", "expected an object of inputs by name, got " + describe_json(node["inputs"]));
+      } else {
+        for (const auto& [input, value] : node["inputs"].items()) {
+          InputBinding b;
+          if (value.is_object() && value.contains("from")) {
+            const std::string ip = input_pointer(id, input) + "/from";
+            if (value.size() != 1) fail(input_pointer(id, input), "a link has only the key \"from\"");
+            const json& from = value["from"];
+            std::string text = from.is_string() ? from.get<std::string>() : "";
+            auto dot = text.find('.');
+            if (dot == std::string::npos || dot == 0 || dot + 1 == text.size()) {
+              fail(ip, "expected \"ID.OUTPUT\", got " + describe_json(from));
+              continue;
+            }
+            b.link = Link{text.substr(0, dot), text.substr(dot + 1)};
+          } else {
+            b.literal = value;
+          }
+          n.inputs.emplace(input, std::move(b));
+        }
+      }
+    }
+    g.nodes.emplace(id, std::move(n));
+  }
+  if (!issues.empty()) throw GraphError(name, issues);
+  return g;
+}
+
+Graph load_graph_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw GraphError(file.string(), {{"", "cannot open the file"}});
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  json doc;
+  try {
+    doc = json::parse(buffer.str());
+  } catch (const json::parse_error& e) {
+    std::string what = e.what();
+    auto p = what.find("parse error");
+    throw GraphError(file.string(), {{"", "not valid JSON: " + (p == std::string::npos ? what : what.substr(p))}});
+  }
+  return parse_graph(doc, std::filesystem::absolute(file));
+}
+
+void validate_graph(const Graph& g, const Registry& registry, const std::string& searched) {
+  std::vector<GraphIssue> issues;
+  auto fail = [&](std::string pointer, std::string message) {
+    issues.push_back({std::move(pointer), std::move(message)});
+  };
+  const std::string name = g.file.empty() ? "<graph>" : g.file.string();
+
+  for (const auto& [id, n] : g.nodes) {
+    const NodeType* t = registry.find(n.type);
+    if (!t) {
+      fail(node_pointer(id) + "/type",
+           "unknown node type \"" + n.type + "\"" + (searched.empty() ? "" : " (" + searched + ")"));
+      continue;
+    }
+    for (const auto& [input, b] : n.inputs) {
+      const InputSpec* spec = t->spec.find_input(input);
+      const std::string ip = input_pointer(id, input);
+      if (!spec) {
+        std::string known;
+        for (const auto& s : t->spec.inputs) known += (known.empty() ? "" : ", ") + s.name;
+        fail(ip, "unknown input \"" + input + "\" of " + n.type +
+                     (known.empty() ? " (it has no inputs)" : " (its inputs: " + known + ")"));
+        continue;
+      }
+      if (b.link) {
+        auto up = g.nodes.find(b.link->node);
+        if (up == g.nodes.end()) {
+          fail(ip + "/from", "links to unknown node \"" + b.link->node + "\"");
+          continue;
+        }
+        const NodeType* ut = registry.find(up->second.type);
+        if (!ut) continue;  // reported at that node
+        int o = ut->spec.output_index(b.link->output);
+        if (o < 0) {
+          std::string known;
+          for (const auto& s : ut->spec.outputs) known += (known.empty() ? "" : ", ") + s.name;
+          fail(ip + "/from", "node \"" + b.link->node + "\" (" + ut->spec.name + ") has no output \"" +
+                                 b.link->output + "\" (its outputs: " + (known.empty() ? "none" : known) + ")");
+          continue;
+        }
+        const TypeInfo* have = ut->spec.outputs[static_cast<std::size_t>(o)].type;
+        if (have->storage != spec->type->storage && have->name != "Any" && spec->type->name != "Any")
+          fail(ip + "/from", "type mismatch: " + b.link->node + "." + b.link->output + " is " +
+                                 have->name + " but input \"" + input + "\" expects " + spec->type->name);
+      } else {
+        try {
+          detail::literal_value(*spec, b.literal);
+        } catch (const Error& e) {
+          fail(ip, e.what());
+        }
+      }
+    }
+    for (const InputSpec& spec : t->spec.inputs)
+      if (spec.default_value.is_null() && !spec.optional && !n.inputs.count(spec.name))
+        fail(node_pointer(id) + "/inputs",
+             "missing required input \"" + spec.name + "\" (" + spec.type->name + ": " +
+                 spec.description + ")");
+  }
+
+  // Cycles: iterative DFS over links; report the link that closes each cycle.
+  enum Mark { unseen, active, done };
+  std::map<std::string, Mark> mark;
+  for (const auto& [root, unused] : g.nodes) {
+    if (mark[root] != unseen) continue;
+    struct Frame {
+      const GraphNode* node;
+      std::map<std::string, InputBinding>::const_iterator next;
+    };
+    std::vector<Frame> stack{{&g.nodes.at(root), g.nodes.at(root).inputs.begin()}};
+    mark[root] = active;
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      if (f.next == f.node->inputs.end()) {
+        mark[f.node->id] = done;
+        stack.pop_back();
+        continue;
+      }
+      const auto& [input, b] = *f.next++;
+      if (!b.link || !g.nodes.count(b.link->node)) continue;
+      Mark& m = mark[b.link->node];
+      if (m == active) {
+        std::string path = b.link->node;
+        bool on = false;
+        for (const Frame& s : stack) {
+          on = on || s.node->id == b.link->node;
+          if (on && s.node->id != b.link->node) path += " → " + s.node->id;
+        }
+        path += " → " + b.link->node;
+        fail(input_pointer(f.node->id, input) + "/from", "cycle: " + path);
+      } else if (m == unseen) {
+        m = active;
+        const GraphNode& up = g.nodes.at(b.link->node);
+        stack.push_back({&up, up.inputs.begin()});
+      }
+    }
+  }
+  if (!issues.empty()) throw GraphError(name, issues);
+}
+
+void set_input(Graph& g, const std::string& assignment) {
+  auto eq = assignment.find('=');
+  auto dot = assignment.find('.');
+  if (eq == std::string::npos || dot == std::string::npos || dot > eq)
+    throw GraphError("--set", {{"", "expected ID.INPUT=VALUE, got \"" + assignment + "\""}});
+  std::string id = assignment.substr(0, dot);
+  std::string input = assignment.substr(dot + 1, eq - dot - 1);
+  std::string text = assignment.substr(eq + 1);
+  auto it = g.nodes.find(id);
+  if (it == g.nodes.end())
+    throw GraphError(g.file.string(), {{node_pointer(id), "--set names unknown node \"" + id + "\""}});
+  json value = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (value.is_discarded()) value = text;  // plain words: a string
+  InputBinding b;
+  if (value.is_object() && value.contains("from") && value["from"].is_string()) {
+    std::string from = value["from"].get<std::string>();
+    auto d = from.find('.');
+    if (d == std::string::npos)
+      throw GraphError("--set", {{"", "expected {\"from\": \"ID.OUTPUT\"}, got " + text}});
+    b.link = Link{from.substr(0, d), from.substr(d + 1)};
+  } else {
+    b.literal = value;
+  }
+  it->second.inputs[input] = std::move(b);
+}
+
+json graph_to_json(const Graph& g) {
+  json nodes = json::object();
+  for (const auto& [id, n] : g.nodes) {
+    json inputs = json::object();
+    for (const auto& [name, b] : n.inputs)
+      inputs[name] = b.link ? json{{"from", b.link->node + "." + b.link->output}} : b.literal;
+    json node = {{"type", n.type}};
+    if (!inputs.empty()) node["inputs"] = inputs;
+    if (!n.ui.is_null()) node["ui"] = n.ui;
+    nodes[id] = node;
+  }
+  return {{"loom", kGraphFormatVersion}, {"seed", g.seed}, {"nodes", nodes}};
+}
+
+std::vector<std::string> node_types_used(const Graph& g) {
+  std::set<std::string> types;
+  for (const auto& [id, n] : g.nodes) types.insert(n.type);
+  return {types.begin(), types.end()};
+}
+
+}  // namespace loom

@@ -1,0 +1,183 @@
+#include "loom/plugin_loader.hpp"
+
+#include <cstdlib>
+#include <fstream>
+
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include "loom/plugin.hpp"
+
+namespace loom {
+
+namespace fs = std::filesystem;
+
+int engine_abi_version() { return LOOM_ABI_VERSION; }
+
+namespace {
+
+const std::string kPrefix = "libloom_";
+const std::string kSuffix = ".so";
+
+bool is_plugin_file(const fs::path& p) {
+  std::string f = p.filename().string();
+  return f.size() > kPrefix.size() + kSuffix.size() && f.compare(0, kPrefix.size(), kPrefix) == 0 &&
+         f.compare(f.size() - kSuffix.size(), kSuffix.size(), kSuffix) == 0;
+}
+
+fs::path manifest_path(const fs::path& library) {
+  fs::path m = library;
+  return m.replace_extension(".loom.json");
+}
+
+const LoomPluginEntry* open_entry(const fs::path& library) {
+  void* handle = ::dlopen(library.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle)
+    throw PluginLoadError("cannot load plugin library " + library.string() + ": " + ::dlerror());
+  auto entry_fn = reinterpret_cast<const LoomPluginEntry* (*)()>(::dlsym(handle, "loom_plugin"));
+  if (!entry_fn)
+    throw PluginLoadError(library.string() +
+                          " is not a Loom plugin: it has no loom_plugin entry point (LOOM_PLUGIN)");
+  const LoomPluginEntry* entry = entry_fn();
+  if (entry->abi_version != LOOM_ABI_VERSION)
+    throw PluginLoadError("plugin \"" + std::string(entry->name) + "\" (" + library.string() +
+                          ") was built for Loom plugin ABI " + std::to_string(entry->abi_version) +
+                          ", but this Loom has ABI " + std::to_string(LOOM_ABI_VERSION) +
+                          ": rebuild the plugin against this Loom's SDK (find_package(loom) "
+                          "from the same install as this loom)");
+  return entry;
+}
+
+}  // namespace
+
+PluginLoader::PluginLoader(Registry& registry) : PluginLoader(registry, default_search_path()) {}
+
+PluginLoader::PluginLoader(Registry& registry, std::vector<fs::path> search_path)
+    : registry_(registry), search_path_(std::move(search_path)) {
+  scan();
+}
+
+std::vector<fs::path> PluginLoader::default_search_path() {
+  std::vector<fs::path> path;
+  std::error_code ec;
+  fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) path.push_back((exe.parent_path() / ".." / "lib" / "loom" / "plugins").lexically_normal());
+  if (const char* env = std::getenv("LOOM_PLUGIN_PATH")) {
+    std::string s = env;
+    std::size_t start = 0;
+    while (start <= s.size()) {
+      std::size_t end = s.find(':', start);
+      if (end == std::string::npos) end = s.size();
+      if (end > start) path.emplace_back(s.substr(start, end - start));
+      start = end + 1;
+    }
+  }
+  return path;
+}
+
+void PluginLoader::scan() {
+  for (const fs::path& dir : search_path_) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) continue;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+      if (is_plugin_file(e.path())) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const fs::path& lib : files) {
+      PluginInfo info;
+      info.library = lib;
+      info.name = lib.stem().string().substr(kPrefix.size());
+      std::ifstream in(manifest_path(lib));
+      if (in) {
+        json m = json::parse(in, nullptr, false);
+        if (!m.is_discarded() && m.is_object()) {
+          info.name = m.value("plugin", info.name);
+          info.description = m.value("description", "");
+          if (m.contains("nodes") && m["nodes"].is_array())
+            for (const auto& n : m["nodes"])
+              if (n.is_string()) info.node_types.push_back(n.get<std::string>());
+        }
+      }
+      bool duplicate = false;  // the first folder on the path wins
+      for (const auto& p : plugins_) duplicate = duplicate || p.name == info.name;
+      if (!duplicate) plugins_.push_back(std::move(info));
+    }
+  }
+}
+
+void PluginLoader::load(PluginInfo& info) {
+  if (info.loaded) return;
+  const LoomPluginEntry* entry = open_entry(info.library);
+  Registry staged;  // register into a copy first: a failing plugin adds nothing
+  entry->register_nodes(staged);
+  info.node_types.clear();
+  for (const NodeType* t : staged.all()) {
+    registry_.add(*t, entry->name);
+    info.node_types.push_back(t->spec.name);
+  }
+  info.name = entry->name;
+  info.description = entry->description;
+  info.loaded = true;
+  load_order_.push_back(info.name);
+}
+
+void PluginLoader::load_for(const std::vector<std::string>& node_types) {
+  bool unknown = false;
+  for (const std::string& type : node_types) {
+    if (registry_.find(type)) continue;
+    PluginInfo* provider = nullptr;
+    for (auto& p : plugins_)
+      for (const auto& t : p.node_types)
+        if (t == type && !provider) provider = &p;
+    if (provider) load(*provider);
+    else unknown = true;
+  }
+  if (unknown)  // a plugin without a manifest may provide it
+    for (auto& p : plugins_)
+      if (p.node_types.empty()) load(p);
+}
+
+void PluginLoader::load_all() {
+  for (auto& p : plugins_) load(p);
+}
+
+void PluginLoader::load_library(const fs::path& library) {
+  for (auto& p : plugins_)
+    if (fs::equivalent(p.library, library)) return load(p);
+  PluginInfo info;
+  info.library = library;
+  plugins_.push_back(info);
+  load(plugins_.back());
+}
+
+std::vector<std::string> PluginLoader::loaded_names() const { return load_order_; }
+
+std::string PluginLoader::searched_description() const {
+  std::string text = "searched plugins: ";
+  bool first = true;
+  for (const auto& p : plugins_) {
+    text += (first ? "" : ", ") + p.name;
+    first = false;
+  }
+  if (first) text += "none found";
+  text += "; plugin path: ";
+  first = true;
+  for (const auto& d : search_path_) {
+    text += (first ? "" : ":") + d.string();
+    first = false;
+  }
+  return text;
+}
+
+json PluginLoader::manifest_of(const fs::path& library, Registry& scratch) {
+  const LoomPluginEntry* entry = open_entry(library);
+  entry->register_nodes(scratch);
+  json nodes = json::array();
+  for (const NodeType* t : scratch.all()) nodes.push_back(t->spec.name);
+  return {{"plugin", entry->name},
+          {"description", entry->description},
+          {"abi", entry->abi_version},
+          {"nodes", nodes}};
+}
+
+}  // namespace loom

@@ -1,0 +1,86 @@
+// Graph files: parsing, validation against a registry, and writing back.
+//
+//   {"loom": 1, "seed": 7, "nodes": {
+//     "board": {"type": "Checkerboard", "inputs": {"size": [512, 512]}},
+//     "save":  {"type": "SaveImage", "inputs": {"image": {"from": "board.image"},
+//                                               "path": "board.png"}}}}
+//
+// Every error names the file, the JSON pointer and what was expected.
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "loom/registry.hpp"
+
+namespace loom {
+
+constexpr int kGraphFormatVersion = 1;
+
+struct Link {
+  std::string node;
+  std::string output;
+};
+
+struct InputBinding {
+  std::optional<Link> link;  // set: linked; unset: literal
+  json literal;
+};
+
+struct GraphNode {
+  std::string id;
+  std::string type;
+  std::map<std::string, InputBinding> inputs;
+  json ui;  // editor layout, kept as is
+};
+
+struct Graph {
+  std::filesystem::path file;  // for messages and relative input paths
+  std::uint64_t seed = 0;
+  std::map<std::string, GraphNode> nodes;  // by id, sorted
+
+  std::filesystem::path dir() const { return file.empty() ? std::filesystem::current_path()
+                                                            : file.parent_path(); }
+};
+
+struct GraphIssue {
+  std::string pointer;  // JSON pointer, e.g. /nodes/warp/inputs/mu
+  std::string message;
+};
+
+class LOOM_API GraphError : public Error {
+ public:
+  GraphError(std::string file, std::vector<GraphIssue> issues);
+  const std::vector<GraphIssue>& issues() const { return issues_; }
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+  std::vector<GraphIssue> issues_;
+};
+
+// Structure only (no registry): JSON syntax, the "loom" version, node shapes,
+// links written as "ID.OUTPUT". Throws GraphError.
+LOOM_API Graph parse_graph(const json& document, const std::filesystem::path& file);
+LOOM_API Graph load_graph_file(const std::filesystem::path& file);
+
+// Against the registry: unknown types, unknown inputs, links to unknown nodes
+// or outputs, type mismatches, missing required inputs, bad enum values,
+// out-of-range values, cycles. Throws GraphError listing every issue found.
+// `searched` names where node types were looked for, for unknown-type errors.
+LOOM_API void validate_graph(const Graph& graph, const Registry& registry,
+                             const std::string& searched = {});
+
+// Applies `--set ID.INPUT=JSON`; a value that is not valid JSON is taken as a
+// string. Throws GraphError for an unknown node.
+LOOM_API void set_input(Graph& graph, const std::string& assignment);
+
+LOOM_API json graph_to_json(const Graph& graph);
+
+// The node types a graph uses, for loading only the plugins it needs.
+LOOM_API std::vector<std::string> node_types_used(const Graph& graph);
+
+}  // namespace loom

@@ -1,0 +1,48 @@
+// Image: float32 pixels, 1 to 4 channels (gray, gray+alpha, RGB, RGBA, in that
+// order: RGB, not OpenCV's BGR), row-major, origin top-left, y down. Tagged
+// with its encoding so nothing is converted twice: LoadImage decodes sRGB to
+// linear by default or keeps the encoded values (image editing works on those,
+// as OpenCV and the course do); SaveImage encodes by the tag.
+//
+// Lives in libloom_types (OpenCV core) so graphs without images never load it.
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include "loom/value.hpp"
+
+namespace loom {
+
+enum class Encoding { linear, srgb };
+
+struct Image {
+  cv::Mat pixels;  // CV_32FC1..CV_32FC4
+  Encoding encoding = Encoding::linear;
+
+  Image() = default;
+  Image(cv::Mat m, Encoding e) : pixels(std::move(m)), encoding(e) {}
+
+  int width() const { return pixels.cols; }
+  int height() const { return pixels.rows; }
+  int channels() const { return pixels.channels(); }
+  bool empty() const { return pixels.empty(); }
+};
+
+// sRGB transfer functions (IEC 61966-2-1), per value; alpha is never encoded.
+LOOM_API float srgb_to_linear(float encoded);
+LOOM_API float linear_to_srgb(float linear);
+// Converts color channels (not alpha) of a copy to the requested encoding.
+LOOM_API Image with_encoding(const Image& image, Encoding target);
+
+// Throws loom::Error if any pixel is NaN or infinite ("what" names the image).
+LOOM_API void require_finite(const Image& image, const char* what);
+
+template <>
+struct TypeTraits<Image> {
+  static constexpr const char* name = "Image";
+  static constexpr const char* description =
+      "float32 pixels, 1-4 channels (RGB order), tagged linear or sRGB-encoded";
+  LOOM_API static std::string summary(const Image& image);
+};
+
+}  // namespace loom

@@ -1,0 +1,229 @@
+// What a node author writes against: the declaration (NodeSpec) and the three
+// objects a node's run function receives (Inputs, Outputs, Context).
+//
+//   struct Checkerboard {
+//     static constexpr const char* name = "Checkerboard";
+//     static void declare(loom::NodeSpec& s) {
+//       s.describe("A checkerboard image, for demos that need no files.")
+//        .input<loom::Vec2i>("size", {512, 512}, "width and height in pixels").range(1, 16384)
+//        .input<int>("cells", 8, "squares along the shorter side").range(1, 4096)
+//        .output<loom::Image>("image", "the checkerboard");
+//     }
+//     static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx);
+//   };
+//   LOOM_NODE(Checkerboard);   // in the node's own .cpp, see loom/plugin.hpp
+//
+// The declaration is data: the runner prints it, the editor draws widgets from
+// it and docs/nodes.md is generated from it. A node declares everything its
+// result depends on; the engine, not the node, decides what to run and reuse.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <random>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "loom/builtin_types.hpp"
+#include "loom/hash.hpp"
+#include "loom/value.hpp"
+
+namespace loom {
+
+enum class InputRole {
+  value,        // an ordinary parameter or link
+  input_file,   // a path read by the node: relative to the graph file's folder;
+                // its size and mtime enter the computation hash
+  output_file,  // a path written by the node: relative to the output folder
+};
+
+struct InputSpec {
+  std::string name;
+  std::string description;
+  const TypeInfo* type = nullptr;
+  json default_value;          // null: required (unless optional)
+  bool optional = false;       // may stay unset: Inputs::has() is false
+  bool lazy = false;           // fetched only when the node asks for it
+  std::optional<double> min, max;  // per component, for numeric types
+  std::vector<std::string> choices;  // for Enum
+  InputRole role = InputRole::value;
+};
+
+struct OutputSpec {
+  std::string name;
+  std::string description;
+  const TypeInfo* type = nullptr;
+};
+
+class Inputs;
+class Outputs;
+class Context;
+using RunFunction = void (*)(Inputs&, Outputs&, Context&);
+
+class LOOM_API NodeSpec {
+ public:
+  std::string name;
+  std::string description;
+  std::string plugin;  // set by the registry
+  int version = 1;     // bump when results change: it enters the cache hash
+  bool sink = false;   // has side effects (writes files); always runs, never cached
+  bool nondeterministic = false;  // never cached, nor is anything downstream
+  std::vector<InputSpec> inputs;
+  std::vector<OutputSpec> outputs;
+
+  NodeSpec& describe(std::string text);
+  NodeSpec& set_version(int v);
+  NodeSpec& set_sink();
+  NodeSpec& set_nondeterministic();
+
+  // A required input: it must be linked or given in the graph file.
+  template <class T>
+  NodeSpec& input(std::string input_name, std::string text) {
+    return add_input(input_name, text, &type_of<T>(), json());
+  }
+  // An input with a default value.
+  template <class T>
+  NodeSpec& input(std::string input_name, T default_value, std::string text) {
+    return add_input(input_name, text, &type_of<T>(), TypeTraits<T>::to_json(default_value));
+  }
+  NodeSpec& enum_input(std::string input_name, std::string default_choice,
+                       std::vector<std::string> choices, std::string text);
+  template <class T>
+  NodeSpec& output(std::string output_name, std::string text) {
+    outputs.push_back({std::move(output_name), std::move(text), &type_of<T>()});
+    return *this;
+  }
+
+  // Modifiers of the input declared last.
+  NodeSpec& range(double min, double max);
+  NodeSpec& at_least(double min);
+  NodeSpec& optional();
+  NodeSpec& lazy();
+  NodeSpec& input_file();
+  NodeSpec& output_file();
+
+  const InputSpec* find_input(std::string_view input_name) const;
+  int input_index(std::string_view input_name) const;   // -1 if absent
+  int output_index(std::string_view output_name) const;  // -1 if absent
+
+ private:
+  NodeSpec& add_input(std::string input_name, std::string text, const TypeInfo* type,
+                      json default_value);
+  InputSpec& last_input();
+};
+
+struct NodeType {
+  NodeSpec spec;
+  RunFunction run = nullptr;
+};
+
+// The engine's side of Inputs and Context; node authors never see it.
+class NodeHost {
+ public:
+  virtual ~NodeHost() = default;
+  virtual Value fetch_input(int index) = 0;  // evaluates a lazy input on demand
+  virtual bool input_set(int index) const = 0;
+  virtual void report_progress(double fraction, std::string_view label) = 0;
+  virtual void report(bool warning, std::string text) = 0;
+  virtual bool cancelled() const = 0;
+  virtual std::shared_ptr<void> scratch(std::uint64_t key,
+                                        const std::function<std::shared_ptr<void>()>& make) = 0;
+};
+
+class LOOM_API Inputs {
+ public:
+  Inputs(const NodeSpec& spec, NodeHost& host) : spec_(spec), host_(host) {}
+
+  // The value of an input; a lazy input is computed on this first request.
+  template <class T>
+  const T& get(std::string_view input_name) {
+    return value(input_name).as<T>();
+  }
+  // The shared pointer, to pass a value through without copying it.
+  template <class T>
+  std::shared_ptr<const T> share(std::string_view input_name) {
+    return value(input_name).shared<T>();
+  }
+  Value value(std::string_view input_name);
+  // False for an optional input left unset.
+  bool has(std::string_view input_name) const;
+
+ private:
+  int index(std::string_view input_name) const;
+  const NodeSpec& spec_;
+  NodeHost& host_;
+};
+
+class LOOM_API Outputs {
+ public:
+  explicit Outputs(const NodeSpec& spec) : spec_(spec), values_(spec.outputs.size()) {}
+
+  template <class T>
+  void set(std::string_view output_name, T value) {
+    set_value(output_name, Value::make<T>(std::move(value)));
+  }
+  template <class T>
+  void share(std::string_view output_name, std::shared_ptr<const T> value) {
+    set_value(output_name, Value::share<T>(std::move(value)));
+  }
+  void set_value(std::string_view output_name, Value value);
+
+  std::vector<Value>& values() { return values_; }
+
+ private:
+  const NodeSpec& spec_;
+  std::vector<Value> values_;
+};
+
+class LOOM_API Context {
+ public:
+  Context(NodeHost& host, std::string node_id, std::uint64_t seed,
+          std::filesystem::path graph_dir, std::filesystem::path output_dir)
+      : host_(host), node_id_(std::move(node_id)), seed_(seed), rng_(seed),
+        graph_dir_(std::move(graph_dir)), output_dir_(std::move(output_dir)) {}
+
+  const std::string& node_id() const { return node_id_; }
+
+  // Progress of long work: done out of total steps, with an optional label.
+  // Cheap to call often; the engine throttles what it shows.
+  void progress(double done, double total, std::string_view label = {});
+
+  // Cooperative cancellation: call in loops that run for more than ~10 ms.
+  bool cancelled() const { return host_.cancelled(); }
+  void check_cancelled() const {
+    if (host_.cancelled()) throw Cancelled();
+  }
+
+  // Seeded from the graph seed and the node id, never from thread order.
+  std::uint64_t seed() const { return seed_; }
+  std::mt19937_64& rng() { return rng_; }
+
+  void warn(std::string text) { host_.report(true, std::move(text)); }
+  void log(std::string text) { host_.report(false, std::move(text)); }
+
+  // State worth keeping across runs of this node in one session (e.g. a
+  // factorization), keyed by everything it depends on; make() builds it on a
+  // miss. A node keeps its four most recently used keys. Use one T per key.
+  template <class T, class Make>
+  std::shared_ptr<T> scratch(std::uint64_t key, Make make) {
+    return std::static_pointer_cast<T>(
+        host_.scratch(key, [&]() -> std::shared_ptr<void> { return make(); }));
+  }
+
+  const std::filesystem::path& graph_dir() const { return graph_dir_; }
+  const std::filesystem::path& output_dir() const { return output_dir_; }
+
+ private:
+  NodeHost& host_;
+  std::string node_id_;
+  std::uint64_t seed_;
+  std::mt19937_64 rng_;
+  std::filesystem::path graph_dir_, output_dir_;
+};
+
+}  // namespace loom

@@ -1,0 +1,37 @@
+// Discrete Laplacians as sparse weight matrices.
+//
+// Each returns W, #V by #V, W(i,j) = w_ij for each edge (i,j), zero diagonal.
+// The Laplacian is L = W - diag(W·1) (negative semi-definite when w_ij >= 0),
+// so δ_i = Σ_j w_ij (x_j - x_i). Solvers build the rows they need from W.
+//
+//   V  #V by 3 positions    F  #F by 3 triangles
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "loom/export.hpp"
+
+namespace loom::numerics {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+
+// w_ij = 1 for each edge (Tutte).
+LOOM_API SparseMatrix uniform_weights(const Eigen::MatrixX3i& F, int n);
+
+// w_ij = (cot α_ij + cot β_ij) / 2, the angles opposite edge (i,j) (Pinkall and
+// Polthier 1993). Negative on obtuse triangles. Degenerate (zero-area)
+// triangles contribute nothing instead of infinities.
+LOOM_API SparseMatrix cotangent_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
+
+// Cotangent weights of the intrinsic Delaunay triangulation (Bobenko and
+// Springborn 2007), mapped back onto the mesh's edges: nonnegative, so the
+// map they define does not fold. The robust choice.
+LOOM_API SparseMatrix intrinsic_delaunay_cotangent_weights(const Eigen::MatrixX3d& V,
+                                                           const Eigen::MatrixX3i& F);
+
+// w_ij = (tan(α_ij/2) + tan(β_ij/2)) / |x_i - x_j| (Floater 2003): positive, not
+// symmetric (row i belongs to vertex i).
+LOOM_API SparseMatrix mean_value_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
+
+}  // namespace loom::numerics

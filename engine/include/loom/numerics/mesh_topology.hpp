@@ -1,0 +1,24 @@
+// Combinatorial mesh operators on F (#F by 3 triangle indices into #V vertices).
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "loom/export.hpp"
+
+namespace loom::numerics {
+
+// Boundary loops, each an ordered list of vertex indices following the
+// boundary edges' orientation; sorted longest first (by edge count).
+// Throws loom::Error on a non-manifold edge (used by more than two faces),
+// naming the edge.
+LOOM_API std::vector<std::vector<int>> boundary_loops(const Eigen::MatrixX3i& F);
+
+// For each vertex, its neighbours (sorted, no duplicates). n = #V.
+LOOM_API std::vector<std::vector<int>> vertex_adjacency(const Eigen::MatrixX3i& F, int n);
+
+// Vertices referenced by at least one face.
+LOOM_API std::vector<bool> referenced_vertices(const Eigen::MatrixX3i& F, int n);
+
+}  // namespace loom::numerics

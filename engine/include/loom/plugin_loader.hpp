@@ -1,0 +1,71 @@
+// Finding and loading plugins.
+//
+// Each plugin library libloom_NAME.so has a manifest beside it,
+// libloom_NAME.loom.json, written at build time: {"plugin", "abi", "nodes"}.
+// A run reads the manifests and loads only the libraries whose node types its
+// graph uses, so a graph without images never loads OpenCV.
+//
+// Search path: the plugin folder of this build or install
+// (<bin>/../lib/loom/plugins), then each folder of LOOM_PLUGIN_PATH.
+#pragma once
+
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "loom/registry.hpp"
+
+namespace loom {
+
+LOOM_API int engine_abi_version();
+
+class LOOM_API PluginLoadError : public Error {
+ public:
+  using Error::Error;
+};
+
+struct PluginInfo {
+  std::string name;
+  std::string description;
+  std::filesystem::path library;
+  std::vector<std::string> node_types;  // from the manifest (or the library)
+  bool loaded = false;
+};
+
+class LOOM_API PluginLoader {
+ public:
+  explicit PluginLoader(Registry& registry);
+  PluginLoader(Registry& registry, std::vector<std::filesystem::path> search_path);
+
+  // The default search path: the folder next to the running executable, then
+  // LOOM_PLUGIN_PATH.
+  static std::vector<std::filesystem::path> default_search_path();
+
+  const std::vector<std::filesystem::path>& search_path() const { return search_path_; }
+  const std::vector<PluginInfo>& plugins() const { return plugins_; }
+  std::string searched_description() const;  // for "unknown node type" errors
+
+  // Loads the plugins that provide these node types. Types no manifest names
+  // are left for validation to report (after loading any plugin that has no
+  // manifest, which may provide them). Throws PluginLoadError.
+  void load_for(const std::vector<std::string>& node_types);
+  void load_all();
+  // Loads one library by path (manifest or not).
+  void load_library(const std::filesystem::path& library);
+
+  std::vector<std::string> loaded_names() const;  // in load order
+
+  // The manifest of a library, read by loading it: what the build writes.
+  static json manifest_of(const std::filesystem::path& library, Registry& scratch);
+
+ private:
+  void scan();
+  void load(PluginInfo& info);
+  Registry& registry_;
+  std::vector<std::filesystem::path> search_path_;
+  std::vector<PluginInfo> plugins_;
+  std::vector<std::string> load_order_;
+};
+
+}  // namespace loom
