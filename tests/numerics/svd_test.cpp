@@ -1,6 +1,7 @@
 // The closed-form 2×2 routines against Eigen's SVD.
 #include <random>
 
+#include <Eigen/LU>
 #include <Eigen/SVD>
 #include <gtest/gtest.h>
 
