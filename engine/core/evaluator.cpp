@@ -5,7 +5,8 @@
 #include <mutex>
 #include <unordered_map>
 
-#include <tbb/collaborative_call_once.h>
+#include <thread>
+
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
@@ -77,8 +78,8 @@ struct NodeState {
   std::uint64_t hash = 0;
   bool cacheable = false;
 
-  tbb::collaborative_once_flag once;
-  std::atomic<bool> done{false};
+  std::atomic<bool> claimed{false};  // one thread runs the node...
+  std::atomic<bool> done{false};     // ...and sets this when it has finished
   bool ok = false;  // ran or cached
   NodeReport report;
   std::vector<Value> outputs;
@@ -89,10 +90,11 @@ struct Evaluation {
   const Graph& graph;
   const EvalOptions& options;
   std::vector<std::unique_ptr<NodeState>> nodes;
-  std::map<std::string, int, std::less<>> index;
+  std::unordered_map<std::string_view, int> index;  // views of graph.nodes' keys
+  const std::filesystem::path graph_dir;
 
   Evaluation(Session::State& s, const Graph& g, const EvalOptions& o)
-      : session(s), graph(g), options(o) {}
+      : session(s), graph(g), options(o), graph_dir(g.dir()) {}
 
   bool cancelled() const { return options.cancel && options.cancel->load(std::memory_order_relaxed); }
 
@@ -103,9 +105,15 @@ struct Evaluation {
 
   void build();
   void execute(const std::vector<int>& roots);
+  // Runs node n unless another thread does or did. Contention only happens when
+  // a lazy fetch and the scheduler reach the same node; the loser waits. The
+  // winner never waits on the loser (node bodies run isolated, and the graph is
+  // acyclic), so waiting cannot deadlock.
   void run_once(int n) {
     NodeState& s = *nodes[static_cast<std::size_t>(n)];
-    tbb::collaborative_call_once(s.once, [&] { run_node(n); });
+    if (s.done.load(std::memory_order_acquire)) return;
+    if (!s.claimed.exchange(true, std::memory_order_acq_rel)) return run_node(n);
+    while (!s.done.load(std::memory_order_acquire)) std::this_thread::yield();
   }
   void run_node(int n);
   void finish(NodeState& s) {
@@ -218,7 +226,7 @@ void Evaluation::build() {
       b.literal_value = detail::literal_value(spec, *literal);
       if (spec.role != InputRole::value) {
         std::filesystem::path p = b.literal_value.as<std::string>();
-        const auto& base = spec.role == InputRole::input_file ? graph.dir() : options.output_dir;
+        const auto& base = spec.role == InputRole::input_file ? graph_dir : options.output_dir;
         if (p.is_relative()) p = base / p;
         b.literal_value = Value::make<std::string>(p.lexically_normal().string());
       }
@@ -255,7 +263,7 @@ void Evaluation::build() {
       const auto& b = s.inputs[i];
       h.str(spec.inputs[i].name).pod(static_cast<int>(b.kind));
       if (b.kind == NodeState::Binding::literal) {
-        h.str(b.literal_value.to_json().dump());
+        hash_json(h, b.literal_value.to_json());
         if (spec.inputs[i].role == InputRole::input_file)
           hash_file_stamp(h, b.literal_value.as<std::string>());
       } else if (b.kind == NodeState::Binding::link) {
@@ -271,60 +279,66 @@ void Evaluation::build() {
 void Evaluation::execute(const std::vector<int>& roots) {
   // The closure of the roots over non-lazy links, stopping at finished nodes
   // and at cache hits (a hit needs none of its inputs).
-  std::vector<int> members;
-  std::unordered_map<int, int> pending;  // member -> unfinished member inputs
-  std::vector<int> stack;
-  for (int r : roots)
-    if (!nodes[static_cast<std::size_t>(r)]->done.load(std::memory_order_acquire) && !pending.count(r)) {
-      pending.emplace(r, 0);
-      stack.push_back(r);
-    }
+  const std::size_t n_all = nodes.size();
+  std::vector<char> member(n_all, 0), hit(n_all, 0);
+  std::vector<int> members, stack;
+  auto visit = [&](int n) {
+    if (member[static_cast<std::size_t>(n)] || nodes[static_cast<std::size_t>(n)]->done.load(std::memory_order_acquire))
+      return;
+    member[static_cast<std::size_t>(n)] = 1;
+    stack.push_back(n);
+  };
+  for (int r : roots) visit(r);
   while (!stack.empty()) {
-    int n = stack.back();
+    const int n = stack.back();
     stack.pop_back();
     members.push_back(n);
     NodeState& s = *nodes[static_cast<std::size_t>(n)];
-    if (s.cacheable && cache_has(s.hash)) continue;
-    const auto& specs = s.type->spec.inputs;
-    for (std::size_t i = 0; i < s.inputs.size(); ++i) {
-      const auto& b = s.inputs[i];
-      if (b.kind != NodeState::Binding::link || specs[i].lazy) continue;
-      if (nodes[static_cast<std::size_t>(b.upstream)]->done.load(std::memory_order_acquire)) continue;
-      if (pending.emplace(b.upstream, 0).second) stack.push_back(b.upstream);
+    if (s.cacheable && cache_has(s.hash)) {
+      hit[static_cast<std::size_t>(n)] = 1;
+      continue;
     }
-  }
-  // Count, for each member, its distinct member inputs that it waits on.
-  std::unordered_map<int, std::vector<int>> waiting;  // member -> members waiting on it
-  for (int n : members) {
-    NodeState& s = *nodes[static_cast<std::size_t>(n)];
-    if (s.cacheable && cache_has(s.hash)) continue;
-    std::vector<int> ups;
     const auto& specs = s.type->spec.inputs;
+    for (std::size_t i = 0; i < s.inputs.size(); ++i)
+      if (s.inputs[i].kind == NodeState::Binding::link && !specs[i].lazy) visit(s.inputs[i].upstream);
+  }
+  // For each member, how many distinct member inputs it waits on, and who
+  // waits on whom.
+  std::vector<std::atomic<int>> pending(n_all);
+  std::vector<std::vector<int>> waiting(n_all);
+  std::vector<int> ups;
+  for (int n : members) {
+    if (hit[static_cast<std::size_t>(n)]) continue;
+    const NodeState& s = *nodes[static_cast<std::size_t>(n)];
+    const auto& specs = s.type->spec.inputs;
+    ups.clear();
     for (std::size_t i = 0; i < s.inputs.size(); ++i) {
       const auto& b = s.inputs[i];
-      if (b.kind == NodeState::Binding::link && !specs[i].lazy && pending.count(b.upstream))
+      if (b.kind == NodeState::Binding::link && !specs[i].lazy && member[static_cast<std::size_t>(b.upstream)])
         ups.push_back(b.upstream);
     }
     std::sort(ups.begin(), ups.end());
     ups.erase(std::unique(ups.begin(), ups.end()), ups.end());
-    pending[n] = static_cast<int>(ups.size());
-    for (int u : ups) waiting[u].push_back(n);
+    pending[static_cast<std::size_t>(n)].store(static_cast<int>(ups.size()), std::memory_order_relaxed);
+    for (int u : ups) waiting[static_cast<std::size_t>(u)].push_back(n);
   }
-  std::unordered_map<int, std::atomic<int>> counters;
-  for (const auto& [n, c] : pending) counters[n].store(c);
 
   tbb::task_group group;
-  std::function<void(int)> spawn = [&](int n) {
-    group.run([&, n] {
-      run_once(n);
-      auto it = waiting.find(n);
-      if (it == waiting.end()) return;
-      for (int d : it->second)
-        if (counters.at(d).fetch_sub(1) == 1) spawn(d);
-    });
-  };
-  for (const auto& [n, c] : pending)
-    if (c == 0) spawn(n);
+  struct Spawner {
+    Evaluation& e;
+    tbb::task_group& group;
+    std::vector<std::atomic<int>>& pending;
+    std::vector<std::vector<int>>& waiting;
+    void operator()(int n) const {
+      group.run([this, n] {
+        e.run_once(n);
+        for (int d : waiting[static_cast<std::size_t>(n)])
+          if (pending[static_cast<std::size_t>(d)].fetch_sub(1, std::memory_order_acq_rel) == 1) (*this)(d);
+      });
+    }
+  } spawn{*this, group, pending, waiting};
+  for (int n : members)
+    if (pending[static_cast<std::size_t>(n)].load(std::memory_order_relaxed) == 0) spawn(n);
   group.wait();
 }
 
@@ -374,7 +388,7 @@ void Evaluation::run_node(int n) {
   Host host(*this, s);
   Inputs in(spec, host);
   Outputs out(spec);
-  Context ctx(host, s.node->id, Hasher(graph.seed).str(s.node->id).digest(), graph.dir(),
+  Context ctx(host, s.node->id, Hasher(graph.seed).str(s.node->id).digest(), graph_dir,
               options.output_dir);
   auto start = std::chrono::steady_clock::now();
   try {
@@ -451,7 +465,8 @@ EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
   arena.execute([&] { e.execute(roots); });
 
   EvalResult result;
-  for (auto& sp : e.nodes) result.nodes.emplace(sp->node->id, sp->report);
+  for (auto& sp : e.nodes)  // e.nodes is in id order: each insertion is at the end
+    result.nodes.emplace_hint(result.nodes.end(), sp->node->id, std::move(sp->report));
   for (const Target& t : options.targets) {
     const NodeState& s = *e.nodes[static_cast<std::size_t>(e.index.at(t.node))];
     if (!s.ok) continue;

@@ -46,6 +46,32 @@ class Hasher {
   std::uint64_t h_;
 };
 
+// Hashes a JSON value by its content (types, keys, values), without printing it.
+template <class Json>
+void hash_json(Hasher& h, const Json& j) {
+  h.pod(static_cast<int>(j.type()));
+  if (j.is_object()) {
+    h.pod(j.size());
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      h.str(it.key());
+      hash_json(h, it.value());
+    }
+  } else if (j.is_array()) {
+    h.pod(j.size());
+    for (const auto& e : j) hash_json(h, e);
+  } else if (j.is_string()) {
+    h.str(j.template get_ref<const typename Json::string_t&>());
+  } else if (j.is_number_float()) {
+    h.pod(j.template get<double>());
+  } else if (j.is_number_unsigned()) {
+    h.pod(j.template get<std::uint64_t>());
+  } else if (j.is_number_integer()) {
+    h.pod(j.template get<std::int64_t>());
+  } else if (j.is_boolean()) {
+    h.pod(j.template get<bool>());
+  }
+}
+
 inline std::uint64_t hash_string(std::string_view s) { return Hasher().str(s).digest(); }
 
 }  // namespace loom

@@ -182,10 +182,10 @@ class LOOM_API Outputs {
 
 class LOOM_API Context {
  public:
-  Context(NodeHost& host, std::string node_id, std::uint64_t seed,
-          std::filesystem::path graph_dir, std::filesystem::path output_dir)
-      : host_(host), node_id_(std::move(node_id)), seed_(seed), rng_(seed),
-        graph_dir_(std::move(graph_dir)), output_dir_(std::move(output_dir)) {}
+  // The strings and paths are the engine's and outlive the run.
+  Context(NodeHost& host, const std::string& node_id, std::uint64_t seed,
+          const std::filesystem::path& graph_dir, const std::filesystem::path& output_dir)
+      : host_(host), node_id_(node_id), seed_(seed), graph_dir_(graph_dir), output_dir_(output_dir) {}
 
   const std::string& node_id() const { return node_id_; }
 
@@ -201,7 +201,10 @@ class LOOM_API Context {
 
   // Seeded from the graph seed and the node id, never from thread order.
   std::uint64_t seed() const { return seed_; }
-  std::mt19937_64& rng() { return rng_; }
+  std::mt19937_64& rng() {  // seeded on first use: most nodes draw nothing
+    if (!rng_) rng_.emplace(seed_);
+    return *rng_;
+  }
 
   void warn(std::string text) { host_.report(true, std::move(text)); }
   void log(std::string text) { host_.report(false, std::move(text)); }
@@ -220,10 +223,11 @@ class LOOM_API Context {
 
  private:
   NodeHost& host_;
-  std::string node_id_;
+  const std::string& node_id_;
   std::uint64_t seed_;
-  std::mt19937_64 rng_;
-  std::filesystem::path graph_dir_, output_dir_;
+  std::optional<std::mt19937_64> rng_;
+  const std::filesystem::path& graph_dir_;
+  const std::filesystem::path& output_dir_;
 };
 
 }  // namespace loom
