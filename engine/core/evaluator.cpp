@@ -76,6 +76,7 @@ struct NodeState {
   };
   std::vector<Binding> inputs;  // one per declared input
   std::uint64_t hash = 0;
+  std::uint64_t seed = 0;
   bool cacheable = false;
 
   std::atomic<bool> claimed{false};  // one thread runs the node...
@@ -258,7 +259,10 @@ void Evaluation::build() {
     NodeState& s = *nodes[static_cast<std::size_t>(n)];
     const NodeSpec& spec = s.type->spec;
     Hasher h;
-    h.str(spec.name).pod(spec.version);
+    // The node's seed enters the hash: any node may draw from ctx.rng(), so two
+    // nodes with equal inputs but different ids (or graph seeds) may differ.
+    s.seed = Hasher(graph.seed).str(s.node->id).digest();
+    h.str(spec.name).pod(spec.version).pod(s.seed);
     for (std::size_t i = 0; i < s.inputs.size(); ++i) {
       const auto& b = s.inputs[i];
       h.str(spec.inputs[i].name).pod(static_cast<int>(b.kind));
@@ -388,7 +392,7 @@ void Evaluation::run_node(int n) {
   Host host(*this, s);
   Inputs in(spec, host);
   Outputs out(spec);
-  Context ctx(host, s.node->id, Hasher(graph.seed).str(s.node->id).digest(), graph_dir,
+  Context ctx(host, s.node->id, s.seed, graph_dir,
               options.output_dir);
   auto start = std::chrono::steady_clock::now();
   try {

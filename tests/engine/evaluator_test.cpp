@@ -216,6 +216,13 @@ TEST(Evaluator, SeedsComeFromTheGraphSeedAndNodeIdNotFromOrder) {
   EXPECT_NE(value(7, "r", 1), value(7, "s", 1));
 }
 
+TEST(Evaluator, EqualNodesWithDifferentIdsDoNotShareSeededResults) {
+  test::Engine e;
+  Graph g = e.graph(graph({{"r", {{"type", "Random"}}}, {"s", {{"type", "Random"}}}}));
+  EvalResult r = evaluate(e, g, {"r.value", "s.value"}, nullptr);
+  EXPECT_NE(number(r, "r.value"), number(r, "s.value"));
+}
+
 TEST(Evaluator, ALongChainDoesNotRecurse) {
   test::Engine e;
   json nodes = json::object();
