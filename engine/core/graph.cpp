@@ -102,7 +102,8 @@ Graph parse_graph(const json& doc, const std::filesystem::path& file) {
                            ? ": this file is from a newer Loom"
                            : ""));
   if (doc.contains("seed")) {
-    if (!doc["seed"].is_number_unsigned())
+    const json& seed = doc["seed"];
+    if (!seed.is_number_unsigned() && !(seed.is_number_integer() && seed.get<long long>() >= 0))
       fail("/seed", "expected a non-negative integer, got " + describe_json(doc["seed"]));
     else
       g.seed = doc["seed"].get<std::uint64_t>();
