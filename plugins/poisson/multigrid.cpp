@@ -1,0 +1,333 @@
+#include "multigrid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Core>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include "exact_poisson.hpp"
+
+namespace loom::poisson {
+
+using V4 = Eigen::Array4f;
+using Field = std::vector<V4>;
+using Level = MultigridPoisson::Level;
+
+struct MultigridPoisson::Workspace {
+  Field x, r, z, p, q;          // PCG on the finest level (q doubles as the V-cycle's residual)
+  std::vector<Field> b, e;      // per coarse level: right-hand side and correction
+  Field coarse_r;               // residual of a coarse level, consumed before recursing
+};
+
+namespace {
+
+constexpr int kCoarsestUnknowns = 4096;  // solved directly below this size
+constexpr int kSweeps = 2;               // Gauss–Seidel sweeps before and after the coarse solve
+constexpr float kInv[5] = {0.0f, 1.0f, 0.5f, 1.0f / 3.0f, 0.25f};  // 1/|N_p|, 0 off Ω
+constexpr float kIn[5] = {0.0f, 1.0f, 1.0f, 1.0f, 1.0f};           // 1 on Ω
+
+// Runs f(y) for every row, in parallel when the grid is worth it.
+template <class F>
+void for_rows(const Level& L, F&& f) {
+  if (std::size_t(L.w) * L.h < 32768) {
+    for (int y = 0; y < L.h; ++y) f(y);
+    return;
+  }
+  const int grain = std::max(1, 16384 / L.w);
+  tbb::parallel_for(tbb::blocked_range<int>(0, L.h, grain), [&](const tbb::blocked_range<int>& r) {
+    for (int y = r.begin(); y < r.end(); ++y) f(y);
+  });
+}
+
+// Combines row(y) over all rows with `join`, in a fixed order so results do
+// not depend on the threads.
+template <class T, class F, class Join>
+T reduce_rows(const Level& L, F&& row, Join join) {
+  const int grain = std::max(1, 16384 / L.w);
+  return tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<int>(0, L.h, grain), T(T::Zero()),
+      [&](const tbb::blocked_range<int>& r, T acc) {
+        for (int y = r.begin(); y < r.end(); ++y) acc = join(acc, row(y));
+        return acc;
+      },
+      join);
+}
+
+// The first red sweep from x = 0: red cells get b_p / |N_p|, black cells 0.
+void smooth_from_zero(const Level& L, const Field& b, Field& x) {
+  for_rows(L, [&](int y) {
+    const std::size_t i0 = L.at(0, y);
+    for (int c = 0; c < L.w; ++c) {
+      const std::size_t i = i0 + c;
+      x[i] = ((c + y) & 1) ? V4(V4::Zero()) : V4(b[i] * kInv[L.degree[i]]);
+    }
+  });
+}
+
+// One colour of red-black Gauss–Seidel: x_p = (b_p + Σ_q x_q) / |N_p| on Ω.
+void smooth(const Level& L, const Field& b, Field& x, int colour) {
+  const std::size_t s = L.stride;
+  for_rows(L, [&](int y) {
+    for (int c = (y + colour) & 1; c < L.w; c += 2) {
+      const std::size_t i = L.at(c, y);
+      x[i] = (b[i] + x[i - 1] + x[i + 1] + x[i - s] + x[i + s]) * kInv[L.degree[i]];
+    }
+  });
+}
+
+// r = b − A x on Ω, 0 elsewhere.
+void residual(const Level& L, const Field& b, const Field& x, Field& r) {
+  const std::size_t s = L.stride;
+  for_rows(L, [&](int y) {
+    for (std::size_t i = L.at(0, y), e = i + L.w; i < e; ++i) {
+      const std::uint8_t d = L.degree[i];
+      r[i] = (b[i] - float(d) * x[i] + x[i - 1] + x[i + 1] + x[i - s] + x[i + s]) * kIn[d];
+    }
+  });
+}
+
+// Bilinear weights of the cell-centred transfer: fine cells 2I−1, 2I, 2I+1,
+// 2I+2 against coarse cell I.
+constexpr float kW[4] = {0.25f, 0.75f, 0.75f, 0.25f};
+
+// b_c = Pᵀ r_f on the coarse Ω.
+void restrict_residual(const Level& F, const Field& r, const Level& C, Field& b) {
+  const std::size_t s = F.stride;
+  for_rows(C, [&](int J) {
+    for (int I = 0; I < C.w; ++I) {
+      const std::size_t o = C.at(I, J);
+      if (C.degree[o] == 0) {
+        b[o] = V4::Zero();
+        continue;
+      }
+      V4 acc = V4::Zero();
+      std::size_t row = F.at(2 * I - 1, 2 * J - 1);
+      for (int a = 0; a < 4; ++a, row += s)
+        acc += kW[a] * (kW[0] * r[row] + kW[1] * r[row + 1] + kW[2] * r[row + 2] +
+                        kW[3] * r[row + 3]);
+      b[o] = acc;
+    }
+  });
+}
+
+// x_f += P e_c on the fine Ω.
+void prolong_add(const Level& C, const Field& e, const Level& F, Field& x) {
+  const std::size_t s = C.stride;
+  for_rows(F, [&](int y) {
+    const int J = y >> 1;
+    const std::ptrdiff_t oy = (y & 1) ? std::ptrdiff_t(s) : -std::ptrdiff_t(s);
+    for (int xf = 0; xf < F.w; ++xf) {
+      const std::size_t i = F.at(xf, y);
+      if (F.degree[i] == 0) continue;
+      const std::size_t c = C.at(xf >> 1, J);
+      const std::ptrdiff_t ox = (xf & 1) ? 1 : -1;
+      x[i] += 0.5625f * e[c] + 0.1875f * (e[c + ox] + e[c + oy]) + 0.0625f * e[c + ox + oy];
+    }
+  });
+}
+
+Level make_level(const cv::Mat1b& unknown) {
+  Level L;
+  L.w = unknown.cols;
+  L.h = unknown.rows;
+  L.stride = L.w + 4;
+  L.degree.assign(L.size(), 0);
+  for (int y = 0; y < L.h; ++y)
+    for (int x = 0; x < L.w; ++x) {
+      if (!unknown(y, x)) continue;
+      L.degree[L.at(x, y)] = std::uint8_t((x > 0) + (x + 1 < L.w) + (y > 0) + (y + 1 < L.h));
+      ++L.unknowns;
+    }
+  return L;
+}
+
+// A coarse cell is unknown when every child inside the grid is: Dirichlet
+// cells win, so every coarse component keeps a boundary and stays definite.
+cv::Mat1b coarsen(const cv::Mat1b& fine) {
+  cv::Mat1b coarse((fine.rows + 1) / 2, (fine.cols + 1) / 2);
+  for (int J = 0; J < coarse.rows; ++J)
+    for (int I = 0; I < coarse.cols; ++I) {
+      bool all = true;
+      for (int y = 2 * J; y < std::min(2 * J + 2, fine.rows); ++y)
+        for (int x = 2 * I; x < std::min(2 * I + 2, fine.cols); ++x) all = all && fine(y, x);
+      coarse(J, I) = all ? 255 : 0;
+    }
+  return coarse;
+}
+
+struct Hierarchy {
+  const std::vector<Level>& levels;
+  const numerics::SparseCholesky& coarsest;
+  const std::vector<std::size_t>& cells;
+  MultigridPoisson::Workspace& ws;
+
+  // x = V(b): one symmetric V-cycle from x = 0 on level l. r: scratch of level l.
+  void vcycle(std::size_t l, const Field& b, Field& x, Field& r) {
+    const Level& L = levels[l];
+    if (l + 1 == levels.size()) {
+      Eigen::MatrixXd B(cells.size(), 4);
+      for (std::size_t k = 0; k < cells.size(); ++k) B.row(k) = b[cells[k]].cast<double>().transpose();
+      const Eigen::MatrixXd X = coarsest.solve(B);
+      std::fill(x.begin(), x.end(), V4::Zero());
+      for (std::size_t k = 0; k < cells.size(); ++k) x[cells[k]] = X.row(k).transpose().cast<float>();
+      return;
+    }
+    smooth_from_zero(L, b, x);
+    smooth(L, b, x, 1);
+    for (int k = 1; k < kSweeps; ++k) {
+      smooth(L, b, x, 0);
+      smooth(L, b, x, 1);
+    }
+    residual(L, b, x, r);
+    restrict_residual(L, r, levels[l + 1], ws.b[l + 1]);
+    vcycle(l + 1, ws.b[l + 1], ws.e[l + 1], ws.coarse_r);
+    prolong_add(levels[l + 1], ws.e[l + 1], L, x);
+    for (int k = 0; k < kSweeps; ++k) {  // reverse order: the V-cycle stays symmetric
+      smooth(L, b, x, 1);
+      smooth(L, b, x, 0);
+    }
+  }
+};
+
+}  // namespace
+
+MultigridPoisson::MultigridPoisson(const cv::Mat1b& unknown) {
+  cv::Mat1b grid = unknown;
+  levels_.push_back(make_level(grid));
+  while (levels_.back().unknowns > kCoarsestUnknowns) {
+    cv::Mat1b coarse = coarsen(grid);
+    if (cv::countNonZero(coarse) == 0) break;
+    grid = coarse;
+    levels_.push_back(make_level(grid));
+  }
+  cv::Mat1i index;
+  const numerics::SparseMatrix A = poisson_matrix(grid, index);
+  const Level& last = levels_.back();
+  coarsest_cells_.resize(A.rows());
+  for (int y = 0; y < grid.rows; ++y)
+    for (int x = 0; x < grid.cols; ++x)
+      if (index(y, x) >= 0) coarsest_cells_[index(y, x)] = last.at(x, y);
+  coarsest_.compute(A);
+}
+
+MultigridPoisson::Result MultigridPoisson::solve(const cv::Mat& b, cv::Mat& f, double tolerance,
+                                                 int max_iterations,
+                                                 const std::function<void()>& between) const {
+  // The vectors of the last solve are reused unless another solve holds them.
+  std::unique_lock<std::mutex> lock(workspace_mutex_);
+  std::shared_ptr<Workspace> ws = workspace_;
+  if (!ws) {
+    ws = std::make_shared<Workspace>();
+    const std::size_t n = levels_[0].size();
+    for (Field* v : {&ws->x, &ws->r, &ws->z, &ws->p, &ws->q}) v->assign(n, V4::Zero());
+    ws->b.resize(levels_.size());
+    ws->e.resize(levels_.size());
+    for (std::size_t l = 1; l < levels_.size(); ++l) {
+      ws->b[l].assign(levels_[l].size(), V4::Zero());
+      ws->e[l].assign(levels_[l].size(), V4::Zero());
+    }
+    if (levels_.size() > 1) ws->coarse_r.assign(levels_[1].size(), V4::Zero());
+  }
+  workspace_.reset();
+  lock.unlock();
+
+  const Level& L = levels_[0];
+  const int C = b.channels();
+  const std::size_t s = L.stride;
+  Field &x = ws->x, &r = ws->r, &z = ws->z, &p = ws->p, &q = ws->q;
+  Hierarchy H{levels_, coarsest_, coarsest_cells_, *ws};
+
+  // PCG on the correction x = f − g from the guess g: r = b − A g (g on Ω
+  // only; the boundary values are in b already).
+  for_rows(L, [&](int y) {
+    const float* bv = b.ptr<float>(y);
+    const float* fv = f.ptr<float>(y);
+    for (int c = 0; c < L.w; ++c) {
+      const std::size_t i = L.at(c, y);
+      z[i] = V4::Zero();
+      x[i] = V4::Zero();
+      if (L.degree[i] == 0) continue;
+      for (int k = 0; k < C; ++k) {
+        z[i][k] = fv[c * C + k];
+        x[i][k] = bv[c * C + k];
+      }
+    }
+  });
+  residual(L, x, z, r);
+  std::fill(x.begin(), x.end(), V4::Zero());
+
+  auto dot = [&](const Field& u, const Field& v) {
+    return reduce_rows<Eigen::Array4d>(
+        L,
+        [&](int y) {
+          Eigen::Array4d acc = Eigen::Array4d::Zero();
+          for (std::size_t i = L.at(0, y), e = i + L.w; i < e; ++i)
+            acc += (u[i] * v[i]).cast<double>();
+          return acc;
+        },
+        [](const Eigen::Array4d& a, const Eigen::Array4d& c) { return Eigen::Array4d(a + c); });
+  };
+
+  H.vcycle(0, r, z, q);
+  p = z;
+  Eigen::Array4d rz = dot(r, z);
+  Result result;
+  for (int it = 1; it <= max_iterations; ++it) {
+    // q = A p and p·q in one pass.
+    const Eigen::Array4d pq = reduce_rows<Eigen::Array4d>(
+        L,
+        [&](int y) {
+          Eigen::Array4d acc = Eigen::Array4d::Zero();
+          for (std::size_t i = L.at(0, y), e = i + L.w; i < e; ++i) {
+            const std::uint8_t d = L.degree[i];
+            q[i] = (float(d) * p[i] - p[i - 1] - p[i + 1] - p[i - s] - p[i + s]) * kIn[d];
+            acc += (p[i] * q[i]).cast<double>();
+          }
+          return acc;
+        },
+        [](const Eigen::Array4d& a, const Eigen::Array4d& c) { return Eigen::Array4d(a + c); });
+    const V4 alpha = (pq > 0).select(rz / pq.max(1e-300), 0.0).cast<float>();
+    // x += α p, r −= α q, and the largest change.
+    const V4 change = reduce_rows<V4>(
+        L,
+        [&](int y) {
+          V4 m = V4::Zero();
+          for (std::size_t i = L.at(0, y), e = i + L.w; i < e; ++i) {
+            const V4 step = alpha * p[i];
+            x[i] += step;
+            r[i] -= alpha * q[i];
+            m = m.max(step.abs());
+          }
+          return m;
+        },
+        [](const V4& a, const V4& c) { return V4(a.max(c)); });
+    result.iterations = it;
+    result.last_change = change.maxCoeff();
+    if (between) between();
+    if (result.last_change <= tolerance) break;
+    H.vcycle(0, r, z, q);
+    const Eigen::Array4d rz_next = dot(r, z);
+    const V4 beta = (rz > 0).select(rz_next / rz.max(1e-300), 0.0).cast<float>();
+    rz = rz_next;
+    for_rows(L, [&](int y) {
+      for (std::size_t i = L.at(0, y), e = i + L.w; i < e; ++i) p[i] = z[i] + beta * p[i];
+    });
+  }
+  for_rows(L, [&](int y) {
+    float* fv = f.ptr<float>(y);
+    for (int c = 0; c < L.w; ++c) {
+      const std::size_t i = L.at(c, y);
+      if (L.degree[i] == 0) continue;
+      for (int k = 0; k < C; ++k) fv[c * C + k] += x[i][k];
+    }
+  });
+
+  lock.lock();
+  workspace_ = ws;
+  return result;
+}
+
+}  // namespace loom::poisson

@@ -1,0 +1,108 @@
+#include "poisson_system.hpp"
+
+#include <cmath>
+#include <string>
+
+#include <opencv2/imgproc.hpp>
+#include <tbb/parallel_for.h>
+
+#include "loom/error.hpp"
+#include "loom/hash.hpp"
+
+namespace loom::poisson {
+namespace {
+
+const cv::Point kNeighbours[4] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
+
+std::string point_text(cv::Point p) {
+  return "[" + std::to_string(p.x) + ", " + std::to_string(p.y) + "]";
+}
+
+}  // namespace
+
+BlendRegion place_region(const cv::Mat1b& region, cv::Point offset, cv::Size target) {
+  if (cv::countNonZero(region) == 0) throw Error("mask is empty: nothing to blend");
+  cv::Mat1b inside = region.clone();
+  inside.row(0).setTo(0);
+  inside.row(inside.rows - 1).setTo(0);
+  inside.col(0).setTo(0);
+  inside.col(inside.cols - 1).setTo(0);
+  const int requested = cv::countNonZero(region), kept = cv::countNonZero(inside);
+  if (kept == 0)
+    throw Error("the region lies only on the source's border pixels, where its gradient is "
+                "undefined: draw it at least one pixel inside the source");
+
+  BlendRegion r;
+  r.clipped_source = kept < requested;
+  const cv::Rect target_rect({0, 0}, target);
+  const cv::Rect placed = cv::boundingRect(inside) + offset;
+  const cv::Rect inner = placed & target_rect;
+  if (inner.empty())
+    throw Error("the region lands outside the target (offset " + point_text(offset) +
+                ", target " + std::to_string(target.width) + "x" + std::to_string(target.height) +
+                "): choose an offset that puts it on the target");
+  r.rect = cv::Rect(placed.x - 1, placed.y - 1, placed.width + 2, placed.height + 2) & target_rect;
+  r.unknown = cv::Mat1b::zeros(r.rect.size());
+  for (int y = inner.y; y < inner.br().y; ++y) {
+    const uchar* m = inside.ptr<uchar>(y - offset.y);
+    uchar* u = r.unknown.ptr<uchar>(y - r.rect.y);
+    for (int x = inner.x; x < inner.br().x; ++x)
+      if (m[x - offset.x]) {
+        u[x - r.rect.x] = 255;
+        ++r.count;
+      }
+  }
+  if (r.count == 0)
+    throw Error("the region lands outside the target (offset " + point_text(offset) +
+                "): choose an offset that puts it on the target");
+  r.clipped_target = r.count < kept;
+  if (r.count == target_rect.area())
+    throw Error("the region covers the whole target: there is no boundary to blend against; "
+                "shrink the region or use a larger target");
+  return r;
+}
+
+std::uint64_t region_key(const BlendRegion& r) {
+  Hasher h;
+  h.pod(r.rect.width).pod(r.rect.height);
+  for (int y = 0; y < r.unknown.rows; ++y) h.bytes(r.unknown.ptr<uchar>(y), r.unknown.cols);
+  return h.digest();
+}
+
+cv::Mat poisson_rhs(const BlendRegion& r, const cv::Mat& target, const cv::Mat& source,
+                    cv::Point offset, Guidance mode) {
+  const int C = target.channels();
+  cv::Mat b = cv::Mat::zeros(r.rect.size(), CV_MAKETYPE(CV_32F, C));
+  tbb::parallel_for(0, r.rect.height, [&](int y) {
+    const uchar* u = r.unknown.ptr<uchar>(y);
+    float* out = b.ptr<float>(y);
+    for (int x = 0; x < r.rect.width; ++x) {
+      if (!u[x]) continue;
+      const cv::Point p(x, y), t = p + r.rect.tl(), s = t - offset;
+      const float* fp = target.ptr<float>(t.y) + t.x * C;
+      const float* gp = source.ptr<float>(s.y) + s.x * C;
+      for (const cv::Point d : kNeighbours) {
+        const cv::Point q = p + d;
+        if (q.x < 0 || q.y < 0 || q.x >= r.rect.width || q.y >= r.rect.height) continue;  // ∉ N_p
+        const float* fq = target.ptr<float>(t.y + d.y) + (t.x + d.x) * C;
+        const float* gq = source.ptr<float>(s.y + d.y) + (s.x + d.x) * C;
+        const bool boundary = !r.unknown(q);
+        for (int c = 0; c < C; ++c) {
+          float v = gp[c] - gq[c];
+          if (mode == Guidance::mixed && std::abs(fp[c] - fq[c]) > std::abs(v)) v = fp[c] - fq[c];
+          out[x * C + c] += v + (boundary ? fq[c] : 0.0f);
+        }
+      }
+    }
+  });
+  return b;
+}
+
+cv::Mat source_on_rect(const BlendRegion& r, const cv::Mat& source, cv::Point offset) {
+  cv::Mat g = cv::Mat::zeros(r.rect.size(), source.type());
+  const cv::Rect from = (r.rect - offset) & cv::Rect({0, 0}, source.size());
+  if (!from.empty()) source(from).copyTo(g(from + offset - r.rect.tl()));
+  return g;
+}
+
+}  // namespace loom::poisson

@@ -1,0 +1,119 @@
+// PoissonBlend through the engine: region inputs, errors a user sees, caching.
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "loom/image.hpp"
+#include "loom_test.hpp"
+
+namespace loom {
+namespace {
+
+json graph_with(const json& blend_inputs) {
+  json inputs = {{"source", {{"from", "source.image"}}}, {"target", {{"from", "target.image"}}}};
+  inputs.update(blend_inputs);
+  return {{"loom", 1},
+          {"nodes",
+           {{"target", {{"type", "Checkerboard"}, {"inputs", {{"size", {160, 120}}, {"cells", 3}}}}},
+            {"source",
+             {{"type", "Checkerboard"},
+              {"inputs", {{"size", {64, 64}}, {"cells", 8}, {"color_a", {0.9, 0.5, 0.1}}}}}},
+            {"blend", {{"type", "PoissonBlend"}, {"inputs", inputs}}}}}};
+}
+
+std::string failure(test::Engine& engine, const json& doc) {
+  EvalResult r = engine.run(engine.graph(doc), {"blend.image"});
+  return r.nodes.at("blend").error;
+}
+
+TEST(PoissonBlend, PolygonRegionBlendsAndLeavesTheRestAlone) {
+  test::Engine engine;
+  const json doc = graph_with({{"polygon", {{32, 4}, {60, 56}, {4, 56}}}, {"offset", {40, 30}}});
+  const Image out = engine.output(doc, "blend.image").as<Image>();
+  const Image target = engine.output(doc, "target.image").as<Image>();
+  ASSERT_EQ(out.pixels.size(), target.pixels.size());
+  EXPECT_EQ(out.encoding, target.encoding);
+  EXPECT_NO_THROW(require_finite(out, "blend"));
+  cv::Mat diff = cv::abs(out.pixels - target.pixels);
+  EXPECT_EQ(cv::norm(diff(cv::Rect(0, 0, 40, 120)), cv::NORM_INF), 0.0);  // left of the region
+  EXPECT_GT(cv::norm(diff, cv::NORM_INF), 0.01);                          // and a change inside
+}
+
+TEST(PoissonBlend, RectangleMaskAndSolversAgree) {
+  test::Engine engine;
+  const Image mg = engine.output(graph_with({{"rectangle", {8, 8, 40, 30}}, {"offset", {50, 40}}}),
+                                 "blend.image").as<Image>();
+  const Image exact = engine.output(graph_with({{"rectangle", {8, 8, 40, 30}}, {"offset", {50, 40}},
+                                                {"solver", "cholmod"}}),
+                                    "blend.image").as<Image>();
+  EXPECT_LT(cv::norm(mg.pixels, exact.pixels, cv::NORM_INF), 0.5 / 255);
+}
+
+TEST(PoissonBlend, MaskImageRegion) {
+  const auto dir = test::temp_dir();
+  cv::Mat mask = cv::Mat::zeros(64, 64, CV_8UC1);
+  cv::circle(mask, {32, 32}, 20, 255, cv::FILLED);
+  ASSERT_TRUE(cv::imwrite((dir / "mask.png").string(), mask));
+  test::Engine engine;
+  json doc = graph_with({{"mask", {{"from", "mask.image"}}}, {"offset", {40, 30}}});
+  doc["nodes"]["mask"] = {{"type", "LoadImage"}, {"inputs", {{"path", (dir / "mask.png").string()}, {"decode", "keep"}}}};
+  const Image out = engine.output(doc, "blend.image").as<Image>();
+  EXPECT_NO_THROW(require_finite(out, "blend"));
+  // A mask of another size than the source.
+  cv::Mat small = cv::Mat::zeros(10, 10, CV_8UC1);
+  ASSERT_TRUE(cv::imwrite((dir / "small.png").string(), small));
+  doc["nodes"]["mask"]["inputs"]["path"] = (dir / "small.png").string();
+  EXPECT_NE(failure(engine, doc).find("must match"), std::string::npos);
+}
+
+TEST(PoissonBlend, RegionInputsMustBeExactlyOne) {
+  test::Engine engine;
+  EXPECT_NE(failure(engine, graph_with(json::object())).find("exactly one"), std::string::npos);
+  EXPECT_NE(failure(engine, graph_with({{"rectangle", {1, 1, 5, 5}}, {"polygon", {{1, 1}, {5, 1}, {3, 4}}}}))
+                .find("exactly one"),
+            std::string::npos);
+}
+
+TEST(PoissonBlend, UserErrorsAreClear) {
+  test::Engine engine;
+  EXPECT_NE(failure(engine, graph_with({{"rectangle", {100, 100, 5, 5}}})).find("mask is empty"),
+            std::string::npos);  // outside the source: nothing left
+  EXPECT_NE(failure(engine, graph_with({{"rectangle", {8, 8, 10, 10}}, {"offset", {500, 0}}}))
+                .find("outside the target"),
+            std::string::npos);
+}
+
+TEST(PoissonBlend, NaNPixelsAreAClearError) {
+  if (!cv::haveImageWriter(".exr")) GTEST_SKIP() << "OpenCV built without OpenEXR";
+  const auto dir = test::temp_dir();
+  cv::Mat img(64, 64, CV_32FC3, cv::Scalar::all(0.5));
+  img.at<cv::Vec3f>(10, 10)[1] = NAN;
+  try {
+    if (!cv::imwrite((dir / "nan.exr").string(), img)) GTEST_SKIP() << "cannot write EXR";
+  } catch (const cv::Exception&) {
+    GTEST_SKIP() << "cannot write EXR";
+  }
+  test::Engine engine;
+  json doc = graph_with({{"rectangle", {8, 8, 20, 20}}, {"offset", {40, 30}}});
+  doc["nodes"]["source"] = {{"type", "LoadImage"}, {"inputs", {{"path", (dir / "nan.exr").string()}}}};
+  const std::string error = failure(engine, doc);
+  EXPECT_TRUE(error.find("NaN") != std::string::npos || error.find("nan") != std::string::npos) << error;
+}
+
+TEST(PoissonBlend, DragReusesTheCachedFactorization) {
+  test::Engine engine;
+  json doc = graph_with({{"rectangle", {4, 4, 50, 50}}, {"offset", {20, 20}}, {"solver", "cholmod"}});
+  const Graph g1 = engine.graph(doc);
+  EvalResult r1 = engine.run(g1, {"blend.image"});
+  ASSERT_TRUE(r1.ok());
+  doc["nodes"]["blend"]["inputs"]["offset"] = {21, 22};
+  EvalResult r2 = engine.run(engine.graph(doc), {"blend.image"});
+  ASSERT_TRUE(r2.ok());
+  EXPECT_EQ(r2.nodes.at("blend").status, NodeStatus::ran);
+  EXPECT_LT(r2.nodes.at("blend").seconds, r1.nodes.at("blend").seconds);
+}
+
+}  // namespace
+}  // namespace loom
