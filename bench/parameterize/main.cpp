@@ -1,10 +1,12 @@
-// bench_parameterize [--quick] [--full]
+// bench_parameterize [--quick] [--full] [--runs N]
 // Loom's fixed-boundary maps, every weight, on the course meshes and on
 // generated noisy hemispheres of ~100k (and with --full ~1M) faces: time
 // (median), flips and distortion; side by side with CGAL 5.5 (built with
 // -DLOOM_WITH_CGAL=ON) on the same boundary UVs, with the largest UV
 // difference. CSV and plots go to bench/results.
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -86,14 +88,22 @@ Input hemisphere(const std::string& name, int rings, int segments) {
   return m;
 }
 
+// gnuplot reads "_" as a subscript: legends use "-".
+std::string label(std::string text) {
+  std::replace(text.begin(), text.end(), '_', '-');
+  return text;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   bool quick = false, full = false;
+  int big_runs = 3;  // timed runs on the 100k mesh (medians; more when the machine is loaded)
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     quick |= a == "--quick";
     full |= a == "--full";
+    if (a == "--runs" && i + 1 < argc) big_runs = std::max(1, std::atoi(argv[++i]));
   }
   std::vector<Input> inputs;
   for (const char* name : {"CatHead", "NefertitiFace", "Isis", "Balls", "BunnyHead", "Beetle"}) {
@@ -115,7 +125,7 @@ int main(int argc, char** argv) {
   };
   for (const Input& m : inputs) {
     const bool big = m.F.rows() > 50000, huge = m.F.rows() > 500000;
-    const int runs = quick ? 1 : big ? 3 : 5;
+    const int runs = quick ? 1 : big ? big_runs : 5;
     const auto loops = loom::numerics::boundary_loops(m.F);
 #ifdef LOOM_BENCH_CGAL
     // CGAL maps the loop's own component; meshes with holes need filling first, which it does not do.
@@ -135,21 +145,21 @@ int main(int argc, char** argv) {
         csv.row({m.name, static_cast<long long>(m.F.rows()), bname, wname, std::string("loom"), t,
                  static_cast<long long>(r.flipped), r.angle_mean, r.area_mean, r.arap_energy, 0.0});
         if (shape == BoundaryShape::circle)
-          times.row({m.name, static_cast<long long>(m.F.rows()), "loom " + wname, t});
+          times.row({m.name, static_cast<long long>(m.F.rows()), label("loom " + wname), t});
 #ifdef LOOM_BENCH_CGAL
         if (!peer || shape != BoundaryShape::circle) continue;
         if (wname != "uniform" && wname != "cotangent" && wname != "mean_value") continue;
         for (const char* solver : {"sparselu", "bicgstab"}) {
           if (huge && std::string(solver) == "bicgstab") continue;  // slower still than SparseLU at 1M
           Eigen::MatrixX2d UV;
-          const double tc = timed(huge, big ? 1 : runs, [&] {
+          const double tc = timed(huge, runs, [&] {
             UV = loom::bench::cgal_parameterize(*peer, p.UV, loops[0][0], wname, solver);
           });
           const auto rc = loom::numerics::distortion(m.V, m.F, UV);
           csv.row({m.name, static_cast<long long>(m.F.rows()), bname, wname, std::string("cgal_") + solver,
                    tc, static_cast<long long>(rc.flipped), rc.angle_mean, rc.area_mean, rc.arap_energy,
                    (UV - p.UV).cwiseAbs().maxCoeff()});
-          times.row({m.name, static_cast<long long>(m.F.rows()), std::string("cgal_") + solver + " " + wname,
+          times.row({m.name, static_cast<long long>(m.F.rows()), label(std::string("cgal_") + solver + " " + wname),
                      tc});
         }
 #endif
