@@ -86,7 +86,7 @@ bool plot(const Csv& csv, const PlotSpec& spec) {
      << "set output '" << png.string() << ".tmp'\n"
      << "set title '" << (spec.title.empty() ? csv.name() : spec.title) << "'\n"
      << "set xlabel '" << spec.x << "'\nset ylabel '" << spec.y << "'\n"
-     << "set key outside right\nset grid\n";
+     << "set termoption noenhanced\nset key outside right\nset grid\n";
   if (spec.log_x) gp << "set logscale x\n";
   if (spec.log_y) gp << "set logscale y\n";
   gp << "plot ";
