@@ -25,8 +25,13 @@ LOOM_API SparseMatrix uniform_weights(const Eigen::MatrixX3i& F, int n);
 LOOM_API SparseMatrix cotangent_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
 
 // Cotangent weights of the intrinsic Delaunay triangulation (Bobenko and
-// Springborn 2007), mapped back onto the mesh's edges: nonnegative, so the
-// map they define does not fold. The robust choice.
+// Springborn 2007): the mesh's edges are flipped, on their lengths alone,
+// until every interior edge is locally Delaunay, and W holds the cotangent
+// weights of that triangulation. Its edges may join vertices that are not
+// mesh neighbours (W then has nonzeros off the mesh's edges), which is fine
+// for a solve. Every weight on an interior edge is >= 0, so every row of an
+// interior vertex is a convex combination; weights of boundary edges (which
+// cannot flip) keep their sign. The robust choice for harmonic maps.
 LOOM_API SparseMatrix intrinsic_delaunay_cotangent_weights(const Eigen::MatrixX3d& V,
                                                            const Eigen::MatrixX3i& F);
 

@@ -1,14 +1,21 @@
 // Sparse direct solves, in one place for every plugin.
 //
-// SparseCholesky: symmetric positive (semi-)definite systems through CHOLMOD
-// (supernodal, BLAS from OpenBLAS), with Eigen's SimplicialLDLT as a fallback
-// when CHOLMOD is not built in. Factor once, solve many right-hand sides: the
-// symbolic analysis is kept so a matrix with the same pattern refactors fast.
+// SparseCholesky: symmetric positive definite systems through CHOLMOD
+// (supernodal, BLAS from OpenBLAS; SuiteSparse is a required dependency).
+// Factor once, solve many right-hand sides: the symbolic analysis is kept so a
+// matrix with the same pattern refactors fast. A is read in place (no copy).
 // SparseLU: general square systems (e.g. mean-value weights, which are not
-// symmetric) through UMFPACK, Eigen's SparseLU as fallback.
+// symmetric) through UMFPACK.
 //
-//   A  n by n sparse matrix (for Cholesky: both triangles or the lower one)
+//   A  n by n sparse matrix (for Cholesky: both triangles or the lower one;
+//      only the lower triangle is read)
 //   B  n by k right-hand sides; returns X n by k with A X = B
+//
+// Errors (loom::Error): A not square, empty, with NaN/Inf entries, not positive
+// definite (Cholesky) or singular (LU); solve() before a successful compute()
+// or with a B of the wrong height. solve() is const and may be called from
+// several threads at once on one object (each call has its own workspace);
+// compute()/refactor() must not run concurrently with anything else on it.
 #pragma once
 
 #include <memory>
@@ -32,11 +39,13 @@ class LOOM_API SparseCholesky {
   // Throws loom::Error if A is not square or not positive definite
   // ("matrix is not positive definite (pivot k)"), never returns garbage.
   void compute(const SparseMatrix& A);
-  // Same pattern as the last compute(): reuses the symbolic analysis.
+  // Same pattern as the last compute(): reuses the symbolic analysis (the
+  // fill-reducing ordering and supernodes) and redoes only the numeric part.
+  // A different pattern, or no earlier compute(), falls back to compute().
   void refactor(const SparseMatrix& A);
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
   int rows() const;
-  const char* backend() const;  // "cholmod" or "eigen"
+  const char* backend() const;  // "cholmod"
 
  private:
   struct Impl;
@@ -52,7 +61,7 @@ class LOOM_API SparseLU {
 
   void compute(const SparseMatrix& A);  // throws loom::Error if singular
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
-  const char* backend() const;  // "umfpack" or "eigen"
+  const char* backend() const;  // "umfpack"
 
  private:
   struct Impl;

@@ -1,0 +1,267 @@
+#include "loom/numerics/sparse_solver.hpp"
+
+#include <cholmod.h>
+#include <umfpack.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "loom/error.hpp"
+
+namespace loom::numerics {
+namespace {
+
+void require_square_finite(const SparseMatrix& A, const char* who) {
+  if (A.rows() != A.cols())
+    throw Error(std::string(who) + ": matrix is " + std::to_string(A.rows()) + " by " +
+                std::to_string(A.cols()) + ", expected a square matrix");
+  if (A.rows() == 0) throw Error(std::string(who) + ": matrix is empty (0 by 0)");
+  // Uncompressed storage may hold gaps between columns: iterate, not scan.
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+      if (!std::isfinite(it.value()))
+        throw Error(std::string(who) + ": matrix has a NaN or infinite entry at (" +
+                    std::to_string(it.row()) + ", " + std::to_string(it.col()) + ")");
+}
+
+void require_rhs_rows(const Eigen::MatrixXd& B, Eigen::Index n, const char* who) {
+  if (n < 0) throw Error(std::string(who) + ": solve() called before compute()");
+  if (B.rows() != n)
+    throw Error(std::string(who) + ": right-hand side has " + std::to_string(B.rows()) +
+                " rows, the matrix has " + std::to_string(n));
+}
+
+// A view of A's storage as a CHOLMOD matrix, no copy. Uncompressed Eigen
+// storage maps to CHOLMOD's unpacked form (per-column counts in nz). The
+// lower triangle is used (stype -1), so A may store both triangles.
+cholmod_sparse view_lower(const SparseMatrix& A) {
+  cholmod_sparse s{};
+  s.nrow = static_cast<size_t>(A.rows());
+  s.ncol = static_cast<size_t>(A.cols());
+  s.nzmax = static_cast<size_t>(A.data().allocatedSize());
+  s.p = const_cast<int*>(A.outerIndexPtr());
+  s.i = const_cast<int*>(A.innerIndexPtr());
+  s.nz = A.isCompressed() ? nullptr : const_cast<int*>(A.innerNonZeroPtr());
+  s.x = const_cast<double*>(A.valuePtr());
+  s.z = nullptr;
+  s.stype = -1;
+  s.itype = CHOLMOD_INT;
+  s.xtype = CHOLMOD_REAL;
+  s.dtype = CHOLMOD_DOUBLE;
+  s.sorted = 1;  // Eigen keeps row indices sorted within each column
+  s.packed = A.isCompressed() ? 1 : 0;
+  return s;
+}
+
+cholmod_dense view_dense(const Eigen::MatrixXd& B) {
+  cholmod_dense d{};
+  d.nrow = static_cast<size_t>(B.rows());
+  d.ncol = static_cast<size_t>(B.cols());
+  d.nzmax = d.nrow * d.ncol;
+  d.d = d.nrow;
+  d.x = const_cast<double*>(B.data());
+  d.z = nullptr;
+  d.xtype = CHOLMOD_REAL;
+  d.dtype = CHOLMOD_DOUBLE;
+  return d;
+}
+
+// A CHOLMOD workspace set up the same way everywhere: supernodal, silent
+// (errors are turned into loom::Error by the caller from Common.status).
+struct Common {
+  cholmod_common c;
+  Common() {
+    cholmod_start(&c);
+    c.supernodal = CHOLMOD_SUPERNODAL;
+    c.print = 0;
+    c.error_handler = nullptr;
+  }
+  ~Common() { cholmod_finish(&c); }
+  Common(const Common&) = delete;
+  Common& operator=(const Common&) = delete;
+};
+
+std::string cholmod_failure(const char* step, int status) {
+  switch (status) {
+    case CHOLMOD_OUT_OF_MEMORY:
+      return std::string("sparse Cholesky: out of memory in ") + step;
+    case CHOLMOD_TOO_LARGE:
+      return std::string("sparse Cholesky: matrix too large for 32-bit indices in ") + step;
+    default:
+      return std::string("sparse Cholesky: CHOLMOD failed in ") + step + " (status " +
+             std::to_string(status) + ")";
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+
+struct SparseCholesky::Impl {
+  Common common;
+  cholmod_factor* L = nullptr;
+  Eigen::Index n = -1;
+  bool factored = false;
+  std::vector<int> outer, inner;  // pattern of the analysed matrix, for refactor()
+
+  ~Impl() {
+    if (L) cholmod_free_factor(&L, &common.c);
+  }
+
+  void remember_pattern(const SparseMatrix& A) {
+    outer.clear();
+    inner.clear();
+    for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+      outer.push_back(static_cast<int>(inner.size()));
+      for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+        if (it.row() >= j) inner.push_back(static_cast<int>(it.row()));
+    }
+    outer.push_back(static_cast<int>(inner.size()));
+  }
+
+  bool same_pattern(const SparseMatrix& A) const {
+    if (A.rows() != n || A.cols() != n) return false;
+    std::size_t k = 0;
+    for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+      if (outer[j] != static_cast<int>(k)) return false;
+      for (SparseMatrix::InnerIterator it(A, j); it; ++it)
+        if (it.row() >= j) {
+          if (k >= inner.size() || inner[k] != it.row()) return false;
+          ++k;
+        }
+    }
+    return k == inner.size();
+  }
+
+  void analyze(const SparseMatrix& A) {
+    if (L) cholmod_free_factor(&L, &common.c);
+    factored = false;
+    cholmod_sparse s = view_lower(A);
+    L = cholmod_analyze(&s, &common.c);
+    if (!L) throw Error(cholmod_failure("analysis", common.c.status));
+    n = A.rows();
+    remember_pattern(A);
+  }
+
+  void factorize(const SparseMatrix& A) {
+    factored = false;
+    cholmod_sparse s = view_lower(A);
+    cholmod_factorize(&s, L, &common.c);
+    if (common.c.status == CHOLMOD_NOT_POSDEF)
+      throw Error("matrix is not positive definite (pivot " + std::to_string(L->minor) + " of " +
+                  std::to_string(n) + "): check that the system is symmetric positive definite, "
+                  "e.g. that every connected part has a fixed (Dirichlet) value");
+    if (common.c.status < CHOLMOD_OK) throw Error(cholmod_failure("factorization", common.c.status));
+    factored = true;
+  }
+};
+
+SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
+SparseCholesky::~SparseCholesky() = default;
+SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
+SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
+
+void SparseCholesky::compute(const SparseMatrix& A) {
+  require_square_finite(A, "sparse Cholesky");
+  impl_->analyze(A);
+  impl_->factorize(A);
+}
+
+void SparseCholesky::refactor(const SparseMatrix& A) {
+  require_square_finite(A, "sparse Cholesky");
+  if (!impl_->L || !impl_->same_pattern(A)) impl_->analyze(A);
+  impl_->factorize(A);
+}
+
+Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) const {
+  require_rhs_rows(B, impl_->factored ? impl_->n : -1, "sparse Cholesky");
+  if (B.cols() == 0) return Eigen::MatrixXd(B.rows(), 0);
+  // A workspace per call: the factor is only read, so threads may solve at once.
+  Common common;
+  cholmod_dense b = view_dense(B);
+  cholmod_dense* x = cholmod_solve(CHOLMOD_A, impl_->L, &b, &common.c);
+  if (!x) throw Error(cholmod_failure("solve", common.c.status));
+  Eigen::MatrixXd X = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(x->x),
+                                                        B.rows(), B.cols());
+  cholmod_free_dense(&x, &common.c);
+  return X;
+}
+
+int SparseCholesky::rows() const { return static_cast<int>(std::max<Eigen::Index>(impl_->n, 0)); }
+
+const char* SparseCholesky::backend() const { return "cholmod"; }
+
+// ---------------------------------------------------------------------------
+
+struct SparseLU::Impl {
+  SparseMatrix A;  // compressed copy: UMFPACK's iterative refinement reads it
+  void* numeric = nullptr;
+  double control[UMFPACK_CONTROL];
+
+  Impl() { umfpack_di_defaults(control); }
+  ~Impl() { release(); }
+  void release() {
+    if (numeric) umfpack_di_free_numeric(&numeric);
+  }
+};
+
+SparseLU::SparseLU() : impl_(std::make_unique<Impl>()) {}
+SparseLU::~SparseLU() = default;
+SparseLU::SparseLU(SparseLU&&) noexcept = default;
+SparseLU& SparseLU::operator=(SparseLU&&) noexcept = default;
+
+void SparseLU::compute(const SparseMatrix& A) {
+  require_square_finite(A, "sparse LU");
+  Impl& m = *impl_;
+  m.release();
+  m.A = A;
+  m.A.makeCompressed();
+  const int n = static_cast<int>(m.A.rows());
+  double info[UMFPACK_INFO];
+  void* symbolic = nullptr;
+  int status = umfpack_di_symbolic(n, n, m.A.outerIndexPtr(), m.A.innerIndexPtr(), m.A.valuePtr(),
+                                   &symbolic, m.control, info);
+  if (status != UMFPACK_OK) {
+    if (symbolic) umfpack_di_free_symbolic(&symbolic);
+    throw Error("sparse LU: UMFPACK analysis failed (status " + std::to_string(status) + ")");
+  }
+  status = umfpack_di_numeric(m.A.outerIndexPtr(), m.A.innerIndexPtr(), m.A.valuePtr(), symbolic,
+                              &m.numeric, m.control, info);
+  umfpack_di_free_symbolic(&symbolic);
+  if (status == UMFPACK_WARNING_singular_matrix) {
+    m.release();
+    throw Error("matrix is singular: the system has no unique solution (check for rows or "
+                "columns without a constraint)");
+  }
+  if (status != UMFPACK_OK) {
+    m.release();
+    throw Error("sparse LU: UMFPACK factorization failed (status " + std::to_string(status) + ")");
+  }
+}
+
+Eigen::MatrixXd SparseLU::solve(const Eigen::MatrixXd& B) const {
+  const Impl& m = *impl_;
+  require_rhs_rows(B, m.numeric ? m.A.rows() : -1, "sparse LU");
+  Eigen::MatrixXd X(B.rows(), B.cols());
+  std::atomic<int> failed{UMFPACK_OK};
+  // umfpack_di_solve only reads the factors and allocates its own workspace.
+  tbb::parallel_for(Eigen::Index(0), B.cols(), [&](Eigen::Index j) {
+    double info[UMFPACK_INFO];
+    const int status = umfpack_di_solve(UMFPACK_A, m.A.outerIndexPtr(), m.A.innerIndexPtr(),
+                                        m.A.valuePtr(), X.col(j).data(), B.col(j).data(),
+                                        m.numeric, m.control, info);
+    if (status != UMFPACK_OK) failed = status;
+  });
+  if (failed.load() != UMFPACK_OK)
+    throw Error("sparse LU: UMFPACK solve failed (status " + std::to_string(failed.load()) + ")");
+  return X;
+}
+
+const char* SparseLU::backend() const { return "umfpack"; }
+
+}  // namespace loom::numerics

@@ -1,0 +1,3 @@
+#include "loom/plugin.hpp"
+
+LOOM_PLUGIN("generate", "Demo data with no files: Checkerboard image, grid, disk, hemisphere and sphere meshes")

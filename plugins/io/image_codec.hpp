@@ -1,0 +1,24 @@
+// Image files <-> loom::Image, through OpenCV's codecs.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "loom/image.hpp"
+
+namespace loom::io {
+
+enum class Decode { linear, keep };
+enum class Depth { u8, u16, f32 };
+
+// 8- and 16-bit files hold sRGB-encoded values: `linear` decodes them and tags
+// the image linear; `keep` keeps the encoded values and tags it sRGB. Float
+// files (EXR, HDR) are linear already and tagged so.
+Image read_image(const std::filesystem::path& path, Decode decode);
+
+// Encodes by the image's tag (8/16-bit files get sRGB values, float files
+// linear ones), clamps integer formats to [0, 1], writes atomically. JPEG is
+// 8-bit only; EXR and HDR are float only. Throws on NaN pixels.
+void write_image(const Image& image, const std::filesystem::path& path, Depth depth);
+
+}  // namespace loom::io

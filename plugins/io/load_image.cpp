@@ -1,0 +1,25 @@
+// LoadImage: an image file as a loom::Image.
+#include "image_codec.hpp"
+#include "loom/plugin.hpp"
+
+namespace {
+
+struct LoadImage {
+  static constexpr const char* name = "LoadImage";
+  static void declare(loom::NodeSpec& s) {
+    s.describe("Reads PNG, JPEG, TIFF, BMP, EXR or HDR. 8/16-bit files are sRGB-encoded: `linear` "
+               "decodes them (for rendering), `keep` keeps the encoded values (for image editing, "
+               "as OpenCV and the course do).")
+        .input<std::string>("path", "the image file, relative to the graph file").input_file()
+        .enum_input("decode", "linear", {"linear", "keep"}, "decode sRGB to linear, or keep encoded values")
+        .output<loom::Image>("image", "float32 RGB(A) or gray pixels");
+  }
+  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
+    const auto decode = in.get<std::string>("decode") == "keep" ? loom::io::Decode::keep
+                                                                 : loom::io::Decode::linear;
+    out.set("image", loom::io::read_image(in.get<std::string>("path"), decode));
+  }
+};
+LOOM_NODE(LoadImage);
+
+}  // namespace

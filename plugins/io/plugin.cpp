@@ -1,0 +1,3 @@
+#include "loom/plugin.hpp"
+
+LOOM_PLUGIN("io", "LoadImage, SaveImage (OpenCV), LoadMesh, SaveMesh (assimp)")

@@ -1,0 +1,27 @@
+// SaveMesh: writes a mesh file atomically.
+#include "loom/mesh.hpp"
+#include "loom/plugin.hpp"
+#include "mesh_codec.hpp"
+
+namespace {
+
+struct SaveMesh {
+  static constexpr const char* name = "SaveMesh";
+  static void declare(loom::NodeSpec& s) {
+    s.describe("Writes OBJ (with a .mtl material), PLY, glTF, GLB or STL, keeping UVs, normals and "
+               "colors the format can hold.")
+        .set_sink()
+        .input<loom::Mesh>("mesh", "the mesh to write")
+        .input<std::string>("path", "the file to write, relative to the output folder").output_file()
+        .input<std::string>("texture", std::string(),
+                            "an image file name for the material's diffuse map (OBJ, glTF)");
+  }
+  static void run(loom::Inputs& in, loom::Outputs&, loom::Context& ctx) {
+    const std::string& path = in.get<std::string>("path");
+    loom::io::write_mesh(in.get<loom::Mesh>("mesh"), path, in.get<std::string>("texture"));
+    ctx.log("wrote " + path);
+  }
+};
+LOOM_NODE(SaveMesh);
+
+}  // namespace
