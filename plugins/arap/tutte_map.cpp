@@ -11,8 +11,14 @@
 
 namespace loom::arap {
 
-Eigen::MatrixX2d tutte_map(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
+Eigen::MatrixX2d tutte_map(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& faces) {
   const int n = static_cast<int>(V.rows());
+  // Faces with a repeated vertex have no area and no place in the topology.
+  std::vector<int> proper;
+  for (Eigen::Index t = 0; t < faces.rows(); ++t)
+    if (faces(t, 0) != faces(t, 1) && faces(t, 1) != faces(t, 2) && faces(t, 2) != faces(t, 0))
+      proper.push_back(static_cast<int>(t));
+  const Eigen::MatrixX3i F = faces(proper, Eigen::all);
   const MeshParts parts = mesh_parts(F, n);
   Eigen::MatrixX2d UV = Eigen::MatrixX2d::Zero(n, 2);
   std::vector<bool> fixed(n, false);
