@@ -38,7 +38,9 @@ struct ARAP {
                      "fit the UVs into [0,1]² (uniform scale); off keeps the mesh's scale")
         .output<loom::Mesh>("mesh", "the mesh with UVs")
         .output<loom::json>("distortion", "angle, area and ARAP distortion, flipped triangles")
-        .output<std::vector<double>>("energy", "ARAP energy of the initial map, then per iteration");
+        .output<std::vector<double>>("energy",
+                                     "ARAP energy of the initial map, then per iteration (before "
+                                     "normalize)");
   }
 
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {

@@ -22,7 +22,8 @@ struct ASAP {
                      "fit the UVs into [0,1]² (uniform scale); off keeps the mesh's scale")
         .output<loom::Mesh>("mesh", "the mesh with UVs")
         .output<loom::json>("distortion", "angle, area and ARAP distortion, flipped triangles")
-        .output<std::vector<double>>("energy", "the ASAP energy of the result (one value)");
+        .output<std::vector<double>>("energy",
+                                     "the ASAP energy (one value), at the scale of the pins");
   }
 
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {

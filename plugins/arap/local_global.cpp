@@ -78,9 +78,6 @@ ArapSystem arap_system(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
   for (int k = 0; k < parts.count; ++k)
     if (!part_pinned[k]) pinned.push_back(parts.first_vertex[k]);
   for (int v : pinned) held[v] = true;
-  sys.pinned.clear();
-  for (int v = 0; v < n; ++v)
-    if (held[v]) sys.pinned.push_back(v);
 
   sys.free_index.assign(n, -1);
   for (int v = 0; v < n; ++v)

@@ -22,7 +22,6 @@ namespace loom::arap {
 struct ArapSystem {
   TriangleFrames frames;
   Eigen::MatrixX3i F;
-  std::vector<int> pinned;       // sorted vertices held at their initial UV
   std::vector<int> free_index;   // #V: row of each free vertex in K_ff, −1 otherwise
   std::vector<int> free_vertex;  // #free: the inverse of free_index
   // Corners of each free vertex (3t + i), for a parallel gather of b.
