@@ -1,0 +1,175 @@
+// bench_parameterize [--quick] [--full] [--runs N]
+// Loom's fixed-boundary maps, every weight, on the course meshes and on
+// generated noisy hemispheres of ~100k (and with --full ~1M) faces: time
+// (median), flips and distortion; side by side with CGAL 5.5 (built with
+// -DLOOM_WITH_CGAL=ON) on the same boundary UVs, with the largest UV
+// difference. CSV and plots go to bench/results.
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench_harness.hpp"
+#include "harmonic_map.hpp"
+#include "loom/numerics/distortion.hpp"
+#include "loom/numerics/mesh_topology.hpp"
+#ifdef LOOM_BENCH_CGAL
+#include "cgal_peer.hpp"
+#endif
+
+namespace {
+
+using loom::parameterize::BoundaryShape;
+
+struct Input {
+  std::string name;
+  Eigen::MatrixX3d V;
+  Eigen::MatrixX3i F;
+};
+
+// OBJ: `v x y z` and triangular `f a b c` (a may be a/t/n), 1-based.
+Input read_obj(const std::string& name, const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::vector<Eigen::RowVector3d> v;
+  std::vector<Eigen::RowVector3i> f;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    std::string tag;
+    s >> tag;
+    if (tag == "v") {
+      Eigen::RowVector3d p;
+      s >> p[0] >> p[1] >> p[2];
+      v.push_back(p);
+    } else if (tag == "f") {
+      Eigen::RowVector3i t;
+      for (int k = 0; k < 3; ++k) {
+        std::string c;
+        s >> c;
+        t[k] = std::stoi(c.substr(0, c.find('/'))) - 1;
+      }
+      f.push_back(t);
+    }
+  }
+  Input m{name, Eigen::MatrixX3d(v.size(), 3), Eigen::MatrixX3i(f.size(), 3)};
+  for (size_t i = 0; i < v.size(); ++i) m.V.row(i) = v[i];
+  for (size_t i = 0; i < f.size(); ++i) m.F.row(i) = f[i];
+  return m;
+}
+
+// A hemisphere on a polar grid (as the HemisphereMesh node builds it) with
+// 1% radial noise: segments·(2·rings - 1) faces.
+Input hemisphere(const std::string& name, int rings, int segments) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Input m{name, Eigen::MatrixX3d(1 + rings * segments, 3), Eigen::MatrixX3i(segments * (2 * rings - 1), 3)};
+  m.V.row(0) << 0, 0, 1;
+  auto at = [&](int r, int s) { return 1 + (r - 1) * segments + (s % segments); };
+  for (int r = 1; r <= rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      const double theta = M_PI / 2 * r / rings, phi = 2 * M_PI * s / segments, R = 1 + 0.01 * u(rng);
+      m.V.row(at(r, s)) << R * std::sin(theta) * std::cos(phi), R * std::sin(theta) * std::sin(phi),
+          R * std::cos(theta);
+    }
+  int f = 0;
+  for (int s = 0; s < segments; ++s) m.F.row(f++) << 0, at(1, s), at(1, s + 1);
+  for (int r = 1; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      m.F.row(f++) << at(r, s), at(r + 1, s), at(r + 1, s + 1);
+      m.F.row(f++) << at(r, s), at(r + 1, s + 1), at(r, s + 1);
+    }
+  return m;
+}
+
+// gnuplot reads "_" as a subscript: legends use "-".
+std::string label(std::string text) {
+  std::replace(text.begin(), text.end(), '_', '-');
+  return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false, full = false;
+  int big_runs = 3;  // timed runs on the 100k mesh (medians; more when the machine is loaded)
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    quick |= a == "--quick";
+    full |= a == "--full";
+    if (a == "--runs" && i + 1 < argc) big_runs = std::max(1, std::atoi(argv[++i]));
+  }
+  std::vector<Input> inputs;
+  for (const char* name : {"CatHead", "NefertitiFace", "Isis", "Balls", "BunnyHead", "Beetle"}) {
+    const auto path = loom::bench::data_file(std::string("meshes/") + name + ".obj");
+    if (!path.empty()) inputs.push_back(read_obj(name, path));
+  }
+  inputs.push_back(hemisphere("hemisphere_100k", 112, 448));
+  if (full) inputs.push_back(hemisphere("hemisphere_1M", 354, 1414));
+
+  loom::bench::Csv csv("parameterize", {"mesh", "faces", "boundary", "weights", "impl", "seconds", "flipped",
+                                         "angle_mean", "area_mean", "arap_energy", "max_uv_diff"});
+  loom::bench::Csv times("parameterize_times", {"mesh", "faces", "method", "seconds"});
+  // One timed run with no warm-up for the 1M mesh (CGAL needs ~100 s there).
+  auto timed = [](bool huge, int runs, const auto& f) {
+    if (!huge) return loom::bench::time_median(f, runs).median;
+    const auto start = std::chrono::steady_clock::now();
+    f();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  for (const Input& m : inputs) {
+    const bool big = m.F.rows() > 50000, huge = m.F.rows() > 500000;
+    const int runs = quick ? 1 : big ? big_runs : 5;
+    const auto loops = loom::numerics::boundary_loops(m.F);
+#ifdef LOOM_BENCH_CGAL
+    // CGAL maps the loop's own component; meshes with holes need filling first, which it does not do.
+    loom::bench::CgalPeer* peer = loops.size() == 1 ? loom::bench::cgal_build(m.V, m.F) : nullptr;
+#endif
+    for (BoundaryShape shape : {BoundaryShape::circle, BoundaryShape::square}) {
+      if (huge && shape == BoundaryShape::square) continue;
+      const std::string bname = shape == BoundaryShape::circle ? "circle" : "square";
+      for (size_t w = 0; w < loom::parameterize::weight_names.size(); ++w) {
+        const std::string wname = loom::parameterize::weight_names[w];
+        const auto weights = static_cast<loom::parameterize::Weights>(w);
+        loom::parameterize::Parameterization p;
+        // The square only for flip counts: timings are the circle's.
+        const double t = timed(huge, shape == BoundaryShape::circle ? runs : 1,
+                               [&] { p = loom::parameterize::parameterize(m.V, m.F, weights, shape); });
+        const auto r = loom::numerics::distortion(m.V, m.F, p.UV);
+        csv.row({m.name, static_cast<long long>(m.F.rows()), bname, wname, std::string("loom"), t,
+                 static_cast<long long>(r.flipped), r.angle_mean, r.area_mean, r.arap_energy, 0.0});
+        if (shape == BoundaryShape::circle)
+          times.row({m.name, static_cast<long long>(m.F.rows()), label("loom " + wname), t});
+#ifdef LOOM_BENCH_CGAL
+        if (!peer || shape != BoundaryShape::circle) continue;
+        if (wname != "uniform" && wname != "cotangent" && wname != "mean_value") continue;
+        for (const char* solver : {"sparselu", "bicgstab"}) {
+          if (huge && std::string(solver) == "bicgstab") continue;  // slower still than SparseLU at 1M
+          Eigen::MatrixX2d UV;
+          const double tc = timed(huge, runs, [&] {
+            UV = loom::bench::cgal_parameterize(*peer, p.UV, loops[0][0], wname, solver);
+          });
+          const auto rc = loom::numerics::distortion(m.V, m.F, UV);
+          csv.row({m.name, static_cast<long long>(m.F.rows()), bname, wname, std::string("cgal_") + solver,
+                   tc, static_cast<long long>(rc.flipped), rc.angle_mean, rc.area_mean, rc.arap_energy,
+                   (UV - p.UV).cwiseAbs().maxCoeff()});
+          times.row({m.name, static_cast<long long>(m.F.rows()), label(std::string("cgal_") + solver + " " + wname),
+                     tc});
+        }
+#endif
+      }
+    }
+#ifdef LOOM_BENCH_CGAL
+    if (peer) loom::bench::cgal_free(peer);
+#endif
+  }
+  std::cout << "wrote " << csv.save() << " and " << times.save() << "\n";
+  loom::bench::plot(times, {"faces", "seconds", "method", "Fixed-boundary maps (circle): Loom vs CGAL 5.5", true, true, ""});
+  return 0;
+}
