@@ -54,9 +54,14 @@ IdwMap fit_idw(const Eigen::MatrixX2d& P, const Eigen::MatrixX2d& Q, double mu, 
       A += s * dp * dp.transpose();
       B += s * dq * dp.transpose();
     }
-    const double eps = 1e-9 * A.trace() + 1e-300;
-    m.D[static_cast<std::size_t>(i)] =
-        (B + eps * Eigen::Matrix2d::Identity()) * (A + eps * Eigen::Matrix2d::Identity()).inverse();
+    // Scaled by trace(A) so that the 2×2 inverse stays in range for any μ.
+    const double t = A.trace();
+    if (!(t > 0) || !std::isfinite(t)) {
+      m.D[static_cast<std::size_t>(i)].setIdentity();
+      continue;
+    }
+    const Eigen::Matrix2d eps = 1e-9 * Eigen::Matrix2d::Identity();
+    m.D[static_cast<std::size_t>(i)] = (B / t + eps) * (A / t + eps).inverse();
   }
   return m;
 }

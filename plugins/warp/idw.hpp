@@ -23,9 +23,9 @@ struct IdwMap {
 
 // Fits the IDW map. With fit_affine, D_i minimizes (assignment eq. for D_i)
 //   Σ_{j≠i} σ_i(p_j) ‖q_i + D_i (p_j − p_i) − q_j‖² + ε ‖D_i − I‖²_F
-// with ε = 1e-9 · Σ_j σ_i(p_j) ‖p_j − p_i‖² + 1e-300: negligible when the p_j
-// span the plane, and the identity along directions they do not span
-// (0 or 1 other point, collinear points), so the fit is never singular.
+// with ε = 1e-9 · Σ_{j≠i} σ_i(p_j) ‖p_j − p_i‖²: negligible when the p_j span
+// the plane, and the identity along directions they do not span (collinear
+// points; D_i = I when i has no other point), so the fit is never singular.
 //   P, Q  #n by 2 sources and targets, distinct sources (see clean_control_points)
 IdwMap fit_idw(const Eigen::MatrixX2d& P, const Eigen::MatrixX2d& Q, double mu, bool fit_affine);
 

@@ -36,8 +36,10 @@ void accumulate(const RbfMap& m, double y, const double* x, int n, double* fx, d
 Eigen::MatrixXd solve_or_least_squares(const Eigen::MatrixXd& M, const Eigen::MatrixXd& R,
                                        std::vector<std::string>* notes, const char* what) {
   Eigen::MatrixXd X = M.partialPivLu().solve(R);
-  const double scale = M.cwiseAbs().maxCoeff() * (X.cwiseAbs().maxCoeff() + 1) + R.cwiseAbs().maxCoeff();
-  if (X.allFinite() && (M * X - R).cwiseAbs().maxCoeff() <= 1e-9 * (scale + 1e-300)) return X;
+  // Accepted when it reproduces R to 1e-9 of its size; a singular M leaves a
+  // residual of the size of R (or NaN) instead.
+  if (X.allFinite() && (M * X - R).cwiseAbs().maxCoeff() <= 1e-9 * R.cwiseAbs().maxCoeff() + 1e-300)
+    return X;
   if (notes)
     notes->push_back(std::string(what) +
                      " is singular: used the least-squares solution (raise lambda, or change mu)");
