@@ -9,12 +9,13 @@ namespace loom::warp {
 
 namespace {
 
-// Distances below 1e-9 px count as hits: σ is capped there and the pixel gets
-// q_i exactly (see evaluate_idw_row).
+// σ is evaluated at d² + 1e-18 (a billionth of a pixel): finite on a source,
+// where the pixel then gets q_i exactly (see evaluate_idw_row), and no branch
+// in the loop, which then vectorizes.
 constexpr double kHit2 = 1e-18;
 
 double idw_sigma(double d2, double mu) {
-  d2 = std::max(d2, kHit2);
+  d2 += kHit2;
   return mu == 2 ? 1 / d2 : std::exp(-0.5 * mu * std::log(d2));
 }
 
@@ -31,7 +32,7 @@ void accumulate(const IdwMap& m, double y, const double* x, int n, double* sw, d
     const double cx = qx + d01 * uy, cy = qy + d11 * uy;
     for (int j = 0; j < n; ++j) {
       const double ux = x[j] - px;
-      const double s = sigma(std::max(ux * ux + dy2, kHit2));
+      const double s = sigma(ux * ux + dy2 + kHit2);
       sw[j] += s;
       sx[j] += s * (cx + d00 * ux);
       sy[j] += s * (cy + d10 * ux);
@@ -83,7 +84,7 @@ void evaluate_idw_row(const IdwMap& m, double y, const double* x, int n, double*
   else
     accumulate(m, y, x, n, sw.data(), fx, fy,
                [mu](double d2) { return std::exp(-0.5 * mu * std::log(d2)); });
-  const double hit_sigma = idw_sigma(kHit2, mu);
+  const double hit_sigma = idw_sigma(0, mu);
   for (int j = 0; j < n; ++j) {
     if (sw[j] >= hit_sigma) {  // on a source: f = q_i exactly, not a 1e-18-weighted mean
       Eigen::Index best = 0;
