@@ -135,18 +135,24 @@ int main(int argc, char** argv) {
   const cv::Mat board = checkerboard(), smooth = smooth_image();
   const double mpx = double(kSide) * kSide / 1e6;
 
-  loom::bench::Csv csv("warp", {"series", "pairs", "seconds", "cpu_seconds", "mpx_per_s", "speedup_vs_opencv_tps",
-                                "cpu_speedup_vs_opencv_tps"});
+  // gnuplot reads _ as a subscript: series names use - and +.
+  auto label = [](std::string s) {
+    std::replace(s.begin(), s.end(), '_', '-');
+    return s;
+  };
+  loom::bench::Csv csv("warp", {"series", "pairs", "seconds", "cpu_seconds", "mpx_per_s", "mpx_per_cpu_s",
+                                "speedup_vs_opencv_tps", "cpu_speedup_vs_opencv_tps"});
   for (int n : counts) {
     Eigen::MatrixX2d P, Q;
     random_pairs(n, 7, P, Q);
     const Measured cv_time = measure([&] { opencv_tps(board, P, Q); }, quick ? 1 : 3);
-    csv.row({"opencv_tps inverse", (long long)n, cv_time.wall, cv_time.cpu, mpx / cv_time.wall, 1.0, 1.0});
+    csv.row({"opencv-tps inverse", (long long)n, cv_time.wall, cv_time.cpu, mpx / cv_time.wall, mpx / cv_time.cpu,
+             1.0, 1.0});
     for (const std::string method : {"idw", "rbf", "rbf_tps"})
       for (const std::string mode : {"inverse", "forward", "forward_fill"}) {
         const Measured t = measure([&] { warp(method, mode, board, P, Q); }, runs);
-        csv.row({method + " " + mode, (long long)n, t.wall, t.cpu, mpx / t.wall, cv_time.wall / t.wall,
-                 cv_time.cpu / t.cpu});
+        csv.row({label(method + " " + mode), (long long)n, t.wall, t.cpu, mpx / t.wall, mpx / t.cpu,
+                 cv_time.wall / t.wall, cv_time.cpu / t.cpu});
       }
     const cv::Mat ours = warp("rbf_tps", "inverse", smooth, P, Q), theirs = opencv_tps(smooth, P, Q);
     const cv::Rect inner(64, 64, kSide - 128, kSide - 128);
@@ -155,7 +161,9 @@ int main(int argc, char** argv) {
               << cv::norm(ours(inner), theirs(inner), cv::NORM_L1) / inner.area() << "\n";
   }
   csv.save();
-  loom::bench::plot(csv, {"pairs", "mpx_per_s", "series", "1 Mpx warp throughput (wall clock)", true, true, ""});
+  loom::bench::plot(csv, {"pairs", "mpx_per_s", "series", "1 Mpx warp: Mpx per second (wall clock)", true, true, ""});
+  loom::bench::plot(csv, {"pairs", "mpx_per_cpu_s", "series", "1 Mpx warp: Mpx per CPU-second (all threads)", true, true,
+                          "_cpu"});
 
   loom::bench::Csv sweep("warp_map_step", {"method", "map_step", "seconds", "cpu_seconds", "max_map_error_px"});
   Eigen::MatrixX2d P, Q;

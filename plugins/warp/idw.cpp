@@ -5,6 +5,8 @@
 
 #include <Eigen/LU>
 
+#include "vector_clones.hpp"
+
 namespace loom::warp {
 
 namespace {
@@ -19,11 +21,12 @@ double idw_sigma(double d2, double mu) {
   return mu == 2 ? 1 / d2 : std::exp(-0.5 * mu * std::log(d2));
 }
 
-// The per-center accumulation, with σ computed by `Sigma` so that the common
-// μ = 1, 2 compile to sqrt/divide loops the compiler vectorizes.
-template <class Sigma>
-void accumulate(const IdwMap& m, double y, const double* x, int n, double* sw, double* sx,
-                double* sy, Sigma sigma) {
+// The per-center accumulation over a row: σ for μ = 2 and μ = 1 is a
+// division and a sqrt, which vectorize (kMu = 0: any μ, by exp/log).
+template <int kMu>
+inline __attribute__((always_inline)) void accumulate(const IdwMap& m, double y, const double* x, int n,
+                                                      double* sw, double* sx, double* sy) {
+  const double half_mu = 0.5 * m.mu;
   for (Eigen::Index k = 0; k < m.p.rows(); ++k) {
     const double px = m.p(k, 0), py = m.p(k, 1), qx = m.q(k, 0), qy = m.q(k, 1);
     const double uy = y - py, dy2 = uy * uy;
@@ -32,12 +35,26 @@ void accumulate(const IdwMap& m, double y, const double* x, int n, double* sw, d
     const double cx = qx + d01 * uy, cy = qy + d11 * uy;
     for (int j = 0; j < n; ++j) {
       const double ux = x[j] - px;
-      const double s = sigma(ux * ux + dy2 + kHit2);
+      const double d2 = ux * ux + dy2 + kHit2;
+      double s;
+      if constexpr (kMu == 2) s = 1 / d2;
+      else if constexpr (kMu == 1) s = 1 / std::sqrt(d2);
+      else s = std::exp(-half_mu * std::log(d2));
       sw[j] += s;
       sx[j] += s * (cx + d00 * ux);
       sy[j] += s * (cy + d10 * ux);
     }
   }
+}
+
+LOOM_WARP_VECTOR_CLONES
+void accumulate_power2(const IdwMap& m, double y, const double* x, int n, double* sw, double* sx, double* sy) {
+  accumulate<2>(m, y, x, n, sw, sx, sy);
+}
+
+LOOM_WARP_VECTOR_CLONES
+void accumulate_power1(const IdwMap& m, double y, const double* x, int n, double* sw, double* sx, double* sy) {
+  accumulate<1>(m, y, x, n, sw, sx, sy);
 }
 
 }  // namespace
@@ -78,12 +95,11 @@ void evaluate_idw_row(const IdwMap& m, double y, const double* x, int n, double*
   std::fill(fy, fy + n, 0.0);
   const double mu = m.mu;
   if (mu == 2)
-    accumulate(m, y, x, n, sw.data(), fx, fy, [](double d2) { return 1 / d2; });
+    accumulate_power2(m, y, x, n, sw.data(), fx, fy);
   else if (mu == 1)
-    accumulate(m, y, x, n, sw.data(), fx, fy, [](double d2) { return 1 / std::sqrt(d2); });
+    accumulate_power1(m, y, x, n, sw.data(), fx, fy);
   else
-    accumulate(m, y, x, n, sw.data(), fx, fy,
-               [mu](double d2) { return std::exp(-0.5 * mu * std::log(d2)); });
+    accumulate<0>(m, y, x, n, sw.data(), fx, fy);
   const double hit_sigma = idw_sigma(0, mu);
   for (int j = 0; j < n; ++j) {
     if (sw[j] >= hit_sigma) {  // on a source: f = q_i exactly, not a 1e-18-weighted mean

@@ -98,11 +98,12 @@ struct WarpField {
         continue;
       const double length = (q - p).norm();
       if (length < 0.5)
-        cv::circle(coverage, fixed(p), 2 << kShift, 255, cv::FILLED, cv::LINE_AA, kShift);
+        cv::circle(coverage, fixed(p), 3 << kShift, 255, cv::FILLED, cv::LINE_AA, kShift);  // a fixed point
       else
         cv::arrowedLine(coverage, fixed(p), fixed(q), 255, width, cv::LINE_AA, kShift,
                         std::min(0.5, (4.0 * width + 6) / length));
     }
+    // Blend the arrow color by coverage; an alpha channel (2 or 4 channels) goes to 1.
     const Eigen::Vector4d color = in.get<Color>("arrow_color").rgba;
     const int C = overlay.channels();
     for (int i = 0; i < size.height; ++i) {
@@ -112,9 +113,9 @@ struct WarpField {
         if (!cov[j]) continue;
         const float k = static_cast<float>(cov[j] / 255.0 * color[3]);
         for (int c = 0; c < C; ++c) {
-          const float target = c == 3 ? 1.0f : static_cast<float>(color[C == 1 || C == 2 ? 0 : c]);
-          const float v = row[j * C + c];
-          row[j * C + c] = (C == 2 && c == 1) ? v + k * (1 - v) : v + k * (target - v);
+          const bool alpha = (C == 2 || C == 4) && c == C - 1;
+          const float target = alpha ? 1.0f : static_cast<float>(color[C <= 2 ? 0 : c]);
+          row[j * C + c] += k * (target - row[j * C + c]);
         }
       }
     }
