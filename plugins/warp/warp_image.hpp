@@ -54,8 +54,8 @@ Splat forward_warp(const cv::Mat& source, const RowMap& to_target, cv::Size size
 // Fills the cracks of a forward warp: unwritten pixels inside the
 // morphological closing of `written` by a disk of the given radius (so the
 // background around the warped image stays), each set to the mean of its
-// written or already filled 8-neighbours, in up to `radius` sweeps.
-// Returns the number of pixels filled.
+// written or already filled 8-neighbours, sweeping inwards (at most 2·radius
+// sweeps). Filled pixels are marked in `written`; returns how many.
 int fill_cracks(cv::Mat& image, cv::Mat& written, int radius);
 
 }  // namespace loom::warp

@@ -25,6 +25,7 @@ std::vector<json> degenerate_pair_sets() {
       json::array({{10, 10, 12, 12}, {60, 60, 70, 70}, {110, 110, 100, 100}}),  // 3 collinear
       json::array({{10, 10, 20, 10}, {100, 10, 90, 30}, {50, 100, 50, 90}}),    // 3 in general position
       json::array({{50, 50, 60, 55}, {50, 50, 40, 45}, {50.0000001, 50, 55, 50}, {90, 90, 95, 80}}),  // duplicates
+      json::array({{50, 50, 60, 55}, {50.01, 50, 40, 45}, {90, 90, 95, 80}}),  // 0.01 px apart: kept, still finite
       json::array({{-500, -400, -450, -400}, {900, 1200, 1000, 1250}, {60, 60, 64, 58}}),  // outside the image
       json::array({{50, 50, 50, 50}, {90, 60, 90, 60}, {70, 100, 70, 100}}),  // identity
       json::array({{10, 50, 30, 50}, {20, 50, 20, 70}, {30, 50, 40, 40}, {40, 50, 50, 60}}),  // collinear sources
