@@ -1,0 +1,3 @@
+#include "loom/plugin.hpp"
+
+LOOM_PLUGIN("draw", "DrawShapes and PolygonMask: anti-aliased figures and polygon masks (MiniDraw assignment)")
