@@ -201,6 +201,12 @@ Run cgal_arap(const Mesh& m, double lambda, int iterations, double tolerance) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  loom::bench::handle_help(argc, argv,
+                           "bench_arap [--quick] [--large]\n"
+                           "ASAP and ARAP against CGAL's ARAP_parameterizer_3 (when built with\n"
+                           "-DLOOM_WITH_CGAL=ON) on the course meshes and hemispheres of 20k and 100k faces:\n"
+                           "energy against time, iterations to CGAL's energy, flips.\n"
+                           "--quick: 20k only; --large: add 1M faces (Loom only).");
   bool quick = false, large = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];

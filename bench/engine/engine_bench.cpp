@@ -45,6 +45,10 @@ double seconds_of(const std::string& command, int runs) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  loom::bench::handle_help(argc, argv,
+                           "bench_engine [--quick]\n"
+                           "Engine overhead: chains of N Math nodes (cold and fully cached) and `loom run`\n"
+                           "start-up with lazy and eager plugin loading. --quick: fewer sizes and runs.");
   const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
   loom::Registry registry;
   loom::PluginLoader loader(registry, {LOOM_PLUGIN_DIR});

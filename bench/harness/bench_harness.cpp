@@ -109,6 +109,15 @@ bool plot(const Csv& csv, const PlotSpec& spec) {
   return ok && !ec;
 }
 
+void handle_help(int argc, char** argv, const char* usage) {
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+      std::cout << usage << "\nResults (CSV, PNG) go to " << results_dir().string()
+                << " (set LOOM_BENCH_OUT to change).\n";
+      std::exit(0);
+    }
+}
+
 fs::path results_dir() {
   if (const char* env = std::getenv("LOOM_BENCH_OUT")) return env;
   return fs::path(LOOM_SOURCE_DIR) / "bench" / "results";

@@ -72,6 +72,9 @@ struct PlotSpec {
 // false (never fails the benchmark) when gnuplot is missing.
 bool plot(const Csv& csv, const PlotSpec& spec);
 
+// Prints `usage` and exits 0 when the arguments contain --help or -h.
+void handle_help(int argc, char** argv, const char* usage);
+
 // bench/results in the source tree, or $LOOM_BENCH_OUT.
 std::filesystem::path results_dir();
 
