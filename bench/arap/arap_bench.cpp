@@ -21,6 +21,7 @@
 
 #include "bench_harness.hpp"
 #include "local_global.hpp"
+#include "mesh_codec.hpp"
 #include "loom/numerics/distortion.hpp"
 #include "similarity_map.hpp"
 #include "tutte_map.hpp"
@@ -44,30 +45,10 @@ struct Mesh {
   Eigen::MatrixX3i F;
 };
 
+// A course mesh through the io plugin's reader (assimp).
 Mesh load_obj(const std::string& name, const std::string& path) {
-  std::ifstream in(path);
-  std::vector<Eigen::RowVector3d> v;
-  std::vector<Eigen::RowVector3i> f;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::string tag;
-    s >> tag;
-    if (tag == "v") {
-      Eigen::RowVector3d p;
-      s >> p[0] >> p[1] >> p[2];
-      v.push_back(p);
-    } else if (tag == "f") {
-      std::vector<int> idx;
-      std::string tok;
-      while (s >> tok) idx.push_back(std::stoi(tok.substr(0, tok.find('/'))) - 1);
-      for (size_t k = 1; k + 1 < idx.size(); ++k) f.emplace_back(idx[0], idx[k], idx[k + 1]);
-    }
-  }
-  Mesh m{name, Eigen::MatrixX3d(v.size(), 3), Eigen::MatrixX3i(f.size(), 3)};
-  for (size_t i = 0; i < v.size(); ++i) m.V.row(i) = v[i];
-  for (size_t i = 0; i < f.size(); ++i) m.F.row(i) = f[i];
-  return m;
+  loom::Mesh mesh = loom::io::read_mesh(path);
+  return Mesh{name, mesh.V, mesh.F};
 }
 
 // A hemisphere cap (the pole to 80° latitude) with radial noise of about a
