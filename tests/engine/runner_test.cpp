@@ -1,6 +1,7 @@
 // The `loom` command as a user runs it: exit codes, profiles, lazy plugin
 // loading, ABI refusal, atomic writes, interruption.
 #include <fstream>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -154,6 +155,18 @@ TEST(Runner, EveryCommandHasHelp) {
     EXPECT_EQ(test::run_loom(cmd + "--help", &out), 0) << cmd;
     EXPECT_NE(out.find("Usage:"), std::string::npos) << cmd;
   }
+}
+
+TEST(Runner, EveryNodeTypeHasAnExampleGraph) {
+  std::string out;
+  ASSERT_EQ(test::run_loom("nodes --json", &out), 0);
+  std::set<std::string> used;
+  for (const auto& e : fs::directory_iterator(fs::path(LOOM_SOURCE_DIR) / "graphs"))
+    if (e.path().extension() == ".json")
+      for (const auto& [id, node] : read_json(e.path())["nodes"].items()) used.insert(node["type"].get<std::string>());
+  for (const auto& [type, description] : json::parse(out).items())
+    EXPECT_TRUE(used.count(type)) << type << " (plugin " << description["plugin"].get<std::string>()
+                                  << ") has no example graph under graphs/";
 }
 
 TEST(Runner, NodeReferenceIsCurrent) {
