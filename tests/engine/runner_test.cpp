@@ -162,8 +162,10 @@ TEST(Runner, EveryNodeTypeHasAnExampleGraph) {
   ASSERT_EQ(test::run_loom("nodes --json", &out), 0);
   std::set<std::string> used;
   for (const auto& e : fs::directory_iterator(fs::path(LOOM_SOURCE_DIR) / "graphs"))
-    if (e.path().extension() == ".json")
-      for (const auto& [id, node] : read_json(e.path())["nodes"].items()) used.insert(node["type"].get<std::string>());
+    if (e.path().extension() == ".json") {
+      const json doc = read_json(e.path());
+      for (const auto& [id, node] : doc["nodes"].items()) used.insert(node["type"].get<std::string>());
+    }
   for (const auto& [type, description] : json::parse(out).items())
     EXPECT_TRUE(used.count(type)) << type << " (plugin " << description["plugin"].get<std::string>()
                                   << ") has no example graph under graphs/";
