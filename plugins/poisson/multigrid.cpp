@@ -83,7 +83,10 @@ void smooth_row(const Level& L, const Field& b, Field& x, int colour, int y) {
 // In parallel, each block of rows first does the part of that wavefront that
 // needs no other block (a trapezoid: half-sweep j on rows [y0 + j, y1 − j)),
 // then the triangles left at each block edge are filled in, in order.
-void sweeps(const Level& L, const Field& b, Field& x, std::initializer_list<int> colours) {
+// row_done(y) runs once row y is final (after the last half-sweep on it).
+template <class RowDone>
+void sweeps(const Level& L, const Field& b, Field& x, std::initializer_list<int> colours,
+            RowDone&& row_done) {
   const int k = static_cast<int>(colours.size());
   const int* colour = colours.begin();
   const int block = std::max(4 * k, 32768 / L.w);
@@ -93,13 +96,17 @@ void sweeps(const Level& L, const Field& b, Field& x, std::initializer_list<int>
     for (int y = y0; y < y1 + k; ++y)
       for (int j = 0; j < k; ++j) {
         const int row = y - j;
-        if (row >= y0 + first * j && row < y1 - last * j) smooth_row(L, b, x, colour[j], row);
+        if (row < y0 + first * j || row >= y1 - last * j) continue;
+        smooth_row(L, b, x, colour[j], row);
+        if (j == k - 1) row_done(row);
       }
   };
   auto triangle = [&](int edge) {  // half-sweep j on rows [edge − j, edge + j)
     for (int j = 1; j < k; ++j)
-      for (int row = std::max(0, edge - j); row < std::min(L.h, edge + j); ++row)
+      for (int row = std::max(0, edge - j); row < std::min(L.h, edge + j); ++row) {
         smooth_row(L, b, x, colour[j], row);
+        if (j == k - 1) row_done(row);
+      }
   };
   if (blocks <= 1 || std::size_t(L.w) * L.h < 32768) {
     trapezoid(0, L.h);
@@ -189,11 +196,25 @@ cv::Mat1b coarsen(const cv::Mat1b& fine) {
   return coarse;
 }
 
+Eigen::Array4d row_dot(const Level& L, const Field& u, const Field& v, int y) {
+  Eigen::Array4d acc = Eigen::Array4d::Zero();
+  for (std::size_t i = L.at(0, y), e = i + L.w; i < e; ++i) acc += (u[i] * v[i]).cast<double>();
+  return acc;
+}
+
 struct Hierarchy {
   const std::vector<Level>& levels;
   const numerics::SparseCholesky& coarsest;
   const std::vector<std::size_t>& cells;
   MultigridPoisson::Workspace& ws;
+  std::vector<Eigen::Array4d> rz_rows;  // b·x per row of the finest level, from the last V-cycle
+
+  // r·z of PCG after vcycle(0, r, z, ·), summed in row order.
+  Eigen::Array4d rz() const {
+    Eigen::Array4d sum = Eigen::Array4d::Zero();
+    for (const Eigen::Array4d& row : rz_rows) sum += row;
+    return sum;
+  }
 
   // x = V(b): one symmetric V-cycle from x = 0 on level l. r: scratch of level l.
   void vcycle(std::size_t l, const Field& b, Field& x, Field& r) {
@@ -204,14 +225,20 @@ struct Hierarchy {
       const Eigen::MatrixXd X = coarsest.solve(B);
       std::fill(x.begin(), x.end(), V4::Zero());
       for (std::size_t k = 0; k < cells.size(); ++k) x[cells[k]] = X.row(k).transpose().cast<float>();
+      if (l == 0)
+        for (int y = 0; y < L.h; ++y) rz_rows[y] = row_dot(L, b, x, y);
       return;
     }
-    sweeps(L, b, x, {kFromZero, 1, 0, 1});
+    sweeps(L, b, x, {kFromZero, 1, 0, 1}, [](int) {});
     residual(L, b, x, r);
     restrict_residual(L, r, levels[l + 1], ws.b[l + 1]);
     vcycle(l + 1, ws.b[l + 1], ws.e[l + 1], ws.coarse_r);
     prolong_add(levels[l + 1], ws.e[l + 1], L, x);
-    sweeps(L, b, x, {1, 0, 1, 0});  // reverse order: the V-cycle stays symmetric
+    // Reverse order: the V-cycle stays symmetric. On the finest level, b·x row
+    // by row while the rows are in cache (PCG's r·z).
+    sweeps(L, b, x, {1, 0, 1, 0}, [&](int y) {
+      if (l == 0) rz_rows[y] = row_dot(L, b, x, y);
+    });
   }
 };
 
@@ -261,7 +288,7 @@ MultigridPoisson::Result MultigridPoisson::solve(const cv::Mat& b, cv::Mat& f, d
   const int C = b.channels();
   const std::size_t s = L.stride;
   Field &x = ws->x, &r = ws->r, &z = ws->z, &p = ws->p, &q = ws->q;
-  Hierarchy H{levels_, coarsest_, coarsest_cells_, *ws};
+  Hierarchy H{levels_, coarsest_, coarsest_cells_, *ws, std::vector<Eigen::Array4d>(L.h)};
 
   // PCG on the correction x = f − g, from x = 0 or the previous correction x₀:
   // r = b − A (g + x₀) (on Ω only; the boundary values are in b already).
@@ -284,21 +311,9 @@ MultigridPoisson::Result MultigridPoisson::solve(const cv::Mat& b, cv::Mat& f, d
   });
   residual(L, q, z, r);
 
-  auto dot = [&](const Field& u, const Field& v) {
-    return reduce_rows<Eigen::Array4d>(
-        L,
-        [&](int y) {
-          Eigen::Array4d acc = Eigen::Array4d::Zero();
-          for (std::size_t i = L.at(0, y), e = i + L.w; i < e; ++i)
-            acc += (u[i] * v[i]).cast<double>();
-          return acc;
-        },
-        [](const Eigen::Array4d& a, const Eigen::Array4d& c) { return Eigen::Array4d(a + c); });
-  };
-
   H.vcycle(0, r, z, q);
   p = z;
-  Eigen::Array4d rz = dot(r, z);
+  Eigen::Array4d rz = H.rz();
   Result result;
   for (int it = 1; it <= max_iterations; ++it) {
     // q = A p and p·q in one pass.
@@ -334,7 +349,7 @@ MultigridPoisson::Result MultigridPoisson::solve(const cv::Mat& b, cv::Mat& f, d
     if (between) between();
     if (result.last_change <= tolerance) break;
     H.vcycle(0, r, z, q);
-    const Eigen::Array4d rz_next = dot(r, z);
+    const Eigen::Array4d rz_next = H.rz();
     const V4 beta = (rz > 0).select(rz_next / rz.max(1e-300), 0.0).cast<float>();
     rz = rz_next;
     for_rows(L, [&](int y) {
