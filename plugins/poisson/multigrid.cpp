@@ -300,6 +300,7 @@ MultigridPoisson::Result MultigridPoisson::solve(const cv::Mat& b, cv::Mat& f, d
     for (int c = 0; c < L.w; ++c) {
       const std::size_t i = L.at(c, y);
       if (!warm) x[i] = V4::Zero();
+      for (int k = C; k < 4; ++k) x[i][k] = 0.0f;  // lanes of channels the last solve had more of
       z[i] = x[i];
       q[i] = V4::Zero();
       if (L.degree[i] == 0) continue;

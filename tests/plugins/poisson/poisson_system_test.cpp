@@ -145,6 +145,17 @@ TEST(PoissonSystem, WarmStartedDragStaysWithinHalfALevelOfExactWhateverTheHistor
       EXPECT_LT(max_diff(warm, exact), 0.5 / 255) << "offset " << offset;
       EXPECT_LT(max_diff(warm, cold), 0.5 / 255) << "offset " << offset;
     }
+  // A one-channel image after the three-channel drag: the extra lanes of the
+  // previous correction must not leak in.
+  cv::Mat gray_source, gray_target;
+  cv::extractChannel(source, gray_source, 1);
+  cv::extractChannel(target, gray_target, 2);
+  const BlendRegion r = place_region(mask, path[1], target.size());
+  const cv::Mat b = poisson_rhs(r, gray_target, gray_source, path[1], Guidance::normal);
+  cv::Mat warm = source_on_rect(r, gray_source, path[1]), exact = warm.clone();
+  dragged.solve(b, warm, 2e-3, 200, MultigridPoisson::Start::previous_correction);
+  ExactPoisson(r.unknown).solve(b, exact);
+  EXPECT_LT(max_diff(warm, exact), 0.5 / 255);
 }
 
 TEST(PoissonSystem, MultigridPreconditionerConvergesInFewIterations) {
