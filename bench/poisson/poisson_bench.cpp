@@ -3,14 +3,18 @@
 // cv::seamlessClone side by side on the same 8-bit images and region; plus the
 // drag re-solve (new offset, cached factorization or hierarchy).
 //
-//   bench_poisson [--quick] [--size N]
-//   --quick: no 2048² exact solve, one repeat;  --size N: only N² regions
+//   bench_poisson [--quick] [--drag] [--size N]
+//   --quick: no 2048² exact solve, one repeat;  --drag: only the drag re-solve;
+//   --size N: only N² regions
+#include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/photo.hpp>
@@ -67,22 +71,55 @@ Errors compare(const cv::Mat& f, const cv::Mat& ref, const cv::Mat1b& unknown) {
   return e;
 }
 
+// Wall median (time_median) and mean process CPU seconds (all threads) per call.
+struct WallCpu {
+  double wall = 0, cpu = 0;
+};
+template <class F>
+WallCpu time_wall_cpu(F&& f, int runs) {
+  const std::clock_t start = std::clock();
+  const double wall = loom::bench::time_median(f, runs).median;
+  return {wall, double(std::clock() - start) / CLOCKS_PER_SEC / (runs + 1)};  // + the warm-up
+}
+
+constexpr const char* kUsage =
+    "usage: bench_poisson [--quick] [--drag] [--size N]\n"
+    "  PoissonBlend benchmark: first solve (multigrid at several tolerances, exact CHOLMOD,\n"
+    "  OpenCV seamlessClone) and the drag re-solve, errors against the exact solve.\n"
+    "  --quick   one repeat, no 2048^2 exact solve\n"
+    "  --drag    only the drag re-solve (sizes up to 1024)\n"
+    "  --size N  only N x N regions (256, 512, 1024 or 2048)\n"
+    "  results: bench/results/poisson.csv, poisson_drag.csv and a plot\n";
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false;
+  bool quick = false, drag_only = false;
   int only = 0;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--quick") == 0) quick = true;
-    if (std::strcmp(argv[i], "--size") == 0 && i + 1 < argc) only = std::atoi(argv[++i]);
+    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
+      std::fputs(kUsage, stdout);
+      return 0;
+    } else if (std::strcmp(argv[i], "--quick") == 0) {
+      quick = true;
+    } else if (std::strcmp(argv[i], "--drag") == 0) {
+      drag_only = true;
+    } else if (std::strcmp(argv[i], "--size") == 0 && i + 1 < argc) {
+      only = std::atoi(argv[++i]);
+    } else {
+      std::fprintf(stderr, "bench_poisson: unknown argument %s\n%s", argv[i], kUsage);
+      return 2;
+    }
   }
   loom::bench::Csv csv("poisson", {"size", "solver", "tolerance", "seconds", "iterations",
                                    "max_error_255", "rms_error_255", "speedup_vs_opencv"});
-  loom::bench::Csv drag("poisson_drag", {"size", "solver", "seconds_per_resolve", "fps"});
+  loom::bench::Csv drag("poisson_drag", {"size", "solver", "start", "tolerance", "seconds_per_resolve",
+                                          "cpu_seconds_per_resolve", "fps", "iterations_max",
+                                          "max_error_255"});
   const int sizes[] = {256, 512, 1024, 2048};
   const double tolerances[] = {1e-2, 3e-3, 2e-3, 1e-3, 3e-4, 1e-5};
   for (const int N : sizes) {
-    if (only && N != only) continue;
+    if ((only && N != only) || (drag_only && N > 1024)) continue;
     const int runs = quick ? 1 : (N >= 2048 ? 1 : N >= 1024 ? 3 : 5);
     const cv::Size source_size(N + 2, N + 2), target_size(N + 64, N + 64);
     const cv::Mat3b src8 = pattern(source_size, 0.0), dst8 = pattern(target_size, 1.7);
@@ -109,59 +146,82 @@ int main(int argc, char** argv) {
       exact_seconds = t.median;
     }
 
-    // OpenCV: the same region, placed by its bounding-box centre.
-    cv::Mat3b src_bgr, dst_bgr, out_bgr;
-    cv::cvtColor(src8, src_bgr, cv::COLOR_RGB2BGR);
-    cv::cvtColor(dst8, dst_bgr, cv::COLOR_RGB2BGR);
-    const int len = N - 1;  // OpenCV takes the bounding box as max − min
-    const cv::Point centre(1 + offset.x + len / 2, 1 + offset.y + len / 2);
-    const auto t_cv = loom::bench::time_median(
-        [&] { cv::seamlessClone(src_bgr, dst_bgr, mask, centre, out_bgr, cv::NORMAL_CLONE); }, runs);
-    cv::Mat3b out_rgb;
-    cv::cvtColor(out_bgr, out_rgb, cv::COLOR_BGR2RGB);
-    const cv::Mat opencv = to_float(out_rgb)(region.rect);
-    const Errors e_cv = run_exact ? compare(opencv, exact, region.unknown) : Errors{NAN, NAN};
-    csv.row({(long long)N, "opencv", 0.0, t_cv.median, 0LL, e_cv.max, e_cv.rms, 1.0});
-    if (run_exact)
-      csv.row({(long long)N, "cholmod", 0.0, exact_seconds, 1LL, 0.0, 0.0, t_cv.median / exact_seconds});
+    if (!drag_only) {
+      // OpenCV: the same region, placed by its bounding-box centre.
+      cv::Mat3b src_bgr, dst_bgr, out_bgr;
+      cv::cvtColor(src8, src_bgr, cv::COLOR_RGB2BGR);
+      cv::cvtColor(dst8, dst_bgr, cv::COLOR_RGB2BGR);
+      const int len = N - 1;  // OpenCV takes the bounding box as max − min
+      const cv::Point centre(1 + offset.x + len / 2, 1 + offset.y + len / 2);
+      const auto t_cv = loom::bench::time_median(
+          [&] { cv::seamlessClone(src_bgr, dst_bgr, mask, centre, out_bgr, cv::NORMAL_CLONE); }, runs);
+      cv::Mat3b out_rgb;
+      cv::cvtColor(out_bgr, out_rgb, cv::COLOR_BGR2RGB);
+      const cv::Mat opencv = to_float(out_rgb)(region.rect);
+      const Errors e_cv = run_exact ? compare(opencv, exact, region.unknown) : Errors{NAN, NAN};
+      csv.row({(long long)N, "opencv", 0.0, t_cv.median, 0LL, e_cv.max, e_cv.rms, 1.0});
+      if (run_exact)
+        csv.row({(long long)N, "cholmod", 0.0, exact_seconds, 1LL, 0.0, 0.0, t_cv.median / exact_seconds});
 
-    for (const double tol : tolerances) {
-      cv::Mat f;
-      MultigridPoisson::Result result;
-      const auto t = loom::bench::time_median(
-          [&] {
-            f = source_on_rect(region, source, offset);
-            MultigridPoisson mg(region.unknown);
-            result = mg.solve(poisson_rhs(region, target, source, offset, Guidance::normal), f, tol, 200);
-          },
-          runs);
-      const Errors e = run_exact ? compare(f, exact, region.unknown) : Errors{NAN, NAN};
-      csv.row({(long long)N, "multigrid", tol, t.median, (long long)result.iterations, e.max, e.rms,
-               t_cv.median / t.median});
-    }
-
-    // Drag: a new offset re-solves with the cached hierarchy or factorization.
-    if (N <= 1024) {
-      const MultigridPoisson mg(region.unknown);
-      int shift = 0;
-      auto resolve = [&](auto&& solve) {
-        const cv::Point moved = offset + cv::Point(shift % 3 - 1, 0);
-        ++shift;
-        cv::Mat f = source_on_rect(region, source, moved);
-        solve(poisson_rhs(region, target, source, moved, Guidance::normal), f);
-      };
-      const auto t_mg = loom::bench::time_median(
-          [&] { resolve([&](const cv::Mat& bb, cv::Mat& f) { mg.solve(bb, f, 1e-4, 200); }); }, 5);
-      drag.row({(long long)N, "multigrid", t_mg.median, 1.0 / t_mg.median});
-      if (factor) {
-        const auto t_ex = loom::bench::time_median(
-            [&] { resolve([&](const cv::Mat& bb, cv::Mat& f) { factor->solve(bb, f); }); }, 5);
-        drag.row({(long long)N, "cholmod", t_ex.median, 1.0 / t_ex.median});
+      for (const double tol : tolerances) {
+        cv::Mat f;
+        MultigridPoisson::Result result;
+        const auto t = loom::bench::time_median(
+            [&] {
+              f = source_on_rect(region, source, offset);
+              MultigridPoisson mg(region.unknown);
+              result = mg.solve(poisson_rhs(region, target, source, offset, Guidance::normal), f, tol, 200);
+            },
+            runs);
+        const Errors e = run_exact ? compare(f, exact, region.unknown) : Errors{NAN, NAN};
+        csv.row({(long long)N, "multigrid", tol, t.median, (long long)result.iterations, e.max, e.rms,
+                 t_cv.median / t.median});
       }
     }
+
+    // Drag: the region moves by a pixel per frame (offsets cycling through
+    // x − 1, x, x + 1) and each frame re-solves with the cached hierarchy or
+    // factorization; errors are against the exact solve of each frame.
+    if (N <= 1024 && factor) {
+      const cv::Point moves[3] = {{-1, 0}, {0, 0}, {1, 0}};
+      cv::Mat frame_exact[3];
+      for (int k = 0; k < 3; ++k) {
+        const cv::Point moved = offset + moves[k];
+        frame_exact[k] = source_on_rect(region, source, moved);
+        factor->solve(poisson_rhs(region, target, source, moved, Guidance::normal), frame_exact[k]);
+      }
+      auto run_drag = [&](const std::string& name, const std::string& start, double tol, auto&& solve) {
+        int frame = 0, iterations_max = 0;
+        std::vector<cv::Mat> frames;  // compared after the timing
+        const WallCpu t = time_wall_cpu(
+            [&] {
+              const cv::Point moved = offset + moves[frame++ % 3];
+              cv::Mat f = source_on_rect(region, source, moved);
+              iterations_max = std::max(
+                  iterations_max, solve(poisson_rhs(region, target, source, moved, Guidance::normal), f));
+              frames.push_back(f);
+            },
+            9);
+        double max_error = 0;
+        for (std::size_t k = 0; k < frames.size(); ++k)
+          max_error = std::max(max_error, compare(frames[k], frame_exact[k % 3], region.unknown).max);
+        drag.row({(long long)N, name, start, tol, t.wall, t.cpu, 1.0 / t.wall, (long long)iterations_max,
+                  max_error});
+      };
+      using Start = MultigridPoisson::Start;
+      const MultigridPoisson mg(region.unknown);
+      for (const double tol : {1e-4, 2e-3})
+        for (const Start start : {Start::guess, Start::previous_correction})
+          run_drag("multigrid", start == Start::guess ? "guess" : "previous", tol,
+                   [&](const cv::Mat& bb, cv::Mat& f) { return mg.solve(bb, f, tol, 200, start).iterations; });
+      run_drag("cholmod", "-", 0.0, [&](const cv::Mat& bb, cv::Mat& f) {
+        factor->solve(bb, f);
+        return 1;
+      });
+    }
   }
-  csv.save();
   drag.save();
-  loom::bench::plot(csv, {"seconds", "max_error_255", "size", "PoissonBlend: first-solve time vs max error (1/255 levels)", true, true, ""});
+  if (!drag_only) csv.save();
+  if (!drag_only) loom::bench::plot(csv, {"seconds", "max_error_255", "size", "PoissonBlend: first-solve time vs max error (1/255 levels)", true, true, ""});
   return 0;
 }

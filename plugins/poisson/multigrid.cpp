@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 
 #include <Eigen/Core>
 #include <tbb/blocked_range.h>
@@ -18,6 +19,7 @@ using Level = MultigridPoisson::Level;
 
 struct MultigridPoisson::Workspace {
   Field x, r, z, p, q;          // PCG on the finest level (q doubles as the V-cycle's residual)
+  bool has_correction = false;  // x holds the correction of the last completed solve
   std::vector<Field> b, e;      // per coarse level: right-hand side and correction
   Field coarse_r;               // residual of a coarse level, consumed before recursing
 };
@@ -25,7 +27,6 @@ struct MultigridPoisson::Workspace {
 namespace {
 
 constexpr int kCoarsestUnknowns = 4096;  // solved directly below this size
-constexpr int kSweeps = 2;               // Gauss–Seidel sweeps before and after the coarse solve
 constexpr float kInv[5] = {0.0f, 1.0f, 0.5f, 1.0f / 3.0f, 0.25f};  // 1/|N_p|, 0 off Ω
 constexpr float kIn[5] = {0.0f, 1.0f, 1.0f, 1.0f, 1.0f};           // 1 on Ω
 
@@ -56,26 +57,63 @@ T reduce_rows(const Level& L, F&& row, Join join) {
       join);
 }
 
-// The first red sweep from x = 0: red cells get b_p / |N_p|, black cells 0.
-void smooth_from_zero(const Level& L, const Field& b, Field& x) {
-  for_rows(L, [&](int y) {
+// One colour of red-black Gauss–Seidel on row y: x_p = (b_p + Σ_q x_q) / |N_p|
+// on Ω. Colour kFromZero is the first red sweep from x = 0: red cells get
+// b_p / |N_p|, black cells 0.
+constexpr int kFromZero = 2;
+void smooth_row(const Level& L, const Field& b, Field& x, int colour, int y) {
+  const std::size_t s = L.stride;
+  if (colour == kFromZero) {
     const std::size_t i0 = L.at(0, y);
     for (int c = 0; c < L.w; ++c) {
       const std::size_t i = i0 + c;
       x[i] = ((c + y) & 1) ? V4(V4::Zero()) : V4(b[i] * kInv[L.degree[i]]);
     }
-  });
+    return;
+  }
+  for (int c = (y + colour) & 1; c < L.w; c += 2) {
+    const std::size_t i = L.at(c, y);
+    x[i] = (b[i] + x[i - 1] + x[i + 1] + x[i - s] + x[i + s]) * kInv[L.degree[i]];
+  }
 }
 
-// One colour of red-black Gauss–Seidel: x_p = (b_p + Σ_q x_q) / |N_p| on Ω.
-void smooth(const Level& L, const Field& b, Field& x, int colour) {
-  const std::size_t s = L.stride;
-  for_rows(L, [&](int y) {
-    for (int c = (y + colour) & 1; c < L.w; c += 2) {
-      const std::size_t i = L.at(c, y);
-      x[i] = (b[i] + x[i - 1] + x[i + 1] + x[i - s] + x[i + s]) * kInv[L.degree[i]];
-    }
-  });
+// The half-sweeps colours[0], colours[1], … (alternating colours) in one pass
+// over memory, with the same result as running them one after the other:
+// half-sweep j runs one row behind half-sweep j − 1, whose rows y ± 1 it reads.
+// In parallel, each block of rows first does the part of that wavefront that
+// needs no other block (a trapezoid: half-sweep j on rows [y0 + j, y1 − j)),
+// then the triangles left at each block edge are filled in, in order.
+// row_done(y) runs once row y is final (after the last half-sweep on it).
+template <class RowDone>
+void sweeps(const Level& L, const Field& b, Field& x, std::initializer_list<int> colours,
+            RowDone&& row_done) {
+  const int k = static_cast<int>(colours.size());
+  const int* colour = colours.begin();
+  const int block = std::max(4 * k, 32768 / L.w);
+  const int blocks = (L.h + block - 1) / block;
+  auto trapezoid = [&](int y0, int y1) {
+    const int first = y0 == 0 ? 0 : 1, last = y1 == L.h ? 0 : 1;  // 1: shrink at an inner edge
+    for (int y = y0; y < y1 + k; ++y)
+      for (int j = 0; j < k; ++j) {
+        const int row = y - j;
+        if (row < y0 + first * j || row >= y1 - last * j) continue;
+        smooth_row(L, b, x, colour[j], row);
+        if (j == k - 1) row_done(row);
+      }
+  };
+  auto triangle = [&](int edge) {  // half-sweep j on rows [edge − j, edge + j)
+    for (int j = 1; j < k; ++j)
+      for (int row = std::max(0, edge - j); row < std::min(L.h, edge + j); ++row) {
+        smooth_row(L, b, x, colour[j], row);
+        if (j == k - 1) row_done(row);
+      }
+  };
+  if (blocks <= 1 || std::size_t(L.w) * L.h < 32768) {
+    trapezoid(0, L.h);
+    return;
+  }
+  tbb::parallel_for(0, blocks, [&](int i) { trapezoid(i * block, std::min(L.h, (i + 1) * block)); });
+  tbb::parallel_for(1, blocks, [&](int i) { triangle(i * block); });
 }
 
 // r = b − A x on Ω, 0 elsewhere.
@@ -158,11 +196,25 @@ cv::Mat1b coarsen(const cv::Mat1b& fine) {
   return coarse;
 }
 
+Eigen::Array4d row_dot(const Level& L, const Field& u, const Field& v, int y) {
+  Eigen::Array4d acc = Eigen::Array4d::Zero();
+  for (std::size_t i = L.at(0, y), e = i + L.w; i < e; ++i) acc += (u[i] * v[i]).cast<double>();
+  return acc;
+}
+
 struct Hierarchy {
   const std::vector<Level>& levels;
   const numerics::SparseCholesky& coarsest;
   const std::vector<std::size_t>& cells;
   MultigridPoisson::Workspace& ws;
+  std::vector<Eigen::Array4d> rz_rows;  // b·x per row of the finest level, from the last V-cycle
+
+  // r·z of PCG after vcycle(0, r, z, ·), summed in row order.
+  Eigen::Array4d rz() const {
+    Eigen::Array4d sum = Eigen::Array4d::Zero();
+    for (const Eigen::Array4d& row : rz_rows) sum += row;
+    return sum;
+  }
 
   // x = V(b): one symmetric V-cycle from x = 0 on level l. r: scratch of level l.
   void vcycle(std::size_t l, const Field& b, Field& x, Field& r) {
@@ -173,22 +225,20 @@ struct Hierarchy {
       const Eigen::MatrixXd X = coarsest.solve(B);
       std::fill(x.begin(), x.end(), V4::Zero());
       for (std::size_t k = 0; k < cells.size(); ++k) x[cells[k]] = X.row(k).transpose().cast<float>();
+      if (l == 0)
+        for (int y = 0; y < L.h; ++y) rz_rows[y] = row_dot(L, b, x, y);
       return;
     }
-    smooth_from_zero(L, b, x);
-    smooth(L, b, x, 1);
-    for (int k = 1; k < kSweeps; ++k) {
-      smooth(L, b, x, 0);
-      smooth(L, b, x, 1);
-    }
+    sweeps(L, b, x, {kFromZero, 1, 0, 1}, [](int) {});
     residual(L, b, x, r);
     restrict_residual(L, r, levels[l + 1], ws.b[l + 1]);
     vcycle(l + 1, ws.b[l + 1], ws.e[l + 1], ws.coarse_r);
     prolong_add(levels[l + 1], ws.e[l + 1], L, x);
-    for (int k = 0; k < kSweeps; ++k) {  // reverse order: the V-cycle stays symmetric
-      smooth(L, b, x, 1);
-      smooth(L, b, x, 0);
-    }
+    // Reverse order: the V-cycle stays symmetric. On the finest level, b·x row
+    // by row while the rows are in cache (PCG's r·z).
+    sweeps(L, b, x, {1, 0, 1, 0}, [&](int y) {
+      if (l == 0) rz_rows[y] = row_dot(L, b, x, y);
+    });
   }
 };
 
@@ -214,7 +264,7 @@ MultigridPoisson::MultigridPoisson(const cv::Mat1b& unknown) {
 }
 
 MultigridPoisson::Result MultigridPoisson::solve(const cv::Mat& b, cv::Mat& f, double tolerance,
-                                                 int max_iterations,
+                                                 int max_iterations, Start start,
                                                  const std::function<void()>& between) const {
   // The vectors of the last solve are reused unless another solve holds them.
   std::unique_lock<std::mutex> lock(workspace_mutex_);
@@ -238,42 +288,33 @@ MultigridPoisson::Result MultigridPoisson::solve(const cv::Mat& b, cv::Mat& f, d
   const int C = b.channels();
   const std::size_t s = L.stride;
   Field &x = ws->x, &r = ws->r, &z = ws->z, &p = ws->p, &q = ws->q;
-  Hierarchy H{levels_, coarsest_, coarsest_cells_, *ws};
+  Hierarchy H{levels_, coarsest_, coarsest_cells_, *ws, std::vector<Eigen::Array4d>(L.h)};
 
-  // PCG on the correction x = f − g from the guess g: r = b − A g (g on Ω
-  // only; the boundary values are in b already).
+  // PCG on the correction x = f − g, from x = 0 or the previous correction x₀:
+  // r = b − A (g + x₀) (on Ω only; the boundary values are in b already).
+  const bool warm = start == Start::previous_correction && ws->has_correction;
+  ws->has_correction = false;
   for_rows(L, [&](int y) {
     const float* bv = b.ptr<float>(y);
     const float* fv = f.ptr<float>(y);
     for (int c = 0; c < L.w; ++c) {
       const std::size_t i = L.at(c, y);
-      z[i] = V4::Zero();
-      x[i] = V4::Zero();
+      if (!warm) x[i] = V4::Zero();
+      for (int k = C; k < 4; ++k) x[i][k] = 0.0f;  // lanes of channels the last solve had more of
+      z[i] = x[i];
+      q[i] = V4::Zero();
       if (L.degree[i] == 0) continue;
       for (int k = 0; k < C; ++k) {
-        z[i][k] = fv[c * C + k];
-        x[i][k] = bv[c * C + k];
+        z[i][k] += fv[c * C + k];
+        q[i][k] = bv[c * C + k];
       }
     }
   });
-  residual(L, x, z, r);
-  std::fill(x.begin(), x.end(), V4::Zero());
-
-  auto dot = [&](const Field& u, const Field& v) {
-    return reduce_rows<Eigen::Array4d>(
-        L,
-        [&](int y) {
-          Eigen::Array4d acc = Eigen::Array4d::Zero();
-          for (std::size_t i = L.at(0, y), e = i + L.w; i < e; ++i)
-            acc += (u[i] * v[i]).cast<double>();
-          return acc;
-        },
-        [](const Eigen::Array4d& a, const Eigen::Array4d& c) { return Eigen::Array4d(a + c); });
-  };
+  residual(L, q, z, r);
 
   H.vcycle(0, r, z, q);
   p = z;
-  Eigen::Array4d rz = dot(r, z);
+  Eigen::Array4d rz = H.rz();
   Result result;
   for (int it = 1; it <= max_iterations; ++it) {
     // q = A p and p·q in one pass.
@@ -309,7 +350,7 @@ MultigridPoisson::Result MultigridPoisson::solve(const cv::Mat& b, cv::Mat& f, d
     if (between) between();
     if (result.last_change <= tolerance) break;
     H.vcycle(0, r, z, q);
-    const Eigen::Array4d rz_next = dot(r, z);
+    const Eigen::Array4d rz_next = H.rz();
     const V4 beta = (rz > 0).select(rz_next / rz.max(1e-300), 0.0).cast<float>();
     rz = rz_next;
     for_rows(L, [&](int y) {
@@ -325,6 +366,7 @@ MultigridPoisson::Result MultigridPoisson::solve(const cv::Mat& b, cv::Mat& f, d
     }
   });
 
+  ws->has_correction = true;
   lock.lock();
   workspace_ = ws;
   return result;

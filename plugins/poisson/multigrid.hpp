@@ -32,11 +32,17 @@ class MultigridPoisson {
     int iterations = 0;
     double last_change = 0;  // largest |change| of a pixel in the last iteration
   };
+  // Where the iterations start: at the guess g passed in f, or at g plus the
+  // correction f − g of the previous solve with this hierarchy (the drag: after
+  // a small move of the region the correction changes little). Either start
+  // converges to the same solution; the stopping test bounds the difference.
+  enum class Start { guess, previous_correction };
   // b  grid-sized CV_32FC(C), C ≤ 4, right-hand side (poisson_rhs)
-  // f  grid-sized CV_32FC(C): on Ω, the starting guess in, the solution out
+  // f  grid-sized CV_32FC(C): on Ω, the guess g in, the solution out
   // Stops when an iteration changes no pixel by more than `tolerance` (in pixel
   // value units) or after max_iterations; calls between_iterations() after each.
   Result solve(const cv::Mat& b, cv::Mat& f, double tolerance, int max_iterations,
+               Start start = Start::guess,
                const std::function<void()>& between_iterations = {}) const;
   int levels() const { return static_cast<int>(levels_.size()); }
 

@@ -118,9 +118,9 @@ struct PoissonBlend {
     } else {
       auto mg = ctx.scratch<MultigridPoisson>(key, [&] { return std::make_shared<MultigridPoisson>(region.unknown); });
       const int max_iterations = 200;
-      const auto result = mg->solve(b, f, in.get<double>("tolerance"), max_iterations, [&] {
-        ctx.check_cancelled();
-      });
+      const auto result = mg->solve(b, f, in.get<double>("tolerance"), max_iterations,
+                                    MultigridPoisson::Start::previous_correction,
+                                    [&] { ctx.check_cancelled(); });
       if (result.last_change > in.get<double>("tolerance"))
         ctx.warn("multigrid stopped after " + std::to_string(max_iterations) +
                  " iterations with changes of " + std::to_string(result.last_change));

@@ -1,5 +1,6 @@
 #include "poisson_system.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -11,8 +12,6 @@
 
 namespace loom::poisson {
 namespace {
-
-const cv::Point kNeighbours[4] = {{-1, 0}, {1, 0}, {0, -1}, {0, 1}};
 
 std::string point_text(cv::Point p) {
   return "[" + std::to_string(p.x) + ", " + std::to_string(p.y) + "]";
@@ -69,30 +68,72 @@ std::uint64_t region_key(const BlendRegion& r) {
   return h.digest();
 }
 
+namespace {
+
+// Row y of b for C channels (a compile-time count, so the channel loops unroll).
+template <int C, bool Mixed>
+void rhs_row(const BlendRegion& r, const cv::Mat& target, const cv::Mat& source, cv::Point offset,
+             int y, float* out) {
+  const int w = r.rect.width, h = r.rect.height;
+  const uchar* u = r.unknown.ptr<uchar>(y);
+  // Rows y − 1, y, y + 1 of f* and g, indexed by grid column times C. Rows of
+  // g around an Ω pixel exist: Ω keeps off the source's border.
+  const int ty = y + r.rect.y, sy = ty - offset.y;
+  const std::ptrdiff_t tx = std::ptrdiff_t(r.rect.x) * C, sx = std::ptrdiff_t(r.rect.x - offset.x) * C;
+  const float* f_row[3] = {y > 0 ? target.ptr<float>(ty - 1) + tx : nullptr, target.ptr<float>(ty) + tx,
+                           y + 1 < h ? target.ptr<float>(ty + 1) + tx : nullptr};
+  const float* g_row[3] = {source.ptr<float>(sy - 1) + sx, source.ptr<float>(sy) + sx,
+                           source.ptr<float>(sy + 1) + sx};
+  const uchar* u_row[3] = {y > 0 ? r.unknown.ptr<uchar>(y - 1) : nullptr, u,
+                           y + 1 < h ? r.unknown.ptr<uchar>(y + 1) : nullptr};
+  for (int x = 0; x < w; ++x) {
+    if (!u[x]) continue;
+    const float* fp = f_row[1] + x * C;
+    const float* gp = g_row[1] + x * C;
+    float o[C] = {};
+    // q ∈ N_p in the order left, right, up, down: (row of q, column of q).
+    const int qs[4][2] = {{1, x - 1}, {1, x + 1}, {0, x}, {2, x}};
+    for (const auto& q : qs) {
+      const int row = q[0], qx = q[1];
+      if (qx < 0 || qx >= w || !u_row[row]) continue;  // ∉ N_p: outside the grid
+      const float* fq = f_row[row] + qx * C;
+      const float* gq = g_row[row] + qx * C;
+      const float boundary = u_row[row][qx] ? 0.0f : 1.0f;
+      for (int c = 0; c < C; ++c) {
+        float v = gp[c] - gq[c];
+        if (Mixed && std::abs(fp[c] - fq[c]) > std::abs(v)) v = fp[c] - fq[c];
+        o[c] += v + boundary * fq[c];
+      }
+    }
+    for (int c = 0; c < C; ++c) out[x * C + c] = o[c];
+  }
+}
+
+template <int C>
+void rhs_row(const BlendRegion& r, const cv::Mat& target, const cv::Mat& source, cv::Point offset,
+             Guidance mode, int y, float* out) {
+  if (mode == Guidance::mixed)
+    rhs_row<C, true>(r, target, source, offset, y, out);
+  else
+    rhs_row<C, false>(r, target, source, offset, y, out);
+}
+
+}  // namespace
+
 cv::Mat poisson_rhs(const BlendRegion& r, const cv::Mat& target, const cv::Mat& source,
                     cv::Point offset, Guidance mode) {
-  const int C = target.channels();
+  const int C = target.channels(), w = r.rect.width;
+  CV_Assert(C >= 1 && C <= 4 && source.type() == target.type() && target.depth() == CV_32F);
   cv::Mat b = cv::Mat::zeros(r.rect.size(), CV_MAKETYPE(CV_32F, C));
   tbb::parallel_for(0, r.rect.height, [&](int y) {
     const uchar* u = r.unknown.ptr<uchar>(y);
+    if (std::find(u, u + w, uchar(255)) == u + w) return;  // no p ∈ Ω on this row
     float* out = b.ptr<float>(y);
-    for (int x = 0; x < r.rect.width; ++x) {
-      if (!u[x]) continue;
-      const cv::Point p(x, y), t = p + r.rect.tl(), s = t - offset;
-      const float* fp = target.ptr<float>(t.y) + t.x * C;
-      const float* gp = source.ptr<float>(s.y) + s.x * C;
-      for (const cv::Point d : kNeighbours) {
-        const cv::Point q = p + d;
-        if (q.x < 0 || q.y < 0 || q.x >= r.rect.width || q.y >= r.rect.height) continue;  // ∉ N_p
-        const float* fq = target.ptr<float>(t.y + d.y) + (t.x + d.x) * C;
-        const float* gq = source.ptr<float>(s.y + d.y) + (s.x + d.x) * C;
-        const bool boundary = !r.unknown(q);
-        for (int c = 0; c < C; ++c) {
-          float v = gp[c] - gq[c];
-          if (mode == Guidance::mixed && std::abs(fp[c] - fq[c]) > std::abs(v)) v = fp[c] - fq[c];
-          out[x * C + c] += v + (boundary ? fq[c] : 0.0f);
-        }
-      }
+    switch (C) {
+      case 1: rhs_row<1>(r, target, source, offset, mode, y, out); break;
+      case 2: rhs_row<2>(r, target, source, offset, mode, y, out); break;
+      case 3: rhs_row<3>(r, target, source, offset, mode, y, out); break;
+      default: rhs_row<4>(r, target, source, offset, mode, y, out); break;
     }
   });
   return b;
