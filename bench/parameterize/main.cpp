@@ -1,14 +1,15 @@
-// bench_parameterize [--quick] [--full] [--runs N]
+// bench_parameterize [--quick] [--full] [--runs N] [--help]
 // Loom's fixed-boundary maps, every weight, on the course meshes and on
-// generated noisy hemispheres of ~100k (and with --full ~1M) faces: time
-// (median), flips and distortion; side by side with CGAL 5.5 (built with
-// -DLOOM_WITH_CGAL=ON) on the same boundary UVs, with the largest UV
+// generated noisy hemispheres of ~100k (and with --full ~1M) faces: wall and
+// CPU time (medians), flips and distortion; side by side with CGAL 5.5 (built
+// with -DLOOM_WITH_CGAL=ON) on the same boundary UVs, with the largest UV
 // difference. CSV and plots go to bench/results.
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <iostream>
 #include <random>
@@ -88,6 +89,43 @@ Input hemisphere(const std::string& name, int rings, int segments) {
   return m;
 }
 
+constexpr const char* usage =
+    "usage: bench_parameterize [--quick] [--full] [--runs N] [--help]\n"
+    "  Loom's fixed-boundary maps (every weight, circle and square) on the course meshes\n"
+    "  and a noisy hemisphere of ~100k faces; with a CGAL build (-DLOOM_WITH_CGAL=ON) also\n"
+    "  CGAL 5.5 (SparseLU and BiCGSTAB) on the same boundary UVs.\n"
+    "  --quick    one timed run per case\n"
+    "  --full     add the ~1M-face hemisphere (one run each; CGAL needs ~100 s there)\n"
+    "  --runs N   timed runs on the 100k mesh (default 3; medians reported)\n"
+    "  --help     this text\n"
+    "  Writes bench/results/parameterize.csv, parameterize_times.csv and a plot.\n";
+
+struct Time {
+  double wall = 0, cpu = 0;  // seconds; cpu = process CPU time over all threads
+};
+
+// Medians of wall and CPU time over `runs` runs after one warm-up; with
+// `once`, a single run and no warm-up (for the 1M mesh).
+template <class F>
+Time timed(bool once, int runs, const F& f) {
+  if (once) runs = 1;
+  else f();
+  std::vector<double> wall, cpu;
+  for (int r = 0; r < runs; ++r) {
+    const auto w0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
+    f();
+    cpu.push_back(static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
+    wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const size_t h = v.size() / 2;
+    return v.size() % 2 ? v[h] : (v[h - 1] + v[h]) / 2;
+  };
+  return {median(wall), median(cpu)};
+}
+
 // gnuplot reads "_" as a subscript: legends use "-".
 std::string label(std::string text) {
   std::replace(text.begin(), text.end(), '_', '-');
@@ -101,9 +139,19 @@ int main(int argc, char** argv) {
   int big_runs = 3;  // timed runs on the 100k mesh (medians; more when the machine is loaded)
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    quick |= a == "--quick";
-    full |= a == "--full";
-    if (a == "--runs" && i + 1 < argc) big_runs = std::max(1, std::atoi(argv[++i]));
+    if (a == "--help" || a == "-h") {
+      std::cout << usage;
+      return 0;
+    } else if (a == "--quick") {
+      quick = true;
+    } else if (a == "--full") {
+      full = true;
+    } else if (a == "--runs" && i + 1 < argc) {
+      big_runs = std::max(1, std::atoi(argv[++i]));
+    } else {
+      std::cerr << "unknown argument \"" << a << "\"\n" << usage;
+      return 2;
+    }
   }
   std::vector<Input> inputs;
   for (const char* name : {"CatHead", "NefertitiFace", "Isis", "Balls", "BunnyHead", "Beetle"}) {
@@ -113,16 +161,9 @@ int main(int argc, char** argv) {
   inputs.push_back(hemisphere("hemisphere_100k", 112, 448));
   if (full) inputs.push_back(hemisphere("hemisphere_1M", 354, 1414));
 
-  loom::bench::Csv csv("parameterize", {"mesh", "faces", "boundary", "weights", "impl", "seconds", "flipped",
-                                         "angle_mean", "area_mean", "arap_energy", "max_uv_diff"});
+  loom::bench::Csv csv("parameterize", {"mesh", "faces", "boundary", "weights", "impl", "seconds", "cpu_seconds",
+                                         "flipped", "angle_mean", "area_mean", "arap_energy", "max_uv_diff"});
   loom::bench::Csv times("parameterize_times", {"mesh", "faces", "method", "seconds"});
-  // One timed run with no warm-up for the 1M mesh (CGAL needs ~100 s there).
-  auto timed = [](bool huge, int runs, const auto& f) {
-    if (!huge) return loom::bench::time_median(f, runs).median;
-    const auto start = std::chrono::steady_clock::now();
-    f();
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
   for (const Input& m : inputs) {
     const bool big = m.F.rows() > 50000, huge = m.F.rows() > 500000;
     const int runs = quick ? 1 : big ? big_runs : 5;
@@ -139,28 +180,28 @@ int main(int argc, char** argv) {
         const auto weights = static_cast<loom::parameterize::Weights>(w);
         loom::parameterize::Parameterization p;
         // The square only for flip counts: timings are the circle's.
-        const double t = timed(huge, shape == BoundaryShape::circle ? runs : 1,
+        const Time t = timed(huge, shape == BoundaryShape::circle ? runs : 1,
                                [&] { p = loom::parameterize::parameterize(m.V, m.F, weights, shape); });
         const auto r = loom::numerics::distortion(m.V, m.F, p.UV);
-        csv.row({m.name, static_cast<long long>(m.F.rows()), bname, wname, std::string("loom"), t,
+        csv.row({m.name, static_cast<long long>(m.F.rows()), bname, wname, std::string("loom"), t.wall, t.cpu,
                  static_cast<long long>(r.flipped), r.angle_mean, r.area_mean, r.arap_energy, 0.0});
         if (shape == BoundaryShape::circle)
-          times.row({m.name, static_cast<long long>(m.F.rows()), label("loom " + wname), t});
+          times.row({m.name, static_cast<long long>(m.F.rows()), label("loom " + wname), t.wall});
 #ifdef LOOM_BENCH_CGAL
         if (!peer || shape != BoundaryShape::circle) continue;
         if (wname != "uniform" && wname != "cotangent" && wname != "mean_value") continue;
         for (const char* solver : {"sparselu", "bicgstab"}) {
           if (huge && std::string(solver) == "bicgstab") continue;  // slower still than SparseLU at 1M
           Eigen::MatrixX2d UV;
-          const double tc = timed(huge, runs, [&] {
+          const Time tc = timed(huge, runs, [&] {
             UV = loom::bench::cgal_parameterize(*peer, p.UV, loops[0][0], wname, solver);
           });
           const auto rc = loom::numerics::distortion(m.V, m.F, UV);
           csv.row({m.name, static_cast<long long>(m.F.rows()), bname, wname, std::string("cgal_") + solver,
-                   tc, static_cast<long long>(rc.flipped), rc.angle_mean, rc.area_mean, rc.arap_energy,
+                   tc.wall, tc.cpu, static_cast<long long>(rc.flipped), rc.angle_mean, rc.area_mean, rc.arap_energy,
                    (UV - p.UV).cwiseAbs().maxCoeff()});
           times.row({m.name, static_cast<long long>(m.F.rows()), label(std::string("cgal_") + solver + " " + wname),
-                     tc});
+                     tc.wall});
         }
 #endif
       }

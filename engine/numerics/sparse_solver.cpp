@@ -211,6 +211,12 @@ struct SparseLU::Impl {
 };
 
 SparseLU::SparseLU() : impl_(std::make_unique<Impl>()) {}
+SparseLU::SparseLU(const Options& options) : SparseLU() {
+  if (options.refinement_steps < 0)
+    throw Error("sparse LU: refinement_steps is " + std::to_string(options.refinement_steps) +
+                ", expected 0 (none) or more");
+  impl_->control[UMFPACK_IRSTEP] = options.refinement_steps;
+}
 SparseLU::~SparseLU() = default;
 SparseLU::SparseLU(SparseLU&&) noexcept = default;
 SparseLU& SparseLU::operator=(SparseLU&&) noexcept = default;

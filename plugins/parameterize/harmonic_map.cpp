@@ -89,6 +89,7 @@ FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::Matr
   if (m == 0) return result;
   const Eigen::SparseMatrix<double, Eigen::RowMajor> R = W;
   const double mean = R.cwiseAbs().sum() / std::max<Eigen::Index>(R.nonZeros(), 1);
+  bool positive = true;                     // every weight used >= 0: A is an M-matrix
   std::vector<std::vector<int>> adjacency;  // built only if a row needs the fallback
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(R.nonZeros() + m);
@@ -101,6 +102,7 @@ FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::Matr
       if (it.col() != v) sum += it.value();
     auto add = [&](int u, double w) {
       if (u == v) return;
+      positive &= w >= 0;
       if (index[u] >= 0) t.emplace_back(i, index[u], -w);
       else B.row(i) += w * X0.row(u);
     };
@@ -135,7 +137,10 @@ FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::Matr
     }
   }
   if (!solved) {
-    numerics::SparseLU lu;
+    // With positive weights A is row diagonally dominant with a non-positive
+    // off-diagonal (an M-matrix): its LU needs no iterative refinement, which
+    // would cost more than the triangular solves themselves.
+    numerics::SparseLU lu(numerics::SparseLU::Options{positive ? 0 : 2});
     lu.compute(A);
     Y = lu.solve(B);
     result.solver = lu.backend();

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -275,6 +276,60 @@ TEST(SparseLU, SolvesTheLaplacianLikeCholesky) {
   SparseCholesky chol;
   chol.compute(A);
   EXPECT_LT(rel_error(lu.solve(B), chol.solve(B)), 1e-10);
+}
+
+// A graph Laplacian with positive, non-symmetric weights and Dirichlet rows
+// folded in (as mean-value weights give): a diagonally dominant M-matrix.
+SparseMatrix nonsymmetric_m_matrix(int m, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> w(0.1, 2.0);
+  Triplets t;
+  auto id = [m](int i, int j) { return j * m + i; };
+  for (int j = 0; j < m; ++j)
+    for (int i = 0; i < m; ++i) {
+      double sum = 0;
+      for (const auto& [di, dj] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+        const double wij = w(rng);
+        sum += wij;
+        const int a = i + di, b = j + dj;
+        if (a >= 0 && a < m && b >= 0 && b < m) t.emplace_back(id(i, j), id(a, b), -wij);
+      }
+      t.emplace_back(id(i, j), id(i, j), sum);
+    }
+  SparseMatrix A(m * m, m * m);
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
+TEST(SparseLU, WithoutRefinementMatchesDenseSolveOnMMatrix) {
+  const SparseMatrix A = nonsymmetric_m_matrix(30, 22);
+  const Eigen::MatrixXd B = random_rhs(900, 2, 23);
+  const Eigen::MatrixXd ref = Eigen::MatrixXd(A).partialPivLu().solve(B);
+  SparseLU plain(SparseLU::Options{0});
+  plain.compute(A);
+  EXPECT_LT(rel_error(plain.solve(B), ref), 1e-12);
+  SparseLU refined;
+  refined.compute(A);
+  EXPECT_LT(rel_error(refined.solve(B), ref), 1e-12);
+}
+
+TEST(SparseLU, WithoutRefinementMatchesEigenSparseLUOnRandomNonSymmetric) {
+  const SparseMatrix A = random_general(500, 4, 24);
+  const Eigen::MatrixXd B = random_rhs(500, 3, 25);
+  SparseLU lu(SparseLU::Options{0});
+  lu.compute(A);
+  Eigen::SparseLU<SparseMatrix> ref(A);
+  ASSERT_EQ(ref.info(), Eigen::Success);
+  EXPECT_LT(rel_error(lu.solve(B), ref.solve(B)), 1e-10);
+}
+
+TEST(SparseLU, NegativeRefinementStepsIsAClearError) {
+  try {
+    SparseLU lu(SparseLU::Options{-1});
+    FAIL() << "expected loom::Error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("refinement_steps"), std::string::npos) << e.what();
+  }
 }
 
 TEST(SparseLU, SingularMatrixIsAClearError) {

@@ -109,6 +109,35 @@ TEST(HarmonicMap, UniformMapEqualsADenseSolve) {
   EXPECT_LT((X - p.UV).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// Mean-value weights are not symmetric: the map goes through the LU, solved
+// without iterative refinement for these positive weights.
+TEST(HarmonicMap, MeanValueMapEqualsADenseSolve) {
+  const auto m = noisy_hemisphere(6, 17);
+  const int n = static_cast<int>(m.V.rows());
+  const auto loop = numerics::boundary_loops(m.F)[0];
+  const Parameterization p = parameterize(m.V, m.F, Weights::mean_value, BoundaryShape::circle);
+  EXPECT_EQ(p.solver, "umfpack");
+  // Floater 2003: w_ij = (tan(α/2) + tan(β/2)) / |x_j - x_i|, α and β
+  // the angles at x_i of the two faces on edge ij, each from acos.
+  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(n, n), B = Eigen::MatrixXd::Zero(n, 2);
+  for (int f = 0; f < m.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int i = m.F(f, k), j = m.F(f, (k + 1) % 3), l = m.F(f, (k + 2) % 3);
+      const Eigen::RowVector3d a = m.V.row(j) - m.V.row(i), b = m.V.row(l) - m.V.row(i);
+      const double t = std::tan(std::acos(a.dot(b) / (a.norm() * b.norm())) / 2);
+      L(i, j) -= t / a.norm();
+      L(i, l) -= t / b.norm();
+      L(i, i) += t / a.norm() + t / b.norm();
+    }
+  for (int v : loop) {
+    L.row(v).setZero();
+    L(v, v) = 1;
+    B.row(v) = p.UV.row(v);
+  }
+  const Eigen::MatrixXd X = L.fullPivLu().solve(B);
+  EXPECT_LT((X - p.UV).cwiseAbs().maxCoeff(), 1e-12);
+}
+
 TEST(HarmonicMap, ConvexCombinationsNeverFold) {
   const std::vector<TestMesh> meshes = {jittered_disk(), bumpy_sheared_grid(), noisy_hemisphere(12, 40)};
   for (const auto& m : meshes)
