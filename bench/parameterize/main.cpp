@@ -17,10 +17,12 @@
 #include <string>
 #include <vector>
 
+#include "mesh_codec.hpp"
 #include "bench_harness.hpp"
 #include "harmonic_map.hpp"
 #include "loom/numerics/distortion.hpp"
 #include "loom/numerics/mesh_topology.hpp"
+#include "mesh_codec.hpp"
 #ifdef LOOM_BENCH_CGAL
 #include "cgal_peer.hpp"
 #endif
@@ -35,34 +37,10 @@ struct Input {
   Eigen::MatrixX3i F;
 };
 
-// OBJ: `v x y z` and triangular `f a b c` (a may be a/t/n), 1-based.
+// A course mesh through the io plugin's reader (assimp).
 Input read_obj(const std::string& name, const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::vector<Eigen::RowVector3d> v;
-  std::vector<Eigen::RowVector3i> f;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::string tag;
-    s >> tag;
-    if (tag == "v") {
-      Eigen::RowVector3d p;
-      s >> p[0] >> p[1] >> p[2];
-      v.push_back(p);
-    } else if (tag == "f") {
-      Eigen::RowVector3i t;
-      for (int k = 0; k < 3; ++k) {
-        std::string c;
-        s >> c;
-        t[k] = std::stoi(c.substr(0, c.find('/'))) - 1;
-      }
-      f.push_back(t);
-    }
-  }
-  Input m{name, Eigen::MatrixX3d(v.size(), 3), Eigen::MatrixX3i(f.size(), 3)};
-  for (size_t i = 0; i < v.size(); ++i) m.V.row(i) = v[i];
-  for (size_t i = 0; i < f.size(); ++i) m.F.row(i) = f[i];
-  return m;
+  loom::Mesh mesh = loom::io::read_mesh(path);
+  return Input{name, mesh.V, mesh.F};
 }
 
 // A hemisphere on a polar grid (as the HemisphereMesh node builds it) with
