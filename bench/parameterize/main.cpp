@@ -17,7 +17,6 @@
 #include <string>
 #include <vector>
 
-#include "mesh_codec.hpp"
 #include "bench_harness.hpp"
 #include "harmonic_map.hpp"
 #include "loom/numerics/distortion.hpp"
