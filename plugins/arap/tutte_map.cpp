@@ -4,9 +4,10 @@
 #include <vector>
 
 #include "loom/error.hpp"
+#include "loom/numerics/boundary_map.hpp"
+#include "loom/numerics/fixed_boundary.hpp"
 #include "loom/numerics/laplacian.hpp"
 #include "loom/numerics/mesh_topology.hpp"
-#include "loom/numerics/sparse_solver.hpp"
 #include "mesh_parts.hpp"
 
 namespace loom::arap {
@@ -21,24 +22,26 @@ Eigen::MatrixX2d tutte_map(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& fa
   const Eigen::MatrixX3i F = faces(proper, Eigen::all);
   const MeshParts parts = mesh_parts(F, n);
   Eigen::MatrixX2d UV = Eigen::MatrixX2d::Zero(n, 2);
-  std::vector<bool> fixed(n, false);
-  for (int v = 0; v < n; ++v) fixed[v] = parts.part[v] < 0;
 
+  // Each part's longest loop on a circle by arc length (radius: loop length
+  // over 2π, so UV scale matches 3D), parts side by side along u.
   std::vector<bool> part_done(parts.count, false);
+  std::vector<int> fixed;
+  for (int v = 0; v < n; ++v)
+    if (parts.part[v] < 0) fixed.push_back(v);  // unreferenced: stays at (0, 0)
   double offset = 0;
   for (const std::vector<int>& loop : numerics::boundary_loops(F)) {  // longest first
     const int k = parts.part[loop.front()];
     if (part_done[k]) continue;
     part_done[k] = true;
-    const int m = static_cast<int>(loop.size());
-    std::vector<double> arc(m + 1, 0);
-    for (int i = 0; i < m; ++i) arc[i + 1] = arc[i] + (V.row(loop[(i + 1) % m]) - V.row(loop[i])).norm();
-    const double length = arc[m];
+    double length = 0;
+    for (size_t i = 0; i < loop.size(); ++i) length += (V.row(loop[(i + 1) % loop.size()]) - V.row(loop[i])).norm();
     const double radius = length > 0 ? length / (2 * M_PI) : 1;
-    for (int i = 0; i < m; ++i) {
-      const double angle = 2 * M_PI * (length > 0 ? arc[i] / length : double(i) / m);
-      UV.row(loop[i]) << offset + radius + radius * std::cos(angle), radius * std::sin(angle);
-      fixed[loop[i]] = true;
+    const Eigen::MatrixX2d circle = numerics::map_boundary(V, F, loop, numerics::BoundaryShape::circle);
+    for (size_t i = 0; i < loop.size(); ++i) {  // unit circle about (0.5, 0.5) -> radius about (offset + radius, 0)
+      UV(loop[i], 0) = offset + radius + 2 * radius * (circle(i, 0) - 0.5);
+      UV(loop[i], 1) = 2 * radius * (circle(i, 1) - 0.5);
+      fixed.push_back(loop[i]);
     }
     offset += 2.2 * radius;
   }
@@ -48,33 +51,8 @@ Eigen::MatrixX2d tutte_map(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& fa
                   std::to_string(parts.first_vertex[k]) +
                   " is closed: cut it open, or use the asap initialization");
 
-  std::vector<int> index(n, -1);
-  int nfree = 0;
-  for (int v = 0; v < n; ++v)
-    if (!fixed[v]) index[v] = nfree++;
-  if (nfree == 0) return UV;
-  // Rows of the free vertices of −L = diag(W·1) − W, symmetric positive definite.
-  const numerics::SparseMatrix W = numerics::uniform_weights(F, n);
-  std::vector<Eigen::Triplet<double>> triplets;
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nfree, 2);
-  for (int j = 0; j < W.outerSize(); ++j)
-    for (numerics::SparseMatrix::InnerIterator it(W, j); it; ++it) {
-      const int i = static_cast<int>(it.row());
-      if (index[i] < 0 || i == j) continue;
-      triplets.emplace_back(index[i], index[i], it.value());
-      if (index[j] >= 0)
-        triplets.emplace_back(index[i], index[j], -it.value());
-      else
-        rhs.row(index[i]) += it.value() * UV.row(j);
-    }
-  numerics::SparseMatrix A(nfree, nfree);
-  A.setFromTriplets(triplets.begin(), triplets.end());
-  numerics::SparseCholesky chol;
-  chol.compute(A);
-  const Eigen::MatrixXd x = chol.solve(rhs);
-  for (int v = 0; v < n; ++v)
-    if (index[v] >= 0) UV.row(v) = x.row(index[v]);
-  return UV;
+  // Tutte's uniform weights: every free vertex the average of its neighbours.
+  return numerics::solve_fixed_boundary(numerics::uniform_weights(F, n), F, fixed, UV).X;
 }
 
 }  // namespace loom::arap

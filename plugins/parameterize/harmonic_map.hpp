@@ -10,11 +10,18 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include "boundary_map.hpp"
+#include "loom/numerics/boundary_map.hpp"
+#include "loom/numerics/fixed_boundary.hpp"
 
 namespace loom::parameterize {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
+// The shared pieces this plugin builds on (engine/numerics, also used by arap).
+using numerics::BoundaryShape;
+using numerics::FixedBoundarySolve;
+using numerics::map_boundary;
+using numerics::solve_fixed_boundary;
+using numerics::square_corners;
 
 enum class Weights {
   uniform,             // w_ij = 1 (Tutte 1963)
@@ -38,22 +45,6 @@ SparseMatrix weight_matrix(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
 // barycentric coordinates in the ring triangles that contain it. Rows of
 // boundary vertices are empty.
 SparseMatrix shape_preserving_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
-
-struct FixedBoundarySolve {
-  Eigen::MatrixXd X;        // #V by k: given rows on fixed vertices, solved rows on free ones
-  int uniform_rows = 0;     // free vertices whose weights summed to <= 0, solved with w_ij = 1
-  std::string solver;       // "cholmod", "umfpack", ...
-};
-
-// Solves Σ_j w_ij (x_j - x_i) = 0 for the free vertices: those referenced
-// by F and not fixed. Rows of unreferenced vertices keep X0's values.
-//   W      #V by #V weights (weight_matrix)
-//   F      #F by 3 (for the fallback rows and to find referenced vertices)
-//   fixed  indices of fixed vertices
-//   X0     #V by k: the fixed rows' values (other rows are ignored)
-// Throws loom::Error if a connected piece of the mesh has no fixed vertex.
-FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::MatrixX3i& F,
-                                        const std::vector<int>& fixed, const Eigen::MatrixXd& X0);
 
 struct Parameterization {
   Eigen::MatrixX2d UV;             // #V by 2 in [0,1]²

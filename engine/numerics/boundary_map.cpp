@@ -1,4 +1,4 @@
-#include "boundary_map.hpp"
+#include "loom/numerics/boundary_map.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "loom/error.hpp"
 
-namespace loom::parameterize {
+namespace loom::numerics {
 
 namespace {
 
@@ -139,4 +139,4 @@ Eigen::MatrixX2d map_boundary(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i&
   return B;
 }
 
-}  // namespace loom::parameterize
+}  // namespace loom::numerics

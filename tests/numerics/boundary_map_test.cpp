@@ -3,17 +3,17 @@
 
 #include <gtest/gtest.h>
 
-#include "boundary_map.hpp"
+#include "loom/numerics/boundary_map.hpp"
 #include "loom/numerics/mesh_topology.hpp"
 #include "test_meshes.hpp"
 
-namespace loom::parameterize {
+namespace loom::numerics {
 namespace {
 
 TEST(BoundaryMap, CircleByArcLength) {
-  auto m = numerics::test::grid(6, 3);  // a 1 by 1 square with unequal edge lengths along x and y
+  auto m = test::grid(6, 3);  // a 1 by 1 square with unequal edge lengths along x and y
   m.V.col(0) *= 3.0;
-  const auto loop = numerics::boundary_loops(m.F)[0];
+  const auto loop = boundary_loops(m.F)[0];
   const Eigen::MatrixX2d B = map_boundary(m.V, m.F, loop, BoundaryShape::circle);
   double total = 0;
   for (size_t k = 0; k < loop.size(); ++k) total += (m.V.row(loop[(k + 1) % loop.size()]) - m.V.row(loop[k])).norm();
@@ -27,8 +27,8 @@ TEST(BoundaryMap, CircleByArcLength) {
 }
 
 TEST(BoundaryMap, SquareCornersAndSides) {
-  const auto m = numerics::test::disk(4, 40);
-  const auto loop = numerics::boundary_loops(m.F)[0];
+  const auto m = test::disk(4, 40);
+  const auto loop = boundary_loops(m.F)[0];
   const Eigen::MatrixX2d B = map_boundary(m.V, m.F, loop, BoundaryShape::square);
   int corners = 0;
   for (int k = 0; k < B.rows(); ++k) {
@@ -46,8 +46,8 @@ TEST(BoundaryMap, SquareCornersAndSides) {
 TEST(BoundaryMap, SquareCornersTakeTheEars) {
   // A grid's two corner triangles with all three vertices on the boundary
   // sit at (1,0) and (0,1); a corner elsewhere would flatten them.
-  const auto m = numerics::test::grid(7, 5);
-  const auto loop = numerics::boundary_loops(m.F)[0];
+  const auto m = test::grid(7, 5);
+  const auto loop = boundary_loops(m.F)[0];
   const auto corners = square_corners(m.V, m.F, loop);
   ASSERT_EQ(corners.size(), 4u);
   int ears = 0;
@@ -59,4 +59,4 @@ TEST(BoundaryMap, SquareCornersTakeTheEars) {
 }
 
 }  // namespace
-}  // namespace loom::parameterize
+}  // namespace loom::numerics

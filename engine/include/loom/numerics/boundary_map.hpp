@@ -6,7 +6,9 @@
 
 #include <Eigen/Core>
 
-namespace loom::parameterize {
+#include "loom/export.hpp"
+
+namespace loom::numerics {
 
 enum class BoundaryShape { circle, square };
 
@@ -18,7 +20,7 @@ enum class BoundaryShape { circle, square };
 //   F     #F by 3 triangles (the square's corners prefer ear tips, below)
 //   loop  #B boundary vertex indices (#B >= 3, >= 4 for the square)
 // Returns #B by 2 positions, row k for loop[k].
-Eigen::MatrixX2d map_boundary(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
+LOOM_API Eigen::MatrixX2d map_boundary(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
                               const std::vector<int>& loop, BoundaryShape shape);
 
 // The square's corners, as positions in loop (ascending). An ear tip (a
@@ -28,7 +30,7 @@ Eigen::MatrixX2d map_boundary(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i&
 // arc-length middle (no ears: arc length 0, L/4, L/2, 3L/4 from loop[0]);
 // with more, the start among the ears that puts the most of them on corners
 // nearest to the quarter lengths.
-std::vector<int> square_corners(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
+LOOM_API std::vector<int> square_corners(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
                                 const std::vector<int>& loop);
 
-}  // namespace loom::parameterize
+}  // namespace loom::numerics

@@ -1,0 +1,35 @@
+// Maps with fixed boundary values: every free vertex is the weighted average of
+// its neighbours, Σ_j w_ij (x_j - x_i) = 0 (Tutte 1963; Floater 1997, 2003),
+// one factorization for all k coordinates. Shared by the parameterize plugin
+// (every weight and boundary) and the arap plugin (its Tutte start).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "loom/export.hpp"
+
+namespace loom::numerics {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+
+struct FixedBoundarySolve {
+  Eigen::MatrixXd X;        // #V by k: given rows on fixed vertices, solved rows on free ones
+  int uniform_rows = 0;     // free vertices whose weights summed to <= 0, solved with w_ij = 1
+  std::string solver;       // "cholmod", "umfpack", ...
+};
+
+// Solves Σ_j w_ij (x_j - x_i) = 0 for the free vertices: those referenced
+// by F and not fixed. Rows of unreferenced vertices keep X0's values.
+//   W      #V by #V weights, row i for vertex i (loom/numerics/laplacian.hpp)
+//   F      #F by 3 (for the fallback rows and to find referenced vertices)
+//   fixed  indices of fixed vertices
+//   X0     #V by k: the fixed rows' values (other rows are ignored)
+// Throws loom::Error if a connected piece of the mesh has no fixed vertex.
+LOOM_API FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::MatrixX3i& F,
+                                                 const std::vector<int>& fixed, const Eigen::MatrixXd& X0);
+
+}  // namespace loom::numerics

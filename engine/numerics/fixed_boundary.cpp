@@ -1,0 +1,122 @@
+#include "loom/numerics/fixed_boundary.hpp"
+
+#include <numeric>
+
+#include "loom/error.hpp"
+#include "loom/numerics/mesh_topology.hpp"
+#include "loom/numerics/sparse_solver.hpp"
+
+namespace loom::numerics {
+
+namespace {
+
+int find(std::vector<int>& parent, int v) {
+  while (parent[v] != v) v = parent[v] = parent[parent[v]];
+  return v;
+}
+
+// Every connected piece of F must touch a fixed vertex, or its rows are singular.
+void require_fixed_in_every_piece(const Eigen::MatrixX3i& F, int n, const std::vector<char>& fixed) {
+  std::vector<int> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 1; k < 3; ++k) parent[find(parent, F(f, k))] = find(parent, F(f, 0));
+  std::vector<char> anchored(n, 0), piece(n, 0);
+  for (int v = 0; v < n; ++v)
+    if (fixed[v]) anchored[find(parent, v)] = 1;
+  int floating = 0;
+  for (int f = 0; f < F.rows(); ++f) {
+    const int r = find(parent, F(f, 0));
+    if (!anchored[r] && !piece[r]) {
+      piece[r] = 1;
+      ++floating;
+    }
+  }
+  if (floating > 0)
+    throw Error("the mesh has " + std::to_string(floating) +
+                " connected piece(s) without a boundary vertex: a fixed-boundary map needs one disk; "
+                "split the mesh and map each piece");
+}
+
+}  // namespace
+
+FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::MatrixX3i& F,
+                                        const std::vector<int>& fixed, const Eigen::MatrixXd& X0) {
+  const int n = static_cast<int>(W.rows()), k = static_cast<int>(X0.cols());
+  std::vector<char> is_fixed(n, 0);
+  for (int v : fixed) is_fixed[v] = 1;
+  require_fixed_in_every_piece(F, n, is_fixed);
+  const std::vector<bool> used = referenced_vertices(F, n);
+  std::vector<int> index(n, -1);
+  int m = 0;
+  for (int v = 0; v < n; ++v)
+    if (used[v] && !is_fixed[v]) index[v] = m++;
+
+  FixedBoundarySolve result;
+  result.X = X0;
+  if (m == 0) return result;
+  const Eigen::SparseMatrix<double, Eigen::RowMajor> R = W;
+  const double mean = R.cwiseAbs().sum() / std::max<Eigen::Index>(R.nonZeros(), 1);
+  bool positive = true;                     // every weight used >= 0: A is an M-matrix
+  std::vector<std::vector<int>> adjacency;  // built only if a row needs the fallback
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(R.nonZeros() + m);
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(m, k);
+  for (int v = 0; v < n; ++v) {
+    const int i = index[v];
+    if (i < 0) continue;
+    double sum = 0;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(R, v); it; ++it)
+      if (it.col() != v) sum += it.value();
+    auto add = [&](int u, double w) {
+      if (u == v) return;
+      positive &= w >= 0;
+      if (index[u] >= 0) t.emplace_back(i, index[u], -w);
+      else B.row(i) += w * X0.row(u);
+    };
+    if (sum > 1e-12 * mean) {
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(R, v); it; ++it)
+        add(static_cast<int>(it.col()), it.value());
+    } else {
+      // Degenerate neighbourhood (zero-area faces): the uniform row keeps the
+      // system regular.
+      if (adjacency.empty()) adjacency = vertex_adjacency(F, n);
+      for (int u : adjacency[v]) add(u, 1.0);
+      sum = static_cast<double>(adjacency[v].size());
+      ++result.uniform_rows;
+    }
+    t.emplace_back(i, i, sum);
+  }
+  SparseMatrix A(m, m);
+  A.setFromTriplets(t.begin(), t.end());
+
+  Eigen::MatrixXd Y;
+  const bool symmetric = result.uniform_rows == 0 && (SparseMatrix(A.transpose()) - A).norm() <= 1e-12 * A.norm();
+  bool solved = false;
+  if (symmetric) {
+    try {
+      SparseCholesky chol;
+      chol.compute(A);
+      Y = chol.solve(B);
+      result.solver = chol.backend();
+      solved = true;
+    } catch (const Error&) {
+      // Negative cotangent weights can make A indefinite: LU still solves it.
+    }
+  }
+  if (!solved) {
+    // With positive weights A is row diagonally dominant with a non-positive
+    // off-diagonal (an M-matrix): its LU needs no iterative refinement, which
+    // would cost more than the triangular solves themselves.
+    SparseLU lu(SparseLU::Options{positive ? 0 : 2});
+    lu.compute(A);
+    Y = lu.solve(B);
+    result.solver = lu.backend();
+  }
+  if (!Y.allFinite()) throw Error("the linear system is singular: the mesh has degenerate faces everywhere");
+  for (int v = 0; v < n; ++v)
+    if (index[v] >= 0) result.X.row(v) = Y.row(index[v]);
+  return result;
+}
+
+}  // namespace loom::numerics
