@@ -21,6 +21,17 @@ NodeSpec& NodeSpec::set_nondeterministic() {
   return *this;
 }
 
+NodeSpec& NodeSpec::set_time_dependent() {
+  time_dependent = true;
+  return *this;
+}
+NodeSpec& NodeSpec::set_simulation(std::string state_input_name, std::string state_output_name) {
+  state_input = std::move(state_input_name);
+  state_output = std::move(state_output_name);
+  time_dependent = true;
+  return *this;
+}
+
 NodeSpec& NodeSpec::add_input(std::string input_name, std::string text, const TypeInfo* type,
                               json default_value) {
   InputSpec in;

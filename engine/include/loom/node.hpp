@@ -60,6 +60,21 @@ struct OutputSpec {
   const TypeInfo* type = nullptr;
 };
 
+// The frame a node is evaluated at. A graph without a "time" field is one
+// evaluation at frame 1. Time is in seconds.
+struct FrameTime {
+  int frame = 1;     // the frame being evaluated
+  int start = 1;     // the graph's first frame: simulations begin here
+  double fps = 24;
+  // For a simulation node (NodeSpec::set_simulation): the seconds to advance
+  // in this evaluation. 0 at the start frame, where the node receives its
+  // initial state and advances it by nothing (as in Blender's simulation
+  // zones), 1/fps at every later frame. 0 for every other node.
+  double step = 0;
+
+  double seconds() const { return (frame - start) / fps; }  // since the start frame
+};
+
 class Inputs;
 class Outputs;
 class Context;
@@ -73,6 +88,9 @@ class LOOM_API NodeSpec {
   int version = 1;     // bump when results change: it enters the cache hash
   bool sink = false;   // has side effects (writes files); always runs, never cached
   bool nondeterministic = false;  // never cached, nor is anything downstream
+  bool time_dependent = false;    // reads ctx.time(): evaluated once per frame
+  // A simulation step (set_simulation): the names of its state input and output.
+  std::string state_input, state_output;
   std::vector<InputSpec> inputs;
   std::vector<OutputSpec> outputs;
 
@@ -80,6 +98,19 @@ class LOOM_API NodeSpec {
   NodeSpec& set_version(int v);
   NodeSpec& set_sink();
   NodeSpec& set_nondeterministic();
+  // The node reads ctx.time(). Nodes that do not are evaluated once and shared
+  // by every frame; what depends on a time-dependent node is evaluated per
+  // frame through its hash.
+  NodeSpec& set_time_dependent();
+  // A simulation step mapping the state at frame f-1 to the state at frame f
+  // (Houdini's Solver SOP, Blender's simulation zone). At the graph's start
+  // frame `state_input` takes what the graph links or gives (the initial
+  // state) and ctx.time().step is 0; at every later frame f the engine feeds
+  // `state_input` with this node's own `state_output` of frame f-1 and step is
+  // 1/fps. Frames are computed in order and cached per frame. Both must be
+  // declared, with the same type. Implies time_dependent.
+  NodeSpec& set_simulation(std::string state_input_name, std::string state_output_name);
+  bool simulation() const { return !state_output.empty(); }
 
   // A required input: it must be linked or given in the graph file.
   template <class T>
@@ -184,10 +215,17 @@ class LOOM_API Context {
  public:
   // The strings and paths are the engine's and outlive the run.
   Context(NodeHost& host, const std::string& node_id, std::uint64_t seed,
-          const std::filesystem::path& graph_dir, const std::filesystem::path& output_dir)
-      : host_(host), node_id_(node_id), seed_(seed), graph_dir_(graph_dir), output_dir_(output_dir) {}
+          const std::filesystem::path& graph_dir, const std::filesystem::path& output_dir,
+          FrameTime time = {})
+      : host_(host), node_id_(node_id), seed_(seed), graph_dir_(graph_dir), output_dir_(output_dir),
+        time_(time) {}
 
   const std::string& node_id() const { return node_id_; }
+
+  // The frame being evaluated. Only nodes declared time-dependent (or
+  // simulations) may read it: the engine shares other nodes' results
+  // across frames.
+  const FrameTime& time() const { return time_; }
 
   // Progress of long work: done out of total steps, with an optional label.
   // Cheap to call often; the engine throttles what it shows.
@@ -228,6 +266,7 @@ class LOOM_API Context {
   std::optional<std::mt19937_64> rng_;
   const std::filesystem::path& graph_dir_;
   const std::filesystem::path& output_dir_;
+  FrameTime time_;
 };
 
 }  // namespace loom

@@ -15,6 +15,11 @@
 //     static loom::json to_json(const MyThing& v);
 //     // optional: one line for logs and `--target` ("Image 512x512x3 linear")
 //     static std::string summary(const MyThing& v);
+//     // optional: storage in the persistent cache (see loom/serialize.hpp);
+//     // bump version when the format changes
+//     static constexpr int version = 1;
+//     static void write(const MyThing& v, loom::ByteWriter& w);
+//     static MyThing read(loom::ByteReader& r);
 //   };
 #pragma once
 
@@ -29,6 +34,7 @@
 
 #include "loom/error.hpp"
 #include "loom/export.hpp"
+#include "loom/serialize.hpp"
 
 namespace loom {
 
@@ -45,8 +51,13 @@ struct TypeInfo {
   std::function<std::shared_ptr<const void>(const json&)> from_json;
   std::function<json(const void*)> to_json;  // empty for opaque types
   std::function<std::string(const void*)> summary;
+  // Storage in the persistent cache; both empty for types that are never stored.
+  int serial_version = 0;
+  std::function<void(const void*, ByteWriter&)> write;
+  std::function<std::shared_ptr<const void>(ByteReader&)> read;
 
   bool literal() const { return static_cast<bool>(from_json); }
+  bool storable() const { return static_cast<bool>(write) && static_cast<bool>(read); }
 };
 
 // Registers a type by name, or returns the one already registered under that
@@ -72,6 +83,17 @@ struct has_summary : std::false_type {};
 template <class Tr, class T>
 struct has_summary<Tr, T, std::void_t<decltype(Tr::summary(std::declval<const T&>()))>>
     : std::true_type {};
+template <class Tr, class T, class = void>
+struct has_serialization : std::false_type {};
+template <class Tr, class T>
+struct has_serialization<
+    Tr, T,
+    std::void_t<decltype(Tr::write(std::declval<const T&>(), std::declval<ByteWriter&>())),
+                decltype(Tr::read(std::declval<ByteReader&>()))>> : std::true_type {};
+template <class Tr, class = void>
+struct has_serial_version : std::false_type {};
+template <class Tr>
+struct has_serial_version<Tr, std::void_t<decltype(Tr::version)>> : std::true_type {};
 template <class Tr, class = void>
 struct has_description : std::false_type {};
 template <class Tr>
@@ -94,6 +116,14 @@ TypeInfo make_type_info() {
     info.summary = [](const void* p) { return Tr::summary(*static_cast<const T*>(p)); };
   else
     info.summary = [](const void*) { return std::string(Tr::name); };
+  if constexpr (has_serialization<Tr, T>::value) {
+    info.serial_version = 1;
+    if constexpr (has_serial_version<Tr>::value) info.serial_version = Tr::version;
+    info.write = [](const void* p, ByteWriter& w) { Tr::write(*static_cast<const T*>(p), w); };
+    info.read = [](ByteReader& r) -> std::shared_ptr<const void> {
+      return std::make_shared<const T>(Tr::read(r));
+    };
+  }
   return info;
 }
 }  // namespace detail

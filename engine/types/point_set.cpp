@@ -1,0 +1,28 @@
+#include "loom/point_set.hpp"
+
+#include <sstream>
+
+namespace loom {
+
+void require_valid(const PointSet& points, const char* what) {
+  const std::string name = what;
+  if (!points.P.allFinite()) throw Error(name + " has NaN or infinite positions");
+  if (points.radius.size() != 0 && points.radius.size() != points.P.rows())
+    throw Error(name + " has " + std::to_string(points.radius.size()) + " radii for " +
+                std::to_string(points.points()) + " points");
+  if (points.radius.size() != 0 && !(points.radius.array() >= 0).all())
+    throw Error(name + " has negative or NaN radii");
+  if (points.C.rows() != 0 && points.C.rows() != points.P.rows())
+    throw Error(name + " has " + std::to_string(points.C.rows()) + " colors for " +
+                std::to_string(points.points()) + " points");
+}
+
+std::string TypeTraits<PointSet>::summary(const PointSet& points) {
+  std::ostringstream s;
+  s << "PointSet " << points.points() << " points";
+  if (points.has_radius()) s << ", radius";
+  if (points.has_colors()) s << ", colors";
+  return s.str();
+}
+
+}  // namespace loom
