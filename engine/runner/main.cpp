@@ -14,6 +14,7 @@
 #include "loom/evaluator.hpp"
 #include "loom/graph.hpp"
 #include "loom/plugin_loader.hpp"
+#include "new_plugin.hpp"
 #include "progress.hpp"
 
 namespace {
@@ -312,6 +313,11 @@ int main(int argc, char** argv) {
                       "print (or write with --output) the manifest of this plugin library");
   plugins->add_option("--output", manifest_out, "with --manifest: the file to write");
 
+  std::string plugin_name, plugin_dir = ".";
+  auto* scaffold = app.add_subcommand("new-plugin", "Write a new plugin to start from: builds and tests as written.");
+  scaffold->add_option("name", plugin_name, "plugin name: a-z, 0-9 and _, starting with a letter")->required();
+  scaffold->add_option("--dir", plugin_dir, "create the plugin in DIR/NAME")->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -321,5 +327,6 @@ int main(int argc, char** argv) {
   if (*validate) return cmd_validate(graph_path);
   if (*nodes) return cmd_nodes(type, as_json, as_markdown);
   if (*plugins) return cmd_plugins(manifest_lib, manifest_out);
+  if (*scaffold) return loom::runner::new_plugin(plugin_name, plugin_dir);
   return kInvalid;
 }
