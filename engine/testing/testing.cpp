@@ -122,7 +122,7 @@ Engine::~Engine() = default;
 Graph Engine::load(const json& document, const fs::path& file) {
   Graph g = parse_graph(document, fs::absolute(file));
   state_->loader.load_for(node_types_used(g));
-  validate_graph(g, state_->registry, state_->loader.searched_description());
+  validate_graph(g, state_->registry, state_->loader.searched_description(), state_->loader.known_node_types());
   return g;
 }
 
