@@ -27,7 +27,7 @@ std::vector<std::string> PluginLoader::search_path_warnings() const {
       warnings.push_back(dir.string() + " does not exist");
     else if (!fs::is_directory(status))
       warnings.push_back(dir.string() + " is a file, not a folder: name the folder that holds libloom_NAME.so" +
-                         (dir.parent_path().empty() ? "" : " (" + dir.parent_path().string() + "?)"));
+                         (dir.parent_path().empty() ? "" : " (" + dir.parent_path().string() + " perhaps)"));
   }
   return warnings;
 }
