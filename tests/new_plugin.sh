@@ -28,5 +28,7 @@ if "$loom" new-plugin demo_fx --dir "$work" 2> "$work/again.log"; then exit 1; f
 grep -q "already exists" "$work/again.log"
 if "$loom" new-plugin Bad-Name --dir "$work" 2> "$work/bad.log"; then exit 1; fi
 grep -q "must start with a lowercase letter" "$work/bad.log"
+if "$loom" new-plugin generate --dir "$work" 2> "$work/taken.log"; then exit 1; fi
+grep -q "already on the plugin path" "$work/taken.log"
 awk -v s="$start" -v e="$end" -v load="$(cut -d' ' -f1 /proc/loadavg)" \
   'BEGIN { printf "scaffold to green (configure+build, test, run): %.1f s (load %s)\n", e - s, load }'

@@ -9,6 +9,7 @@
 
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
+#include "loom/plugin_loader.hpp"
 
 namespace loom::runner {
 
@@ -71,6 +72,15 @@ int new_plugin(const std::string& name, const fs::path& dir) {
                  "(it names libloom_NAME.so)\n";
     return 2;
   }
+  // A plugin of the same name on the path would shadow the new one, or be shadowed.
+  loom::Registry registry;
+  const loom::PluginLoader loader(registry);
+  for (const auto& p : loader.plugins())
+    if (p.name == name) {
+      std::cerr << "error: a plugin named \"" << name << "\" is already on the plugin path ("
+                << p.library.string() << "): choose another name\n";
+      return 2;
+    }
   const fs::path templates = plugin_template_dir();
   std::error_code ec;
   if (!fs::is_directory(templates, ec)) {
