@@ -111,7 +111,12 @@ struct Engine::State {
   Registry registry;
   PluginLoader loader;
   Session session;
+  fs::path temp;  // the default output folder, made on first use, removed with the Engine
   explicit State(std::vector<fs::path> path) : loader(registry, std::move(path)), session(registry) {}
+  ~State() {
+    std::error_code ec;
+    if (!temp.empty()) fs::remove_all(temp, ec);
+  }
 };
 
 Engine::Engine(std::vector<fs::path> plugin_dirs)
@@ -130,7 +135,8 @@ Run Engine::run(const json& document, const std::vector<std::string>& targets, c
   const Graph g = load(document);
   EvalOptions options;
   for (const auto& t : targets) options.targets.push_back(parse_target(t));
-  options.output_dir = out.empty() ? fresh_temp_dir() : fs::absolute(out);
+  if (out.empty() && state_->temp.empty()) state_->temp = fresh_temp_dir();
+  options.output_dir = out.empty() ? state_->temp : fs::absolute(out);
   return Run(state_->session.evaluate(g, options));
 }
 
@@ -140,6 +146,11 @@ Run Engine::run(const GraphBuilder& graph, const std::vector<std::string>& targe
 
 Value Engine::checked(const json& document, const std::string& target) {
   return run(document, {target}).value(target);
+}
+
+fs::path Engine::output_dir() {
+  if (state_->temp.empty()) state_->temp = fresh_temp_dir();
+  return state_->temp;
 }
 
 const std::vector<fs::path>& Engine::plugin_path() const { return state_->loader.search_path(); }

@@ -96,7 +96,7 @@ class LOOM_API Engine {
   Graph load(const json& document, const std::filesystem::path& file = "test.json");
 
   // Evaluates the targets ("ID" or "ID.OUTPUT"), or every sink when empty.
-  // Output files of sinks go to `out` (a fresh temporary folder by default).
+  // Output files of sinks go to `out`, by default to output_dir().
   Run run(const json& document, const std::vector<std::string>& targets = {},
           const std::filesystem::path& out = {});
   Run run(const GraphBuilder& graph, const std::vector<std::string>& targets = {},
@@ -112,6 +112,9 @@ class LOOM_API Engine {
     return checked(graph.document(), target).as<T>();
   }
 
+  // A temporary folder for sinks' files, removed when the Engine is destroyed
+  // (pass `out` to run() to keep them).
+  std::filesystem::path output_dir();
   const std::vector<std::filesystem::path>& plugin_path() const;
   std::vector<std::string> loaded_plugins() const;
   const Registry& registry() const;
