@@ -41,7 +41,11 @@ function(loom_add_plugin name)
   endif()
   if(ARG_TESTS AND (NOT DEFINED LOOM_PLUGIN_TESTS OR LOOM_PLUGIN_TESTS))
     if(NOT TARGET GTest::gtest_main)
-      find_package(GTest REQUIRED)
+      find_package(GTest)
+      if(NOT GTest_FOUND)
+        message(FATAL_ERROR "loom_add_plugin(${name} TESTS ...) needs GoogleTest: install it "
+                            "(Debian: libgtest-dev) or drop TESTS")
+      endif()
     endif()
     if(NOT CMAKE_TESTING_ENABLED)
       message(WARNING "loom_add_plugin(${name} TESTS ...): call enable_testing() in your top-level "
