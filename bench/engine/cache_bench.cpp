@@ -12,6 +12,8 @@
 #include <fstream>
 #include <iostream>
 
+#include <unistd.h>
+
 #include "bench_harness.hpp"
 #include "loom/disk_cache.hpp"
 #include "loom/evaluator.hpp"
@@ -114,7 +116,7 @@ int main(int argc, char** argv) {
     }
   }
   reads.save();
-  loom::bench::plot(reads, {"megabytes", "read_seconds", "", "Disk cache: read time of one entry", true, true});
+  loom::bench::plot(reads, {"megabytes", "read_seconds", "", "Disk cache: read time of one entry", true, true, ""});
 
   // 2. First against second run.
   loom::bench::Csv runs("engine_cache_runs",

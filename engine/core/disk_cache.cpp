@@ -76,9 +76,13 @@ bool DiskCache::contains(std::uint64_t key) const {
 std::optional<std::vector<Value>> DiskCache::load(std::uint64_t key, std::string* problem) {
   const auto start = std::chrono::steady_clock::now();
   const fs::path path = path_of(key);
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) return std::nullopt;
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto file_size = static_cast<std::size_t>(std::max<std::streamoff>(0, in.tellg()));
+  std::string bytes(file_size, '\0');
+  in.seekg(0);
+  in.read(bytes.data(), static_cast<std::streamsize>(file_size));
+  if (static_cast<std::size_t>(in.gcount()) != file_size) bytes.resize(static_cast<std::size_t>(in.gcount()));
   in.close();
   auto reject = [&](const std::string& why) -> std::optional<std::vector<Value>> {
     std::error_code ec;
@@ -101,9 +105,10 @@ std::optional<std::vector<Value>> DiskCache::load(std::uint64_t key, std::string
                     std::to_string(kHeaderBytes + size) + ")");
     const char* payload = bytes.data() + kHeaderBytes;
     if (Hasher().bytes(payload, size).digest() != checksum) return reject("fails its checksum");
-    ByteReader r(payload, size);
     std::vector<Value> values;
+    std::size_t offset = 0;
     for (std::uint32_t i = 0; i < count; ++i) {
+      ByteReader r(payload + offset, size - offset);
       const std::string type_name = r.str();
       const auto version = r.pod<std::int32_t>();
       const auto value_size = r.pod<std::uint64_t>();
@@ -111,14 +116,14 @@ std::optional<std::vector<Value>> DiskCache::load(std::uint64_t key, std::string
       const TypeInfo* type = find_type(type_name);
       if (!type || !type->storable()) return std::nullopt;  // its plugin is not loaded: a miss
       if (version != type->serial_version) return reject("holds " + type_name + " of an older format");
-      std::vector<char> value_bytes(value_size);
-      r.bytes(value_bytes.data(), value_size);
-      ByteReader vr(value_bytes.data(), value_bytes.size());
+      offset += (size - offset) - r.remaining();
+      ByteReader vr(payload + offset, value_size);
       auto data = type->read(vr);
       if (!vr.at_end()) return reject("has bytes past its " + type_name);
+      offset += value_size;
       values.emplace_back(type, std::move(data));
     }
-    if (!r.at_end()) return reject("has bytes past its values");
+    if (offset != size) return reject("has bytes past its values");
     std::error_code ec;
     fs::last_write_time(path, fs::file_time_type::clock::now(), ec);  // least recently used
     bytes_read_ += bytes.size();
@@ -130,28 +135,33 @@ std::optional<std::vector<Value>> DiskCache::load(std::uint64_t key, std::string
   }
 }
 
-std::uint64_t DiskCache::store(std::uint64_t key, const std::vector<Value>& values) {
+// One buffer: the header with its sizes and checksum patched in at the end.
+std::uint64_t DiskCache::store(std::uint64_t key, const std::vector<Value>& values, double compute_seconds) {
+  if (compute_seconds < options_.min_seconds) return 0;
   for (const Value& v : values)
     if (!v || !v.type()->storable()) return 0;
   try {
-    ByteWriter payload;
-    for (const Value& v : values) {
-      payload.str(v.type()->name);
-      payload.pod<std::int32_t>(v.type()->serial_version);
-      ByteWriter w;
-      v.type()->write(v.data(), w);
-      payload.pod<std::uint64_t>(w.buffer().size());
-      payload.bytes(w.buffer().data(), w.buffer().size());
-    }
-    const auto& p = payload.buffer();
     ByteWriter file;
     file.bytes(kMagic, sizeof kMagic);
     file.pod<std::uint32_t>(kFormatVersion);
     file.pod<std::uint64_t>(key);
     file.pod<std::uint32_t>(static_cast<std::uint32_t>(values.size()));
-    file.pod<std::uint64_t>(p.size());
-    file.pod<std::uint64_t>(Hasher().bytes(p.data(), p.size()).digest());
-    file.bytes(p.data(), p.size());
+    file.pod<std::uint64_t>(0);  // payload size, patched below
+    file.pod<std::uint64_t>(0);  // payload checksum, patched below
+    auto patch = [&file](std::size_t at, std::uint64_t v) { std::memcpy(file.buffer().data() + at, &v, sizeof v); };
+    for (const Value& v : values) {
+      file.str(v.type()->name);
+      file.pod<std::int32_t>(v.type()->serial_version);
+      const std::size_t size_at = file.buffer().size();
+      file.pod<std::uint64_t>(0);
+      v.type()->write(v.data(), file);
+      patch(size_at, file.buffer().size() - size_at - sizeof(std::uint64_t));
+    }
+    const std::size_t payload = file.buffer().size() - kHeaderBytes;
+    const double read_seconds = static_cast<double>(file.buffer().size()) / (options_.read_mb_per_s * 1024 * 1024);
+    if (2 * read_seconds > compute_seconds) return 0;  // cheaper to compute again
+    patch(kHeaderBytes - 16, payload);
+    patch(kHeaderBytes - 8, Hasher().bytes(file.buffer().data() + kHeaderBytes, payload).digest());
     write_file_atomic(path_of(key), std::string_view(file.buffer().data(), file.buffer().size()));
     return file.buffer().size();
   } catch (const std::exception&) {

@@ -37,11 +37,13 @@ struct Session::State {
   std::uint64_t generation = 0;
   std::uint64_t evaluations = 0;
   // Per simulation chain (its hash at the start frame): the latest state
-  // computed, kept outside the budget so stepping on never restarts, and the
-  // step time spent since a state of the chain was last written to disk.
+  // computed, kept outside the budget (while the chain is in use) so stepping
+  // on never restarts, and the step time spent since a state of the chain was
+  // last written to disk.
   struct LatestState {
     int frame = 0;
     std::vector<Value> outputs;
+    std::uint64_t generation = 0;  // last used
   };
   std::unordered_map<std::uint64_t, LatestState> latest_states;
   std::unordered_map<std::uint64_t, double> unsaved_seconds;

@@ -149,8 +149,10 @@ std::optional<std::vector<Value>> Evaluation::cache_find(const NodeState& s, std
     }
     if (s.type->spec.simulation()) {
       auto latest = session.latest_states.find(s.chain);
-      if (latest != session.latest_states.end() && state_hash(s.chain, latest->second.frame) == hash)
+      if (latest != session.latest_states.end() && state_hash(s.chain, latest->second.frame) == hash) {
+        latest->second.generation = session.generation;
         return latest->second.outputs;
+      }
     }
   }
   if (!options.disk_cache) return std::nullopt;
@@ -186,7 +188,11 @@ void Evaluation::cache_put(NodeState& s, double seconds) {
     entry.bytes = simulation ? bytes_of(s.outputs) : 0;
     if (simulation) {
       auto& latest = session.latest_states[s.chain];
-      if (latest.outputs.empty() || time.frame >= latest.frame) latest = {time.frame, s.outputs};
+      if (latest.outputs.empty() || time.frame >= latest.frame) {
+        latest.frame = time.frame;
+        latest.outputs = s.outputs;
+      }
+      latest.generation = session.generation;
     }
   }
   DiskCache* disk = options.disk_cache;
@@ -196,8 +202,7 @@ void Evaluation::cache_put(NodeState& s, double seconds) {
     std::lock_guard lock(session.cache_mutex);
     slow = session.unsaved_seconds[s.chain] += seconds;
   }
-  if (slow < disk->options().min_seconds) return;
-  if (disk->store(disk->key(s.hash, s.type->spec.build), s.outputs) > 0 && simulation) {
+  if (disk->store(disk->key(s.hash, s.type->spec.build), s.outputs, slow) > 0 && simulation) {
     std::lock_guard lock(session.cache_mutex);
     session.unsaved_seconds[s.chain] = 0;
   }
@@ -344,6 +349,8 @@ std::size_t Session::cache_entries() const {
 void Session::clear_cache() {
   std::lock_guard lock(state_->cache_mutex);
   state_->cache.clear();
+  state_->latest_states.clear();
+  state_->unsaved_seconds.clear();
   std::lock_guard scratch_lock(state_->scratch_mutex);
   state_->scratch.clear();
 }
@@ -377,9 +384,18 @@ void merge(NodeReport& into, NodeReport&& frame) {
 }
 
 // Ordinary entries live while used in one of the last two frames; simulation
-// states live under the budget, least recently used out first.
+// states live under the budget, least recently used out first; a chain's
+// latest state lives while the chain was used in one of the last two frames.
 void evict(Session::State& st, std::size_t state_budget) {
   std::lock_guard lock(st.cache_mutex);
+  for (auto it = st.latest_states.begin(); it != st.latest_states.end();) {
+    if (it->second.generation + 1 < st.generation) {
+      st.unsaved_seconds.erase(it->first);
+      it = st.latest_states.erase(it);
+    } else {
+      ++it;
+    }
+  }
   std::vector<std::pair<std::uint64_t, std::uint64_t>> states;  // generation, hash
   std::size_t state_bytes = 0;
   for (auto it = st.cache.begin(); it != st.cache.end();) {

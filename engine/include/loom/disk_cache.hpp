@@ -12,7 +12,8 @@
 // fails (corrupt, truncated, an old type version) is deleted and reported, and
 // the caller recomputes. Reading an entry touches its modification time;
 // trim() removes the least recently used entries until the folder is under its
-// size limit. Only results whose node took at least min_seconds are stored.
+// size limit. Only results whose node took at least min_seconds, and which
+// read back in at most half their compute time, are stored.
 #pragma once
 
 #include <atomic>
@@ -31,7 +32,10 @@ class LOOM_API DiskCache {
   struct Options {
     std::filesystem::path dir;                     // created when missing
     std::uint64_t max_bytes = std::uint64_t(10) << 30;
-    double min_seconds = 0.05;                     // store only results slower than this
+    double min_seconds = 0.05;                     // store only results slower than this...
+    // ...and only if reading them back (at this rate, measured on a loaded
+    // machine by bench_engine_cache) takes at most half the compute time.
+    double read_mb_per_s = 150;
   };
   explicit DiskCache(Options options);
 
@@ -46,9 +50,10 @@ class LOOM_API DiskCache {
   // The stored values, or nullopt on a miss. An entry that cannot be read is
   // deleted and *problem says why (the caller warns and recomputes).
   std::optional<std::vector<Value>> load(std::uint64_t key, std::string* problem = nullptr);
-  // Stores the values if every one's type is storable; returns the bytes
+  // Stores the values if every one's type is storable and they took long
+  // enough to compute (`compute_seconds`, see Options); returns the bytes
   // written (0: not stored). Never throws: a full disk only loses the entry.
-  std::uint64_t store(std::uint64_t key, const std::vector<Value>& values);
+  std::uint64_t store(std::uint64_t key, const std::vector<Value>& values, double compute_seconds = 1e300);
 
   struct Stats {
     std::uint64_t entries = 0, bytes = 0;
