@@ -5,7 +5,8 @@
 //     a ~100k-face ARAP (whole run and the node alone: its compute time against
 //     its disk read time);
 //  3. a 240-frame graph whose only time-dependent node is cheap: how often its
-//     expensive static part runs.
+//     expensive static part runs;
+//  4. the cost of the one copy per frame a simulation step makes of its state.
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +14,8 @@
 #include <iostream>
 
 #include <unistd.h>
+
+#include <Eigen/Core>
 
 #include "bench_harness.hpp"
 #include "loom/disk_cache.hpp"
@@ -157,6 +160,20 @@ int main(int argc, char** argv) {
                 static_cast<long long>(p["nodes"]["save"]["runs"].get<int>()), seconds});
   }
   frames.save();
+
+  // 4. What one copy of a simulation state costs (a step makes one per frame):
+  // 1M particles with position and velocity, as two #P×3 double matrices.
+  loom::bench::Csv copies("engine_state_copy", {"particles", "megabytes", "copy_seconds"});
+  for (int n : quick ? std::vector<int>{100000} : std::vector<int>{100000, 1000000}) {
+    struct State {
+      Eigen::MatrixX3d x, v;
+    };
+    const State s{Eigen::MatrixX3d::Random(n, 3), Eigen::MatrixX3d::Random(n, 3)};
+    State sink;
+    const auto t = loom::bench::time_median([&] { sink = s; }, 9);
+    copies.row({static_cast<long long>(n), 48.0 * n / (1024 * 1024), t.median});
+  }
+  copies.save();
   fs::remove_all(work);
   return 0;
 }
