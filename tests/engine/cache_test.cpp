@@ -203,6 +203,35 @@ TEST(DiskCache, LeastRecentlyUsedEntriesGoFirstUnderTheSizeLimit) {
   EXPECT_FALSE(cache.contains(9));
 }
 
+TEST(DiskCache, SimulationStatesOutliveTheProcessAndADownstreamChangeDoesNotReSimulate) {
+  auto dir = test::temp_dir();
+  // Each step sleeps 60 ms: every state is worth storing.
+  auto g = write_graph(dir, graph({{"sim", {{"type", "Integrate"}, {"inputs", {{"x", 0.0}, {"v", 2.4}, {"ms", 60}}}}},
+                                   {"out", {{"type", "Math"}, {"inputs", {{"a", from("sim.x")}, {"b", 1}}}}},
+                                   {"w", {{"type", "WriteText"}, {"inputs", {{"value", from("out.result")}, {"path", "x_{frame}.txt"}}}}}},
+                                  {{"start", 1}, {"end", 6}, {"fps", 24}}));
+  const std::string common = "run " + g.string() + " --cache " + (dir / "cache").string() + " --out " +
+                             (dir / "out").string() + " --profile " + (dir / "p.json").string();
+  std::string out;
+  ASSERT_EQ(loom(common + " --frames 1-4", &out), 0) << out;
+  EXPECT_EQ(read_json(dir / "p.json")["nodes"]["sim"]["runs"], 4);
+  // A new process asked for frame 6 steps on from the stored frame 4.
+  ASSERT_EQ(loom(common + " --frames 6", &out), 0) << out;
+  json p = read_json(dir / "p.json");
+  EXPECT_EQ(p["nodes"]["sim"]["runs"], 2) << p.dump();
+  EXPECT_DOUBLE_EQ(std::stod(read_text(dir / "out" / "x_6.txt")), 1 + 5 * 2.4 / 24);
+  // Downstream only: every frame from disk, no step.
+  ASSERT_EQ(loom(common + " --set out.b=100", &out), 0) << out;
+  p = read_json(dir / "p.json");
+  EXPECT_EQ(p["nodes"]["sim"]["runs"], 0) << p.dump();
+  EXPECT_EQ(p["nodes"]["sim"]["source"], "disk");
+  EXPECT_EQ(p["nodes"]["out"]["runs"], 6);
+  EXPECT_DOUBLE_EQ(std::stod(read_text(dir / "out" / "x_6.txt")), 100 + 5 * 2.4 / 24);
+  // A parameter of the simulation: every frame again.
+  ASSERT_EQ(loom(common + " --set sim.v=1", &out), 0) << out;
+  EXPECT_EQ(read_json(dir / "p.json")["nodes"]["sim"]["runs"], 6);
+}
+
 TEST(Sequences, FramePatternsWriteOneFilePerFrameAndDashDashFramesOverridesTheRange) {
   auto dir = test::temp_dir();
   auto g = write_graph(dir, graph({{"f", {{"type", "FrameNumber"}, {"inputs", {{"scale", 10}}}}},
