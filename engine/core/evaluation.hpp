@@ -152,5 +152,9 @@ struct Evaluation {
   }
 };
 
+// End of a frame: drops ordinary entries unused for two frames, simulation
+// states beyond the budget (least recently used first) and unused chains.
+void evict(Session::State& st, std::size_t state_budget);
+
 }  // namespace detail
 }  // namespace loom

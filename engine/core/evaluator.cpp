@@ -1,7 +1,9 @@
 // Scheduling and running: the closure of the requested nodes runs on a TBB
-// task group as inputs become ready; each node is looked up in the memory
-// cache first. The plan (bindings, order, hashes) is in plan.cpp, the hash
-// rule in computation_hash.cpp, what node bodies reach in node_host.cpp.
+// task group as inputs become ready; each node is looked up in the caches
+// first; Session::evaluate walks the frames. The plan (bindings, order,
+// hashes) is in plan.cpp, the hash rule in computation_hash.cpp, what node
+// bodies reach in node_host.cpp, the caches' policy in result_cache.cpp,
+// simulation stepping in simulation.cpp.
 #include "loom/evaluator.hpp"
 
 #include <algorithm>
@@ -10,9 +12,7 @@
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
-#include "computation_hash.hpp"
 #include "evaluation.hpp"
-#include "loom/disk_cache.hpp"
 #include "node_host.hpp"
 
 namespace loom {
@@ -106,157 +106,6 @@ void Evaluation::execute(const std::vector<int>& roots) {
   for (int n : members)
     if (pending[static_cast<std::size_t>(n)].load(std::memory_order_relaxed) == 0) spawn(n);
   group.wait();
-}
-
-namespace {
-
-// Memory held by a simulation state, for the budget.
-std::size_t bytes_of(const std::vector<Value>& values) {
-  std::size_t total = 0;
-  for (const Value& v : values) {
-    if (!v) continue;
-    if (v.type()->bytes) {
-      total += v.type()->bytes(v.data());
-    } else if (v.type()->storable()) {
-      ByteWriter w;
-      v.type()->write(v.data(), w);
-      total += w.buffer().size();
-    } else {
-      total += 1024;
-    }
-  }
-  return total;
-}
-
-}  // namespace
-
-bool Evaluation::cache_has(const NodeState& s) {
-  {
-    std::lock_guard lock(session.cache_mutex);
-    if (session.cache.count(s.hash)) return true;
-  }
-  return options.disk_cache && options.disk_cache->contains(options.disk_cache->key(s.hash, s.type->spec.build));
-}
-
-std::optional<std::vector<Value>> Evaluation::cache_find(const NodeState& s, std::uint64_t hash, bool* from_disk) {
-  *from_disk = false;
-  {
-    std::lock_guard lock(session.cache_mutex);
-    auto it = session.cache.find(hash);
-    if (it != session.cache.end()) {
-      it->second.generation = session.generation;
-      return it->second.outputs;
-    }
-    if (s.type->spec.simulation()) {
-      auto latest = session.latest_states.find(s.chain);
-      if (latest != session.latest_states.end() && state_hash(s.chain, latest->second.frame) == hash) {
-        latest->second.generation = session.generation;
-        return latest->second.outputs;
-      }
-    }
-  }
-  if (!options.disk_cache) return std::nullopt;
-  std::string problem;
-  auto values = options.disk_cache->load(options.disk_cache->key(hash, s.type->spec.build), &problem);
-  if (!problem.empty() && options.observer) options.observer->node_message(s.node->id, true, problem);
-  if (!values) return std::nullopt;
-  *from_disk = true;
-  const auto& outputs = s.type->spec.outputs;
-  if (values->size() != outputs.size()) return std::nullopt;
-  for (std::size_t o = 0; o < outputs.size(); ++o)
-    if (outputs[o].type->name != "Any" && (*values)[o].type()->storage != outputs[o].type->storage)
-      return std::nullopt;
-  std::lock_guard lock(session.cache_mutex);
-  auto& entry = session.cache[hash];
-  entry.outputs = *values;
-  entry.generation = session.generation;
-  entry.state = s.type->spec.simulation();
-  entry.bytes = entry.state ? bytes_of(entry.outputs) : 0;
-  return values;
-}
-
-// Keeps a result that just ran: in memory, and on disk when it was slow to
-// compute (for a simulation: when the steps since its last state on disk were).
-void Evaluation::cache_put(NodeState& s, double seconds) {
-  const bool simulation = s.type->spec.simulation();
-  {
-    std::lock_guard lock(session.cache_mutex);
-    auto& entry = session.cache[s.hash];
-    entry.outputs = s.outputs;
-    entry.generation = session.generation;
-    entry.state = simulation;
-    entry.bytes = simulation ? bytes_of(s.outputs) : 0;
-    if (simulation) {
-      auto& latest = session.latest_states[s.chain];
-      if (latest.outputs.empty() || time.frame >= latest.frame) {
-        latest.frame = time.frame;
-        latest.outputs = s.outputs;
-      }
-      latest.generation = session.generation;
-    }
-  }
-  DiskCache* disk = options.disk_cache;
-  if (!disk) return;
-  double slow = seconds;
-  if (simulation) {
-    std::lock_guard lock(session.cache_mutex);
-    slow = session.unsaved_seconds[s.chain] += seconds;
-  }
-  if (disk->store(disk->key(s.hash, s.type->spec.build), s.outputs, slow) > 0 && simulation) {
-    std::lock_guard lock(session.cache_mutex);
-    session.unsaved_seconds[s.chain] = 0;
-  }
-}
-
-bool Evaluation::step_to_previous(int n) {
-  NodeState& s = at(n);
-  if (fed_node == n) {
-    s.previous = fed_previous;
-    return true;
-  }
-  const int want = time.frame - 1;
-  bool from_disk = false;
-  if (auto v = cache_find(s, state_hash(s.chain, want), &from_disk)) {
-    s.previous = std::move(*v);
-    return true;
-  }
-  // The latest frame before `want` that is kept, then step on from there,
-  // evaluating the graph at each frame so time-dependent inputs are current.
-  int next = time.start;
-  std::vector<Value> previous;
-  for (int k = want - 1; k >= time.start; --k)
-    if (auto v = cache_find(s, state_hash(s.chain, k), &from_disk)) {
-      previous = std::move(*v);
-      next = k + 1;
-      break;
-    }
-  for (int g = next; g <= want; ++g) {
-    if (cancelled()) {
-      s.report.status = NodeStatus::skipped;
-      s.report.error = "cancelled";
-      return false;
-    }
-    Host(*this, s).report_progress(static_cast<double>(g - next) / (time.frame - next),
-                                   "stepping frame " + std::to_string(g) + " of " + std::to_string(time.frame));
-    FrameTime t = time;
-    t.frame = g;
-    Evaluation sub(session, graph, options, t);
-    sub.fed_node = n;
-    sub.fed_previous = std::move(previous);
-    sub.build();
-    sub.execute({n});
-    NodeState& step = sub.at(n);
-    s.report.runs += step.report.runs;
-    s.report.seconds += step.report.seconds;
-    if (!step.ok) {
-      s.report.status = step.report.status == NodeStatus::failed ? NodeStatus::failed : NodeStatus::skipped;
-      s.report.error = "at frame " + std::to_string(g) + ": " + step.report.error;
-      return false;
-    }
-    previous = step.outputs;
-  }
-  s.previous = std::move(previous);
-  return true;
 }
 
 void Evaluation::run_node(int n) {
@@ -383,40 +232,6 @@ void merge(NodeReport& into, NodeReport&& frame) {
       into.warnings.push_back(std::move(w));
 }
 
-// Ordinary entries live while used in one of the last two frames; simulation
-// states live under the budget, least recently used out first; a chain's
-// latest state lives while the chain was used in one of the last two frames.
-void evict(Session::State& st, std::size_t state_budget) {
-  std::lock_guard lock(st.cache_mutex);
-  for (auto it = st.latest_states.begin(); it != st.latest_states.end();) {
-    if (it->second.generation + 1 < st.generation) {
-      st.unsaved_seconds.erase(it->first);
-      it = st.latest_states.erase(it);
-    } else {
-      ++it;
-    }
-  }
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> states;  // generation, hash
-  std::size_t state_bytes = 0;
-  for (auto it = st.cache.begin(); it != st.cache.end();) {
-    if (it->second.state) {
-      states.emplace_back(it->second.generation, it->first);
-      state_bytes += it->second.bytes;
-      ++it;
-    } else {
-      it = it->second.generation + 1 < st.generation ? st.cache.erase(it) : std::next(it);
-    }
-  }
-  if (state_bytes <= state_budget) return;
-  std::sort(states.begin(), states.end());
-  for (const auto& [generation, hash] : states) {
-    if (state_bytes <= state_budget) break;
-    auto it = st.cache.find(hash);
-    state_bytes -= it->second.bytes;
-    st.cache.erase(it);
-  }
-}
-
 }  // namespace
 
 EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
@@ -484,7 +299,7 @@ EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
       }
     }
     if (!e.cancelled()) ++result.frames;
-    evict(st, options.state_memory_budget);
+    detail::evict(st, options.state_memory_budget);
     if (failed) break;  // later frames would fail alike, or build on a failed state
   }
   {
