@@ -5,8 +5,8 @@
 namespace loom::pathtrace {
 
 float Ggx::D(const Vec3f& h) const {
+  if (h.z() <= 0) return 0;
   const float cos2 = h.z() * h.z();
-  if (cos2 <= 0) return 0;
   const float sin2 = std::fmax(0.f, 1 - cos2), a2 = alpha * alpha;
   const float denom = cos2 * a2 + sin2;  // = cos²θ a² (1 + tan²θ / a²)
   return a2 / (kPi * denom * denom);
