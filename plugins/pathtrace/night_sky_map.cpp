@@ -26,6 +26,11 @@ Image night_sky_map(const NightSkyOptions& o) {
       if (d.dot(moon) >= cos_moon) c = o.moon_radiance * Eigen::Vector3d(1.0, 0.97, 0.9);
       m.at<cv::Vec3f>(y, x) = cv::Vec3f(float(c.x()), float(c.y()), float(c.z()));
     }
+  // The pixel holding the moon's center is lit even when the disk is smaller than a pixel.
+  const Eigen::Vector2d moon_uv = latlong_uv(moon);
+  m.at<cv::Vec3f>(std::min(o.height - 1, int(moon_uv.y() * o.height)),
+                  std::min(o.width - 1, int(moon_uv.x() * o.width))) =
+      cv::Vec3f(float(o.moon_radiance), float(o.moon_radiance * 0.97), float(o.moon_radiance * 0.9));
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> uni(0, 1);
   for (int i = 0; i < o.stars; ++i) {
