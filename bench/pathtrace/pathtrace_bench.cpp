@@ -32,6 +32,10 @@ using loom::bench::Csv;
 
 namespace {
 
+// --quick: a quarter of the reference samples and of the 512² repetitions.
+bool quick = false;
+int ref_spp(int spp) { return quick ? spp / 4 : spp; }
+
 double load1() {
   std::ifstream f("/proc/loadavg");
   double l = 0;
@@ -48,7 +52,7 @@ double rel_mse(const cv::Mat& x, const cv::Mat& ref) {
   x.convertTo(a, CV_64F);
   ref.convertTo(b, CV_64F);
   cv::Mat d = a - b;
-  cv::Mat r = d.mul(d) / (b.mul(b) + 0.01);
+  cv::Mat r = d.mul(d) / (b.mul(b) + cv::Scalar::all(0.01));
   return cv::mean(r.reshape(1))[0];
 }
 
@@ -134,25 +138,26 @@ void bench_embree() {
     s.russian_roulette = false;  // Embree's tutorial has none: same path lengths
     std::vector<double> t_ours;
     Timed ours{};
-    for (int rep = 0; rep < 3; ++rep) {
+    for (int rep = 0; rep < (quick ? 1 : 3); ++rep) {
       ours = timed_render(scene, traced, s);
       t_ours.push_back(ours.seconds);
     }
     std::sort(t_ours.begin(), t_ours.end());
+    const double t_median = t_ours[t_ours.size() / 2];
     const double paths = double(size) * size * spp;
     const cv::Scalar m = cv::mean(quantize8(ours.result.image));
-    csv.row({"loom", (long long)threads, (long long)size, (long long)spp, t_ours[1], paths / t_ours[1],
-             double(ours.result.rays) / t_ours[1], m[0], m[1], m[2], std::string(""), std::string(""),
+    csv.row({"loom", (long long)threads, (long long)size, (long long)spp, t_median, paths / t_median,
+             double(ours.result.rays) / t_median, m[0], m[1], m[2], std::string(""), std::string(""),
              load1()});
     std::vector<double> t_full, t_one;
-    for (int rep = 0; rep < 3; ++rep) {
+    for (int rep = 0; rep < (quick ? 1 : 3); ++rep) {
       t_full.push_back(run_embree(size, spp, depth, threads, tmp));
       t_one.push_back(run_embree(size, 1, depth, threads, tmp));
     }
     std::sort(t_full.begin(), t_full.end());
     std::sort(t_one.begin(), t_one.end());
     run_embree(size, spp, depth, threads, tmp);
-    const double t_embree = (t_full[1] - t_one[1]) * spp / (spp - 1);
+    const double t_embree = (t_full[t_full.size() / 2] - t_one[t_one.size() / 2]) * spp / (spp - 1);
     const cv::Mat e = read_pfm(tmp);
     const cv::Scalar me = e.empty() ? cv::Scalar() : cv::mean(e);
     csv.row({"embree-pathtracer", (long long)threads, (long long)size, (long long)spp, t_embree,
@@ -167,7 +172,7 @@ void bench_embree() {
     s.width = s.height = n;
     s.max_depth = depth;
     s.russian_roulette = false;
-    s.spp = 1024;
+    s.spp = ref_spp(1024);
     s.seed = 99;
     const cv::Mat reference = clamp01(timed_render(scene, traced, s).result.image);
     save_png(reference, "embree-scene-loom-reference.png");
@@ -211,7 +216,7 @@ void bench_convergence() {
   s.width = s.height = 64;
   // Reference: two independent halves; their difference measures the
   // reference's own noise, which is subtracted from each relMSE.
-  s.spp = 4096;
+  s.spp = ref_spp(4096);
   s.seed = 1001;
   const cv::Mat a = timed_render(scene, traced, s).result.image;
   s.seed = 1002;
@@ -251,7 +256,7 @@ void strategies(const std::string& name, const loom::Scene& scene, int size) {
   const EmbreeScene traced(scene);
   RenderSettings s;
   s.width = s.height = size;
-  s.spp = 1024;
+  s.spp = ref_spp(1024);
   s.seed = 4242;
   const cv::Mat reference = timed_render(scene, traced, s).result.image;
   Csv csv("pathtrace_strategies_" + name, {"strategy", "spp", "seconds", "relmse", "load1"});
@@ -278,7 +283,7 @@ void bench_environment() {
   const EmbreeScene traced(scene);
   RenderSettings s;
   s.width = s.height = 96;
-  s.spp = 2048;
+  s.spp = ref_spp(2048);
   s.seed = 77;
   const cv::Mat reference = timed_render(scene, traced, s).result.image;
   save_png(reference, "bright-pixel-reference.png");
@@ -317,7 +322,7 @@ void bench_adaptive() {
   RenderSettings s;
   s.width = s.height = 96;
   s.max_depth = 12;
-  s.spp = 2048;
+  s.spp = ref_spp(2048);
   s.seed = 31;
   const cv::Mat reference = timed_render(scene, traced, s).result.image;
   Csv csv("pathtrace_adaptive", {"method", "parameter", "mean_spp", "seconds", "relmse", "load1"});
@@ -362,10 +367,17 @@ void bench_bvh() {
 
 int main(int argc, char** argv) {
   loom::bench::handle_help(argc, argv,
-                           "bench_pathtrace [embree] [convergence] [strategies] [environment] "
-                           "[adaptive] [bvh]   (no argument: all)\n"
+                           "bench_pathtrace [--quick] [embree] [convergence] [strategies] [environment] "
+                           "[adaptive] [bvh]   (no section: all)\n"
                            "Writes bench/results/pathtrace_*.csv, plots and bench/results/pathtrace/*.png.");
-  std::set<std::string> want(argv + 1, argv + argc);
+  std::set<std::string> want;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick")
+      quick = true;
+    else
+      want.insert(a);
+  }
   auto on = [&](const char* s) { return want.empty() || want.count(s); };
   std::cout << "load at start: " << load1() << "\n";
   if (on("bvh")) bench_bvh();

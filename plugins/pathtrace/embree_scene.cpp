@@ -220,8 +220,18 @@ bool EmbreeScene::occluded(const Vec3f& o, const Vec3f& d, float tmax) const {
   return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 
+bool EmbreeScene::occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const {
+  const Vec3f origin = offset(hit, light_point - hit.p);
+  Vec3f d = light_point - origin;
+  const float length = d.norm();
+  // The segment stops short of the light's surface by the same margin.
+  const float tmax = length - offset_distance(light_point);
+  if (!(tmax > 0)) return false;
+  return occluded(origin, d / length, tmax);
+}
+
 Vec3f EmbreeScene::offset(const SurfaceHit& hit, const Vec3f& direction) const {
-  const float eps = 1e-4f * (1 + hit.p.cwiseAbs().maxCoeff()) + 1e-6f * extent_;
+  const float eps = offset_distance(hit.p);
   return hit.p + (hit.ng.dot(direction) >= 0 ? eps : -eps) * hit.ng;
 }
 

@@ -63,6 +63,13 @@ class EmbreeScene {
   bool occluded(const Vec3f& origin, const Vec3f& direction, float tmax) const;
   // A ray origin moved off the surface to the side `direction` leaves by.
   Vec3f offset(const SurfaceHit& hit, const Vec3f& direction) const;
+  // How far offset() moves a point at p: float precision at p's magnitude.
+  float offset_distance(const Vec3f& p) const {
+    return 1e-4f * (1 + p.cwiseAbs().maxCoeff()) + 1e-6f * extent_;
+  }
+  // Whether the segment from hit (offset) to a point on a light is blocked;
+  // both ends are kept off their surfaces.
+  bool occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const;
 
  private:
   RTCDevice device_ = nullptr;

@@ -131,10 +131,11 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
         const Vec3f wi = frame.to_local(ls->wi);
         const Vec3f f = bsdf_eval(m, wo, wi);
         if ((f.array() > 0).any()) {
-          const Vec3f o = c.traced.offset(hit, ls->wi);
-          const float tmax = std::isinf(ls->distance) ? kInf : ls->distance * (1 - 1e-4f);
           ++r.rays;
-          if (!c.traced.occluded(o, ls->wi, tmax)) {
+          const bool blocked = std::isinf(ls->distance)
+                                   ? c.traced.occluded(c.traced.offset(hit, ls->wi), ls->wi, kInf)
+                                   : c.traced.occluded_to(hit, ls->point);
+          if (!blocked) {
             const float w =
                 ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf_pdf(m, wo, wi));
             r.L += beta.cwiseProduct(f).cwiseProduct(ls->radiance) * (w / ls->pdf);

@@ -87,7 +87,7 @@ std::optional<LightSample> LightSampler::sample(const Vec3f& p, float uc, const 
       if (!(cos_light > 0)) return std::nullopt;  // the back of a one-sided emitter
       const float pdf = select * dist2 / (e.area * cos_light);
       if (!std::isfinite(pdf)) return std::nullopt;
-      return LightSample{d, dist, emission_[e.object], pdf, false};
+      return LightSample{d, dist, q, emission_[e.object], pdf, false};
     }
     case Entry::Kind::light: {
       const Light& l = lights_[e.light];
@@ -95,7 +95,7 @@ std::optional<LightSample> LightSampler::sample(const Vec3f& p, float uc, const 
       if (l.kind == Light::Kind::directional) {
         const Vec3f dir = l.direction.cast<float>();
         if (!(dir.squaredNorm() > 0)) return std::nullopt;
-        return LightSample{-dir.normalized(), inf, color, select, true};
+        return LightSample{-dir.normalized(), inf, Vec3f::Zero(), color, select, true};
       }
       Vec3f d = l.position.cast<float>() - p;
       const float dist2 = d.squaredNorm();
@@ -105,12 +105,12 @@ std::optional<LightSample> LightSampler::sample(const Vec3f& p, float uc, const 
       float k = 1 / dist2;
       if (l.kind == Light::Kind::spot) k *= spot_falloff(l, -d);
       if (!(k > 0)) return std::nullopt;
-      return LightSample{d, dist, color * k, select, true};
+      return LightSample{d, dist, l.position.cast<float>(), color * k, select, true};
     }
     case Entry::Kind::environment: {
       const auto s = environment_.sample(u_env, u);
       if (!(s.pdf > 0)) return std::nullopt;
-      return LightSample{s.direction, inf, environment_.radiance(s.direction), select * s.pdf, false};
+      return LightSample{s.direction, inf, Vec3f::Zero(), environment_.radiance(s.direction), select * s.pdf, false};
     }
   }
   return std::nullopt;

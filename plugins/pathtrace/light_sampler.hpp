@@ -22,6 +22,7 @@ namespace loom::pathtrace {
 struct LightSample {
   Vec3f wi;         // unit, from the shaded point towards the light
   float distance;   // to the light's point; infinity for distant lights
+  Vec3f point;      // the light's point (finite lights)
   Vec3f radiance;   // arriving along -wi (for delta lights: intensity / d²)
   float pdf;        // solid angle, selection included; for delta lights the selection alone
   bool delta;
