@@ -16,6 +16,7 @@
 #include <iostream>
 #include <set>
 
+#include <sys/resource.h>
 #include <tbb/global_control.h>
 
 #include "bench_harness.hpp"
@@ -41,6 +42,13 @@ double load1() {
   double l = 0;
   f >> l;
   return l;
+}
+
+// CPU seconds (user + system, all threads) of this process or of its finished children.
+double cpu_seconds(int who) {
+  rusage u{};
+  getrusage(who, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -72,12 +80,14 @@ cv::Mat quantize8(const cv::Mat& m) {
 
 struct Timed {
   RenderResult result;
-  double seconds;
+  double seconds;      // wall
+  double cpu_seconds;  // user + system over all threads: steadier on a shared machine
 };
 Timed timed_render(const loom::Scene& scene, const EmbreeScene& traced, const RenderSettings& s) {
   const auto t = std::chrono::steady_clock::now();
+  const double c0 = cpu_seconds(RUSAGE_SELF);
   RenderResult r = render(scene, *scene.camera, traced, s);
-  return {std::move(r), seconds_since(t)};
+  return {std::move(r), seconds_since(t), cpu_seconds(RUSAGE_SELF) - c0};
 }
 
 void save_png(const cv::Mat& image, const std::string& name) {
@@ -101,16 +111,19 @@ cv::Mat read_pfm(const fs::path& path) {
   return m;
 }
 
-// Runs `pathtracer`; returns wall seconds (negative when it could not run).
-double run_embree(int size, int spp, int depth, int threads, const fs::path& out) {
+// Runs `pathtracer`; returns wall seconds (negative when it could not run) and
+// its CPU seconds in *cpu.
+double run_embree(int size, int spp, int depth, int threads, const fs::path& out, double* cpu = nullptr) {
   const std::string cmd = "pathtracer -c " + std::string(EMBREE_MODELS) + "/cornell_box.ecs --size " +
                           std::to_string(size) + " " + std::to_string(size) + " --spp " +
                           std::to_string(spp) + " --max-path-length " + std::to_string(depth) +
                           " --threads " + std::to_string(threads) + " -o " + out.string() +
                           " > /dev/null 2>&1";
   const auto t = std::chrono::steady_clock::now();
+  const double c0 = cpu_seconds(RUSAGE_CHILDREN);
   const int rc = std::system(cmd.c_str());
   const double s = seconds_since(t);
+  if (cpu) *cpu = cpu_seconds(RUSAGE_CHILDREN) - c0;
   return rc == 0 ? s : -1;
 }
 
@@ -123,11 +136,14 @@ void bench_embree() {
   const loom::Scene scene = bench::embree_cornell_box(EMBREE_MODELS);
   const EmbreeScene traced(scene);
   const fs::path tmp = fs::temp_directory_path() / "loom-bench-embree.pfm";
-  Csv csv("pathtrace_embree", {"renderer", "threads", "size", "spp", "seconds", "paths_per_s",
-                               "rays_per_s", "mean_r", "mean_g", "mean_b", "relmse", "efficiency",
-                               "load1"});
-  // Throughput at 512², depth 8. Embree's time is the process's marginal cost
-  // per sample: (t(spp) - t(1)) scaled to spp, so loading and its BVH build cancel.
+  Csv csv("pathtrace_embree", {"renderer", "threads", "size", "spp", "seconds", "cpu_seconds",
+                               "paths_per_s", "paths_per_cpu_s", "rays_per_s", "mean_r", "mean_g",
+                               "mean_b", "relmse", "efficiency_cpu", "load1"});
+  // Throughput at 512², depth 8, runs interleaved (loom, embree, loom, ...).
+  // The machine is shared: besides wall time, CPU time (user + system, all
+  // threads) is measured, for Loom around render(), for Embree as its child
+  // process's; Embree's is its marginal cost per sample, (t(spp) - t(1))
+  // scaled to spp, so loading the model and building its BVH cancel.
   const int size = 512, spp = 16, depth = 8;
   for (int threads : {1, 2}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
@@ -136,32 +152,36 @@ void bench_embree() {
     s.spp = spp;
     s.max_depth = depth;
     s.russian_roulette = false;  // Embree's tutorial has none: same path lengths
-    std::vector<double> t_ours;
+    std::vector<double> wall_ours, cpu_ours, wall_embree, cpu_embree;
     Timed ours{};
     for (int rep = 0; rep < (quick ? 1 : 3); ++rep) {
+      const double c0 = cpu_seconds(RUSAGE_SELF);
       ours = timed_render(scene, traced, s);
-      t_ours.push_back(ours.seconds);
+      cpu_ours.push_back(cpu_seconds(RUSAGE_SELF) - c0);
+      wall_ours.push_back(ours.seconds);
+      double cpu_full = 0, cpu_one = 0;
+      const double w_full = run_embree(size, spp, depth, threads, tmp, &cpu_full);
+      const double w_one = run_embree(size, 1, depth, threads, tmp, &cpu_one);
+      wall_embree.push_back((w_full - w_one) * spp / (spp - 1));
+      cpu_embree.push_back((cpu_full - cpu_one) * spp / (spp - 1));
     }
-    std::sort(t_ours.begin(), t_ours.end());
-    const double t_median = t_ours[t_ours.size() / 2];
+    auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v[v.size() / 2];
+    };
     const double paths = double(size) * size * spp;
     const cv::Scalar m = cv::mean(quantize8(ours.result.image));
-    csv.row({"loom", (long long)threads, (long long)size, (long long)spp, t_median, paths / t_median,
-             double(ours.result.rays) / t_median, m[0], m[1], m[2], std::string(""), std::string(""),
-             load1()});
-    std::vector<double> t_full, t_one;
-    for (int rep = 0; rep < (quick ? 1 : 3); ++rep) {
-      t_full.push_back(run_embree(size, spp, depth, threads, tmp));
-      t_one.push_back(run_embree(size, 1, depth, threads, tmp));
-    }
-    std::sort(t_full.begin(), t_full.end());
-    std::sort(t_one.begin(), t_one.end());
+    const double rays_per_path = double(ours.result.rays) / paths;
+    csv.row({"loom", (long long)threads, (long long)size, (long long)spp, median(wall_ours),
+             median(cpu_ours), paths / median(wall_ours), paths / median(cpu_ours),
+             rays_per_path * paths / median(wall_ours), m[0], m[1], m[2], std::string(""),
+             std::string(""), load1()});
     run_embree(size, spp, depth, threads, tmp);
-    const double t_embree = (t_full[t_full.size() / 2] - t_one[t_one.size() / 2]) * spp / (spp - 1);
     const cv::Mat e = read_pfm(tmp);
     const cv::Scalar me = e.empty() ? cv::Scalar() : cv::mean(e);
-    csv.row({"embree-pathtracer", (long long)threads, (long long)size, (long long)spp, t_embree,
-             paths / t_embree, std::string("n/a"), me[0], me[1], me[2], std::string(""),
+    csv.row({"embree-pathtracer", (long long)threads, (long long)size, (long long)spp,
+             median(wall_embree), median(cpu_embree), paths / median(wall_embree),
+             paths / median(cpu_embree), std::string("n/a"), me[0], me[1], me[2], std::string(""),
              std::string(""), load1()});
   }
   // Error and efficiency at 256², 16 spp, 2 threads, against Loom's 1024-spp
@@ -178,17 +198,21 @@ void bench_embree() {
     save_png(reference, "embree-scene-loom-reference.png");
     s.spp = spp;
     s.seed = 1;
+    const double c0 = cpu_seconds(RUSAGE_SELF);
     const Timed ours = timed_render(scene, traced, s);
+    const double cpu_ours = cpu_seconds(RUSAGE_SELF) - c0;
     const cv::Mat oq = quantize8(ours.result.image);
     const double e_ours = rel_mse(oq, reference);
     cv::Scalar m = cv::mean(oq);
-    csv.row({"loom", 2LL, (long long)n, (long long)spp, ours.seconds, n * n * spp / ours.seconds,
-             double(ours.result.rays) / ours.seconds, m[0], m[1], m[2], e_ours,
-             1 / (e_ours * ours.seconds), load1()});
-    const double t_full = run_embree(n, spp, depth, 2, tmp);
-    const double t_one = run_embree(n, 1, depth, 2, tmp);
+    csv.row({"loom", 2LL, (long long)n, (long long)spp, ours.seconds, cpu_ours, n * n * spp / ours.seconds,
+             n * n * spp / cpu_ours, double(ours.result.rays) / ours.seconds, m[0], m[1], m[2], e_ours,
+             1 / (e_ours * cpu_ours), load1()});
+    double c_full = 0, c_one = 0;
+    const double t_full = run_embree(n, spp, depth, 2, tmp, &c_full);
+    const double t_one = run_embree(n, 1, depth, 2, tmp, &c_one);
     run_embree(n, spp, depth, 2, tmp);
     const double t_embree = (t_full - t_one) * spp / (spp - 1);
+    const double c_embree = (c_full - c_one) * spp / (spp - 1);
     cv::Mat e = read_pfm(tmp);
     // Embree's camera is left-handed here: its image is the mirror of ours.
     cv::Mat flipped;
@@ -199,8 +223,9 @@ void bench_embree() {
     save_png(oq, "embree-scene-loom-16spp.png");
     const double e_embree = std::min(err_direct, err_flipped);
     m = cv::mean(matched);
-    csv.row({"embree-pathtracer", 2LL, (long long)n, (long long)spp, t_embree, n * n * spp / t_embree,
-             std::string("n/a"), m[0], m[1], m[2], e_embree, 1 / (e_embree * t_embree), load1()});
+    csv.row({"embree-pathtracer", 2LL, (long long)n, (long long)spp, t_embree, c_embree,
+             n * n * spp / t_embree, n * n * spp / c_embree, std::string("n/a"), m[0], m[1], m[2],
+             e_embree, 1 / (e_embree * c_embree), load1()});
     std::cout << "embree image matched " << (err_flipped < err_direct ? "mirrored" : "as is") << "\n";
   }
   csv.save();
@@ -223,14 +248,14 @@ void bench_convergence() {
   const cv::Mat b = timed_render(scene, traced, s).result.image;
   const cv::Mat reference = (a + b) / 2;
   const double ref_noise = rel_mse(a, b) / 4;
-  Csv csv("pathtrace_convergence", {"spp", "seconds", "relmse", "relmse_corrected", "load1"});
+  Csv csv("pathtrace_convergence", {"spp", "seconds", "cpu_seconds", "relmse", "relmse_corrected", "load1"});
   std::vector<double> lx, ly;
   for (int spp : {4, 16, 64, 256, 1024}) {
     s.spp = spp;
     s.seed = 7;
     const Timed t = timed_render(scene, traced, s);
     const double e = rel_mse(t.result.image, reference);
-    csv.row({(long long)spp, t.seconds, e, e - ref_noise, load1()});
+    csv.row({(long long)spp, t.seconds, t.cpu_seconds, e, e - ref_noise, load1()});
     lx.push_back(std::log(double(spp)));
     ly.push_back(std::log(e - ref_noise));
   }
@@ -245,7 +270,7 @@ void bench_convergence() {
   const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
   std::cout << "convergence: fitted slope of log relMSE against log spp = " << slope
             << " (reference noise " << ref_noise << ")\n";
-  csv.row({std::string("slope"), slope, std::string(""), std::string(""), load1()});
+  csv.row({std::string("slope"), slope, std::string(""), std::string(""), std::string(""), load1()});
   csv.save();
   loom::bench::plot(csv, {"spp", "relmse_corrected", "", "Cornell box: relMSE against spp (MIS)", true, true, ""});
 }
@@ -259,7 +284,7 @@ void strategies(const std::string& name, const loom::Scene& scene, int size) {
   s.spp = ref_spp(1024);
   s.seed = 4242;
   const cv::Mat reference = timed_render(scene, traced, s).result.image;
-  Csv csv("pathtrace_strategies_" + name, {"strategy", "spp", "seconds", "relmse", "load1"});
+  Csv csv("pathtrace_strategies_" + name, {"strategy", "spp", "seconds", "cpu_seconds", "relmse", "load1"});
   const std::pair<const char*, Strategy> list[] = {
       {"bsdf", Strategy::bsdf}, {"nee", Strategy::nee}, {"mis", Strategy::mis}};
   for (const auto& [label, strategy] : list)
@@ -268,12 +293,13 @@ void strategies(const std::string& name, const loom::Scene& scene, int size) {
       s.seed = 5;
       s.strategy = strategy;
       const Timed t = timed_render(scene, traced, s);
-      csv.row({std::string(label), (long long)spp, t.seconds, rel_mse(t.result.image, reference), load1()});
+      csv.row({std::string(label), (long long)spp, t.seconds, t.cpu_seconds,
+               rel_mse(t.result.image, reference), load1()});
       if (spp == 2) save_png(t.result.image, name + "-2spp-" + label + ".png");
     }
   save_png(reference, name + "-reference.png");
   csv.save();
-  loom::bench::plot(csv, {"seconds", "relmse", "strategy", name + ": relMSE against time", true, true, ""});
+  loom::bench::plot(csv, {"cpu_seconds", "relmse", "strategy", name + ": relMSE against CPU time", true, true, ""});
 }
 
 // ---- environment map with one bright pixel -------------------------------------------------
@@ -287,7 +313,7 @@ void bench_environment() {
   s.seed = 77;
   const cv::Mat reference = timed_render(scene, traced, s).result.image;
   save_png(reference, "bright-pixel-reference.png");
-  Csv csv("pathtrace_environment", {"method", "spp", "seconds", "relmse", "relmse_ratio_to_mis", "load1"});
+  Csv csv("pathtrace_environment", {"method", "spp", "seconds", "cpu_seconds", "relmse", "relmse_ratio_to_mis", "load1"});
   struct Method {
     const char* name;
     Strategy strategy;
@@ -306,7 +332,7 @@ void bench_environment() {
     const Timed t = timed_render(scene, traced, s);
     const double e = rel_mse(t.result.image, reference);
     if (base == 0) base = e;
-    csv.row({std::string(m.name), 16LL, t.seconds, e, e / base, load1()});
+    csv.row({std::string(m.name), 16LL, t.seconds, t.cpu_seconds, e, e / base, load1()});
     save_png(t.result.image, std::string("bright-pixel-16spp-") + m.name + ".png");
   }
   csv.save();
@@ -325,13 +351,13 @@ void bench_adaptive() {
   s.spp = ref_spp(2048);
   s.seed = 31;
   const cv::Mat reference = timed_render(scene, traced, s).result.image;
-  Csv csv("pathtrace_adaptive", {"method", "parameter", "mean_spp", "seconds", "relmse", "load1"});
+  Csv csv("pathtrace_adaptive", {"method", "parameter", "mean_spp", "seconds", "cpu_seconds", "relmse", "load1"});
   for (int spp : {16, 32, 64, 128, 256}) {
     s.spp = spp;
     s.seed = 8;
     s.adaptive_threshold = 0;
     const Timed t = timed_render(scene, traced, s);
-    csv.row({std::string("uniform"), double(spp), t.result.mean_spp, t.seconds,
+    csv.row({std::string("uniform"), double(spp), t.result.mean_spp, t.seconds, t.cpu_seconds,
              rel_mse(t.result.image, reference), load1()});
   }
   for (double threshold : {0.4, 0.2, 0.1, 0.05, 0.03}) {
@@ -340,11 +366,11 @@ void bench_adaptive() {
     s.adaptive_threshold = threshold;
     s.seed = 8;
     const Timed t = timed_render(scene, traced, s);
-    csv.row({std::string("adaptive"), threshold, t.result.mean_spp, t.seconds,
+    csv.row({std::string("adaptive"), threshold, t.result.mean_spp, t.seconds, t.cpu_seconds,
              rel_mse(t.result.image, reference), load1()});
   }
   csv.save();
-  loom::bench::plot(csv, {"seconds", "relmse", "method", "Cornell balls: adaptive vs uniform", true, true, ""});
+  loom::bench::plot(csv, {"cpu_seconds", "relmse", "method", "Cornell balls: adaptive vs uniform", true, true, ""});
 }
 
 // ---- BVH build ------------------------------------------------------------------------------
