@@ -51,6 +51,10 @@ std::string nodes_markdown(const loom::Registry& registry) {
       md += "Version " + std::to_string(s.version);
       if (s.sink) md += " · sink (writes files; always runs)";
       if (s.nondeterministic) md += " · nondeterministic (never cached)";
+      if (s.simulation())
+        md += " · simulation (state `" + s.state_input + "` → `" + s.state_output + "` carried from frame to frame)";
+      else if (s.time_dependent)
+        md += " · time-dependent (evaluated per frame)";
       md += "\n\n";
       if (!s.inputs.empty()) {
         md += "| input | type | default | description |\n|---|---|---|---|\n";
