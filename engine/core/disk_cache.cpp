@@ -163,6 +163,7 @@ std::uint64_t DiskCache::store(std::uint64_t key, const std::vector<Value>& valu
     patch(kHeaderBytes - 16, payload);
     patch(kHeaderBytes - 8, Hasher().bytes(file.buffer().data() + kHeaderBytes, payload).digest());
     write_file_atomic(path_of(key), std::string_view(file.buffer().data(), file.buffer().size()));
+    bytes_written_ += file.buffer().size();
     return file.buffer().size();
   } catch (const std::exception&) {
     return 0;

@@ -102,9 +102,11 @@ void Evaluation::hash_nodes(const std::vector<int>& order) {
       any_simulation = true;
       s.state_input = spec.input_index(spec.state_input);
       s.state_output = spec.output_index(spec.state_output);
-      if (s.state_input < 0 || s.state_output < 0)
+      if (s.state_input < 0 || s.state_output < 0 ||
+          spec.inputs[static_cast<std::size_t>(s.state_input)].type->storage !=
+              spec.outputs[static_cast<std::size_t>(s.state_output)].type->storage)
         throw Error("node type " + spec.name + " declares a simulation state \"" + spec.state_input + "\" -> \"" +
-                    spec.state_output + "\" but lacks that input or output (a bug in the node)");
+                    spec.state_output + "\" without that input and output of one type (a bug in the node)");
     }
   }
   auto pass = [&](const FrameTime& t) {

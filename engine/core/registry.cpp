@@ -45,8 +45,12 @@ json describe_node_type(const NodeType& type) {
   json flags = json::array();
   if (s.sink) flags.push_back("sink");
   if (s.nondeterministic) flags.push_back("nondeterministic");
-  return {{"plugin", s.plugin},   {"version", s.version}, {"description", s.description},
-          {"inputs", inputs},     {"outputs", outputs},   {"flags", flags}};
+  if (s.time_dependent) flags.push_back("time_dependent");
+  if (s.simulation()) flags.push_back("simulation");
+  json j = {{"plugin", s.plugin}, {"version", s.version}, {"description", s.description},
+            {"inputs", inputs},   {"outputs", outputs},   {"flags", flags}};
+  if (s.simulation()) j["state"] = {{"input", s.state_input}, {"output", s.state_output}};
+  return j;
 }
 
 }  // namespace loom

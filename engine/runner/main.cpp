@@ -136,7 +136,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
     return kInvalid;
   }
   observer.stop();
-  if (disk) disk->trim();
+  if (disk && disk->bytes_written() > 0) disk->trim();  // a run that stored nothing scans nothing
 
   std::map<loom::NodeStatus, int> counts;
   for (const auto& [id, r] : result.nodes) {
@@ -175,6 +175,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
     if (disk)
       profile["disk_cache"] = {{"dir", disk->options().dir.string()},
                                {"bytes_read", disk->bytes_read()},
+                               {"bytes_written", disk->bytes_written()},
                                {"read_seconds", disk->read_seconds()}};
     try {
       loom::write_file_atomic(profile_path, profile.dump(2) + "\n");

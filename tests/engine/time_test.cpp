@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "loom/frame_pattern.hpp"
 #include "loom_test.hpp"
 
 namespace loom {
@@ -214,6 +215,16 @@ TEST(Time, FramesBeforeTheStartOrReversedAreRefused) {
   EXPECT_THROW(at_frames(e, g, 15, 12, {"a.value"}, &log), Error);
   EvalResult r = at_frames(e, g, 12, 12, {"a.value"}, &log);
   EXPECT_DOUBLE_EQ(number(r, "a.value"), 12.0);
+}
+
+TEST(Time, FramePatternsExpandInOutputPaths) {
+  EXPECT_EQ(expand_frame_pattern("f/cloth_{frame:04}.png", 7), "f/cloth_0007.png");
+  EXPECT_EQ(expand_frame_pattern("f/cloth_{frame:4}.png", 12345), "f/cloth_12345.png");
+  EXPECT_EQ(expand_frame_pattern("{frame}_{frame:2}", 3), "3_03");
+  EXPECT_EQ(expand_frame_pattern("x{frame:03}", -4), "x-004");
+  EXPECT_EQ(expand_frame_pattern("{frames}/{frame:}/{frame:x}/{other}", 5), "{frames}/{frame:}/{frame:x}/{other}");
+  EXPECT_TRUE(has_frame_pattern("a_{frame}.png"));
+  EXPECT_FALSE(has_frame_pattern("a_{fram}.png"));
 }
 
 TEST(Time, TheGraphTimeFieldIsValidatedAndSetByDashDashSet) {

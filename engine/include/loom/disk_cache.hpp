@@ -66,6 +66,7 @@ class LOOM_API DiskCache {
 
   // Totals of this process, for benchmarks and the profile.
   std::uint64_t bytes_read() const { return bytes_read_; }
+  std::uint64_t bytes_written() const { return bytes_written_; }
   double read_seconds() const { return read_nanoseconds_ * 1e-9; }
 
  private:
@@ -73,6 +74,7 @@ class LOOM_API DiskCache {
   Options options_;
   std::uint64_t engine_build_ = 0;
   std::atomic<std::uint64_t> bytes_read_{0};
+  std::atomic<std::uint64_t> bytes_written_{0};
   std::atomic<std::uint64_t> read_nanoseconds_{0};
 };
 

@@ -232,8 +232,8 @@ class LOOM_API Context {
   const std::string& node_id() const { return node_id_; }
 
   // The frame being evaluated. Only nodes declared time-dependent (or
-  // simulations) may read it: the engine shares other nodes' results
-  // across frames.
+  // simulations) may read it to compute their outputs: the engine shares other
+  // nodes' results across frames. Sinks run at every frame and may read it too.
   const FrameTime& time() const { return time_; }
 
   // Progress of long work: done out of total steps, with an optional label.
