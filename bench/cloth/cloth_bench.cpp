@@ -17,6 +17,8 @@
 //  cloth_cuboid:  the assignment's cuboid (5×5×5, 0.5 m, 1000 kg/m³) dropped
 //                 from 0.3 m onto the ground with k = 1e3, 1e4, 1e5: its height
 //                 over time relative to the rest height (Newton, 4 substeps).
+// Curtains are 1 m wide, k = 1e5 for every class, 0.1 kg/m² (--density D:
+// D kg/m², CSV names suffixed _densityD).
 // Run with OPENBLAS_NUM_THREADS=1 on a shared machine: CPU time then counts no
 // spinning BLAS threads.
 //
@@ -39,9 +41,13 @@ namespace {
 using namespace loom::cloth;
 using Clock = std::chrono::steady_clock;
 
+// kg/m²; --density changes it (and the CSV names get a suffix).
+double g_density = 0.1;
+std::string g_suffix;
+
 SpringSystem curtain(int n) {
   SpringSystem s = grid_cloth(n, n, Eigen::Vector3d(-0.5, 0.5, 0), Eigen::Vector3d(1, 0, 0),
-                              Eigen::Vector3d(0, 1, 0), 0.1, 1e5, 1e5, 1e5);
+                              Eigen::Vector3d(0, 1, 0), g_density, 1e5, 1e5, 1e5);
   fix_vertices(s, {}, Eigen::Vector3d(-1, 1.49, -1), Eigen::Vector3d(1, 2, 1));
   return s;
 }
@@ -112,7 +118,7 @@ void frame_study(int n, int runs) {
   const Eigen::MatrixX3d ref = step(state, h, reference_settings(), nullptr).state.x;
   const double moved = (ref - state.x).norm();
 
-  loom::bench::Csv csv("cloth_frame",
+  loom::bench::Csv csv("cloth_frame" + g_suffix,
                        {"method", "iterations", "seconds", "cpu_seconds", "error", "error_vs_x", "load"});
   struct Point {
     double wall, cpu, error;
@@ -161,7 +167,7 @@ void frame_study(int n, int runs) {
 void trajectory_study(int n, int frames) {
   const double h = 1.0 / 30;
   SpringSystem corners = grid_cloth(n, n, Eigen::Vector3d(-0.5, 0.5, 0), Eigen::Vector3d(1, 0, 0),
-                                    Eigen::Vector3d(0, 1, 0), 0.1, 1e5, 1e5, 1e5);
+                                    Eigen::Vector3d(0, 1, 0), g_density, 1e5, 1e5, 1e5);
   corners.fixed[grid_index(n, 0, n - 1)] = corners.fixed[grid_index(n, n - 1, n - 1)] = 1;
   auto system = std::make_shared<const SpringSystem>(corners);
   auto calm = [](StepSettings st) {
@@ -181,7 +187,7 @@ void trajectory_study(int n, int frames) {
   const Eigen::MatrixX3d ref = run(calm(reference_settings()), 1, nullptr, &t_ref);
   const Eigen::MatrixX3d ref_fine = run(calm(reference_settings()), 10, nullptr, nullptr);
   const double scale = (ref - system->X).norm();
-  loom::bench::Csv csv("cloth_frames100", {"method", "iterations", "seconds_per_frame", "error", "load"});
+  loom::bench::Csv csv("cloth_frames100" + g_suffix, {"method", "iterations", "seconds_per_frame", "error", "load"});
   csv.row({std::string("newton_converged_vs_h/10"), 400LL, t_ref, (ref - ref_fine).norm() / scale, load()});
   for (int it : {1, 2, 5, 10, 20, 50, 100, 200})
     for (bool cheb : {false, true}) {
@@ -202,7 +208,7 @@ void trajectory_study(int n, int frames) {
 
 void scaling_study(const std::vector<int>& sizes, int runs) {
   const double h = 1.0 / 30;
-  loom::bench::Csv csv("cloth_scaling", {"vertices", "springs", "factor_seconds", "lg10_seconds", "lg10_cpu_seconds",
+  loom::bench::Csv csv("cloth_scaling" + g_suffix, {"vertices", "springs", "factor_seconds", "lg10_seconds", "lg10_cpu_seconds",
                                          "newton_iteration_cpu_seconds", "factor_mb", "load"});
   for (int n : sizes) {
     auto system = std::make_shared<const SpringSystem>(curtain(n));
@@ -251,12 +257,21 @@ void cuboid_study() {
 
 int main(int argc, char** argv) {
   loom::bench::handle_help(argc, argv,
-                           "bench_cloth [--quick | --cuboid]: the cuboid drop, then Newton vs local/global (plain, Chebyshev) on pinned "
+                           "bench_cloth [--quick] [--cuboid] [--density KG_PER_M2]: the cuboid drop (not with --density), then Newton vs local/global (plain, Chebyshev) on pinned "
                            "curtains; writes cloth_frame, cloth_frames100, cloth_scaling CSV and plots");
-  const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+  bool quick = false, cuboid_only = false;
+  for (int a = 1; a < argc; ++a) {
+    const std::string arg = argv[a];
+    if (arg == "--quick") quick = true;
+    if (arg == "--cuboid") cuboid_only = true;
+    if (arg == "--density" && a + 1 < argc) {
+      g_density = std::stod(argv[++a]);
+      g_suffix = "_density" + std::string(argv[a]);
+    }
+  }
   std::printf("load at start: %s\n", load().c_str());
-  cuboid_study();
-  if (argc > 1 && std::string(argv[1]) == "--cuboid") return 0;
+  if (g_suffix.empty()) cuboid_study();
+  if (cuboid_only) return 0;
   frame_study(quick ? 41 : 81, quick ? 3 : 7);
   trajectory_study(quick ? 15 : 25, 100);
   scaling_study(quick ? std::vector<int>{41, 81} : std::vector<int>{41, 81, 161, 321}, quick ? 3 : 5);

@@ -22,6 +22,7 @@
 
 #include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -41,6 +42,12 @@ struct SolveOptions {
   // nothing. It makes the iteration a projected one, so the residual then
   // measures the unconstrained gradient and no longer reaches zero.
   std::function<void(Eigen::MatrixX3d&)> project;
+  // Newton only: a penalty potential P(x) added to the springs' (E gains
+  // h² P). Returns P and adds ∇P to *gradient and (vertex, 3x3 block) pairs
+  // of a positive semidefinite Hessian approximation to *blocks.
+  std::function<double(const Eigen::MatrixX3d& x, Eigen::MatrixX3d* gradient,
+                       std::vector<std::pair<int, Eigen::Matrix3d>>* blocks)>
+      penalty;
 };
 
 struct SolveReport {

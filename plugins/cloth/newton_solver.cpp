@@ -19,7 +19,7 @@ std::vector<int> dof_rows(const SpringSystem& s) {
 
 // M + h² Σ_s H_s over the free unknowns (both triangles).
 loom::numerics::SparseMatrix hessian(const SpringSystem& s, const std::vector<int>& row, int dofs,
-                                     const Eigen::MatrixX3d& x, double h) {
+                                     const Eigen::MatrixX3d& x, double h, const SolveOptions& options) {
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(static_cast<size_t>(dofs) + 36 * static_cast<size_t>(s.spring_count()));
   for (int i = 0; i < s.vertices(); ++i)
@@ -50,6 +50,14 @@ loom::numerics::SparseMatrix hessian(const SpringSystem& s, const std::vector<in
           for (int j = 0; j < 3; ++j) t.emplace_back(rp + i, rq + j, sign * block(i, j));
       }
   }
+  if (options.penalty) {
+    std::vector<std::pair<int, Eigen::Matrix3d>> blocks;
+    options.penalty(x, nullptr, &blocks);
+    for (const auto& [v, block] : blocks)
+      if (row[v] >= 0)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) t.emplace_back(row[v] + i, row[v] + j, h * h * block(i, j));
+  }
   loom::numerics::SparseMatrix H(dofs, dofs);
   H.setFromTriplets(t.begin(), t.end());
   return H;
@@ -60,6 +68,25 @@ Eigen::VectorXd gather(const Eigen::MatrixX3d& g, const std::vector<int>& row, i
   for (size_t i = 0; i < row.size(); ++i)
     if (row[i] >= 0) out.segment<3>(row[i]) = g.row(static_cast<Eigen::Index>(i)).transpose();
   return out;
+}
+
+// E plus h² times the penalty, if any.
+double potential(const SpringSystem& s, const Eigen::MatrixX3d& x, const Eigen::MatrixX3d& y, double h,
+                 const SolveOptions& options) {
+  const double e = incremental_potential(s, x, y, h);
+  return options.penalty ? e + h * h * options.penalty(x, nullptr, nullptr) : e;
+}
+
+Eigen::MatrixX3d gradient(const SpringSystem& s, const Eigen::MatrixX3d& x, const Eigen::MatrixX3d& y, double h,
+                          const SolveOptions& options) {
+  Eigen::MatrixX3d g = incremental_gradient(s, x, y, h);
+  if (options.penalty) {
+    Eigen::MatrixX3d gp = Eigen::MatrixX3d::Zero(x.rows(), 3);
+    options.penalty(x, &gp, nullptr);
+    for (Eigen::Index i = 0; i < x.rows(); ++i)
+      if (!s.fixed[i]) g.row(i) += h * h * gp.row(i);
+  }
+  return g;
 }
 
 }  // namespace
@@ -76,15 +103,15 @@ Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, 
     return x;
   }
   loom::numerics::SparseCholesky cholesky;
-  double energy = incremental_potential(s, x, y, h);
-  Eigen::VectorXd g = gather(incremental_gradient(s, x, y, h), row, dofs);
+  double energy = potential(s, x, y, h, options);
+  Eigen::VectorXd g = gather(gradient(s, x, y, h, options), row, dofs);
   const double g0 = g.norm();
   if (g0 == 0) {
     rep.converged = true;
     return x;
   }
   for (int it = 0; it < options.iterations; ++it) {
-    cholesky.refactor(hessian(s, row, dofs, x, h));
+    cholesky.refactor(hessian(s, row, dofs, x, h, options));
     const Eigen::VectorXd p = -cholesky.solve(g);
     // Backtracking line search on E (Armijo, c = 1e-4): H is positive
     // definite, so p is a descent direction and a small enough step decreases E.
@@ -97,7 +124,7 @@ Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, 
       trial = x;
       for (int i = 0; i < s.vertices(); ++i)
         if (row[i] >= 0) trial.row(i) += alpha * p.segment<3>(row[i]).transpose();
-      trial_energy = incremental_potential(s, trial, y, h);
+      trial_energy = potential(s, trial, y, h, options);
       if (std::isfinite(trial_energy) && trial_energy <= energy + 1e-4 * alpha * slope) {
         accepted = true;
         break;
@@ -114,8 +141,8 @@ Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, 
     const double step = alpha * p.norm();
     x = trial;
     if (options.project) options.project(x);
-    energy = options.project ? incremental_potential(s, x, y, h) : trial_energy;
-    g = gather(incremental_gradient(s, x, y, h), row, dofs);
+    energy = options.project ? potential(s, x, y, h, options) : trial_energy;
+    g = gather(gradient(s, x, y, h, options), row, dofs);
     rep.residuals.push_back(g.norm() / g0);
     if (g.norm() <= options.tolerance * g0 || step <= 1e-16 * x.norm()) {
       rep.converged = true;

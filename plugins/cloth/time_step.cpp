@@ -109,6 +109,33 @@ Eigen::MatrixX3d resolve_collisions(const SpringSystem& s, const Eigen::MatrixX3
   return contact;
 }
 
+// Contact as a penalty for Newton: P = ½ κ Σ d² over penetration depths d
+// (ground: height − y; sphere: r − ‖x − c‖), Hessian blocks κ n nᵀ (the
+// sphere's curvature term left out, so the blocks stay semidefinite). κ is
+// 1000 times the stiffest spring: a resting body sinks by its weight / κ, and
+// the projection after the step removes that.
+double contact_penalty(const SpringSystem& s, const StepSettings& settings, const Eigen::MatrixX3d& x,
+                       Eigen::MatrixX3d* gradient, std::vector<std::pair<int, Eigen::Matrix3d>>* blocks) {
+  const double kappa = 1e3 * std::max(1.0, s.stiffness.size() > 0 ? s.stiffness.maxCoeff() : 1.0);
+  double p = 0;
+  auto add = [&](Eigen::Index i, double depth, const Eigen::RowVector3d& n) {
+    p += 0.5 * kappa * depth * depth;
+    if (gradient) gradient->row(i) -= kappa * depth * n;
+    if (blocks) blocks->emplace_back(static_cast<int>(i), kappa * n.transpose() * n);
+  };
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    if (s.fixed[i]) continue;
+    if (settings.ground && x(i, 1) < settings.ground_height)
+      add(i, settings.ground_height - x(i, 1), Eigen::RowVector3d(0, 1, 0));
+    for (const auto& sphere : settings.spheres) {
+      const Eigen::RowVector3d d = x.row(i) - sphere.center.transpose();
+      const double len = d.norm();
+      if (len < sphere.radius && len > 0) add(i, sphere.radius - len, d / len);
+    }
+  }
+  return p;
+}
+
 }  // namespace
 
 StepResult step(const ClothState& state, double h, const StepSettings& settings,
@@ -142,7 +169,12 @@ StepResult step(const ClothState& state, double h, const StepSettings& settings,
     for (Eigen::Index i = 0; i < y.rows(); ++i)
       if (!s.fixed[i]) y.row(i) += h * v0.row(i) + h * h / s.mass[i] * f.row(i);
     SolveOptions options = settings.solve;
-    if (settings.ground || !settings.spheres.empty())
+    if ((settings.ground || !settings.spheres.empty()) && settings.solver == Solver::newton)
+      options.penalty = [&](const Eigen::MatrixX3d& iterate, Eigen::MatrixX3d* gradient,
+                            std::vector<std::pair<int, Eigen::Matrix3d>>* blocks) {
+        return contact_penalty(s, settings, iterate, gradient, blocks);
+      };
+    else if (settings.ground || !settings.spheres.empty())
       options.project = [&](Eigen::MatrixX3d& iterate) { resolve_collisions(s, state.x, iterate, settings); };
     if (settings.solver == Solver::newton) {
       x = newton_solve(s, y, h, y, options, &result.report);
