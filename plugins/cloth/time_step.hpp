@@ -7,10 +7,10 @@
 // f_i = a_i ((w_i − v_i)·n̂_i) n̂_i with a_i the vertex's area share and
 // w_i = speed·ŵ·(1 + turbulence·η_i(t)), η a seeded sum of three travelling
 // sine waves (smooth in space and time). Colliders (ground plane y = height,
-// spheres): positions are projected out after every solver iteration and
-// after the step, then the velocity is
-// (x_{n+1} − x_n)/h with its component into the collider removed (inelastic,
-// frictionless contact).
+// spheres; inelastic, frictionless): Newton adds a penalty ½κ Σ d² over
+// penetration depths to the potential; local/global projects positions out
+// after every iteration. Both project the result out, then the velocity is
+// (x_{n+1} − x_n)/h with its component into the collider removed.
 #pragma once
 
 #include <cstdint>
