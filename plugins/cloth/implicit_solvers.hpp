@@ -42,6 +42,9 @@ struct SolveOptions {
   // nothing. It makes the iteration a projected one, so the residual then
   // measures the unconstrained gradient and no longer reaches zero.
   std::function<void(Eigen::MatrixX3d&)> project;
+  // Called after every iteration from the calling thread (the node checks
+  // cancellation there); may throw to stop.
+  std::function<void()> after_iteration;
   // Newton only: a penalty potential P(x) added to the springs' (E gains
   // h² P). Returns P and adds ∇P to *gradient and (vertex, 3x3 block) pairs
   // of a positive semidefinite Hessian approximation to *blocks.

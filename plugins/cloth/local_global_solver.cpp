@@ -110,6 +110,7 @@ Eigen::MatrixX3d LocalGlobalSolver::solve(const SpringSystem& s, const Eigen::Ma
       for (int r = 0; r < n; ++r) x.row(free_[r]) += delta.row(r);
     }
     if (options.project) options.project(x);
+    if (options.after_iteration) options.after_iteration();
     ++rep.iterations;
     if (measure) {
       const double g = incremental_gradient(s, x, y, h_).norm() / g0;

@@ -131,6 +131,7 @@ Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, 
       }
     }
     ++rep.iterations;
+    if (options.after_iteration) options.after_iteration();
     // No decrease at all: x is a minimizer to rounding (the potential's
     // differences are below its roundoff).
     if (!accepted) {
