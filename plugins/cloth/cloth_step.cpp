@@ -60,6 +60,7 @@ struct ClothStep {
         .input<double>("ground_height", 0, "height of the ground plane")
         .input<std::vector<loom::Vec3>>("sphere_centers", {}, "centers of sphere colliders")
         .input<std::vector<double>>("sphere_radii", {}, "radii of sphere colliders, one per center")
+        .input<double>("friction", 0, "Coulomb friction coefficient of the colliders (0: frictionless)").range(0, 10)
         .input<bool>("chebyshev", false, "Chebyshev acceleration of local/global (Wang 2015)")
         .input<double>("chebyshev_rho", 0.99, "estimated spectral radius for Chebyshev").range(0, 0.9999)
         .output<loom::cloth::ClothState>("state", "the state at this frame")
@@ -88,6 +89,7 @@ struct ClothStep {
     settings.seed = ctx.seed();
     settings.ground = in.get<bool>("ground");
     settings.ground_height = in.get<double>("ground_height");
+    settings.friction = in.get<double>("friction");
     const auto& centers = in.get<std::vector<loom::Vec3>>("sphere_centers");
     const auto& radii = in.get<std::vector<double>>("sphere_radii");
     if (centers.size() != radii.size())

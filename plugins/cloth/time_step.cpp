@@ -76,10 +76,24 @@ namespace {
 // is pushed onto the tangent plane at the point where it came from (the
 // normal of x_n), not radially: a step that carries it past the center would
 // otherwise push it out of the far side.
+// `penalty_h2` is κh² when x comes from Newton with penalty contact: its
+// penetration d then stands for a normal force κd, which moves a vertex by
+// κ d h²/m in a step, and that is the depth friction works with.
 Eigen::MatrixX3d resolve_collisions(const SpringSystem& s, const Eigen::MatrixX3d& x_n,
-                                    Eigen::MatrixX3d& x, const StepSettings& settings) {
+                                    Eigen::MatrixX3d& x, const StepSettings& settings, double penalty_h2 = 0) {
   Eigen::MatrixX3d contact = Eigen::MatrixX3d::Zero(x.rows(), 3);
   if (!settings.ground && settings.spheres.empty()) return contact;
+  // Coulomb friction on positions (as position-based dynamics does it): a
+  // vertex pushed out by `depth` along n keeps its tangential motion since x_n
+  // only beyond friction·depth (static below that, kinetic above).
+  auto rub = [&](Eigen::Index i, const Eigen::RowVector3d& n, double depth) {
+    if (settings.friction <= 0 || depth <= 0) return;
+    if (penalty_h2 > 0) depth *= penalty_h2 / s.mass[i];
+    const Eigen::RowVector3d moved = x.row(i) - x_n.row(i);
+    const Eigen::RowVector3d tangential = moved - moved.dot(n) * n;
+    const double slide = tangential.norm(), limit = settings.friction * depth;
+    x.row(i) -= slide <= limit ? tangential : Eigen::RowVector3d(tangential * (limit / slide));
+  };
   for (Eigen::Index i = 0; i < x.rows(); ++i) {
     if (s.fixed[i]) continue;
     for (const auto& sphere : settings.spheres) {
@@ -96,17 +110,25 @@ Eigen::MatrixX3d resolve_collisions(const SpringSystem& s, const Eigen::MatrixX3
       // to rounding: its normal is where the vertex came from.
       const Eigen::RowVector3d from = x_n.row(i) - c;
       Eigen::RowVector3d n = from.norm() > 0 ? Eigen::RowVector3d(from.normalized()) : Eigen::RowVector3d(0, 1, 0);
-      x.row(i) += (sphere.radius - (x.row(i) - c).dot(n)) * n;
+      const double depth = sphere.radius - (x.row(i) - c).dot(n);
+      x.row(i) += depth * n;
+      rub(i, n, depth);
       const double after = (x.row(i) - c).norm();
       if (after < sphere.radius) x.row(i) = c + sphere.radius * (x.row(i) - c) / after;
       contact.row(i) = n;
     }
     if (settings.ground && x(i, 1) < settings.ground_height) {
+      const double depth = settings.ground_height - x(i, 1);
       x(i, 1) = settings.ground_height;
       contact.row(i) << 0, 1, 0;
+      rub(i, contact.row(i), depth);
     }
   }
   return contact;
+}
+
+double contact_stiffness(const SpringSystem& s) {
+  return 1e3 * std::max(1.0, s.stiffness.size() > 0 ? s.stiffness.maxCoeff() : 1.0);
 }
 
 // Contact as a penalty for Newton: P = ½ κ Σ d² over penetration depths d
@@ -116,7 +138,7 @@ Eigen::MatrixX3d resolve_collisions(const SpringSystem& s, const Eigen::MatrixX3
 // the projection after the step removes that.
 double contact_penalty(const SpringSystem& s, const StepSettings& settings, const Eigen::MatrixX3d& x,
                        Eigen::MatrixX3d* gradient, std::vector<std::pair<int, Eigen::Matrix3d>>* blocks) {
-  const double kappa = 1e3 * std::max(1.0, s.stiffness.size() > 0 ? s.stiffness.maxCoeff() : 1.0);
+  const double kappa = contact_stiffness(s);
   double p = 0;
   auto add = [&](Eigen::Index i, double depth, const Eigen::RowVector3d& n) {
     p += 0.5 * kappa * depth * depth;
@@ -184,7 +206,8 @@ StepResult step(const ClothState& state, double h, const StepSettings& settings,
       x = lg->solve(s, y, y, options, &result.report);
     }
   }
-  const Eigen::MatrixX3d contact = resolve_collisions(s, state.x, x, settings);
+  const Eigen::MatrixX3d contact = resolve_collisions(
+      s, state.x, x, settings, settings.solver == Solver::newton ? contact_stiffness(s) * h * h : 0);
   result.state.v = (x - state.x) / h;
   for (Eigen::Index i = 0; i < x.rows(); ++i) {
     if (s.fixed[i]) {

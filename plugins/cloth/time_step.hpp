@@ -7,7 +7,8 @@
 // f_i = a_i ((w_i − v_i)·n̂_i) n̂_i with a_i the vertex's area share and
 // w_i = speed·ŵ·(1 + turbulence·η_i(t)), η a seeded sum of three travelling
 // sine waves (smooth in space and time). Colliders (ground plane y = height,
-// spheres; inelastic, frictionless): Newton adds a penalty ½κ Σ d² over
+// spheres; inelastic, with optional Coulomb friction applied to positions
+// where they are projected out): Newton adds a penalty ½κ Σ d² over
 // penetration depths to the potential; local/global projects positions out
 // after every iteration. Both project the result out, then the velocity is
 // (x_{n+1} − x_n)/h with its component into the collider removed.
@@ -44,6 +45,7 @@ struct StepSettings {
   bool ground = false;
   double ground_height = 0;
   std::vector<Sphere> spheres;
+  double friction = 0;  // Coulomb coefficient of the position-level friction
 };
 
 struct ClothState {

@@ -148,6 +148,29 @@ TEST(TimeStep, CollidersKeepTheClothOutside) {
   }
 }
 
+// A sheet lying on the ground, sliding at 1 m/s: without friction it keeps
+// its speed; with Coulomb friction μ the speed drops by about μ g per second
+// (positions are pushed back by μ × the penetration, which gravity sets to
+// g h² per step), so it stops within v / (μ g) ≈ 0.2 s.
+TEST(TimeStep, GroundFrictionStopsASlidingSheet) {
+  const SpringSystem s = grid_cloth(6, 6, Eigen::Vector3d(-0.5, 0, -0.5), Eigen::Vector3d(1, 0, 0),
+                                    Eigen::Vector3d(0, 0, 1), 1, 1e3, 1e3, 1e2);
+  for (Solver solver : {Solver::newton, Solver::local_global})
+    for (double mu : {0.0, 0.5}) {
+      Simulation run(s, solver, 1.0 / 60, 20);
+      run.settings.ground = true;
+      run.settings.friction = mu;
+      run.state.v.col(0).setOnes();
+      for (int n = 0; n < 30; ++n) run.advance();
+      const double speed = run.state.v.col(0).mean();
+      if (mu == 0)
+        EXPECT_NEAR(speed, 1, 1e-6);
+      else
+        EXPECT_NEAR(speed, 0, 1e-6);
+      EXPECT_GE(run.state.x.col(1).minCoeff(), -1e-12);
+    }
+}
+
 TEST(TimeStep, WindPushesTheCurtainDownwind) {
   Simulation run(test::curtain(10, 1e4), Solver::local_global, 1.0 / 30, 10);
   run.settings.wind_speed = 5;
