@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include "loom/atomic_file.hpp"
+#include "loom/disk_cache.hpp"
 #include "loom/evaluator.hpp"
 #include "loom/graph.hpp"
 #include "loom/plugin_loader.hpp"
@@ -29,9 +30,46 @@ extern "C" void on_interrupt(int) {
   if (g_cancel.exchange(true)) std::_Exit(kInterrupted);  // second Ctrl-C: leave now
 }
 
+// Where the persistent cache lives and how it behaves (`--cache`, `--no-cache`).
+struct CacheSettings {
+  std::string dir;  // empty: the default folder
+  bool disabled = false;
+  double limit_mb = 10240;
+  double min_seconds = 0.05;
+
+  loom::DiskCache::Options options() const {
+    loom::DiskCache::Options o;
+    o.dir = dir.empty() ? loom::DiskCache::default_dir() : std::filesystem::path(dir);
+    o.max_bytes = static_cast<std::uint64_t>(limit_mb * 1024 * 1024);
+    o.min_seconds = min_seconds;
+    return o;
+  }
+};
+
+// "A-B" or "A": the frames to run.
+std::optional<loom::FrameRange> parse_frames(const std::string& text) {
+  loom::FrameRange r;
+  std::size_t dash = text.find('-', 1);  // a leading '-' is a sign
+  try {
+    std::size_t used = 0;
+    r.first = std::stoi(text.substr(0, dash), &used);
+    if (used != (dash == std::string::npos ? text.size() : dash)) return std::nullopt;
+    r.last = r.first;
+    if (dash != std::string::npos) {
+      r.last = std::stoi(text.substr(dash + 1), &used);
+      if (used != text.size() - dash - 1) return std::nullopt;
+    }
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (r.last < r.first) return std::nullopt;
+  return r;
+}
+
 int cmd_run(const std::string& graph_path, const std::string& out_dir,
             const std::vector<std::string>& sets, const std::vector<std::string>& targets,
-            int threads, const std::string& profile_path, bool quiet) {
+            int threads, const std::string& profile_path, bool quiet, const std::string& frames,
+            const CacheSettings& cache) {
   auto start = std::chrono::steady_clock::now();
   loom::Registry registry;
   loom::PluginLoader loader(registry);
@@ -60,6 +98,20 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   }
 
   loom::EvalOptions options;
+  if (!frames.empty()) {
+    options.frames = parse_frames(frames);
+    if (!options.frames) {
+      std::cerr << "error: --frames: expected A-B or A (whole frame numbers, A <= B), got \"" << frames << "\"\n";
+      return kInvalid;
+    }
+  } else if (graph.time) {
+    options.frames = loom::FrameRange{graph.time->start, graph.time->end};
+  }
+  std::optional<loom::DiskCache> disk;
+  if (!cache.disabled) {
+    disk.emplace(cache.options());
+    options.disk_cache = &*disk;
+  }
   for (const auto& t : targets) options.targets.push_back(loom::parse_target(t));
   options.threads = threads;
   options.output_dir = std::filesystem::absolute(out_dir);
@@ -84,6 +136,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
     return kInvalid;
   }
   observer.stop();
+  if (disk) disk->trim();
 
   std::map<loom::NodeStatus, int> counts;
   for (const auto& [id, r] : result.nodes) {
@@ -95,24 +148,34 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   std::cout << loom::runner::target_lines(graph, registry, result);
   double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!quiet) {
-    std::fprintf(stderr, "%d ran, %d cached, %d pruned, %d skipped, %d failed in %.3f s\n",
+    std::string over = result.frames > 1 ? " over " + std::to_string(result.frames) + " frames" : "";
+    std::fprintf(stderr, "%d ran, %d cached, %d pruned, %d skipped, %d failed%s in %.3f s\n",
                  counts[loom::NodeStatus::ran], counts[loom::NodeStatus::cached],
                  counts[loom::NodeStatus::pruned], counts[loom::NodeStatus::skipped],
-                 counts[loom::NodeStatus::failed], total);
+                 counts[loom::NodeStatus::failed], over.c_str(), total);
   }
   if (!profile_path.empty()) {
     loom::json nodes = loom::json::object();
     for (const auto& [id, r] : result.nodes) {
       loom::json j = {{"type", graph.nodes.at(id).type},
                       {"status", loom::to_string(r.status)},
-                      {"seconds", r.seconds}};
+                      {"seconds", r.seconds},
+                      {"runs", r.runs}};
+      if (r.status == loom::NodeStatus::cached) j["source"] = r.runs == 0 && r.disk_hits > 0 ? "disk" : "memory";
+      if (r.disk_hits > 0) j["disk_hits"] = r.disk_hits;
+      if (r.memory_hits > 0) j["memory_hits"] = r.memory_hits;
       if (!r.error.empty()) j["error"] = r.error;
       if (!r.warnings.empty()) j["warnings"] = r.warnings;
       nodes[id] = j;
     }
     loom::json profile = {{"total_seconds", total},
+                          {"frames", result.frames},
                           {"plugins_loaded", loader.loaded_names()},
                           {"nodes", nodes}};
+    if (disk)
+      profile["disk_cache"] = {{"dir", disk->options().dir.string()},
+                               {"bytes_read", disk->bytes_read()},
+                               {"read_seconds", disk->read_seconds()}};
     try {
       loom::write_file_atomic(profile_path, profile.dump(2) + "\n");
     } catch (const loom::Error& e) {
@@ -125,6 +188,20 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
     return kInterrupted;
   }
   return result.ok() ? kOk : kNodeFailed;
+}
+
+int cmd_cache(const std::string& action, const CacheSettings& settings) {
+  loom::DiskCache cache(settings.options());
+  if (action == "clear") {
+    cache.clear();
+    std::cout << "cleared " << cache.options().dir.string() << "\n";
+    return kOk;
+  }
+  const auto stats = cache.stats();
+  std::printf("folder:  %s\nentries: %llu\nsize:    %.1f MB of %.0f MB (least recently used out first)\n",
+              cache.options().dir.c_str(), static_cast<unsigned long long>(stats.entries),
+              static_cast<double>(stats.bytes) / (1024.0 * 1024.0), settings.limit_mb);
+  return kOk;
 }
 
 int cmd_validate(const std::string& graph_path) {
@@ -228,6 +305,25 @@ int main(int argc, char** argv) {
   run->add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
   run->add_option("--profile", profile_path, "write a JSON profile of the run to this file");
   run->add_flag("--quiet,-q", quiet, "print only errors and requested outputs");
+  std::string frames;
+  CacheSettings cache;
+  run->add_option("--frames", frames, "frames to run, A-B or A (default: the graph's \"time\" range)");
+  auto cache_options = [&cache](CLI::App* app) {
+    app->add_option("--cache", cache.dir, "persistent cache folder (default: $XDG_CACHE_HOME/loom)");
+    app->add_option("--cache-limit", cache.limit_mb, "cache size limit in MB (least recently used out)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+  };
+  cache_options(run);
+  run->add_flag("--no-cache", cache.disabled, "neither read nor write the persistent cache");
+  run->add_option("--cache-min-seconds", cache.min_seconds, "store only results slower than this")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+
+  auto* cache_cmd = app.add_subcommand("cache", "Show or clear the persistent result cache.");
+  std::string cache_action;
+  cache_cmd->add_option("action", cache_action, "info or clear")->required()->check(CLI::IsMember({"info", "clear"}));
+  cache_options(cache_cmd);
 
   auto* validate = app.add_subcommand("validate", "Check a graph without running it.");
   validate->add_option("graph", graph_path, "graph file (JSON)")->required();
@@ -253,7 +349,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kOk : kInvalid;
   }
-  if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet);
+  if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache);
+  if (*cache_cmd) return cmd_cache(cache_action, cache);
   if (*validate) return cmd_validate(graph_path);
   if (*nodes) return cmd_nodes(type, as_json, as_markdown);
   if (*plugins) return cmd_plugins(manifest_lib, manifest_out);

@@ -50,6 +50,10 @@ std::string node_text(const NodeType& type, bool detailed) {
                      s.description + "\n";
   if (s.sink) text += "  sink: writes files, always runs\n";
   if (s.nondeterministic) text += "  nondeterministic: never cached\n";
+  if (s.simulation())
+    text += "  simulation: steps " + s.state_input + " (frame f-1) to " + s.state_output + " (frame f)\n";
+  else if (s.time_dependent)
+    text += "  time-dependent: evaluated once per frame\n";
   if (s.simulation()) text += "  simulation step: " + s.state_input + " -> " + s.state_output + " each frame\n";
   else if (s.time_dependent) text += "  time-dependent: evaluated at every frame\n";
   for (const auto& in : s.inputs) {
@@ -82,6 +86,10 @@ std::string nodes_markdown(const std::vector<const NodeType*>& all, bool whole_p
       if (!whole_page) md += " · plugin `" + plugin + "`";
       if (s.sink) md += " · sink (writes files; always runs)";
       if (s.nondeterministic) md += " · nondeterministic (never cached)";
+      if (s.simulation())
+        md += " · simulation (`" + s.state_input + "` at frame f-1 → `" + s.state_output + "` at frame f)";
+      else if (s.time_dependent)
+        md += " · time-dependent (evaluated per frame)";
       md += "\n\n";
       if (!s.inputs.empty()) {
         md += "| input | type | default | description |\n|---|---|---|---|\n";

@@ -37,9 +37,18 @@ struct GraphNode {
   json ui;  // editor layout, kept as is
 };
 
+// "time": {"start": 1, "end": 240, "fps": 24}: the frames a run walks by
+// default and their rate. A graph without it is one evaluation at frame 1.
+struct TimeRange {
+  int start = 1;
+  int end = 1;  // inclusive, at least start
+  double fps = 24;
+};
+
 struct Graph {
   std::filesystem::path file;  // for messages and relative input paths
   std::uint64_t seed = 0;
+  std::optional<TimeRange> time;
   std::map<std::string, GraphNode> nodes;  // by id, sorted
 
   std::filesystem::path dir() const { return file.empty() ? std::filesystem::current_path()
@@ -78,7 +87,8 @@ LOOM_API void validate_graph(const Graph& graph, const Registry& registry,
                              const std::vector<std::string>& known_types = {});
 
 // Applies `--set ID.INPUT=JSON`; a value that is not valid JSON is taken as a
-// string. Throws GraphError for an unknown node.
+// string. Throws GraphError for an unknown node. `time.start`, `time.end` and
+// `time.fps` set the graph's time (unless a node is named "time").
 LOOM_API void set_input(Graph& graph, const std::string& assignment);
 
 LOOM_API json graph_to_json(const Graph& graph);
