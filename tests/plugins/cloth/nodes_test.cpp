@@ -1,6 +1,6 @@
-// The cloth nodes through the engine, and ClothStep frame by frame through
-// the simulation contract (a host that gives ctx.time().step = 1/fps and feeds
-// the previous output back), until the engine runs frames itself.
+// The cloth nodes through the engine (frames included), and ClothStep frame by
+// frame through a host of its own that gives ctx.time().step = 1/fps and feeds
+// the previous output back (to see its warnings).
 #include <functional>
 #include <map>
 #include <string>
@@ -52,6 +52,10 @@ class FrameHost : public loom::NodeHost {
     if (!slot) slot = make();
     return slot;
   }
+  std::shared_ptr<void> sequence_state(const std::function<std::shared_ptr<void>()>& make) override {
+    if (!sequence_) sequence_ = make();
+    return sequence_;
+  }
   void set(const std::string& name, loom::Value v) { inputs_[static_cast<size_t>(spec_.input_index(name))] = std::move(v); }
   std::vector<std::string> warnings;
 
@@ -59,6 +63,7 @@ class FrameHost : public loom::NodeHost {
   const loom::NodeSpec& spec_;
   std::vector<loom::Value> inputs_;
   std::map<std::uint64_t, std::shared_ptr<void>> scratch_;
+  std::shared_ptr<void> sequence_;
 };
 
 // Frames start..start+frames of a ClothStep from the given initial state.
@@ -123,6 +128,27 @@ TEST(ClothNodes, FramesOfFreeFallFollowTheDiscreteParabola) {
       EXPECT_NEAR(last.x(i, 1), expected, 1e-10) << solver;
     }
   }
+}
+
+// The same through the engine's frames: the evaluator feeds the state back.
+TEST(ClothNodes, EngineFramesFollowTheDiscreteParabola) {
+  loom::test::Engine engine;
+  auto doc = grid_graph({{"substeps", 3}});
+  doc["time"] = {{"start", 1}, {"end", 13}, {"fps", 24}};
+  const loom::Graph g = engine.graph(doc);
+  loom::EvalOptions options;
+  options.targets.push_back(loom::parse_target("step.state"));
+  options.frames = loom::FrameRange{1, 13};
+  const loom::EvalResult result = engine.session.evaluate(g, options);
+  ASSERT_TRUE(result.ok());
+  EXPECT_EQ(result.frames, 13);
+  const auto& last = result.outputs.at("step.state").at(0).as<ClothState>();
+  const auto& initial = engine.output(grid_graph({}), "grid.state").as<ClothState>();
+  const int n = 12 * 3;
+  const double h = 1 / (24.0 * 3);
+  EXPECT_NEAR(last.time, 12 / 24.0, 1e-12);
+  for (int i = 0; i < last.x.rows(); ++i)
+    EXPECT_NEAR(last.x(i, 1), initial.x(i, 1) - 9.81 * h * h * n * (n + 1) / 2.0, 1e-10);
 }
 
 TEST(ClothNodes, ExplicitWarnsAboveItsStabilityBoundAndNeverWritesNaN) {
