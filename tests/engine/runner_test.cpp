@@ -166,7 +166,8 @@ TEST(Runner, EveryNodeTypeHasAnExampleGraph) {
       const json doc = read_json(e.path());
       for (const auto& [id, node] : doc["nodes"].items()) used.insert(node["type"].get<std::string>());
     }
-  for (const auto& [type, description] : json::parse(out).items())
+  const json types = json::parse(out);  // items() of a temporary would dangle
+  for (const auto& [type, description] : types.items())
     EXPECT_TRUE(used.count(type)) << type << " (plugin " << description["plugin"].get<std::string>()
                                   << ") has no example graph under graphs/";
 }

@@ -1,0 +1,291 @@
+// Mass-spring cloth: implicit Euler by Newton against Liu et al. 2013's
+// local/global iteration (plain and with Wang 2015's Chebyshev acceleration).
+//
+//  cloth_frame:   one frame (h = 1/30) of an 81×81 curtain (k = 1e5, top edge
+//                 pinned, in gusty wind, already swinging): time per frame
+//                 against the error of the step, relative to a Newton run
+//                 converged to 1e-10 with the same h. Local/global at 1..200
+//                 iterations, Newton at 1..10.
+//  cloth_frames100: a 25×25 curtain held at its top corners, pushed at
+//                 1 m/s out of its plane, over 100 frames: RMS position error (m) after 100
+//                 frames against the converged-Newton trajectory, and that
+//                 trajectory's own error against one with 10× smaller h (the
+//                 time-discretization error both share).
+//  cloth_scaling: 41², 81², 161², 321²: factorization time, local/global
+//                 frame time (10 iterations), resident memory the factored
+//                 solver adds; Newton iteration CPU time up to 81².
+//  cloth_cuboid:  the assignment's cuboid (5×5×5, 0.5 m, 1000 kg/m³) dropped
+//                 from 0.3 m onto the ground with k = 1e3, 1e4, 1e5: its height
+//                 over time relative to the rest height (Newton, 4 substeps).
+// Curtains are 1 m wide, k = 1e5 for every class, 0.1 kg/m² (--density D:
+// D kg/m², CSV names suffixed _densityD).
+// Run with OPENBLAS_NUM_THREADS=1 on a shared machine: CPU time then counts no
+// spinning BLAS threads.
+//
+// Error: ‖x − x_ref‖ / ‖x_ref − x_n‖, relative to how far the step moves the
+// cloth (‖x − x_ref‖/‖x_ref‖ is also written). --quick: fewer sizes and runs.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "bench_harness.hpp"
+#include "time_step.hpp"
+
+namespace {
+
+using namespace loom::cloth;
+using Clock = std::chrono::steady_clock;
+
+// kg/m²; --density changes it (and the CSV names get a suffix).
+double g_density = 0.1;
+std::string g_suffix;
+
+SpringSystem curtain(int n) {
+  SpringSystem s = grid_cloth(n, n, Eigen::Vector3d(-0.5, 0.5, 0), Eigen::Vector3d(1, 0, 0),
+                              Eigen::Vector3d(0, 1, 0), g_density, 1e5, 1e5, 1e5);
+  fix_vertices(s, {}, Eigen::Vector3d(-1, 1.49, -1), Eigen::Vector3d(1, 2, 1));
+  return s;
+}
+
+StepSettings windy(Solver solver, int iterations, double tolerance = 0, bool chebyshev = false) {
+  StepSettings st;
+  st.solver = solver;
+  st.solve.iterations = iterations;
+  st.solve.tolerance = tolerance;
+  st.solve.record_residuals = false;
+  st.solve.chebyshev = chebyshev;
+  st.wind_speed = 6;
+  st.turbulence = 0.8;
+  st.damping = 0.5;
+  return st;
+}
+
+// Newton to a relative gradient of 1e-10 (its convergence is linear where
+// springs are compressed, so a few hundred iterations may be needed).
+StepSettings reference_settings() { return windy(Solver::newton, 400, 1e-10); }
+
+long resident_kb() {
+  std::ifstream f("/proc/self/statm");
+  long pages = 0, resident = 0;
+  f >> pages >> resident;
+  return resident * 4;
+}
+
+std::string load() {
+  std::ifstream f("/proc/loadavg");
+  std::string a;
+  f >> a;
+  return a;
+}
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+struct WallCpu {
+  double wall, cpu;  // medians, seconds; cpu is the process's (every thread)
+};
+
+// One warm-up run, then the medians of `runs` runs of wall and CPU time.
+template <class F>
+WallCpu time_wall_cpu(F&& f, int runs) {
+  f();
+  std::vector<double> wall, cpu;
+  for (int r = 0; r < runs; ++r) {
+    const auto t0 = Clock::now();
+    const std::clock_t c0 = std::clock();
+    f();
+    cpu.push_back(static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
+    wall.push_back(seconds_since(t0));
+  }
+  std::sort(wall.begin(), wall.end());
+  std::sort(cpu.begin(), cpu.end());
+  return {wall[wall.size() / 2], cpu[cpu.size() / 2]};
+}
+
+void frame_study(int n, int runs) {
+  const double h = 1.0 / 30;
+  auto system = std::make_shared<const SpringSystem>(curtain(n));
+  const auto t0 = Clock::now();
+  const LocalGlobalSolver lg(*system, h);
+  const double factor_seconds = seconds_since(t0);
+  // Swing it first: 20 frames of local/global with 100 iterations.
+  ClothState state = rest_state(system);
+  for (int f = 0; f < 20; ++f) state = step(state, h, windy(Solver::local_global, 100), &lg).state;
+  const Eigen::MatrixX3d ref = step(state, h, reference_settings(), nullptr).state.x;
+  const double moved = (ref - state.x).norm();
+
+  loom::bench::Csv csv("cloth_frame" + g_suffix,
+                       {"method", "iterations", "seconds", "cpu_seconds", "error", "error_vs_x", "load"});
+  struct Point {
+    double wall, cpu, error;
+  };
+  auto measure = [&](const std::string& method, int iterations, const StepSettings& st) {
+    Eigen::MatrixX3d x;
+    const WallCpu t = time_wall_cpu([&] { x = step(state, h, st, &lg).state.x; }, runs);
+    const double err = (x - ref).norm();
+    csv.row({method, static_cast<long long>(iterations), t.wall, t.cpu, err / moved, err / ref.norm(), load()});
+    return Point{t.wall, t.cpu, err / moved};
+  };
+  std::vector<Point> lg_plain, newton;
+  for (int it : {1, 2, 5, 10, 20, 50, 100, 200}) {
+    lg_plain.push_back(measure("local_global", it, windy(Solver::local_global, it)));
+    measure("local_global_chebyshev", it, windy(Solver::local_global, it, 0, true));
+  }
+  for (int it = 1; it <= 10; ++it) newton.push_back(measure("newton", it, windy(Solver::newton, it)));
+  csv.save();
+  loom::bench::plot(csv, {"seconds", "error", "method", "curtain, one frame (h = 1/30): step error vs time", true, true, ""});
+  loom::bench::plot(csv, {"cpu_seconds", "error", "method", "curtain, one frame (h = 1/30): step error vs CPU time", true,
+                          true, "_cpu"});
+
+  // The target: local/global at 10 iterations against the fastest Newton
+  // that is at least as accurate.
+  const Point lg10 = lg_plain[3];
+  const Point* match = nullptr;
+  for (const auto& p : newton)
+    if (p.error <= lg10.error) {
+      match = &p;
+      break;
+    }
+  std::printf("\n%dx%d curtain: factorization %.1f ms; local/global 10 iterations %.2f ms/frame wall, %.2f ms CPU, "
+              "error %.3g; ",
+              n, n, 1e3 * factor_seconds, 1e3 * lg10.wall, 1e3 * lg10.cpu, lg10.error);
+  if (match)
+    std::printf("Newton reaches that error in %d iteration(s), %.1f ms wall, %.1f ms CPU: %.1fx (wall), %.1fx (CPU) "
+                "slower (load %s)\n",
+                static_cast<int>(match - newton.data()) + 1, 1e3 * match->wall, 1e3 * match->cpu,
+                match->wall / lg10.wall, match->cpu / lg10.cpu, load().c_str());
+  else
+    std::printf("no Newton run up to 10 iterations is as accurate (load %s)\n", load().c_str());
+}
+
+// A curtain held by its two top corners only, pushed out of its plane at
+// 1 m/s: it sags and swings (no wind, so nearby trajectories stay nearby; no
+// damping).
+void trajectory_study(int n, int frames) {
+  const double h = 1.0 / 30;
+  SpringSystem corners = grid_cloth(n, n, Eigen::Vector3d(-0.5, 0.5, 0), Eigen::Vector3d(1, 0, 0),
+                                    Eigen::Vector3d(0, 1, 0), g_density, 1e5, 1e5, 1e5);
+  corners.fixed[grid_index(n, 0, n - 1)] = corners.fixed[grid_index(n, n - 1, n - 1)] = 1;
+  auto system = std::make_shared<const SpringSystem>(corners);
+  // No wind and no damping: with damping it settles to the same rest shape
+  // whatever h, and the comparison says nothing after 100 frames.
+  auto calm = [](StepSettings st) {
+    st.wind_speed = 0;
+    st.damping = 0;
+    return st;
+  };
+  const LocalGlobalSolver lg(*system, h);
+  auto run = [&](const StepSettings& st, int substeps, const LocalGlobalSolver* solver, double* seconds) {
+    ClothState s = rest_state(system);
+    // A push out of its plane: it swings about the line through the corners.
+    for (int i = 0; i < s.v.rows(); ++i)
+      if (!system->fixed[i]) s.v(i, 2) = 1;
+    const auto t0 = Clock::now();
+    for (int f = 0; f < frames; ++f)
+      for (int k = 0; k < substeps; ++k) s = step(s, h / substeps, st, solver).state;
+    if (seconds) *seconds = seconds_since(t0) / frames;
+    return s.x;
+  };
+  double t_ref = 0;
+  const Eigen::MatrixX3d ref = run(calm(reference_settings()), 1, nullptr, &t_ref);
+  const Eigen::MatrixX3d ref_fine = run(calm(reference_settings()), 10, nullptr, nullptr);
+  const double rms = 1 / std::sqrt(static_cast<double>(system->vertices()));  // error in meters per vertex
+  loom::bench::Csv csv("cloth_frames100" + g_suffix,
+                       {"method", "iterations", "seconds_per_frame", "rms_error_m", "load"});
+  csv.row({std::string("newton_converged_vs_h/10"), 400LL, t_ref, (ref - ref_fine).norm() * rms, load()});
+  for (int it : {1, 2, 5, 10, 20, 50, 100, 200})
+    for (bool cheb : {false, true}) {
+      double t = 0;
+      const Eigen::MatrixX3d x = run(calm(windy(Solver::local_global, it, 0, cheb)), 1, &lg, &t);
+      csv.row({std::string(cheb ? "local_global_chebyshev" : "local_global"), static_cast<long long>(it), t,
+               (x - ref).norm() * rms, load()});
+    }
+  for (int it : {1, 2, 3, 5, 10}) {
+    double t = 0;
+    const Eigen::MatrixX3d x = run(calm(windy(Solver::newton, it)), 1, nullptr, &t);
+    csv.row({std::string("newton"), static_cast<long long>(it), t, (x - ref).norm() * rms, load()});
+  }
+  csv.save();
+  loom::bench::plot(csv, {"seconds_per_frame", "rms_error_m", "method",
+                          "curtain held at two corners, 100 frames: position error vs time per frame", true, true, ""});
+}
+
+void scaling_study(const std::vector<int>& sizes, int runs) {
+  const double h = 1.0 / 30;
+  loom::bench::Csv csv("cloth_scaling" + g_suffix, {"vertices", "springs", "factor_seconds", "lg10_seconds", "lg10_cpu_seconds",
+                                         "newton_iteration_cpu_seconds", "factor_mb", "load"});
+  for (int n : sizes) {
+    auto system = std::make_shared<const SpringSystem>(curtain(n));
+    const long before = resident_kb();
+    const auto t0 = Clock::now();
+    auto lg = std::make_unique<LocalGlobalSolver>(*system, h);
+    const double factor = seconds_since(t0);
+    const long after = resident_kb();
+    ClothState state = rest_state(system);
+    const WallCpu t = time_wall_cpu([&] { step(state, h, windy(Solver::local_global, 10), lg.get()); }, runs);
+    double newton = -1;
+    if (n <= 81) newton = time_wall_cpu([&] { step(state, h, windy(Solver::newton, 1), nullptr); }, 3).cpu;
+    csv.row({static_cast<long long>(n * n), static_cast<long long>(system->spring_count()), factor, t.wall, t.cpu,
+             newton, (after - before) / 1024.0, load()});
+  }
+  csv.save();
+  loom::bench::plot(csv, {"vertices", "lg10_seconds", "", "local/global frame time (10 iterations) vs size", true, true,
+                          "_frame"});
+}
+
+void cuboid_study() {
+  const double h = 1.0 / 120;
+  loom::bench::Csv csv("cloth_cuboid", {"k", "seconds", "height_ratio", "load"});
+  for (double k : {1e3, 1e4, 1e5}) {
+    auto system = std::make_shared<const SpringSystem>(
+        cuboid_lattice(5, 5, 5, Eigen::Vector3d(-0.25, 0.3, -0.25), Eigen::Vector3d(0.25, 0.8, 0.25), 1000, k, k, k));
+    StepSettings st;
+    st.solver = Solver::newton;
+    st.solve.iterations = 50;
+    st.solve.tolerance = 1e-8;
+    st.ground = true;
+    ClothState state = rest_state(system);
+    for (int n = 0; n <= 4 * 90; ++n) {
+      if (n % 4 == 0)
+        csv.row({std::string("k = ") + (k == 1e3 ? "1e3" : k == 1e4 ? "1e4" : "1e5"), state.time,
+                 (state.x.col(1).maxCoeff() - state.x.col(1).minCoeff()) / 0.5, load()});
+      state = step(state, h, st, nullptr).state;
+    }
+  }
+  csv.save();
+  loom::bench::plot(csv, {"seconds", "height_ratio", "k", "cuboid dropped on the ground: height / rest height", false,
+                          false, ""});
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  loom::bench::handle_help(argc, argv,
+                           "bench_cloth [--quick] [--cuboid | --only frame|frames100|scaling] [--density KG_PER_M2]: the cuboid drop (not with --density or --only), then Newton vs local/global (plain, Chebyshev) on pinned "
+                           "curtains; writes cloth_frame, cloth_frames100, cloth_scaling CSV and plots");
+  bool quick = false, cuboid_only = false;
+  std::string only;
+  for (int a = 1; a < argc; ++a) {
+    const std::string arg = argv[a];
+    if (arg == "--quick") quick = true;
+    if (arg == "--cuboid") cuboid_only = true;
+    if (arg == "--only" && a + 1 < argc) only = argv[++a];
+    if (arg == "--density" && a + 1 < argc) {
+      g_density = std::stod(argv[++a]);
+      g_suffix = "_density" + std::string(argv[a]);
+    }
+  }
+  std::printf("load at start: %s\n", load().c_str());
+  if (g_suffix.empty() && only.empty()) cuboid_study();
+  if (cuboid_only) return 0;
+  if (only.empty() || only == "frame") frame_study(quick ? 41 : 81, quick ? 3 : 7);
+  if (only.empty() || only == "frames100") trajectory_study(quick ? 15 : 25, 100);
+  if (only.empty() || only == "scaling") scaling_study(quick ? std::vector<int>{41, 81} : std::vector<int>{41, 81, 161, 321}, quick ? 3 : 5);
+  std::printf("load at end: %s\n", load().c_str());
+  return 0;
+}

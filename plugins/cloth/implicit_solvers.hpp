@@ -1,0 +1,83 @@
+// Two ways to minimize the incremental potential E of one implicit Euler step
+// (incremental_potential.hpp), both from a start x0 whose fixed rows stay put.
+//
+// newton_solve: Newton's method on g(x) = ∇E(x) = 0 with the assembled
+//   symmetric sparse Hessian (assignment eq. (38)), per spring
+//     H_s = k [ r̂r̂ᵀ + max(0, 1 − l/‖r‖)(I − r̂r̂ᵀ) ],
+//   i.e. the l/‖r‖ − 1 term clamped where a spring is compressed (‖r‖ < l),
+//   which makes every block, hence M + h² Σ H_s, positive definite. Each
+//   direction is a CHOLMOD solve (same pattern: numeric refactor only), then a
+//   backtracking (Armijo) line search on E.
+// LocalGlobalSolver: Liu, Bargteil, O'Brien, Kavan 2013. Local step (eq. 12):
+//   d_s = l_s r_s/‖r_s‖ per spring; global step (eq. 10/14):
+//   (M + h² L) x = h² J d + M y, M + h² L factored once per (springs, k, h,
+//   masses, fixed set): an iteration costs one back-substitution for x, y, z.
+//   Optional Chebyshev semi-iterative acceleration (Wang 2015, eq. 9-10)
+//   after 4 plain iterations, with a given estimate ρ of the plain
+//   iteration's spectral radius (0.99 suits cloth at k = 1e5, h = 1/30).
+//
+// Residual: ‖∇E(x_k)‖ / ‖∇E(x0)‖ after each iteration (the same measure for
+// both, so they are compared on one scale); tolerance 0 runs every iteration.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "loom/numerics/sparse_solver.hpp"
+#include "mass_spring.hpp"
+
+namespace loom::cloth {
+
+struct SolveOptions {
+  int iterations = 10;
+  double tolerance = 0;
+  bool record_residuals = true;  // local/global: skip the gradient when false and tolerance is 0
+  bool chebyshev = false;        // local/global only
+  double chebyshev_rho = 0.99;   // spectral radius of the plain iteration, in (0, 1)
+  // Called on every iterate (e.g. to push positions out of colliders); empty:
+  // nothing. It makes the iteration a projected one, so the residual then
+  // measures the unconstrained gradient and no longer reaches zero.
+  std::function<void(Eigen::MatrixX3d&)> project;
+  // Called after every iteration from the calling thread (the node checks
+  // cancellation there); may throw to stop.
+  std::function<void()> after_iteration;
+  // Newton only: a penalty potential P(x) added to the springs' (E gains
+  // h² P). Returns P and adds ∇P to *gradient and (vertex, 3x3 block) pairs
+  // of a positive semidefinite Hessian approximation to *blocks.
+  std::function<double(const Eigen::MatrixX3d& x, Eigen::MatrixX3d* gradient,
+                       std::vector<std::pair<int, Eigen::Matrix3d>>* blocks)>
+      penalty;
+};
+
+struct SolveReport {
+  std::vector<double> residuals;
+  int iterations = 0;
+  bool converged = false;
+};
+
+Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, double h,
+                              Eigen::MatrixX3d x0, const SolveOptions& options,
+                              SolveReport* report = nullptr);
+
+class LocalGlobalSolver {
+ public:
+  // Factors M_ff + h² L_ff over the free vertices (throws loom::Error when
+  // the system is not positive definite, which a positive mass rules out).
+  LocalGlobalSolver(const SpringSystem& s, double h);
+  Eigen::MatrixX3d solve(const SpringSystem& s, const Eigen::MatrixX3d& y, Eigen::MatrixX3d x0,
+                         const SolveOptions& options, SolveReport* report = nullptr) const;
+  double h() const { return h_; }
+  int free_vertices() const { return static_cast<int>(free_.size()); }
+
+ private:
+  double h_;
+  std::vector<int> free_;   // free vertex of each unknown row
+  std::vector<int> row_;    // unknown row of each vertex, −1 if fixed
+  loom::numerics::SparseCholesky cholesky_;
+};
+
+}  // namespace loom::cloth

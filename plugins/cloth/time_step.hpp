@@ -1,0 +1,79 @@
+// One time step of a mass-spring system: forces, the implicit Euler solve (or
+// symplectic Euler) and collisions. A frame is `substeps` of these.
+//
+// Damping: mass-proportional velocity damping, v_n ← e^{−c h} v_n before the
+// step (exact decay of dv/dt = −c v), so it changes neither M nor the factored
+// system. Wind: a linear drag on the normal relative velocity,
+// f_i = a_i ((w_i − v_i)·n̂_i) n̂_i with a_i the vertex's area share and
+// w_i = speed·ŵ·(1 + turbulence·η_i(t)), η a seeded sum of three travelling
+// sine waves (smooth in space and time). Colliders (ground plane y = height,
+// spheres; inelastic, with optional Coulomb friction applied to positions
+// where they are projected out): Newton adds a penalty ½κ Σ d² over
+// penetration depths to the potential; local/global projects positions out
+// after every iteration. Both project the result out, then the velocity is
+// (x_{n+1} − x_n)/h with its component into the collider removed.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "implicit_solvers.hpp"
+#include "mass_spring.hpp"
+
+namespace loom::cloth {
+
+enum class Solver { newton, local_global, explicit_euler };
+
+struct Sphere {
+  Eigen::Vector3d center;
+  double radius;
+};
+
+struct StepSettings {
+  Solver solver = Solver::local_global;
+  SolveOptions solve;
+  Eigen::Vector3d gravity{0, -9.81, 0};
+  double damping = 0;  // c in 1/s
+  Eigen::Vector3d wind_direction{0, 0, 1};
+  double wind_speed = 0;
+  double turbulence = 0;
+  std::uint64_t seed = 1;
+  bool ground = false;
+  double ground_height = 0;
+  std::vector<Sphere> spheres;
+  double friction = 0;  // Coulomb coefficient of the position-level friction
+};
+
+struct ClothState {
+  std::shared_ptr<const SpringSystem> system;
+  Eigen::MatrixX3d x, v;
+  double time = 0;  // seconds simulated
+};
+
+// The initial state: at rest in the system's positions.
+ClothState rest_state(std::shared_ptr<const SpringSystem> system);
+
+// ω_max estimate for explicit stability: sqrt(max_i 2 Σ_{s∋i} k_s / m_i)
+// (Gershgorin's bound on M⁻¹K); symplectic Euler is stable for h ω_max < 2.
+double max_frequency(const SpringSystem& s);
+
+struct StepResult {
+  ClothState state;
+  SolveReport report;
+};
+
+// Advances by h. `lg` is the local/global solver factored for this system and
+// h (required for Solver::local_global, see cached_solver in the node).
+// Throws loom::Error if explicit integration diverges (non-finite positions).
+StepResult step(const ClothState& state, double h, const StepSettings& settings,
+                const LocalGlobalSolver* lg);
+
+// External forces at (x, v, t): gravity m g plus wind; #V by 3.
+Eigen::MatrixX3d external_forces(const SpringSystem& s, const Eigen::MatrixX3d& x,
+                                 const Eigen::MatrixX3d& v, double t, const StepSettings& settings);
+
+}  // namespace loom::cloth

@@ -1,0 +1,202 @@
+// The cloth nodes through the engine (frames included), and ClothStep frame by
+// frame through a host of its own that gives ctx.time().step = 1/fps and feeds
+// the previous output back (to see its warnings).
+#include <functional>
+#include <map>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "cloth_state.hpp"
+#include "loom/mesh.hpp"
+#include "loom_test.hpp"
+
+namespace {
+
+using loom::cloth::ClothState;
+
+loom::json grid_graph(const loom::json& step_inputs) {
+  loom::json step = {{"type", "ClothStep"}, {"inputs", step_inputs}};
+  step["inputs"]["state"] = {{"from", "grid.state"}};
+  return {{"loom", 1},
+          {"nodes",
+           {{"grid", {{"type", "MassSpringGrid"}, {"inputs", {{"vertices", {6, 6}}, {"pin", "none"}}}}},
+            {"step", step}}}};
+}
+
+// Runs a node type's function with given inputs (defaults for the rest) at a
+// given frame time, as the engine's simulation contract describes.
+class FrameHost : public loom::NodeHost {
+ public:
+  FrameHost(const loom::NodeSpec& spec, std::map<std::string, loom::Value> values) : spec_(spec) {
+    for (size_t i = 0; i < spec.inputs.size(); ++i) {
+      const auto& input = spec.inputs[i];
+      auto it = values.find(input.name);
+      if (it != values.end())
+        inputs_.push_back(it->second);
+      else if (!input.default_value.is_null())
+        inputs_.emplace_back(input.type, input.type->from_json(input.default_value));
+      else
+        inputs_.emplace_back();
+    }
+  }
+  loom::Value fetch_input(int index) override { return inputs_[static_cast<size_t>(index)]; }
+  bool input_set(int index) const override { return static_cast<bool>(inputs_[static_cast<size_t>(index)]); }
+  void report_progress(double, std::string_view) override {}
+  void report(bool warning, std::string text) override {
+    if (warning) warnings.push_back(text);
+  }
+  bool cancelled() const override { return false; }
+  std::shared_ptr<void> scratch(std::uint64_t key, const std::function<std::shared_ptr<void>()>& make) override {
+    auto& slot = scratch_[key];
+    if (!slot) slot = make();
+    return slot;
+  }
+  std::shared_ptr<void> sequence_state(const std::function<std::shared_ptr<void>()>& make) override {
+    if (!sequence_) sequence_ = make();
+    return sequence_;
+  }
+  void set(const std::string& name, loom::Value v) { inputs_[static_cast<size_t>(spec_.input_index(name))] = std::move(v); }
+  std::vector<std::string> warnings;
+
+ private:
+  const loom::NodeSpec& spec_;
+  std::vector<loom::Value> inputs_;
+  std::map<std::uint64_t, std::shared_ptr<void>> scratch_;
+  std::shared_ptr<void> sequence_;
+};
+
+// Frames start..start+frames of a ClothStep from the given initial state.
+std::vector<loom::Value> run_frames(loom::test::Engine& engine, loom::Value initial,
+                                    std::map<std::string, loom::Value> inputs, int frames,
+                                    double fps, FrameHost** host_out = nullptr) {
+  engine.loader.load_for({"ClothStep"});
+  const loom::NodeType* type = engine.registry.find("ClothStep");
+  EXPECT_NE(type, nullptr);
+  inputs["state"] = initial;
+  static std::unique_ptr<FrameHost> host;
+  host = std::make_unique<FrameHost>(type->spec, inputs);
+  if (host_out) *host_out = host.get();
+  std::vector<loom::Value> states;
+  const std::string id = "step";
+  const std::filesystem::path dir = ".";
+  for (int f = 1; f <= frames + 1; ++f) {
+    loom::FrameTime time;
+    time.frame = f;
+    time.start = 1;
+    time.fps = fps;
+    time.step = f == 1 ? 0 : 1 / fps;
+    loom::Inputs in(type->spec, *host);
+    loom::Outputs out(type->spec);
+    loom::Context ctx(*host, id, 7, dir, dir, time);
+    type->run(in, out, ctx);
+    const loom::Value state = out.values()[static_cast<size_t>(type->spec.output_index("state"))];
+    states.push_back(state);
+    host->set("state", state);
+  }
+  return states;
+}
+
+TEST(ClothNodes, TheStartFrameReturnsTheInitialState) {
+  loom::test::Engine engine;
+  const auto doc = grid_graph({});
+  const auto& initial = engine.output(doc, "grid.state").as<ClothState>();
+  const auto& first = engine.output(doc, "step.state").as<ClothState>();
+  EXPECT_EQ(first.x, initial.x);
+  EXPECT_EQ(first.time, 0);
+  const auto& mesh = engine.output(doc, "step.mesh").as<loom::Mesh>();
+  EXPECT_EQ(mesh.vertices(), 36);
+  EXPECT_EQ(mesh.faces(), 50);
+}
+
+TEST(ClothNodes, FramesOfFreeFallFollowTheDiscreteParabola) {
+  loom::test::Engine engine;
+  const loom::Value initial = engine.output(grid_graph({}), "grid.state");
+  for (const char* solver : {"local_global", "newton"}) {
+    const int frames = 12, substeps = 3;
+    const double fps = 24;
+    const auto states = run_frames(engine, initial,
+                                   {{"solver", loom::Value::make<std::string>(solver)},
+                                    {"substeps", loom::Value::make<int>(substeps)}},
+                                   frames, fps);
+    const auto& last = states.back().as<ClothState>();
+    const int n = frames * substeps;
+    const double h = 1 / (fps * substeps);
+    EXPECT_NEAR(last.time, frames / fps, 1e-12);
+    for (int i = 0; i < last.x.rows(); ++i) {
+      const double expected = initial.as<ClothState>().x(i, 1) - 9.81 * h * h * n * (n + 1) / 2.0;
+      EXPECT_NEAR(last.x(i, 1), expected, 1e-10) << solver;
+    }
+  }
+}
+
+// The same through the engine's frames: the evaluator feeds the state back.
+TEST(ClothNodes, EngineFramesFollowTheDiscreteParabola) {
+  loom::test::Engine engine;
+  auto doc = grid_graph({{"substeps", 3}});
+  doc["time"] = {{"start", 1}, {"end", 13}, {"fps", 24}};
+  const loom::Graph g = engine.graph(doc);
+  loom::EvalOptions options;
+  options.targets.push_back(loom::parse_target("step.state"));
+  options.frames = loom::FrameRange{1, 13};
+  const loom::EvalResult result = engine.session.evaluate(g, options);
+  ASSERT_TRUE(result.ok());
+  EXPECT_EQ(result.frames, 13);
+  const auto& last = result.outputs.at("step.state").at(0).as<ClothState>();
+  const auto& initial = engine.output(grid_graph({}), "grid.state").as<ClothState>();
+  const int n = 12 * 3;
+  const double h = 1 / (24.0 * 3);
+  EXPECT_NEAR(last.time, 12 / 24.0, 1e-12);
+  for (int i = 0; i < last.x.rows(); ++i)
+    EXPECT_NEAR(last.x(i, 1), initial.x(i, 1) - 9.81 * h * h * n * (n + 1) / 2.0, 1e-10);
+}
+
+TEST(ClothNodes, ExplicitWarnsAboveItsStabilityBoundAndNeverWritesNaN) {
+  loom::test::Engine engine;
+  const loom::Value initial = engine.output(grid_graph({}), "grid.state");  // k = 1e5 on 4 g
+  FrameHost* host = nullptr;
+  try {
+    const auto states = run_frames(engine, initial, {{"solver", loom::Value::make<std::string>("explicit")}},
+                                   30, 30, &host);
+    for (const auto& s : states) EXPECT_TRUE(s.as<ClothState>().x.allFinite());
+  } catch (const loom::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("stability bound"), std::string::npos) << e.what();
+  }
+  ASSERT_NE(host, nullptr);
+  ASSERT_FALSE(host->warnings.empty());
+  EXPECT_NE(host->warnings.front().find("stability bound"), std::string::npos);
+}
+
+TEST(ClothNodes, StatesSurviveTheDiskFormat) {
+  loom::test::Engine engine;
+  loom::json doc = {{"loom", 1},
+                    {"nodes", {{"box", {{"type", "MassSpringCuboid"}, {"inputs", {{"points", {3, 4, 5}}}}}}}}};
+  const auto& state = engine.output(doc, "box.state").as<ClothState>();
+  loom::ByteWriter w;
+  loom::TypeTraits<ClothState>::write(state, w);
+  loom::ByteReader r(w.buffer().data(), w.buffer().size());
+  const ClothState back = loom::TypeTraits<ClothState>::read(r);
+  EXPECT_TRUE(r.at_end());
+  EXPECT_EQ(back.x, state.x);
+  EXPECT_EQ(back.system->springs, state.system->springs);
+  EXPECT_EQ(back.system->mass, state.system->mass);
+  loom::ByteReader truncated(w.buffer().data(), w.buffer().size() / 2);
+  EXPECT_THROW(loom::TypeTraits<ClothState>::read(truncated), loom::Error);
+}
+
+TEST(ClothNodes, ActionableErrors) {
+  loom::test::Engine engine;
+  auto doc = grid_graph({{"sphere_centers", {{0, 0, 0}}}, {"sphere_radii", loom::json::array()}});
+  EXPECT_THROW(engine.output(doc, "step.state"), loom::Error);
+  doc = grid_graph({});
+  doc["nodes"]["grid"]["inputs"]["fixed"] = {1000};
+  EXPECT_THROW(engine.output(doc, "grid.state"), loom::Error);
+  doc = {{"loom", 1},
+         {"nodes",
+          {{"pts", {{"type", "GridMesh"}, {"inputs", {{"resolution", {3, 3}}}}}},
+           {"ms", {{"type", "MassSpringMesh"}, {"inputs", {{"mesh", {{"from", "pts.mesh"}}}, {"area_density", 0.5}}}}}}}};
+  const auto& state = engine.output(doc, "ms.state").as<ClothState>();
+  EXPECT_NEAR(state.system->mass.sum(), 0.5, 1e-12);  // GridMesh is 1 × 1
+}
+
+}  // namespace

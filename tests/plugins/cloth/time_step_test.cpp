@@ -1,0 +1,184 @@
+// Whole steps: free fall against the closed form, energy that never grows,
+// stiff and degenerate systems, explicit Euler's stability bound, colliders.
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "cloth_test_systems.hpp"
+#include "incremental_potential.hpp"
+#include "loom/error.hpp"
+#include "time_step.hpp"
+
+namespace loom::cloth {
+namespace {
+
+struct Simulation {
+  ClothState state;
+  std::unique_ptr<LocalGlobalSolver> lg;
+  StepSettings settings;
+  double h;
+  Simulation(SpringSystem s, Solver solver, double h_, int iterations) : h(h_) {
+    auto system = test::shared(std::move(s));
+    state = rest_state(system);
+    settings.solver = solver;
+    settings.solve.iterations = iterations;
+    if (solver == Solver::local_global) lg = std::make_unique<LocalGlobalSolver>(*system, h);
+  }
+  void advance() { state = step(state, h, settings, lg.get()).state; }
+};
+
+// Implicit Euler free fall is v_n = v_0 + n h g, x_n = x_0 + n h v_0 + h² g n(n+1)/2
+// (the parabola of the discrete scheme; it differs from ½ g t² by ½ g h t).
+TEST(TimeStep, FreeFallFollowsTheDiscreteParabola) {
+  for (Solver solver : {Solver::newton, Solver::local_global}) {
+    Simulation run(test::curtain(6, 1e5, false), solver, 1.0 / 30, 10);
+    const Eigen::RowVector3d v0(1, 2, -0.5);
+    run.state.v.rowwise() = v0;
+    const int steps = 60;
+    for (int n = 0; n < steps; ++n) run.advance();
+    const Eigen::RowVector3d g = run.settings.gravity.transpose();
+    const double h = run.h;
+    for (int i = 0; i < run.state.x.rows(); ++i) {
+      const Eigen::RowVector3d expected =
+          run.state.system->X.row(i) + steps * h * v0 + h * h * g * (steps * (steps + 1) / 2.0);
+      EXPECT_LT((run.state.x.row(i) - expected).norm(), 1e-10 * expected.norm());
+      EXPECT_LT((run.state.v.row(i) - (v0 + steps * h * g)).norm(), 1e-10 * v0.norm());
+    }
+  }
+}
+
+// Implicit Euler dissipates: the total energy (kinetic + elastic + gravity)
+// of a falling, pinned curtain never grows from one frame to the next.
+TEST(TimeStep, ImplicitEnergyNeverGrows) {
+  for (Solver solver : {Solver::newton, Solver::local_global}) {
+    Simulation run(test::curtain(10, 1e5), solver, 1.0 / 24, solver == Solver::newton ? 20 : 200);
+    run.settings.solve.tolerance = 1e-9;
+    double previous = total_energy(*run.state.system, run.state.x, run.state.v, run.settings.gravity);
+    const double scale = std::abs(previous) + 1;
+    for (int n = 0; n < 48; ++n) {
+      run.advance();
+      const double e = total_energy(*run.state.system, run.state.x, run.state.v, run.settings.gravity);
+      EXPECT_LE(e, previous + 1e-8 * scale) << (solver == Solver::newton ? "newton" : "local/global")
+                                             << " step " << n;
+      previous = e;
+    }
+  }
+}
+
+// k from 1e1 to 1e8 and h from 1e-4 to 1/24: never NaN, never above the
+// starting energy (the curtain starts at rest, stretched sideways by 20%).
+TEST(TimeStep, StiffnessAndStepSweepStaysFiniteAndBounded) {
+  for (double k : {1e1, 1e3, 1e5, 1e8})
+    for (double h : {1e-4, 1e-2, 1.0 / 24})
+      for (Solver solver : {Solver::newton, Solver::local_global}) {
+        SpringSystem s = test::curtain(6, k);
+        Simulation run(s, solver, h, 10);
+        run.state.x.col(0) *= 1.2;
+        const double e0 = total_energy(*run.state.system, run.state.x, run.state.v, run.settings.gravity);
+        for (int n = 0; n < 10; ++n) run.advance();
+        ASSERT_TRUE(run.state.x.allFinite() && run.state.v.allFinite()) << "k " << k << " h " << h;
+        const double e = total_energy(*run.state.system, run.state.x, run.state.v, run.settings.gravity);
+        EXPECT_LE(e, e0 + 1e-8 * std::abs(e0)) << "k " << k << " h " << h;
+      }
+}
+
+TEST(TimeStep, CoincidentVerticesAndZeroRestLengthsStayFinite) {
+  SpringSystem s = test::curtain(5, 1e4);
+  s.rest_length.setZero();  // every spring pulls its ends together
+  // Two vertices on top of each other, one only 1e-14 away.
+  s.X.row(12) = s.X.row(13);
+  s.X.row(7) = s.X.row(8) + Eigen::RowVector3d(1e-14, 0, 0);
+  for (Solver solver : {Solver::newton, Solver::local_global}) {
+    Simulation run(s, solver, 1.0 / 30, 10);
+    for (int n = 0; n < 20; ++n) run.advance();
+    EXPECT_TRUE(run.state.x.allFinite() && run.state.v.allFinite());
+  }
+}
+
+TEST(TimeStep, AllVerticesFixedDoNotMove) {
+  SpringSystem s = test::curtain(4, 1e4);
+  s.fixed.setOnes();
+  for (Solver solver : {Solver::newton, Solver::local_global, Solver::explicit_euler}) {
+    Simulation run(s, solver, 1.0 / 30, 10);
+    run.advance();
+    EXPECT_EQ(run.state.x, s.X);
+    EXPECT_TRUE(run.state.v.isZero());
+  }
+}
+
+TEST(TimeStep, ExplicitEulerIsStableBelowItsBoundAndSaysSoAbove) {
+  const SpringSystem s = test::curtain(6, 1e3);
+  const double bound = 2 / max_frequency(s);
+  Simulation below(s, Solver::explicit_euler, 0.5 * bound, 1);
+  for (int n = 0; n < 2000; ++n) below.advance();
+  EXPECT_TRUE(below.state.x.allFinite());
+  EXPECT_LT(below.state.x.cwiseAbs().maxCoeff(), 10.0);
+
+  Simulation above(s, Solver::explicit_euler, 3 * bound, 1);
+  try {
+    for (int n = 0; n < 100000; ++n) above.advance();
+    FAIL() << "explicit Euler above its bound should diverge";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("stability bound"), std::string::npos) << e.what();
+  }
+}
+
+TEST(TimeStep, CollidersKeepTheClothOutside) {
+  // A horizontal sheet falling onto a sphere and the ground.
+  SpringSystem s = grid_cloth(15, 15, Eigen::Vector3d(-1, 1, -1), Eigen::Vector3d(2, 0, 0),
+                              Eigen::Vector3d(0, 0, 2), 0.1, 1e3, 1e3, 1e2);
+  for (Solver solver : {Solver::newton, Solver::local_global}) {
+    Simulation run(s, solver, 1.0 / 30, 10);
+    run.settings.ground = true;
+    run.settings.ground_height = 0;
+    run.settings.spheres.push_back({Eigen::Vector3d(0, 0.4, 0), 0.4});
+    for (int n = 0; n < 60; ++n) {
+      run.advance();
+      // The sphere holds the middle of the sheet up (contact is frictionless,
+      // so the sheet later slides off once rounding breaks the symmetry).
+      if (n == 15) {
+        EXPECT_NEAR(run.state.x(7 * 15 + 7, 1), 0.8, 1e-6);
+      }
+      for (int i = 0; i < s.vertices(); ++i) {
+        ASSERT_GE(run.state.x(i, 1), -1e-12);
+        ASSERT_GE((run.state.x.row(i) - Eigen::RowVector3d(0, 0.4, 0)).norm(), 0.4 - 1e-12);
+      }
+    }
+  }
+}
+
+// A sheet lying on the ground, sliding at 1 m/s: without friction it keeps
+// its speed; with Coulomb friction μ the speed drops by about μ g per second
+// (positions are pushed back by μ × the penetration, which gravity sets to
+// g h² per step), so it stops within v / (μ g) ≈ 0.2 s.
+TEST(TimeStep, GroundFrictionStopsASlidingSheet) {
+  const SpringSystem s = grid_cloth(6, 6, Eigen::Vector3d(-0.5, 0, -0.5), Eigen::Vector3d(1, 0, 0),
+                                    Eigen::Vector3d(0, 0, 1), 1, 1e3, 1e3, 1e2);
+  for (Solver solver : {Solver::newton, Solver::local_global})
+    for (double mu : {0.0, 0.5}) {
+      Simulation run(s, solver, 1.0 / 60, 20);
+      run.settings.ground = true;
+      run.settings.friction = mu;
+      run.state.v.col(0).setOnes();
+      for (int n = 0; n < 30; ++n) run.advance();
+      const double speed = run.state.v.col(0).mean();
+      if (mu == 0)
+        EXPECT_NEAR(speed, 1, 1e-6);
+      else
+        EXPECT_NEAR(speed, 0, 1e-6);
+      EXPECT_GE(run.state.x.col(1).minCoeff(), -1e-12);
+    }
+}
+
+TEST(TimeStep, WindPushesTheCurtainDownwind) {
+  Simulation run(test::curtain(10, 1e4), Solver::local_global, 1.0 / 30, 10);
+  run.settings.wind_speed = 5;
+  run.settings.turbulence = 0.5;
+  for (int n = 0; n < 30; ++n) run.advance();
+  EXPECT_TRUE(run.state.x.allFinite());
+  EXPECT_GT(run.state.x.col(2).mean(), 0.01);  // wind blows along +z
+}
+
+}  // namespace
+}  // namespace loom::cloth
