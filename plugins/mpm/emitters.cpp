@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -150,6 +151,16 @@ Particles<D> fill_shape(const std::function<bool(const Vec<D>&)>& inside, const 
   points.reserve(candidates.size());
   for (const auto& x : candidates)
     if (inside(x)) points.push_back(x);
+  // Neighbours in space are neighbours in memory (row-major cells of `spacing`):
+  // the solver's transfers then touch the grid in order.
+  auto cell_key = [&](const Vec<D>& x) {
+    std::int64_t key = 0;
+    for (int d = 0; d < D; ++d)
+      key = key * (1 << 20) + static_cast<std::int64_t>((x[d] - lo[d]) / (4 * o.spacing));
+    return key;
+  };
+  std::stable_sort(points.begin(), points.end(),
+                   [&](const Vec<D>& a, const Vec<D>& b) { return cell_key(a) < cell_key(b); });
   if (points.empty())
     throw Error("the shape holds no particle at this spacing: lower spacing or enlarge it");
   double volume = o.particle_volume;

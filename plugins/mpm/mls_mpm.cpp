@@ -13,19 +13,6 @@
 namespace loom::mpm {
 namespace {
 
-constexpr int pow3(int d) { return d == 0 ? 1 : 3 * pow3(d - 1); }
-
-// The 3^D stencil offsets, first axis slowest.
-template <int D>
-struct Stencil {
-  static constexpr int size = pow3(D);
-  int offset[size][D];
-  constexpr Stencil() : offset{} {
-    for (int o = 0; o < size; ++o)
-      for (int d = 0, r = o; d < D; ++d, r /= 3) offset[o][D - 1 - d] = r % 3;
-  }
-};
-
 // Quadratic B-spline weights of the three nodes base, base+1, base+2 along each
 // axis, fx = x/Δx − base ∈ [0.5, 1.5) (Hu et al. 2018, as in mpm88).
 template <int D>
@@ -142,12 +129,6 @@ void Solver<D>::bin(const Particles<D>& ps) {
 
 template <int D>
 void Solver<D>::p2g(Particles<D>& ps, double dt) {
-  static constexpr Stencil<D> stencil;
-  long node_offset[Stencil<D>::size];
-  for (int o = 0; o < Stencil<D>::size; ++o) {
-    node_offset[o] = 0;
-    for (int d = 0; d < D; ++d) node_offset[o] += stencil.offset[o][d] * stride_[d];
-  }
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid_.size(), 1 << 14),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i) grid_[i].setZero();
@@ -167,19 +148,31 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
           const double m = ps.mass[p];
           // MLS-MPM momentum: m v + (−Δt V⁰ 4/Δx² τ + m C)(x_i − x_p)  (Hu 2018, eq. 29)
           const Mat affine = (stress_scale * ps.volume[p]) * tau + m * ps.C[p];
-          const Vec mv = m * ps.v[p];
+          // Σ_i w_i (m v + affine (x_i − x_p)) with x_i − x_p = (o − fx) Δx, split as
+          // q + A o: q = m v − affine fx Δx, A = affine Δx.
+          const Vec q = m * ps.v[p] - affine * (w.fx * dx_);
+          const Mat A = affine * dx_;
           long base = 0;
           for (int d = 0; d < D; ++d) base += w.base[d] * stride_[d];
-          for (int o = 0; o < Stencil<D>::size; ++o) {
-            Vec dpos;
-            double weight = 1;
-            for (int d = 0; d < D; ++d) {
-              dpos[d] = (stencil.offset[o][d] - w.fx[d]) * dx_;
-              weight *= w.w[d][stencil.offset[o][d]];
+          for (int i = 0; i < 3; ++i) {
+            const Vec qi = q + A.col(0) * i;
+            for (int j = 0; j < 3; ++j) {
+              const double wij = w.w[0][i] * w.w[1][j];
+              const Vec qij = qi + A.col(1) * j;
+              const long row = base + i * stride_[0] + j * stride_[1];
+              if constexpr (D == 2) {
+                Node& node = grid_[static_cast<std::size_t>(row)];
+                node.template head<D>() += wij * qij;
+                node[D] += wij * m;
+              } else {
+                for (int k = 0; k < 3; ++k) {
+                  const double wijk = wij * w.w[2][k];
+                  Node& node = grid_[static_cast<std::size_t>(row + k)];
+                  node.template head<D>() += wijk * (qij + A.col(2) * k);
+                  node[D] += wijk * m;
+                }
+              }
             }
-            Node& node = grid_[static_cast<std::size_t>(base + node_offset[o])];
-            node.template head<D>() += weight * (mv + affine * dpos);
-            node[D] += weight * m;
           }
         }
       }
@@ -234,7 +227,6 @@ void Solver<D>::grid_update(double dt) {
 
 template <int D>
 double Solver<D>::g2p(Particles<D>& ps, double dt) {
-  static constexpr Stencil<D> stencil;
   const double lo = 2 * dx_, hi = s_.size - 2 * dx_;
   return tbb::parallel_reduce(
       tbb::blocked_range<int>(0, ps.size(), 1024), 0.0,
@@ -242,23 +234,32 @@ double Solver<D>::g2p(Particles<D>& ps, double dt) {
         long clamped = 0;
         for (int p = r.begin(); p < r.end(); ++p) {
           const Weights<D> w(ps.x[p], inv_dx_);
+          // v = Σ w_i v_i and B = Σ w_i v_i (x_i − x_p)ᵀ = (Σ w_i v_i oᵀ − v fxᵀ) Δx.
           Vec v = Vec::Zero();
-          Mat B = Mat::Zero();
+          Mat Bo = Mat::Zero();
           long base = 0;
           for (int d = 0; d < D; ++d) base += w.base[d] * stride_[d];
-          for (int o = 0; o < Stencil<D>::size; ++o) {
-            Vec dpos;
-            double weight = 1;
-            long node = base;
-            for (int d = 0; d < D; ++d) {
-              dpos[d] = (stencil.offset[o][d] - w.fx[d]) * dx_;
-              weight *= w.w[d][stencil.offset[o][d]];
-              node += stencil.offset[o][d] * stride_[d];
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+              const double wij = w.w[0][i] * w.w[1][j];
+              const long row = base + i * stride_[0] + j * stride_[1];
+              if constexpr (D == 2) {
+                const Vec wv = wij * grid_[static_cast<std::size_t>(row)].template head<D>();
+                v += wv;
+                Bo.col(0) += wv * i;
+                Bo.col(1) += wv * j;
+              } else {
+                for (int k = 0; k < 3; ++k) {
+                  const Vec wv =
+                      (wij * w.w[2][k]) * grid_[static_cast<std::size_t>(row + k)].template head<D>();
+                  v += wv;
+                  Bo.col(0) += wv * i;
+                  Bo.col(1) += wv * j;
+                  Bo.col(2) += wv * k;
+                }
+              }
             }
-            const Vec gv = grid_[static_cast<std::size_t>(node)].template head<D>();
-            v += weight * gv;
-            B += weight * gv * dpos.transpose();
-          }
+          const Mat B = (Bo - v * w.fx.transpose()) * dx_;
           // APIC: C = 4/Δx² Σ w v_i (x_i − x_p)ᵀ for quadratic B-splines.
           const Mat C = (4 * inv_dx_ * inv_dx_) * B;
           ps.v[p] = v;
