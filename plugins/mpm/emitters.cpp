@@ -7,6 +7,9 @@
 #include <random>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "loom/error.hpp"
 
 namespace loom::mpm {
@@ -116,6 +119,22 @@ std::vector<Vec<D>> poisson_disk(const Vec<D>& lo, const Vec<D>& hi, double h,
   return points;
 }
 
+// The candidates inside the shape, in order; the test (a winding number for
+// meshes) runs in parallel.
+template <int D>
+std::vector<Vec<D>> candidates_inside(const std::vector<Vec<D>>& candidates,
+                                      const std::function<bool(const Vec<D>&)>& inside) {
+  std::vector<char> in(candidates.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) in[i] = inside(candidates[i]);
+                    });
+  std::vector<Vec<D>> out;
+  for (std::size_t i = 0; i < candidates.size(); ++i)
+    if (in[i]) out.push_back(candidates[i]);
+  return out;
+}
+
 }  // namespace
 
 template <int D>
@@ -149,8 +168,7 @@ Particles<D> fill_shape(const std::function<bool(const Vec<D>&)>& inside, const 
   }
   std::vector<Vec<D>> points;
   points.reserve(candidates.size());
-  for (const auto& x : candidates)
-    if (inside(x)) points.push_back(x);
+  for (const auto& x : candidates_inside(candidates, inside)) points.push_back(x);
   // Neighbours in space are neighbours in memory (row-major cells of `spacing`):
   // the solver's transfers then touch the grid in order.
   auto cell_key = [&](const Vec<D>& x) {
@@ -167,8 +185,8 @@ Particles<D> fill_shape(const std::function<bool(const Vec<D>&)>& inside, const 
   if (!(volume > 0)) {
     // The shape's volume, counted on the regular lattice at `spacing`.
     std::mt19937_64 unused(0);
-    long in = 0;
-    for (const auto& x : lattice<D>(lo, hi, o.spacing, false, unused)) in += inside(x);
+    const long in = static_cast<long>(
+        candidates_inside(lattice<D>(lo, hi, o.spacing, false, unused), inside).size());
     volume = std::pow(o.spacing, D) * static_cast<double>(std::max(in, 1L)) /
              static_cast<double>(points.size());
   }
