@@ -169,12 +169,15 @@ Particles<D> fill_shape(const std::function<bool(const Vec<D>&)>& inside, const 
   std::vector<Vec<D>> points;
   points.reserve(candidates.size());
   for (const auto& x : candidates_inside(candidates, inside)) points.push_back(x);
-  // Neighbours in space are neighbours in memory (row-major cells of `spacing`):
-  // the solver's transfers then touch the grid in order.
+  // Neighbours in space are neighbours in memory (Morton order of cells of
+  // 4·spacing): the solver's blocks then read their particles from few places.
   auto cell_key = [&](const Vec<D>& x) {
-    std::int64_t key = 0;
+    std::uint64_t key = 0;
+    std::uint32_t c[D];
     for (int d = 0; d < D; ++d)
-      key = key * (1 << 20) + static_cast<std::int64_t>((x[d] - lo[d]) / (4 * o.spacing));
+      c[d] = static_cast<std::uint32_t>(std::clamp((x[d] - lo[d]) / (4 * o.spacing), 0.0, 1048575.0));
+    for (int bit = 19; bit >= 0; --bit)
+      for (int d = 0; d < D; ++d) key = (key << 1) | ((c[d] >> bit) & 1u);
     return key;
   };
   std::stable_sort(points.begin(), points.end(),
