@@ -1,7 +1,8 @@
 // The pictures of docs/mpm.md: the example scenes simulated through the solver
 // library and splatted, several instants side by side in one strip each.
 // (The graphs in graphs/ describe the same scenes for the engine's frames.)
-//   bench_mpm_pictures [folder]   default: docs/images/mpm in the source tree
+//   bench_mpm_pictures [folder [scene ...]]   default: docs/images/mpm, every scene
+//   (scenes: mpm88 mpm99 colliders 3d)
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -67,11 +68,18 @@ void strip(const std::filesystem::path& file, MpmState state, const Settings& se
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
   loom::bench::handle_help(argc, argv, "bench_mpm_pictures [folder]: the figures of docs/mpm.md");
   const std::filesystem::path dir =
       argc > 1 ? std::filesystem::path(argv[1])
                : loom::bench::results_dir().parent_path().parent_path() / "docs/images/mpm";
   std::filesystem::create_directories(dir);
+  auto want = [&](const std::string& scene) {
+    if (argc <= 2) return true;
+    for (int i = 2; i < argc; ++i)
+      if (scene == argv[i]) return true;
+    return false;
+  };
   SplatOptions splat;
   splat.width = 256;
   splat.radius_px = 0.9;
@@ -79,7 +87,7 @@ int main(int argc, char** argv) {
   using V3 = Eigen::Vector3d;
   auto all2 = [](const V2&) { return true; };
   auto all3 = [](const V3&) { return true; };
-  {  // mpm88
+  if (want("mpm88")) {
     EmitOptions o;
     o.sampling = Sampling::random, o.count = 8192, o.particle_volume = std::pow(0.5 / 128, 2);
     MpmState s;
@@ -88,7 +96,7 @@ int main(int argc, char** argv) {
     settings.dt_max = 2e-4, settings.cfl = 1.0;
     strip<2>(dir / "mpm88.png", s, settings, {0, 0.3, 0.6, 1.5}, splat);
   }
-  {  // mpm99 + sand
+  if (want("mpm99")) {  // + sand
     EmitOptions o;
     o.sampling = Sampling::random, o.count = 3000, o.particle_volume = std::pow(0.5 / 128, 2);
     MpmState s;
@@ -103,7 +111,27 @@ int main(int argc, char** argv) {
     settings.gravity = V3(0, -50, 0), settings.dt_max = 1e-4;
     strip<2>(dir / "mpm99.png", s, settings, {0, 0.15, 0.3, 0.8}, splat);
   }
-  {  // 3D: an elastic ball and a sand block onto a sphere collider
+  if (want("colliders")) {  // a jelly disk, a snowball and sand onto a slanted plane and a round peg
+    EmitOptions o;
+    o.spacing = 0.004;
+    MpmState s;
+    const V2 a(0.3, 0.8), b(0.62, 0.75);
+    s.p2 = emit<2>([&](const V2& x) { return (x - a).norm() <= 0.08; }, a.array() - 0.08, a.array() + 0.08,
+                   Material::elastic, 2000, 0.3, {0.9f, 0.25f, 0.2f}, o);
+    s.p2.append(emit<2>([&](const V2& x) { return (x - b).norm() <= 0.07; }, b.array() - 0.07,
+                        b.array() + 0.07, Material::snow, 8000, 0.2, {0.92f, 0.92f, 0.95f}, o));
+    o.sampling = Sampling::poisson;
+    s.p2.append(emit<2>(all2, V2(0.1, 0.55), V2(0.2, 0.7), Material::sand, 5000, 0.3, {0.8f, 0.6f, 0.25f}, o));
+    Settings settings;
+    settings.walls = Boundary::sticky;
+    Collider plane, peg;
+    plane.point = V3(0, 0.45, 0), plane.normal = V3(0.3, 1, 0).normalized();
+    peg.shape = Collider::Shape::sphere, peg.point = V3(0.62, 0.45, 0), peg.radius = 0.06;
+    peg.boundary = Boundary::sticky;
+    settings.colliders = {plane, peg};
+    strip<2>(dir / "mpm-colliders.png", s, settings, {0, 0.25, 0.5, 1.2}, splat);
+  }
+  if (want("3d")) {  // an elastic ball and a sand block onto a sphere collider
     EmitOptions o;
     o.spacing = 0.0104;
     MpmState s;
