@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
   }
   if (want("3d")) {  // an elastic ball and a sand block onto a sphere collider
     EmitOptions o;
-    o.spacing = 0.0104;
+    o.spacing = 0.0125;
     MpmState s;
     s.dim = 3;
     const V3 c(0.35, 0.7, 0.5);
@@ -147,6 +147,6 @@ int main(int argc, char** argv) {
     sphere.shape = Collider::Shape::sphere, sphere.point = V3(0.5, 0.25, 0.5), sphere.radius = 0.12;
     settings.colliders = {sphere};
     splat.radius_px = 1.6;
-    strip<3>(dir / "mpm-3d.png", s, settings, {0, 0.25, 0.5, 1.2}, splat);
+    strip<3>(dir / "mpm-3d.png", s, settings, {0, 0.2, 0.4, 0.8}, splat);
   }
 }
