@@ -1,0 +1,175 @@
+// Constitutive models and plasticity, per particle, in D = 2 or 3.
+// Kirchhoff stress τ = P Fᵀ, which MLS-MPM scatters as
+// affine = −Δt V⁰ (4/Δx²) τ + m C (Hu et al. 2018, eq. 29 with quadratic B-splines).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+
+#include "particles.hpp"
+
+namespace loom::mpm {
+
+// Clamps keeping F invertible: singular values and the fluid's J never fall
+// below these (counted; the node warns) instead of producing NaN.
+constexpr double kMinSingularValue = 0.2;
+constexpr double kMinJ = 0.1;
+
+// Snow (Stomakhin et al. 2013): critical compression/stretch θc, θs and hardening ξ,
+// the values of the paper and of Taichi's mpm99.
+constexpr double kSnowCompression = 2.5e-2, kSnowStretch = 4.5e-3, kSnowHardening = 10.0;
+// Sand (Klár et al. 2016): friction angle 30°, α = √(2/3)·2 sin φ / (3 − sin φ) (eq. 27).
+inline double sand_alpha() {
+  const double s = std::sin(30.0 * M_PI / 180.0);
+  return std::sqrt(2.0 / 3.0) * 2 * s / (3 - s);
+}
+
+// Snow hardening factor h = exp(ξ (1 − Jp)) (Stomakhin 2013, eq. 8), bounded so a
+// fully crushed particle cannot stiffen without limit.
+inline double snow_hardening(double Jp) {
+  return std::exp(std::min(kSnowHardening * (1 - Jp), 10.0));
+}
+
+// F = U diag(σ) Vᵀ with U and V rotations (det +1); σ₀ ≥ σ₁ ≥ |σ₂|, the last one
+// negative when F is inverted.
+template <int D>
+struct Svd {
+  Eigen::Matrix<double, D, D> U, V;
+  Eigen::Matrix<double, D, 1> sigma;
+};
+
+// Eigen's Jacobi SVD, reflections moved into the last singular value.
+template <int D>
+Svd<D> jacobi_svd(const Eigen::Matrix<double, D, D>& F) {
+  Eigen::JacobiSVD<Eigen::Matrix<double, D, D>, Eigen::NoQRPreconditioner> svd(
+      F, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Svd<D> r{svd.matrixU(), svd.matrixV(), svd.singularValues()};
+  if (r.U.determinant() < 0) r.U.col(D - 1) *= -1, r.sigma[D - 1] *= -1;
+  if (r.V.determinant() < 0) r.V.col(D - 1) *= -1, r.sigma[D - 1] *= -1;
+  return r;
+}
+
+// 3×3: V from the closed-form eigen-decomposition of FᵀF, U = F V Σ⁻¹
+// orthonormalized (Gram–Schmidt, third column a cross product), about 5× faster
+// than the Jacobi sweeps. Jacobi where σ₁ is too small for U = F V Σ⁻¹.
+template <int D>
+Svd<D> svd(const Eigen::Matrix<double, D, D>& F) {
+  if constexpr (D == 2) {
+    return jacobi_svd<2>(F);
+  } else {
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    eig.computeDirect(F.transpose() * F);
+    const Eigen::Vector3d lambda = eig.eigenvalues();  // ascending
+    if (!(lambda[1] > 1e-8 * std::max(lambda[2], 1e-300))) return jacobi_svd<3>(F);
+    Svd<3> r;
+    r.V.col(0) = eig.eigenvectors().col(2);
+    r.V.col(1) = eig.eigenvectors().col(1);
+    r.V.col(2) = r.V.col(0).cross(r.V.col(1));
+    Eigen::Vector3d u0 = F * r.V.col(0), u1 = F * r.V.col(1);
+    r.sigma[0] = u0.norm();
+    u0 /= r.sigma[0];
+    u1 -= u0.dot(u1) * u0;
+    r.sigma[1] = u1.norm();
+    u1 /= r.sigma[1];
+    r.U.col(0) = u0;
+    r.U.col(1) = u1;
+    r.U.col(2) = u0.cross(u1);
+    r.sigma[2] = r.U.col(2).dot(F * r.V.col(2));
+    return r;
+  }
+}
+
+// Kirchhoff stress of particle p. May rewrite F[p] (and J[p]) when it has to be
+// clamped away from a singular value near zero; returns true then.
+template <int D>
+bool kirchhoff_stress(Particles<D>& ps, int p, Eigen::Matrix<double, D, D>& tau) {
+  using Mat = Eigen::Matrix<double, D, D>;
+  using Vec = Eigen::Matrix<double, D, 1>;
+  const Material m = ps.material[p];
+  if (m == Material::fluid) {
+    // Weakly compressible fluid, mpm88: τ = K (J − 1) I.
+    tau = Mat::Identity() * (ps.lambda[p] * (ps.J[p] - 1));
+    return false;
+  }
+  Mat& F = ps.F[p];
+  const Svd<D> f = svd<D>(F);
+  const Mat &U = f.U, &V = f.V;
+  Vec sigma = f.sigma;
+  bool clamped = false;
+  if (sigma.minCoeff() < kMinSingularValue || !std::isfinite(sigma.sum())) {
+    for (int d = 0; d < D; ++d)
+      sigma[d] = std::isfinite(sigma[d]) ? std::max(sigma[d], kMinSingularValue) : 1.0;
+    F = U * sigma.asDiagonal() * V.transpose();
+    clamped = true;
+  }
+  double mu = ps.mu[p], lambda = ps.lambda[p];
+  if (m == Material::sand) {
+    // St. Venant–Kirchhoff on Hencky strain ε = log Σ (Klár 2016, eq. 26):
+    // τ = U (2μ ε + λ tr(ε) I) Uᵀ.
+    const Vec eps = sigma.array().log().matrix();
+    const Vec t = 2 * mu * eps + Vec::Constant(lambda * eps.sum());
+    tau = U * t.asDiagonal() * U.transpose();
+    return clamped;
+  }
+  if (m == Material::snow) {
+    const double h = snow_hardening(ps.J[p]);
+    mu *= h, lambda *= h;
+  }
+  // Fixed corotated (Stomakhin 2012): τ = 2μ (F − R) Fᵀ + λ (J − 1) J I, R = U Vᵀ.
+  const double J = sigma.prod();
+  const Mat R = U * V.transpose();
+  tau = 2 * mu * (F - R) * F.transpose() + Mat::Identity() * (lambda * (J - 1) * J);
+  return clamped;
+}
+
+// Plastic projection of particle p after F was advanced; true when J had to be clamped.
+template <int D>
+bool plastic_projection(Particles<D>& ps, int p) {
+  using Mat = Eigen::Matrix<double, D, D>;
+  using Vec = Eigen::Matrix<double, D, 1>;
+  const Material m = ps.material[p];
+  if (m == Material::elastic || m == Material::fluid) return false;
+  Mat& F = ps.F[p];
+  const Svd<D> f = svd<D>(F);
+  const Mat &U = f.U, &V = f.V;
+  Vec sigma = f.sigma;
+  bool clamped = false;
+  if (sigma.minCoeff() < kMinSingularValue || !std::isfinite(sigma.sum())) {
+    for (int d = 0; d < D; ++d)
+      sigma[d] = std::isfinite(sigma[d]) ? std::max(sigma[d], kMinSingularValue) : 1.0;
+    clamped = true;
+  }
+  if (m == Material::snow) {
+    // Stomakhin 2013 §7: clamp Σ to [1 − θc, 1 + θs]; the plastic part goes to Jp.
+    for (int d = 0; d < D; ++d) {
+      const double s = std::clamp(sigma[d], 1 - kSnowCompression, 1 + kSnowStretch);
+      ps.J[p] *= sigma[d] / s;
+      sigma[d] = s;
+    }
+  } else {
+    // Drucker–Prager return mapping in log-strain space (Klár 2016, Algorithm 2).
+    const Vec eps = sigma.array().log().matrix();
+    const double tr = eps.sum();
+    const Vec dev = eps - Vec::Constant(tr / D);
+    const double dev_norm = dev.norm();
+    const double mu = ps.mu[p], lambda = ps.lambda[p];
+    const double dgamma = dev_norm + (D * lambda + 2 * mu) / (2 * mu) * tr * sand_alpha();
+    if (dgamma <= 0) {
+      // inside the cone: elastic, unchanged
+    } else if (tr > 0 || dev_norm == 0) {
+      sigma.setOnes();  // expansion: the tip of the cone, stress free
+    } else {
+      sigma = (eps - dgamma / dev_norm * dev).array().exp().matrix();
+    }
+  }
+  F = U * sigma.asDiagonal() * V.transpose();
+  return clamped;
+}
+
+}  // namespace loom::mpm

@@ -1,0 +1,329 @@
+#include "mls_mpm.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include "constitutive.hpp"
+#include "loom/error.hpp"
+
+namespace loom::mpm {
+namespace {
+
+// Quadratic B-spline weights of the three nodes base, base+1, base+2 along each
+// axis, fx = x/Δx − base ∈ [0.5, 1.5) (Hu et al. 2018, as in mpm88).
+template <int D>
+struct Weights {
+  Eigen::Matrix<int, D, 1> base;
+  Eigen::Matrix<double, D, 1> fx;
+  double w[D][3];
+  Weights(const Eigen::Matrix<double, D, 1>& x, double inv_dx) {
+    for (int d = 0; d < D; ++d) {
+      const double xg = x[d] * inv_dx;
+      base[d] = static_cast<int>(xg - 0.5);
+      fx[d] = xg - base[d];
+      w[d][0] = 0.5 * (1.5 - fx[d]) * (1.5 - fx[d]);
+      w[d][1] = 0.75 - (fx[d] - 1) * (fx[d] - 1);
+      w[d][2] = 0.5 * (fx[d] - 0.5) * (fx[d] - 0.5);
+    }
+  }
+};
+
+constexpr int block_size(int D) { return D == 2 ? 8 : 4; }
+
+double sound_speed_squared(Material m, double mu, double lambda, double J, double rho) {
+  double stiffness = lambda + 2 * mu;
+  if (m == Material::snow) stiffness *= snow_hardening(J);
+  return stiffness / rho;
+}
+
+}  // namespace
+
+template <int D>
+Solver<D>::Solver(const Settings& settings)
+    : s_(settings), n_(settings.resolution), dx_(settings.size / settings.resolution),
+      inv_dx_(settings.resolution / settings.size) {
+  if (n_ < 8) throw Error("resolution must be at least 8 cells");
+  if (!(s_.size > 0)) throw Error("domain size must be positive");
+  if (!(s_.cfl > 0) || !(s_.dt_max > 0)) throw Error("cfl and dt_max must be positive");
+  long cells = 1;
+  for (int d = D - 1; d >= 0; --d) stride_[d] = cells, cells *= n_;
+  grid_.assign(static_cast<std::size_t>(cells), Node::Zero());
+  blocks_per_axis_ = (n_ + block_size(D) - 1) / block_size(D);
+  int blocks = 1;
+  for (int d = 0; d < D; ++d) blocks *= blocks_per_axis_;
+  block_start_.assign(static_cast<std::size_t>(blocks) + 1, 0);
+  for (auto& list : colour_blocks_) list.reserve(static_cast<std::size_t>(blocks));
+}
+
+template <int D>
+double Solver<D>::cfl_dt(double signal_speed) const {
+  return signal_speed > 0 ? std::min(s_.dt_max, s_.cfl * dx_ / signal_speed) : s_.dt_max;
+}
+
+template <int D>
+long Solver<D>::clamp_positions(Particles<D>& ps) const {
+  const double lo = 2 * dx_, hi = s_.size - 2 * dx_;
+  long moved = 0;
+  for (auto& x : ps.x) {
+    bool out = false;
+    for (int d = 0; d < D; ++d) {
+      if (!(x[d] >= lo)) x[d] = lo, out = true;  // also catches NaN
+      if (x[d] > hi) x[d] = hi, out = true;
+    }
+    moved += out;
+  }
+  return moved;
+}
+
+template <int D>
+double Solver<D>::max_signal_speed(const Particles<D>& ps) const {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, ps.size(), 4096), 0.0,
+      [&](const tbb::blocked_range<int>& r, double best) {
+        for (int p = r.begin(); p < r.end(); ++p) {
+          const double c2 = sound_speed_squared(ps.material[p], ps.mu[p], ps.lambda[p], ps.J[p],
+                                                ps.mass[p] / ps.volume[p]);
+          best = std::max(best, ps.v[p].norm() + std::sqrt(c2));
+        }
+        return best;
+      },
+      [](double a, double b) { return std::max(a, b); });
+}
+
+template <int D>
+void Solver<D>::bin(const Particles<D>& ps) {
+  constexpr int B = block_size(D);
+  const int np = ps.size();
+  block_of_.resize(static_cast<std::size_t>(np));  // allocates only when the count grows
+  order_.resize(static_cast<std::size_t>(np));
+  tbb::parallel_for(tbb::blocked_range<int>(0, np, 8192), [&](const tbb::blocked_range<int>& r) {
+    for (int p = r.begin(); p < r.end(); ++p) {
+      int block = 0;
+      for (int d = 0; d < D; ++d)
+        block = block * blocks_per_axis_ + static_cast<int>(ps.x[p][d] * inv_dx_ - 0.5) / B;
+      block_of_[p] = block;
+    }
+  });
+  // Counting sort, stable: each block's particles stay in index order.
+  std::fill(block_start_.begin(), block_start_.end(), 0);
+  for (int p = 0; p < np; ++p) ++block_start_[block_of_[p] + 1];
+  for (std::size_t b = 1; b < block_start_.size(); ++b) block_start_[b] += block_start_[b - 1];
+  for (auto& list : colour_blocks_) list.clear();
+  const int blocks = static_cast<int>(block_start_.size()) - 1;
+  for (int b = 0; b < blocks; ++b) {
+    if (block_start_[b + 1] == block_start_[b]) continue;
+    int colour = 0;
+    for (int d = D - 1, r = b; d >= 0; --d, r /= blocks_per_axis_)
+      colour |= ((r % blocks_per_axis_) & 1) << d;
+    colour_blocks_[colour].push_back(b);
+  }
+  // block_start_ becomes each block's write cursor, then is restored by shifting.
+  for (int p = 0; p < np; ++p) order_[block_start_[block_of_[p]]++] = p;
+  for (int b = blocks; b > 0; --b) block_start_[b] = block_start_[b - 1];
+  block_start_[0] = 0;
+}
+
+template <int D>
+void Solver<D>::p2g(Particles<D>& ps, double dt) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid_.size(), 1 << 14),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) grid_[i].setZero();
+                    });
+  const double stress_scale = -dt * 4 * inv_dx_ * inv_dx_;
+  for (const auto& blocks : colour_blocks_) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+      long clamped = 0;
+      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+        const int b = blocks[k];
+        for (int i = block_start_[b]; i < block_start_[b + 1]; ++i) {
+          const int p = order_[i];
+          const Weights<D> w(ps.x[p], inv_dx_);
+          Mat tau;
+          clamped += kirchhoff_stress(ps, p, tau);
+          const double m = ps.mass[p];
+          // MLS-MPM momentum: m v + (−Δt V⁰ 4/Δx² τ + m C)(x_i − x_p)  (Hu 2018, eq. 29)
+          const Mat affine = (stress_scale * ps.volume[p]) * tau + m * ps.C[p];
+          // Σ_i w_i (m v + affine (x_i − x_p)) with x_i − x_p = (o − fx) Δx, split as
+          // q + A o: q = m v − affine fx Δx, A = affine Δx.
+          const Vec q = m * ps.v[p] - affine * (w.fx * dx_);
+          const Mat A = affine * dx_;
+          long base = 0;
+          for (int d = 0; d < D; ++d) base += w.base[d] * stride_[d];
+          for (int i = 0; i < 3; ++i) {
+            const Vec qi = q + A.col(0) * i;
+            for (int j = 0; j < 3; ++j) {
+              const double wij = w.w[0][i] * w.w[1][j];
+              const Vec qij = qi + A.col(1) * j;
+              const long row = base + i * stride_[0] + j * stride_[1];
+              if constexpr (D == 2) {
+                Node& node = grid_[static_cast<std::size_t>(row)];
+                node.template head<D>() += wij * qij;
+                node[D] += wij * m;
+              } else {
+                for (int k = 0; k < 3; ++k) {
+                  const double wijk = wij * w.w[2][k];
+                  Node& node = grid_[static_cast<std::size_t>(row + k)];
+                  node.template head<D>() += wijk * (qij + A.col(2) * k);
+                  node[D] += wijk * m;
+                }
+              }
+            }
+          }
+        }
+      }
+      if (clamped) clamped_ += clamped;
+    });
+  }
+}
+
+template <int D>
+void Solver<D>::grid_update(double dt) {
+  const Vec g = s_.gravity.template head<D>();
+  const int wall = s_.walls_enabled ? s_.wall_cells : 0;
+  auto apply = [](Vec& v, const Vec& n, Boundary bc) {
+    if (bc == Boundary::sticky) {
+      v.setZero();
+    } else {
+      const double vn = v.dot(n);
+      if (bc == Boundary::slip || vn < 0) v -= vn * n;
+    }
+  };
+  tbb::parallel_for(tbb::blocked_range<long>(0, static_cast<long>(grid_.size()), 1 << 12),
+                    [&](const tbb::blocked_range<long>& r) {
+    for (long i = r.begin(); i < r.end(); ++i) {
+      Node& node = grid_[static_cast<std::size_t>(i)];
+      if (node[D] <= 0) continue;
+      Vec v = node.template head<D>() / node[D] + dt * g;
+      Eigen::Matrix<int, D, 1> idx;
+      for (int d = 0, r2 = static_cast<int>(i); d < D; ++d)
+        idx[D - 1 - d] = r2 % n_, r2 /= n_;
+      for (int d = 0; d < D; ++d) {
+        if (idx[d] < wall) apply(v, Vec::Unit(d), s_.walls);
+        if (idx[d] > n_ - 1 - wall) apply(v, -Vec::Unit(d), s_.walls);
+      }
+      if (!s_.colliders.empty()) {
+        const Vec x = idx.template cast<double>() * dx_;
+        for (const Collider& c : s_.colliders) {
+          const Vec point = c.point.template head<D>();
+          if (c.shape == Collider::Shape::plane) {
+            const Vec n = c.normal.template head<D>().normalized();
+            if ((x - point).dot(n) < 0) apply(v, n, c.boundary);
+          } else {
+            const Vec r = x - point;
+            const double dist = r.norm();
+            if (dist < c.radius && dist > 0) apply(v, r / dist, c.boundary);
+          }
+        }
+      }
+      node.template head<D>() = v;
+    }
+  });
+}
+
+template <int D>
+double Solver<D>::g2p(Particles<D>& ps, double dt) {
+  const double lo = 2 * dx_, hi = s_.size - 2 * dx_;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, ps.size(), 1024), 0.0,
+      [&](const tbb::blocked_range<int>& r, double best) {
+        long clamped = 0;
+        for (int p = r.begin(); p < r.end(); ++p) {
+          const Weights<D> w(ps.x[p], inv_dx_);
+          // v = Σ w_i v_i and B = Σ w_i v_i (x_i − x_p)ᵀ = (Σ w_i v_i oᵀ − v fxᵀ) Δx.
+          Vec v = Vec::Zero();
+          Mat Bo = Mat::Zero();
+          long base = 0;
+          for (int d = 0; d < D; ++d) base += w.base[d] * stride_[d];
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+              const double wij = w.w[0][i] * w.w[1][j];
+              const long row = base + i * stride_[0] + j * stride_[1];
+              if constexpr (D == 2) {
+                const Vec wv = wij * grid_[static_cast<std::size_t>(row)].template head<D>();
+                v += wv;
+                Bo.col(0) += wv * i;
+                Bo.col(1) += wv * j;
+              } else {
+                for (int k = 0; k < 3; ++k) {
+                  const Vec wv =
+                      (wij * w.w[2][k]) * grid_[static_cast<std::size_t>(row + k)].template head<D>();
+                  v += wv;
+                  Bo.col(0) += wv * i;
+                  Bo.col(1) += wv * j;
+                  Bo.col(2) += wv * k;
+                }
+              }
+            }
+          const Mat B = (Bo - v * w.fx.transpose()) * dx_;
+          // APIC: C = 4/Δx² Σ w v_i (x_i − x_p)ᵀ for quadratic B-splines.
+          const Mat C = (4 * inv_dx_ * inv_dx_) * B;
+          ps.v[p] = v;
+          ps.C[p] = C;
+          Vec x = ps.x[p] + dt * v;
+          for (int d = 0; d < D; ++d) x[d] = std::clamp(x[d], lo, hi);
+          ps.x[p] = x;
+          if (ps.material[p] == Material::fluid) {
+            double J = ps.J[p] * (1 + dt * C.trace());  // mpm88
+            if (!(J >= kMinJ)) J = kMinJ, ++clamped;
+            ps.J[p] = J;
+          } else {
+            ps.F[p] = (Mat::Identity() + dt * C) * ps.F[p];
+            clamped += plastic_projection(ps, p);
+          }
+          const double c2 = sound_speed_squared(ps.material[p], ps.mu[p], ps.lambda[p], ps.J[p],
+                                                ps.mass[p] / ps.volume[p]);
+          best = std::max(best, v.norm() + std::sqrt(c2));
+        }
+        if (clamped) clamped_ += clamped;
+        return best;
+      },
+      [](double a, double b) { return std::max(a, b); });
+}
+
+template <int D>
+double Solver<D>::substep(Particles<D>& ps, double dt) {
+  bin(ps);
+  p2g(ps, dt);
+  grid_update(dt);
+  return g2p(ps, dt);
+}
+
+template <int D>
+AdvanceReport Solver<D>::advance(Particles<D>& ps, double seconds,
+                                 const std::function<void(double)>& between) {
+  AdvanceReport report;
+  clamped_ = 0;
+  report.clamped_positions = clamp_positions(ps);
+  if (!(seconds > 0) || ps.size() == 0) return report;
+  double speed = max_signal_speed(ps);
+  double t = 0;
+  report.dt_min = s_.dt_max;
+  while (seconds - t > 1e-12 * seconds) {
+    if (!std::isfinite(speed)) throw Error("the simulation diverged (non-finite velocity)");
+    const double remaining = seconds - t;
+    const double steps = std::ceil(remaining / cfl_dt(speed) - 1e-9);
+    const double dt = remaining / std::max(steps, 1.0);
+    if (report.substeps >= s_.max_substeps)
+      throw Error("more than " + std::to_string(s_.max_substeps) +
+                  " substeps in one frame (Δt " + std::to_string(dt) +
+                  " s): lower the stiffness or the speeds, or raise max_substeps");
+    speed = substep(ps, dt);
+    t += dt;
+    ++report.substeps;
+    report.dt_min = std::min(report.dt_min, dt);
+    report.dt_max = std::max(report.dt_max, dt);
+    if (between) between(t / seconds);
+  }
+  report.clamped_deformation = clamped_.load();
+  return report;
+}
+
+template class Solver<2>;
+template class Solver<3>;
+
+}  // namespace loom::mpm

@@ -1,0 +1,94 @@
+#include "mpm_state.hpp"
+
+namespace loom::mpm {
+namespace {
+
+// Fixed-size Eigen vectors are not trivially copyable by the type system, but
+// are plain arrays of doubles in memory: written as raw bytes with a count.
+template <class T>
+void write_array(ByteWriter& w, const std::vector<T>& v) {
+  w.pod<std::uint64_t>(v.size());
+  w.bytes(v.data(), sizeof(T) * v.size());
+}
+template <class T>
+void read_array(ByteReader& r, std::vector<T>& v) {
+  const auto n = r.pod<std::uint64_t>();
+  if (n > r.remaining() / sizeof(T)) throw Error("stored MPMState is truncated");
+  v.resize(static_cast<std::size_t>(n));
+  r.bytes(v.data(), sizeof(T) * v.size());
+}
+
+template <int D>
+void write_particles(ByteWriter& w, const Particles<D>& p) {
+  write_array(w, p.x), write_array(w, p.v), write_array(w, p.C), write_array(w, p.F);
+  write_array(w, p.J), write_array(w, p.material), write_array(w, p.mu);
+  write_array(w, p.lambda), write_array(w, p.mass), write_array(w, p.volume);
+  write_array(w, p.color);
+}
+template <int D>
+void read_particles(ByteReader& r, Particles<D>& p) {
+  read_array(r, p.x), read_array(r, p.v), read_array(r, p.C), read_array(r, p.F);
+  read_array(r, p.J), read_array(r, p.material), read_array(r, p.mu);
+  read_array(r, p.lambda), read_array(r, p.mass), read_array(r, p.volume);
+  read_array(r, p.color);
+  const std::size_t n = p.x.size();
+  for (std::size_t size : {p.v.size(), p.C.size(), p.F.size(), p.J.size(), p.material.size(),
+                           p.mu.size(), p.lambda.size(), p.mass.size(), p.volume.size(),
+                           p.color.size()})
+    if (size != n) throw Error("stored MPMState has attribute arrays of different lengths");
+  for (Material m : p.material)
+    if (static_cast<int>(m) > static_cast<int>(Material::sand))
+      throw Error("stored MPMState has an unknown material");
+}
+
+template <int D>
+PointSet point_set(const Particles<D>& p, double radius) {
+  PointSet out;
+  const int n = p.size();
+  out.P.setZero(n, 3);
+  out.C.resize(n, 3);
+  for (int i = 0; i < n; ++i) {
+    out.P.row(i).template head<D>() = p.x[i].transpose();
+    out.C.row(i) = p.color[i].template cast<double>().transpose();
+  }
+  out.radius.setConstant(n, radius);
+  return out;
+}
+
+}  // namespace
+
+PointSet point_set(const MpmState& state, double radius) {
+  return state.dim == 2 ? point_set(state.p2, radius) : point_set(state.p3, radius);
+}
+
+}  // namespace loom::mpm
+
+namespace mpm = loom::mpm;
+
+std::string loom::TypeTraits<mpm::MpmState>::summary(const mpm::MpmState& s) {
+  return std::to_string(s.size()) + " particles (" + std::to_string(s.dim) + "D) at t = " +
+         std::to_string(s.time) + " s";
+}
+
+void loom::TypeTraits<mpm::MpmState>::write(const mpm::MpmState& s, loom::ByteWriter& w) {
+  w.pod<std::int32_t>(s.dim);
+  w.pod(s.time);
+  w.pod<std::int32_t>(s.substeps);
+  if (s.dim == 2)
+    mpm::write_particles(w, s.p2);
+  else
+    mpm::write_particles(w, s.p3);
+}
+
+mpm::MpmState loom::TypeTraits<mpm::MpmState>::read(loom::ByteReader& r) {
+  mpm::MpmState s;
+  s.dim = r.pod<std::int32_t>();
+  if (s.dim != 2 && s.dim != 3) throw Error("stored MPMState has dimension " + std::to_string(s.dim));
+  s.time = r.pod<double>();
+  s.substeps = r.pod<std::int32_t>();
+  if (s.dim == 2)
+    mpm::read_particles(r, s.p2);
+  else
+    mpm::read_particles(r, s.p3);
+  return s;
+}

@@ -1,0 +1,142 @@
+// MPMStep: the MLS-MPM simulation step, state(f − 1) → state(f), substeps by a
+// CFL rule inside.
+#include <string>
+
+#include "loom/error.hpp"
+#include "loom/plugin.hpp"
+#include "loom/point_set.hpp"
+#include "mls_mpm.hpp"
+#include "mpm_state.hpp"
+
+namespace {
+
+using namespace loom::mpm;
+
+Boundary boundary_from(const std::string& name) {
+  if (name == "sticky") return Boundary::sticky;
+  if (name == "slip") return Boundary::slip;
+  if (name == "separate") return Boundary::separate;
+  throw loom::Error("unknown boundary '" + name + "' (sticky, slip or separate)");
+}
+
+loom::Vec3 vec3(const loom::json& j, const char* key, int index) {
+  if (!j.contains(key) || !j[key].is_array() || j[key].size() != 3)
+    throw loom::Error("colliders[" + std::to_string(index) + "]." + key +
+                      " must be a list of 3 numbers");
+  loom::Vec3 v;
+  for (int d = 0; d < 3; ++d) v[d] = j[key][static_cast<std::size_t>(d)].get<double>();
+  return v;
+}
+
+// [{"shape": "plane", "point": [x, y, z], "normal": [x, y, z], "boundary": "slip"},
+//  {"shape": "sphere", "center": [x, y, z], "radius": r, "boundary": "sticky"}]
+std::vector<Collider> colliders_from(const loom::json& list) {
+  if (!list.is_array()) throw loom::Error("colliders must be a list of objects");
+  std::vector<Collider> out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const loom::json& j = list[i];
+    const int k = static_cast<int>(i);
+    if (!j.is_object() || !j.contains("shape"))
+      throw loom::Error("colliders[" + std::to_string(i) + "] needs a \"shape\" (plane or sphere)");
+    Collider c;
+    c.boundary = boundary_from(j.value("boundary", std::string("slip")));
+    const std::string shape = j["shape"].get<std::string>();
+    if (shape == "plane") {
+      c.shape = Collider::Shape::plane;
+      c.point = vec3(j, "point", k);
+      c.normal = vec3(j, "normal", k);
+      if (!(c.normal.norm() > 0)) throw loom::Error("colliders[" + std::to_string(i) + "].normal is zero");
+      c.normal.normalize();
+    } else if (shape == "sphere") {
+      c.shape = Collider::Shape::sphere;
+      c.point = vec3(j, "center", k);
+      c.radius = j.value("radius", 0.0);
+      if (!(c.radius > 0)) throw loom::Error("colliders[" + std::to_string(i) + "].radius must be positive");
+    } else {
+      throw loom::Error("colliders[" + std::to_string(i) + "].shape '" + shape +
+                        "' is not plane or sphere");
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+template <int D>
+AdvanceReport advance(Particles<D>& ps, const Settings& settings, double seconds,
+                      loom::Context& ctx) {
+  Solver<D> solver(settings);
+  return solver.advance(ps, seconds, [&](double fraction) {
+    ctx.progress(fraction, 1.0, "MPM substeps");
+    ctx.check_cancelled();
+  });
+}
+
+struct MPMStep {
+  static constexpr const char* name = "MPMStep";
+
+  static void declare(loom::NodeSpec& s) {
+    s.describe("MLS-MPM (Hu et al. 2018), quadratic B-splines, APIC: advances the particles "
+               "by one frame in substeps Δt ≤ min(dt_max, cfl·Δx / (max|v| + sound speed)). "
+               "The domain is [0, size]^D; particles never leave it.")
+        .input<MpmState>("state", "the initial particles (from emitters); later frames get "
+                                  "this node's previous output")
+        .input<int>("resolution", 128, "grid cells per axis").range(8, 4096)
+        .input<double>("size", 1.0, "domain edge length").at_least(0)
+        .input<loom::Vec3>("gravity", loom::Vec3(0, -9.8, 0), "acceleration (z unused in 2D)")
+        .enum_input("walls", "separate", {"sticky", "slip", "separate", "open"},
+                    "domain walls: sticky (v = 0), slip (no normal velocity), separate (may "
+                    "leave the wall, not enter it), open (no condition; particles are still kept "
+                    "inside)")
+        .input<int>("wall_cells", 3, "grid nodes this close to a wall take its condition")
+        .range(1, 64)
+        .input<loom::json>("colliders", loom::json::array(),
+                           "static colliders: [{\"shape\": \"plane\", \"point\": [x,y,z], "
+                           "\"normal\": [x,y,z], \"boundary\": \"slip\"}, {\"shape\": \"sphere\", "
+                           "\"center\": [x,y,z], \"radius\": r, \"boundary\": \"sticky\"}]")
+        .input<double>("cfl", 0.4, "C in Δt ≤ C·Δx / (max|v| + sound speed)").range(1e-4, 1)
+        .input<double>("dt_max", 1e-3, "cap on the substep (seconds)").range(1e-7, 1)
+        .input<int>("max_substeps", 100000, "per frame; more is an error, not a hang")
+        .at_least(1)
+        .input<double>("point_radius", 0.002, "radius of each point in `points`").at_least(0)
+        .output<MpmState>("state", "the particles at this frame")
+        .output<loom::PointSet>("points", "positions (z = 0 in 2D), radius and colour")
+        .output<int>("substeps", "substeps taken in this frame")
+        .set_simulation("state", "state");
+  }
+
+  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
+    Settings settings;
+    settings.resolution = in.get<int>("resolution");
+    settings.size = in.get<double>("size");
+    if (!(settings.size > 0)) throw loom::Error("size must be positive");
+    settings.gravity = in.get<loom::Vec3>("gravity");
+    const std::string walls = in.get<std::string>("walls");
+    settings.walls_enabled = walls != "open";
+    if (settings.walls_enabled) settings.walls = boundary_from(walls);
+    settings.wall_cells = in.get<int>("wall_cells");
+    settings.colliders = colliders_from(in.get<loom::json>("colliders"));
+    settings.cfl = in.get<double>("cfl");
+    settings.dt_max = in.get<double>("dt_max");
+    settings.max_substeps = in.get<int>("max_substeps");
+
+    MpmState state = in.get<MpmState>("state");
+    const double seconds = ctx.time().step;
+    const AdvanceReport report = state.dim == 2 ? advance(state.p2, settings, seconds, ctx)
+                                                : advance(state.p3, settings, seconds, ctx);
+    if (report.clamped_positions > 0)
+      ctx.warn(std::to_string(report.clamped_positions) +
+               " particles were outside the domain [2Δx, size − 2Δx]: moved inside");
+    if (report.clamped_deformation > 0)
+      ctx.warn(std::to_string(report.clamped_deformation) +
+               " particle updates clamped J or a singular value of F away from zero "
+               "(too large a compression for the stiffness)");
+    state.time += seconds;
+    state.substeps = report.substeps;
+    out.set("points", point_set(state, in.get<double>("point_radius")));
+    out.set("substeps", report.substeps);
+    out.set("state", std::move(state));
+  }
+};
+LOOM_NODE(MPMStep);
+
+}  // namespace

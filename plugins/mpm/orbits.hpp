@@ -1,0 +1,41 @@
+// Gravitational N-body integration for the assignment's orbit scene:
+// symplectic leapfrog (kick-drift-kick velocity Verlet) and 4th-order Yoshida
+// (1990) composition, Plummer softening, an optional fixed central body and a
+// "landed" event when a body reaches the central body's surface.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace loom::mpm {
+
+enum class Integrator { leapfrog, yoshida4 };
+
+struct NBodySystem {
+  std::vector<Eigen::Vector3d> x, v;
+  std::vector<double> m;
+  double G = 1;
+  double softening = 0;          // ε: a = G m r / (|r|² + ε²)^{3/2}
+  bool fixed_central = false;    // body 0 never moves (the assignment's planet)
+  double central_radius = 0;     // > 0: bodies reaching it land on body 0
+  std::vector<char> landed;      // per body
+  std::vector<double> landed_time;  // per body, −1 while flying
+  double time = 0;
+
+  int size() const { return static_cast<int>(x.size()); }
+  // Sizes the event arrays, checks the inputs (throws loom::Error).
+  void prepare();
+};
+
+// Advances by h (one leapfrog step, or Yoshida's three sub-steps).
+void step(NBodySystem& s, double h, Integrator integrator);
+
+// Total energy Σ ½ m v² − Σ_{i<j} G m_i m_j / √(r² + ε²) (the fixed body's
+// kinetic energy is zero; landed bodies are excluded).
+double total_energy(const NBodySystem& s);
+
+// Escape speed √(2GM/r) from distance r of mass M.
+double escape_speed(double G, double M, double r);
+
+}  // namespace loom::mpm

@@ -1,0 +1,46 @@
+// MPM particles in D = 2 or 3 dimensions, structure of arrays.
+//   x, v    #P positions and velocities (domain units, seconds)
+//   C       #P APIC/MLS affine velocity matrices (Jiang et al. 2015)
+//   F       #P deformation gradients (solids, snow, sand)
+//   J       #P volume ratio: fluid's det F; snow's plastic Jp (hardening)
+//   material, mu, lambda, mass, volume: per-particle constants
+//   color   #P linear RGB
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace loom::mpm {
+
+enum class Material : std::uint8_t { fluid = 0, elastic = 1, snow = 2, sand = 3 };
+
+// Lamé parameters from Young's modulus and Poisson's ratio. For the fluid,
+// E is the bulk modulus K of the J-based pressure (mpm88's "E") and ν is unused.
+struct Lame {
+  double mu, lambda;
+};
+Lame lame_parameters(Material material, double E, double nu);
+
+template <int D>
+struct Particles {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  using Mat = Eigen::Matrix<double, D, D>;
+
+  std::vector<Vec> x, v;
+  std::vector<Mat> C, F;
+  std::vector<double> J;
+  std::vector<Material> material;
+  std::vector<double> mu, lambda, mass, volume;
+  std::vector<Eigen::Vector3f> color;
+
+  int size() const { return static_cast<int>(x.size()); }
+  void reserve(std::size_t n);
+  // Appends one particle at rest state (F = I, C = 0, J = 1).
+  void add(const Vec& position, const Vec& velocity, Material m, const Lame& lame, double mass,
+           double volume, const Eigen::Vector3f& color);
+  void append(const Particles& other);
+};
+
+}  // namespace loom::mpm
