@@ -347,14 +347,39 @@ void GraphDocument::place_unplaced_nodes() {
     }
     if (!changed) break;
   }
-  std::map<int, int> rows;
+  // Columns by depth; in a column, nodes stacked by their height on the
+  // canvas (a header and footer of ~44 units and 20 per socket row). A column
+  // taller than kTall wraps into another, so wide graphs stay near 16:9.
+  constexpr double kTall = 1400;
+  struct Place {
+    std::string id;
+    int column, sub;
+    double y;
+  };
+  std::vector<Place> places;
+  std::map<int, std::pair<int, double>> cursor;  // column -> (sub-column, next y)
   for (const auto& id : ids) {
-    json& n = doc_["nodes"][id];
+    const json& n = doc_["nodes"][id];
     if (n.contains("ui") && n["ui"].is_object() && n["ui"].contains("pos")) continue;
-    const int column = depth[id];
-    const int row = rows[column]++;
-    n["ui"]["pos"] = {40.0 + 260.0 * column, 40.0 + 150.0 * row};
+    const NodeType* t = registry_.find(n.value("type", ""));
+    const std::size_t rows = t ? t->spec.inputs.size() + t->spec.outputs.size() : 1;
+    const double height = 44.0 + 20.0 * double(rows);
+    auto& [sub, y] = cursor.emplace(depth[id], std::make_pair(0, 40.0)).first->second;
+    if (y > 40.0 && y + height > kTall) {
+      ++sub;
+      y = 40.0;
+    }
+    places.push_back({id, depth[id], sub, y});
+    y += height + 40.0;
   }
+  std::map<int, int> first_slot;  // column -> its first sub-column's slot
+  int slot = 0;
+  for (const auto& [column, state] : cursor) {
+    first_slot[column] = slot;
+    slot += state.first + 1;
+  }
+  for (const Place& p : places)
+    doc_["nodes"][p.id]["ui"]["pos"] = {40.0 + 260.0 * (first_slot[p.column] + p.sub), p.y};
 }
 
 }  // namespace loom::editor

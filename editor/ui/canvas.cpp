@@ -1,0 +1,511 @@
+#include "canvas.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include <GLFW/glfw3.h>
+
+namespace loom::editor {
+
+namespace {
+
+constexpr float kWidth = 200, kHeader = 26, kRow = 20, kFooter = 18, kSocket = 5.5f;
+
+ImVec2 operator+(ImVec2 a, ImVec2 b) { return {a.x + b.x, a.y + b.y}; }
+ImVec2 operator-(ImVec2 a, ImVec2 b) { return {a.x - b.x, a.y - b.y}; }
+ImVec2 operator*(ImVec2 a, float s) { return {a.x * s, a.y * s}; }
+float distance(ImVec2 a, ImVec2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
+
+ImU32 status_color(const NodeReport* report, bool running) {
+  if (running) return IM_COL32(230, 190, 60, 255);
+  if (!report) return IM_COL32(70, 70, 78, 255);
+  switch (report->status) {
+    case NodeStatus::ran: return IM_COL32(60, 150, 80, 255);
+    case NodeStatus::cached: return IM_COL32(60, 110, 170, 255);
+    case NodeStatus::failed: return IM_COL32(200, 60, 60, 255);
+    case NodeStatus::skipped: return IM_COL32(150, 110, 60, 255);
+    case NodeStatus::pruned: return IM_COL32(70, 70, 78, 255);
+  }
+  return IM_COL32(70, 70, 78, 255);
+}
+
+std::string status_text(const NodeReport* report, const LiveNode* live) {
+  if (live) return "running " + std::to_string(int(live->progress * 100)) + "%" +
+                   (live->label.empty() ? "" : " " + live->label);
+  if (!report) return "not evaluated";
+  char time[32] = "";
+  if (report->status == NodeStatus::ran || report->status == NodeStatus::failed)
+    std::snprintf(time, sizeof time, " %.1f ms", report->seconds * 1e3);
+  return std::string(to_string(report->status)) + time;
+}
+
+bool contains_text(const std::string& haystack, const std::string& needle) {
+  auto lower = [](std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+    return s;
+  };
+  return lower(haystack).find(lower(needle)) != std::string::npos;
+}
+
+}  // namespace
+
+ImU32 type_color(const std::string& type) {
+  if (type == "Image") return IM_COL32(240, 150, 60, 255);
+  if (type == "Mesh") return IM_COL32(90, 200, 120, 255);
+  if (type == "Float" || type == "Int") return IM_COL32(170, 170, 180, 255);
+  if (type == "Bool") return IM_COL32(220, 100, 100, 255);
+  if (type == "Any") return IM_COL32(255, 255, 255, 255);
+  const std::size_t h = std::hash<std::string>{}(type);
+  float r, g, b;
+  ImGui::ColorConvertHSVtoRGB(float(h % 360) / 360.0f, 0.55f, 0.9f, r, g, b);
+  return ImGui::ColorConvertFloat4ToU32(ImVec4(r, g, b, 1));
+}
+
+ImVec2 Canvas::to_screen(CanvasPoint p) const {
+  return origin_ + pan_ + ImVec2(float(p.x), float(p.y)) * zoom_;
+}
+
+CanvasPoint Canvas::to_canvas(ImVec2 s) const {
+  const ImVec2 c = (s - origin_ - pan_) * (1.0f / zoom_);
+  return {c.x, c.y};
+}
+
+Canvas::Box Canvas::box(const EditorState& state, const std::string& id) const {
+  if (state.doc.collapsed(id)) return {kWidth, kHeader};
+  const NodeType* t = state.doc.node_type(id);
+  const std::size_t rows = t ? t->spec.outputs.size() + t->spec.inputs.size() : 0;
+  float h = kHeader + kRow * float(rows) + kFooter;
+  const NodeReport* r = state.report(id);
+  if (r && !r->error.empty()) h += kRow * 2;
+  auto issue = state.issues.find(id);
+  if (issue != state.issues.end()) h += kRow;
+  return {kWidth, h};
+}
+
+ImVec2 Canvas::node_header(const EditorState& state, const std::string& id) const {
+  return to_screen(state.doc.position(id)) + ImVec2(kWidth * 0.5f, kHeader * 0.5f) * zoom_;
+}
+
+std::optional<ImVec2> Canvas::output_socket(const EditorState& state, const std::string& id,
+                                            const std::string& output) const {
+  const NodeType* t = state.doc.node_type(id);
+  if (!t) return std::nullopt;
+  const int o = t->spec.output_index(output);
+  if (o < 0) return std::nullopt;
+  const float y = state.doc.collapsed(id) ? kHeader * 0.5f : kHeader + kRow * (float(o) + 0.5f);
+  return to_screen(state.doc.position(id)) + ImVec2(kWidth, y) * zoom_;
+}
+
+std::optional<ImVec2> Canvas::input_socket(const EditorState& state, const std::string& id,
+                                           const std::string& input) const {
+  const NodeType* t = state.doc.node_type(id);
+  if (!t) return std::nullopt;
+  const int i = t->spec.input_index(input);
+  if (i < 0) return std::nullopt;
+  const float y = state.doc.collapsed(id)
+                      ? kHeader * 0.5f
+                      : kHeader + kRow * (float(t->spec.outputs.size() + std::size_t(i)) + 0.5f);
+  return to_screen(state.doc.position(id)) + ImVec2(0, y) * zoom_;
+}
+
+void Canvas::frame_all(const EditorState& state) {
+  const auto ids = state.doc.node_ids();
+  if (ids.empty() || size_.x <= 0) {
+    pan_ = {0, 0};
+    zoom_ = 1;
+    return;
+  }
+  float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
+  for (const auto& id : ids) {
+    const CanvasPoint p = state.doc.position(id);
+    const Box b = box(state, id);
+    x0 = std::min(x0, float(p.x));
+    y0 = std::min(y0, float(p.y));
+    x1 = std::max(x1, float(p.x) + b.width);
+    y1 = std::max(y1, float(p.y) + b.height);
+  }
+  const float margin = 30;
+  zoom_ = std::clamp(std::min((size_.x - 2 * margin) / (x1 - x0), (size_.y - 2 * margin) / (y1 - y0)), 0.1f, 1.5f);
+  pan_ = ImVec2((size_.x - (x1 - x0) * zoom_) * 0.5f - x0 * zoom_, (size_.y - (y1 - y0) * zoom_) * 0.5f - y0 * zoom_);
+}
+
+std::string Canvas::hit_node(const EditorState& state, ImVec2 s) const {
+  const auto ids = state.doc.node_ids();
+  for (auto it = ids.rbegin(); it != ids.rend(); ++it) {
+    const ImVec2 a = to_screen(state.doc.position(*it));
+    const Box b = box(state, *it);
+    if (s.x >= a.x && s.y >= a.y && s.x <= a.x + b.width * zoom_ && s.y <= a.y + b.height * zoom_) return *it;
+  }
+  return {};
+}
+
+std::optional<Canvas::SocketHit> Canvas::hit_socket(const EditorState& state, ImVec2 s) const {
+  const float reach = std::max(9.0f, kSocket * 1.8f * zoom_);
+  for (const auto& id : state.doc.node_ids()) {
+    const NodeType* t = state.doc.node_type(id);
+    if (!t || state.doc.collapsed(id)) continue;
+    for (const auto& o : t->spec.outputs)
+      if (distance(*output_socket(state, id, o.name), s) <= reach) return SocketHit{id, o.name, true};
+    for (const auto& i : t->spec.inputs)
+      if (distance(*input_socket(state, id, i.name), s) <= reach) return SocketHit{id, i.name, false};
+  }
+  return std::nullopt;
+}
+
+void Canvas::draw(EditorState& state) {
+  origin_ = ImGui::GetCursorScreenPos();
+  size_ = ImGui::GetContentRegionAvail();
+  size_.x = std::max(size_.x, 50.0f);
+  size_.y = std::max(size_.y, 50.0f);
+  if (!framed_once_) {
+    frame_all(state);
+    framed_once_ = true;
+  }
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  draw->AddRectFilled(origin_, origin_ + size_, IM_COL32(30, 30, 34, 255));
+  // A grid that pans and zooms with the canvas.
+  const float step = 40 * zoom_;
+  for (float x = std::fmod(pan_.x, step); x < size_.x; x += step)
+    draw->AddLine(origin_ + ImVec2(x, 0), origin_ + ImVec2(x, size_.y), IM_COL32(45, 45, 50, 255));
+  for (float y = std::fmod(pan_.y, step); y < size_.y; y += step)
+    draw->AddLine(origin_ + ImVec2(0, y), origin_ + ImVec2(size_.x, y), IM_COL32(45, 45, 50, 255));
+
+  ImGui::InvisibleButton("canvas", size_,
+                         ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight |
+                             ImGuiButtonFlags_MouseButtonMiddle);
+  draw->PushClipRect(origin_, origin_ + size_, true);
+  draw_links(state, draw);
+  for (const auto& id : state.doc.node_ids())
+    if (!state.selection.count(id)) draw_node(state, draw, id);
+  for (const auto& id : state.selection)
+    if (state.doc.has_node(id)) draw_node(state, draw, id);
+  handle_mouse(state);
+  draw->PopClipRect();
+  handle_keys(state);
+  add_node_menu(state);
+}
+
+void Canvas::draw_links(EditorState& state, ImDrawList* draw) {
+  auto curve = [&](ImVec2 a, ImVec2 b, ImU32 color, float thickness) {
+    const float dx = std::max(40.0f * zoom_, std::abs(b.x - a.x) * 0.5f);
+    draw->AddBezierCubic(a, a + ImVec2(dx, 0), b - ImVec2(dx, 0), b, color, thickness * zoom_);
+  };
+  for (const auto& id : state.doc.node_ids()) {
+    const NodeType* t = state.doc.node_type(id);
+    if (!t) continue;
+    for (const auto& in : t->spec.inputs) {
+      auto l = state.doc.link(id, in.name);
+      if (!l || !state.doc.has_node(l->node)) continue;
+      auto from = output_socket(state, l->node, l->output);
+      auto to = input_socket(state, id, in.name);
+      if (from && to) curve(*from, *to, type_color(in.type->name), 2.5f);
+    }
+  }
+  if (gesture_ == Gesture::link) {
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    auto anchor = link_from_.output ? output_socket(state, link_from_.node, link_from_.name)
+                                    : input_socket(state, link_from_.node, link_from_.name);
+    if (anchor) {
+      if (link_from_.output)
+        curve(*anchor, mouse, IM_COL32(255, 255, 255, 200), 2);
+      else
+        curve(mouse, *anchor, IM_COL32(255, 255, 255, 200), 2);
+    }
+  }
+}
+
+void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& id) {
+  const ImVec2 a = to_screen(state.doc.position(id));
+  const Box b = box(state, id);
+  const ImVec2 z = ImVec2(b.width, b.height) * zoom_;
+  const NodeType* t = state.doc.node_type(id);
+  const NodeReport* report = state.report(id);
+  auto live_it = state.live.find(id);
+  const LiveNode* live = live_it == state.live.end() ? nullptr : &live_it->second;
+  const bool selected = state.selection.count(id) > 0;
+  const float font = ImGui::GetFontSize() * zoom_;
+  ImFont* face = ImGui::GetFont();
+  const float rounding = 5 * zoom_;
+
+  draw->AddRectFilled(a, a + z, IM_COL32(52, 52, 58, 240), rounding);
+  draw->AddRectFilled(a, a + ImVec2(z.x, kHeader * zoom_), status_color(report, live != nullptr), rounding,
+                      state.doc.collapsed(id) ? ImDrawFlags_RoundCornersAll : ImDrawFlags_RoundCornersTop);
+  draw->AddRect(a, a + z, selected ? IM_COL32(255, 220, 120, 255) : IM_COL32(20, 20, 24, 255), rounding, 0,
+                selected ? 2.5f : 1.0f);
+  if (state.viewed == id) draw->AddCircleFilled(a + ImVec2(z.x - 10 * zoom_, 13 * zoom_), 4 * zoom_, IM_COL32_WHITE);
+  const std::string title = state.doc.collapsed(id) ? "> " + id : id;
+  draw->AddText(face, font, a + ImVec2(8, 5) * zoom_, IM_COL32_WHITE, title.c_str());
+  if (!t) {
+    draw->AddText(face, font, a + ImVec2(8, kHeader + 2) * zoom_, IM_COL32(255, 120, 120, 255),
+                  ("unknown type " + state.doc.type_name(id)).c_str());
+    return;
+  }
+  if (state.doc.collapsed(id)) {
+    for (const auto& o : t->spec.outputs)
+      draw->AddCircleFilled(*output_socket(state, id, o.name), kSocket * zoom_, type_color(o.type->name));
+    return;
+  }
+  auto node_issues = state.issues.find(id);
+  float y = kHeader;
+  for (const auto& o : t->spec.outputs) {
+    const ImVec2 socket = *output_socket(state, id, o.name);
+    draw->AddCircleFilled(socket, kSocket * zoom_, type_color(o.type->name));
+    const ImVec2 text = face->CalcTextSizeA(font, 1e9f, 0, o.name.c_str());
+    draw->AddText(face, font, a + ImVec2(kWidth * zoom_ - text.x - 12 * zoom_, (y + 3) * zoom_),
+                  IM_COL32(220, 220, 220, 255), o.name.c_str());
+    y += kRow;
+  }
+  for (const auto& in : t->spec.inputs) {
+    const ImVec2 socket = *input_socket(state, id, in.name);
+    const bool linked = state.doc.link(id, in.name).has_value();
+    const bool bad = node_issues != state.issues.end() && node_issues->second.count(in.name);
+    if (linked)
+      draw->AddCircleFilled(socket, kSocket * zoom_, type_color(in.type->name));
+    else
+      draw->AddCircle(socket, kSocket * zoom_, type_color(in.type->name), 0, 1.5f * zoom_);
+    if (bad) draw->AddRect(a + ImVec2(2, y) * zoom_, a + ImVec2(kWidth - 2, y + kRow) * zoom_, IM_COL32(255, 80, 80, 255));
+    const bool set = !linked && !state.doc.literal(id, in.name).is_null();
+    draw->AddText(face, font, a + ImVec2(12, y + 3) * zoom_,
+                  set ? IM_COL32(255, 255, 255, 255) : IM_COL32(170, 170, 170, 255), in.name.c_str());
+    y += kRow;
+  }
+  draw->AddText(face, font * 0.9f, a + ImVec2(8, y + 2) * zoom_, IM_COL32(190, 190, 190, 255),
+                status_text(report, live).c_str());
+  y += kFooter;
+  if (report && !report->error.empty()) {
+    draw->AddText(face, font * 0.9f, a + ImVec2(8, y + 2) * zoom_, IM_COL32(255, 130, 130, 255),
+                  report->error.c_str(), nullptr, (kWidth - 16) * zoom_);
+    y += 2 * kRow;
+  }
+  if (node_issues != state.issues.end()) {
+    const std::string& first = node_issues->second.begin()->second;
+    draw->AddText(face, font * 0.9f, a + ImVec2(8, y + 2) * zoom_, IM_COL32(255, 130, 130, 255), first.c_str(),
+                  nullptr, (kWidth - 16) * zoom_);
+  }
+}
+
+void Canvas::handle_mouse(EditorState& state) {
+  ImGuiIO& io = ImGui::GetIO();
+  const ImVec2 mouse = io.MousePos;
+  const bool hovered = ImGui::IsItemHovered();
+  GraphDocument& doc = state.doc;
+
+  if (hovered && io.MouseWheel != 0) {
+    const CanvasPoint before = to_canvas(mouse);
+    zoom_ = std::clamp(zoom_ * std::pow(1.15f, io.MouseWheel), 0.1f, 3.0f);
+    pan_ = mouse - origin_ - ImVec2(float(before.x), float(before.y)) * zoom_;
+  }
+
+  // Hovering a node or an input shows its description or its error.
+  if (hovered && gesture_ == Gesture::none) {
+    if (auto s = hit_socket(state, mouse)) {
+      const NodeType* t = doc.node_type(s->node);
+      if (s->output) {
+        const auto& o = t->spec.outputs[std::size_t(t->spec.output_index(s->name))];
+        ImGui::SetTooltip("%s (%s)\n%s", o.name.c_str(), o.type->name.c_str(), o.description.c_str());
+      } else {
+        const InputSpec* in = t->spec.find_input(s->name);
+        std::string issue;
+        auto ni = state.issues.find(s->node);
+        if (ni != state.issues.end() && ni->second.count(s->name)) issue = "\n" + ni->second.at(s->name);
+        ImGui::SetTooltip("%s (%s)\n%s%s", in->name.c_str(), in->type->name.c_str(), in->description.c_str(),
+                          issue.c_str());
+      }
+    } else if (std::string id = hit_node(state, mouse); !id.empty()) {
+      const NodeReport* r = state.report(id);
+      if (r && !r->error.empty()) ImGui::SetTooltip("%s", r->error.c_str());
+    }
+  }
+
+  if (hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+    press_ = mouse;
+    if (auto s = hit_socket(state, mouse)) {
+      gesture_ = Gesture::link;
+      link_from_ = *s;
+      if (!s->output)
+        if (auto l = doc.link(s->node, s->name)) {
+          // Picking up an existing link: it leaves its input and follows the mouse.
+          doc.disconnect(s->node, s->name);
+          link_from_ = {l->node, l->output, true};
+        }
+    } else if (std::string id = hit_node(state, mouse); !id.empty()) {
+      const ImVec2 a = to_screen(doc.position(id));
+      if (mouse.y < a.y + kHeader * zoom_ && mouse.x < a.x + 20 * zoom_) {
+        doc.set_collapsed(id, !doc.collapsed(id));
+      } else {
+        if (io.KeyCtrl || io.KeyShift) {
+          if (!state.selection.erase(id)) state.selection.insert(id);
+        } else if (!state.selection.count(id)) {
+          state.selection = {id};
+        }
+        state.viewed = id;
+        gesture_ = Gesture::move;
+        drag_last_ = to_canvas(mouse);
+      }
+    } else {
+      gesture_ = Gesture::box;
+      if (!io.KeyCtrl && !io.KeyShift) state.selection.clear();
+    }
+  }
+  if (hovered && (ImGui::IsMouseClicked(ImGuiMouseButton_Right) || ImGui::IsMouseClicked(ImGuiMouseButton_Middle))) {
+    press_ = mouse;
+    gesture_ = Gesture::pan;
+  }
+
+  switch (gesture_) {
+    case Gesture::move:
+      if (ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+        const CanvasPoint now = to_canvas(mouse);
+        const std::vector<std::string> ids(state.selection.begin(), state.selection.end());
+        doc.move_nodes(ids, now.x - drag_last_.x, now.y - drag_last_.y, "move");
+        drag_last_ = now;
+      } else {
+        doc.end_merge();
+        gesture_ = Gesture::none;
+      }
+      break;
+    case Gesture::link: {
+      auto target = hit_socket(state, mouse);
+      std::string reason;
+      bool fits = false;
+      if (target && target->output != link_from_.output) {
+        const SocketHit& out = link_from_.output ? link_from_ : *target;
+        const SocketHit& in = link_from_.output ? *target : link_from_;
+        reason = doc.link_refusal(out.node, out.name, in.node, in.name);
+        fits = reason.empty();
+        if (!fits) ImGui::SetTooltip("%s", reason.c_str());
+        auto where = in.output ? std::nullopt : input_socket(state, in.node, in.name);
+        if (where)
+          ImGui::GetWindowDrawList()->AddCircle(*where, kSocket * 2 * zoom_,
+                                                fits ? IM_COL32(120, 255, 120, 255) : IM_COL32(255, 80, 80, 255), 0, 2);
+      }
+      if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+        if (fits) {
+          const SocketHit& out = link_from_.output ? link_from_ : *target;
+          const SocketHit& in = link_from_.output ? *target : link_from_;
+          doc.connect(out.node, out.name, in.node, in.name);
+        } else if (!reason.empty()) {
+          refusal_ = reason;
+          refusal_until_ = ImGui::GetTime() + 2.5;
+        }
+        gesture_ = Gesture::none;
+      }
+      break;
+    }
+    case Gesture::box: {
+      const ImVec2 lo(std::min(press_.x, mouse.x), std::min(press_.y, mouse.y));
+      const ImVec2 hi(std::max(press_.x, mouse.x), std::max(press_.y, mouse.y));
+      ImGui::GetWindowDrawList()->AddRectFilled(lo, hi, IM_COL32(120, 160, 255, 40));
+      ImGui::GetWindowDrawList()->AddRect(lo, hi, IM_COL32(120, 160, 255, 200));
+      if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+        for (const auto& id : doc.node_ids()) {
+          const ImVec2 a = to_screen(doc.position(id));
+          const Box b = box(state, id);
+          if (a.x >= lo.x && a.y >= lo.y && a.x + b.width * zoom_ <= hi.x && a.y + b.height * zoom_ <= hi.y)
+            state.selection.insert(id);
+        }
+        gesture_ = Gesture::none;
+      }
+      break;
+    }
+    case Gesture::pan:
+      if (ImGui::IsMouseDown(ImGuiMouseButton_Right) || ImGui::IsMouseDown(ImGuiMouseButton_Middle)) {
+        pan_ = pan_ + io.MouseDelta;
+      } else {
+        // A right click that did not move opens the add-node menu.
+        if (distance(mouse, press_) < 4) {
+          menu_at_ = to_canvas(mouse);
+          menu_filter_.clear();
+          menu_focus_ = true;
+          ImGui::OpenPopup("add node");
+        }
+        gesture_ = Gesture::none;
+      }
+      break;
+    case Gesture::none:
+      break;
+  }
+  if (!refusal_.empty() && ImGui::GetTime() < refusal_until_) ImGui::SetTooltip("link refused: %s", refusal_.c_str());
+}
+
+void Canvas::handle_keys(EditorState& state) {
+  ImGuiIO& io = ImGui::GetIO();
+  if (!ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows) || io.WantTextInput) return;
+  GraphDocument& doc = state.doc;
+  const std::vector<std::string> selected(state.selection.begin(), state.selection.end());
+  if (ImGui::IsKeyPressed(GLFW_KEY_DELETE) || ImGui::IsKeyPressed(GLFW_KEY_BACKSPACE)) {
+    doc.remove_nodes(selected);
+    state.selection.clear();
+  }
+  if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_D) && !selected.empty()) {
+    auto added = doc.duplicate(selected);
+    state.selection = {added.begin(), added.end()};
+  }
+  if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_C) && !selected.empty())
+    ImGui::SetClipboardText(doc.copy(selected).dump(1).c_str());
+  if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_V)) {
+    const char* text = ImGui::GetClipboardText();
+    try {
+      const CanvasPoint at = to_canvas(io.MousePos);
+      json clip = json::parse(text ? text : "");
+      // Paste at the mouse: shift so the clip's first node lands there.
+      double dx = 40, dy = 40;
+      if (clip.contains("nodes") && clip["nodes"].is_object() && !clip["nodes"].empty()) {
+        const json& first = clip["nodes"].begin().value();
+        if (first.contains("ui") && first["ui"].contains("pos")) {
+          dx = at.x - first["ui"]["pos"][0].get<double>();
+          dy = at.y - first["ui"]["pos"][1].get<double>();
+        }
+      }
+      auto added = doc.paste(clip, dx, dy);
+      state.selection = {added.begin(), added.end()};
+    } catch (const std::exception& e) {
+      refusal_ = std::string("the clipboard holds no graph: ") + e.what();
+      refusal_until_ = ImGui::GetTime() + 3;
+    }
+  }
+  if (ImGui::IsKeyPressed(GLFW_KEY_F) && !io.KeyCtrl) frame_all(state);
+  if (ImGui::IsKeyPressed(GLFW_KEY_TAB) && ImGui::IsWindowHovered()) {
+    menu_at_ = to_canvas(io.MousePos);
+    menu_filter_.clear();
+    menu_focus_ = true;
+    ImGui::OpenPopup("add node");
+  }
+}
+
+void Canvas::add_node_menu(EditorState& state) {
+  if (!ImGui::BeginPopup("add node")) return;
+  if (menu_focus_) {
+    ImGui::SetKeyboardFocusHere();
+    menu_focus_ = false;
+  }
+  char buffer[128];
+  std::snprintf(buffer, sizeof buffer, "%s", menu_filter_.c_str());
+  const bool enter = ImGui::InputTextWithHint("##filter", "search node types", buffer, sizeof buffer,
+                                              ImGuiInputTextFlags_EnterReturnsTrue);
+  menu_filter_ = buffer;
+  std::string chosen;
+  int shown = 0;
+  std::string plugin;
+  for (const NodeType* t : state.doc.registry().all()) {
+    const NodeSpec& s = t->spec;
+    if (!menu_filter_.empty() && !contains_text(s.name, menu_filter_) && !contains_text(s.plugin, menu_filter_) &&
+        !contains_text(s.description, menu_filter_))
+      continue;
+    if (enter && shown == 0) chosen = s.name;
+    ++shown;
+    if (ImGui::Selectable((s.name + "  [" + s.plugin + "]").c_str())) chosen = s.name;
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", s.description.c_str());
+  }
+  if (shown == 0) ImGui::TextDisabled("no node type matches");
+  if (!chosen.empty()) {
+    const std::string id = state.doc.add_node(chosen, menu_at_);
+    state.selection = {id};
+    state.viewed = id;
+    ImGui::CloseCurrentPopup();
+  }
+  ImGui::EndPopup();
+}
+
+}  // namespace loom::editor
