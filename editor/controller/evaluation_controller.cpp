@@ -49,11 +49,11 @@ EvaluationController::~EvaluationController() {
   worker_.join();
 }
 
-void EvaluationController::submit(EvalRequest request) {
+void EvaluationController::submit(EvalRequest request, bool cancel_running) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     pending_ = std::move(request);
-    if (running_) cancel_ = true;
+    if (running_ && cancel_running) cancel_ = true;
   }
   wake_.notify_all();
 }

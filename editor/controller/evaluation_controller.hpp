@@ -58,8 +58,11 @@ class EvaluationController {
   EvaluationController(const EvaluationController&) = delete;
   EvaluationController& operator=(const EvaluationController&) = delete;
 
-  // Replaces any pending request and cancels the running one.
-  void submit(EvalRequest request);
+  // Replaces any pending request and cancels the running one. With
+  // `cancel_running` false (a drag in progress) the running evaluation
+  // finishes and is shown first: cancelling on every mouse move would leave a
+  // drag whose solve takes longer than a frame with no result at all.
+  void submit(EvalRequest request, bool cancel_running = true);
   // The newest evaluation that finished since the last call, if any.
   std::optional<std::shared_ptr<const Evaluation>> take_finished();
   std::shared_ptr<const Evaluation> latest() const;  // the newest finished one

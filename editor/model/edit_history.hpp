@@ -25,6 +25,8 @@ class EditHistory {
   bool record(const nlohmann::json& before, std::string label, const std::string& merge_key);
   // Ends merging: the next edit starts a new step even with the same key.
   void seal() { merge_open_ = false; }
+  // Whether the last edit may still merge with the next (a gesture under way).
+  bool merging() const { return merge_open_; }
 
   bool can_undo() const { return !undo_.empty(); }
   bool can_redo() const { return !redo_.empty(); }

@@ -227,6 +227,31 @@ void GraphDocument::set_input(const std::string& id, const std::string& input, j
   node_json(id)["inputs"][input] = std::move(value);
 }
 
+void GraphDocument::set_inputs(const std::string& id, const json& values, const std::string& merge_key) {
+  const json& n = node_json(id);
+  bool same = true;
+  for (const auto& [input, value] : values.items()) {
+    const bool present = n.contains("inputs") && n["inputs"].contains(input);
+    same = same && (value.is_null() ? !present : present && n["inputs"][input] == value);
+  }
+  if (same) return;
+  begin_edit("set " + std::to_string(values.size()) + " inputs of " + id, merge_key);
+  json& inputs = node_json(id)["inputs"];
+  for (const auto& [input, value] : values.items()) {
+    if (value.is_null())
+      inputs.erase(input);
+    else
+      inputs[input] = value;
+  }
+}
+
+json GraphDocument::evaluated_part() const {
+  json doc = doc_;
+  for (auto& [id, node] : doc["nodes"].items())
+    if (node.is_object()) node.erase("ui");
+  return doc;
+}
+
 void GraphDocument::reset_input(const std::string& id, const std::string& input) {
   json& n = node_json(id);
   if (!n.contains("inputs") || !n["inputs"].contains(input)) return;

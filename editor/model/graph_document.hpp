@@ -72,6 +72,11 @@ class GraphDocument {
                   const std::string& merge_key = {});
   void set_collapsed(const std::string& id, bool collapsed);
   void end_merge() { history_.seal(); }
+  bool merging() const { return history_.merging(); }
+  // Sets several inputs of one node in one undo step; a null value unsets
+  // that input (back to its default). For tools whose one gesture changes
+  // more than one input (a region drawn as a rectangle drops the polygon).
+  void set_inputs(const std::string& id, const json& values, const std::string& merge_key = {});
 
   // Copy/paste as graph JSON: {"loom": 1, "nodes": {...}} of the given nodes,
   // keeping the links among them and dropping links to nodes outside.
@@ -88,6 +93,9 @@ class GraphDocument {
   const std::string& redo_label() const { return history_.redo_label(); }
   bool undo();
   bool redo();
+
+  // The document without layout ("ui" fields): what evaluation depends on.
+  json evaluated_part() const;
 
   // A fresh id for a node of this type: "image_warp", "image_warp2", ...
   std::string unique_id(const std::string& type) const;

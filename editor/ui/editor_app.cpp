@@ -14,6 +14,16 @@ namespace loom::editor {
 
 namespace fs = std::filesystem;
 
+Value EditorState::upstream_value(const std::string& id, const std::string& input) const {
+  auto l = doc.link(id, input);
+  if (!eval || !l || !doc.has_node(l->node)) return {};
+  const NodeType* t = doc.node_type(l->node);
+  auto it = eval->result.outputs.find(l->node);
+  if (!t || it == eval->result.outputs.end()) return {};
+  const int o = t->spec.output_index(l->output);
+  return o >= 0 && o < int(it->second.size()) ? it->second[std::size_t(o)] : Value();
+}
+
 Value EditorState::viewed_output(int index) const {
   if (!eval || viewed.empty()) return {};
   auto it = eval->result.outputs.find(viewed);
@@ -96,15 +106,27 @@ std::vector<Target> EditorApp::preview_targets() const {
 
 void EditorApp::sync_evaluation() {
   if (doc_.revision() == submitted_revision_ && !write_outputs_) return;
+  submitted_revision_ = doc_.revision();
+  // Layout edits (moving, collapsing) change nothing evaluated: the running
+  // evaluation goes on, and its result stays current.
+  json evaluated = doc_.evaluated_part();
+  if (evaluated == submitted_document_ && !write_outputs_) return;
+  submitted_document_ = evaluated;
+  evaluated_revision_ = doc_.revision();
   EvalRequest r;
-  r.document = doc_.document();
+  r.document = std::move(evaluated);
   r.file = doc_.file().empty() ? fs::current_path() / "untitled.json" : doc_.file();
   r.output_dir = options_.output_dir;
   r.revision = doc_.revision();
   if (!write_outputs_) r.targets = preview_targets();
-  if (write_outputs_ || !r.targets.empty() || doc_.node_ids().empty()) controller_->submit(std::move(r));
+  if (write_outputs_ || !r.targets.empty() || doc_.node_ids().empty())
+    controller_->submit(std::move(r), /*cancel_running=*/!doc_.merging());
   write_outputs_ = false;
-  submitted_revision_ = doc_.revision();
+}
+
+bool EditorApp::evaluation_current() const {
+  const auto& e = state_.eval;
+  return !controller_->busy() && e && e->revision == evaluated_revision_ && submitted_revision_ == doc_.revision();
 }
 
 void EditorApp::take_results() {
@@ -281,12 +303,22 @@ void EditorApp::viewer() {
   }
   ImGui::SameLine();
   const Value value = state_.viewed_output(viewed_output_);
-  const bool stale = state_.eval && state_.eval->revision != doc_.revision();
+  const bool stale = !evaluation_current();
   ImGui::TextDisabled("%s%s", value ? value.summary().c_str() : "not evaluated", stale ? " (updating)" : "");
-  if (!value) return;
-  if (value.is<Image>()) {
-    image_view_ = image_viewer_.draw(value.as<Image>(), value.shared<Image>().get());
+  // The interactive tools draw on the viewed image and write node inputs.
+  const bool poisson = PoissonTool::applies(state_, id), drawing = DrawTool::applies(state_, id);
+  Value shown = value;
+  if (poisson && poisson_tool_.toolbar()) {
+    shown = state_.upstream_value(id, "source");
+    if (!shown) ImGui::TextDisabled("the source is not evaluated yet");
+  }
+  if (drawing) draw_tool_.toolbar();
+  if (!shown) return;
+  if (shown.is<Image>()) {
+    image_view_ = image_viewer_.draw(shown.as<Image>(), shown.shared<Image>().get());
     if (WarpTool::applies(state_, id)) warp_tool_.draw(state_, id, image_view_);
+    if (poisson) poisson_tool_.draw(state_, id, image_view_);
+    if (drawing) draw_tool_.draw(state_, id, image_view_);
   } else {
     draw_value(value);
   }

@@ -21,6 +21,8 @@
 #include "loom/plugin_loader.hpp"
 #include "model/graph_document.hpp"
 #include "property_panel.hpp"
+#include "draw_tool.hpp"
+#include "poisson_tool.hpp"
 #include "warp_tool.hpp"
 #include "window.hpp"
 
@@ -49,6 +51,8 @@ class EditorApp {
   EditorState& state() { return state_; }
   Canvas& canvas() { return canvas_; }
   PropertyPanel& properties() { return properties_; }
+  PoissonTool& poisson_tool() { return poisson_tool_; }
+  DrawTool& draw_tool() { return draw_tool_; }
   // Where the viewer drew the image last frame (scale 0: no image shown).
   const ImageView& image_view() const { return image_view_; }
   EvaluationController& controller() { return *controller_; }
@@ -57,6 +61,8 @@ class EditorApp {
   const std::string& message() const { return message_; }
   // Submits the current document now if it changed (draw() does this too).
   void sync_evaluation();
+  // Whether the shown evaluation is of the current document and none is running.
+  bool evaluation_current() const;
   // Evaluates the sinks (writes files) on the next submission.
   void write_outputs() { write_outputs_ = true; }
 
@@ -82,9 +88,12 @@ class EditorApp {
   PropertyPanel properties_;
   ImageViewer image_viewer_;
   WarpTool warp_tool_;
+  PoissonTool poisson_tool_;
+  DrawTool draw_tool_;
   FileDialog files_;
   std::uint64_t submitted_revision_ = ~0ull;
-  std::string submitted_view_;
+  json submitted_document_;
+  std::uint64_t evaluated_revision_ = ~0ull;  // the revision submitted_document_ came from
   bool write_outputs_ = false, quit_ = false;
   std::string pending_action_;
   std::filesystem::path pending_file_;

@@ -29,6 +29,8 @@ struct EditorState {
   }
   // The newest evaluated value of an output of the viewed node, or empty.
   Value viewed_output(int index) const;
+  // The newest value feeding a linked input, or empty.
+  Value upstream_value(const std::string& id, const std::string& input) const;
 };
 
 }  // namespace loom::editor

@@ -69,6 +69,23 @@ TEST_F(EvaluationControllerTest, ANewRequestCancelsTheRunningOne) {
   EXPECT_DOUBLE_EQ((*done)->result.outputs.at("twice").at(0).as<double>(), 6);
 }
 
+TEST_F(EvaluationControllerTest, DuringADragTheRunningEvaluationFinishes) {
+  EvaluationController controller(engine.registry, 2);
+  controller.submit(request(sleepy(300, 1), 1));
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  controller.submit(request(sleepy(300, 2), 2), /*cancel_running=*/false);
+  controller.submit(request(sleepy(300, 3), 3), /*cancel_running=*/false);  // replaces 2
+  std::vector<std::uint64_t> shown;
+  while (controller.busy() || shown.empty() || shown.back() != 3) {
+    if (auto done = controller.take_finished()) {
+      ASSERT_FALSE((*done)->result.cancelled);
+      shown.push_back((*done)->revision);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  EXPECT_EQ(shown, (std::vector<std::uint64_t>{1, 3}));
+}
+
 TEST_F(EvaluationControllerTest, OnlyWhatAnEditTouchedRecomputes) {
   EvaluationController controller(engine.registry, 2);
   json doc = sleepy(300, 1);

@@ -186,3 +186,33 @@ TEST_F(GraphDocumentTest, BadFilesAreRefusedWithTheirName) {
 
 }  // namespace
 }  // namespace loom::editor
+
+namespace loom::editor {
+namespace {
+
+TEST_F(GraphDocumentTest, SetInputsIsOneStepAndNullUnsets) {
+  GraphDocument doc(engine.registry);
+  doc.load_json(two_math());
+  doc.set_inputs("b", {{"op", nullptr}, {"b", 1}});
+  EXPECT_TRUE(doc.literal("b", "op").is_null());
+  EXPECT_EQ(doc.literal("b", "b"), json(1));
+  EXPECT_TRUE(doc.undo());
+  EXPECT_EQ(doc.literal("b", "op"), json("multiply"));
+  EXPECT_EQ(doc.literal("b", "b"), json(10));
+  EXPECT_FALSE(doc.undo());
+}
+
+TEST_F(GraphDocumentTest, LayoutIsNotPartOfWhatIsEvaluated) {
+  GraphDocument doc(engine.registry);
+  doc.load_json(two_math());
+  const json before = doc.evaluated_part();
+  doc.move_nodes({"a", "b"}, 10, 10);
+  doc.set_collapsed("b", true);
+  EXPECT_EQ(doc.evaluated_part(), before);
+  doc.set_input("a", "a", 1);
+  EXPECT_NE(doc.evaluated_part(), before);
+  EXPECT_EQ(doc.evaluated_part()["description"], "kept");
+}
+
+}  // namespace
+}  // namespace loom::editor

@@ -47,8 +47,7 @@ struct Harness {
     const auto start = std::chrono::steady_clock::now();
     for (;;) {
       frame();
-      const auto& e = app.state().eval;
-      if (!app.controller().busy() && e && e->revision == app.document().revision()) {
+      if (app.evaluation_current()) {
         frame(2);  // let the views draw the new results
         return true;
       }
