@@ -162,10 +162,12 @@ void Canvas::draw(EditorState& state) {
     frame_all(state);
     framed_once_ = true;
   }
+  // The window's own background is the canvas colour (EditorApp sets it): a
+  // second full-size rectangle would cost llvmpipe a layer of fill per frame.
   ImDrawList* draw = ImGui::GetWindowDrawList();
-  draw->AddRectFilled(origin_, origin_ + size_, IM_COL32(30, 30, 34, 255));
   // A grid that pans and zooms with the canvas.
-  const float step = 40 * zoom_;
+  float step = 40 * zoom_;
+  while (step < 20) step *= 5;  // zoomed out: a coarser grid, not a grey wash of lines
   for (float x = std::fmod(pan_.x, step); x < size_.x; x += step)
     draw->AddLine(origin_ + ImVec2(x, 0), origin_ + ImVec2(x, size_.y), IM_COL32(45, 45, 50, 255));
   for (float y = std::fmod(pan_.y, step); y < size_.y; y += step)
@@ -227,6 +229,10 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
   const float font = ImGui::GetFontSize() * zoom_;
   ImFont* face = ImGui::GetFont();
   const float rounding = 5 * zoom_;
+  // Zoomed far out, labels are unreadable: leave them out (and their
+  // triangles, which llvmpipe pays for per frame) and draw plain sockets.
+  const bool detail = zoom_ >= 0.5f;
+  const int segments = detail ? 0 : 6;
 
   draw->AddRectFilled(a, a + z, IM_COL32(52, 52, 58, 240), rounding);
   draw->AddRectFilled(a, a + ImVec2(z.x, kHeader * zoom_), status_color(report, live != nullptr), rounding,
@@ -243,35 +249,40 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
   }
   if (state.doc.collapsed(id)) {
     for (const auto& o : t->spec.outputs)
-      draw->AddCircleFilled(*output_socket(state, id, o.name), kSocket * zoom_, type_color(o.type->name));
+      draw->AddCircleFilled(*output_socket(state, id, o.name), kSocket * zoom_, type_color(o.type->name), segments);
     return;
   }
   auto node_issues = state.issues.find(id);
   float y = kHeader;
   for (const auto& o : t->spec.outputs) {
     const ImVec2 socket = *output_socket(state, id, o.name);
-    draw->AddCircleFilled(socket, kSocket * zoom_, type_color(o.type->name));
-    const ImVec2 text = face->CalcTextSizeA(font, 1e9f, 0, o.name.c_str());
-    draw->AddText(face, font, a + ImVec2(kWidth * zoom_ - text.x - 12 * zoom_, (y + 3) * zoom_),
-                  IM_COL32(220, 220, 220, 255), o.name.c_str());
+    draw->AddCircleFilled(socket, kSocket * zoom_, type_color(o.type->name), segments);
+    if (detail) {
+      const ImVec2 text = face->CalcTextSizeA(font, 1e9f, 0, o.name.c_str());
+      draw->AddText(face, font, a + ImVec2(kWidth * zoom_ - text.x - 12 * zoom_, (y + 3) * zoom_),
+                    IM_COL32(220, 220, 220, 255), o.name.c_str());
+    }
     y += kRow;
   }
   for (const auto& in : t->spec.inputs) {
     const ImVec2 socket = *input_socket(state, id, in.name);
     const bool linked = state.doc.link(id, in.name).has_value();
     const bool bad = node_issues != state.issues.end() && node_issues->second.count(in.name);
-    if (linked)
-      draw->AddCircleFilled(socket, kSocket * zoom_, type_color(in.type->name));
+    if (linked || !detail)
+      draw->AddCircleFilled(socket, kSocket * zoom_, type_color(in.type->name), segments);
     else
       draw->AddCircle(socket, kSocket * zoom_, type_color(in.type->name), 0, 1.5f * zoom_);
     if (bad) draw->AddRect(a + ImVec2(2, y) * zoom_, a + ImVec2(kWidth - 2, y + kRow) * zoom_, IM_COL32(255, 80, 80, 255));
-    const bool set = !linked && !state.doc.literal(id, in.name).is_null();
-    draw->AddText(face, font, a + ImVec2(12, y + 3) * zoom_,
-                  set ? IM_COL32(255, 255, 255, 255) : IM_COL32(170, 170, 170, 255), in.name.c_str());
+    if (detail) {
+      const bool set = !linked && !state.doc.literal(id, in.name).is_null();
+      draw->AddText(face, font, a + ImVec2(12, y + 3) * zoom_,
+                    set ? IM_COL32(255, 255, 255, 255) : IM_COL32(170, 170, 170, 255), in.name.c_str());
+    }
     y += kRow;
   }
-  draw->AddText(face, font * 0.9f, a + ImVec2(8, y + 2) * zoom_, IM_COL32(190, 190, 190, 255),
-                status_text(report, live).c_str());
+  if (detail)
+    draw->AddText(face, font * 0.9f, a + ImVec2(8, y + 2) * zoom_, IM_COL32(190, 190, 190, 255),
+                  status_text(report, live).c_str());
   y += kFooter;
   if (report && !report->error.empty()) {
     draw->AddText(face, font * 0.9f, a + ImVec2(8, y + 2) * zoom_, IM_COL32(255, 130, 130, 255),

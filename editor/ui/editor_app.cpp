@@ -336,6 +336,7 @@ void EditorApp::draw(Window& window) {
 
   ImGui::SetNextWindowPos(at);
   ImGui::SetNextWindowSize(ImVec2(left, size.y));
+  ImGui::PushStyleColor(ImGuiCol_WindowBg, IM_COL32(30, 30, 34, 255));
   ImGui::Begin(doc_.file().empty() ? "untitled###canvas" : (doc_.file().filename().string() + "###canvas").c_str(),
                nullptr, fixed | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
   if (!message_.empty()) {
@@ -345,6 +346,7 @@ void EditorApp::draw(Window& window) {
   }
   canvas_.draw(state_);
   ImGui::End();
+  ImGui::PopStyleColor();
 
   const float props = std::floor(size.y * 0.38f);
   ImGui::SetNextWindowPos(ImVec2(at.x + left, at.y));
