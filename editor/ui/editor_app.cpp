@@ -8,6 +8,7 @@
 #include <imgui.h>
 
 #include "loom/atomic_file.hpp"
+#include "loom/mesh.hpp"
 #include "value_views.hpp"
 
 namespace loom::editor {
@@ -319,6 +320,8 @@ void EditorApp::viewer() {
     if (WarpTool::applies(state_, id)) warp_tool_.draw(state_, id, image_view_);
     if (poisson) poisson_tool_.draw(state_, id, image_view_);
     if (drawing) draw_tool_.draw(state_, id, image_view_);
+  } else if (shown.is<Mesh>()) {
+    mesh_viewer_.draw(shown.as<Mesh>(), shown.shared<Mesh>().get());
   } else {
     draw_value(value);
   }

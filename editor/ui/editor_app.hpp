@@ -18,6 +18,7 @@
 #include "editor_state.hpp"
 #include "file_dialog.hpp"
 #include "image_viewer.hpp"
+#include "mesh_viewer.hpp"
 #include "loom/plugin_loader.hpp"
 #include "model/graph_document.hpp"
 #include "property_panel.hpp"
@@ -55,6 +56,7 @@ class EditorApp {
   DrawTool& draw_tool() { return draw_tool_; }
   // Where the viewer drew the image last frame (scale 0: no image shown).
   const ImageView& image_view() const { return image_view_; }
+  const MeshViewer& mesh_viewer() const { return mesh_viewer_; }
   EvaluationController& controller() { return *controller_; }
   const Registry& registry() const { return registry_; }
   const std::vector<std::filesystem::path>& recent_files() const { return recent_; }
@@ -87,6 +89,7 @@ class EditorApp {
   Canvas canvas_;
   PropertyPanel properties_;
   ImageViewer image_viewer_;
+  MeshViewer mesh_viewer_;
   WarpTool warp_tool_;
   PoissonTool poisson_tool_;
   DrawTool draw_tool_;

@@ -121,3 +121,34 @@ TEST(EditorTools, DrawShapesAppendsFigures) {
 
 }  // namespace
 }  // namespace loom::editor::test
+
+namespace loom::editor::test {
+namespace {
+
+TEST(EditorViewers, MeshIsDrawnInTheEditorsContext) {
+  Harness h;
+  const json graph = json::parse(R"({"loom": 1, "nodes": {
+    "sphere": {"type": "UVSphere", "inputs": {"rings": 24, "segments": 48}, "ui": {"pos": [0, 0]}}}})");
+  h.app.open(write_graph(graph, "sphere.json"));
+  h.frame(2);
+  h.click(h.app.canvas().node_header(h.app.state(), "sphere"));
+  ASSERT_TRUE(h.settle());
+  h.jump({600, 790});
+  const Rgba8Image shot = h.screenshot("mesh-viewer");
+  const ImVec2 lo = h.app.mesh_viewer().shown_min(), hi = h.app.mesh_viewer().shown_max();
+  ASSERT_GT(hi.x - lo.x, 100);
+  ASSERT_GT(hi.y - lo.y, 100);
+  auto pixel = [&](float x, float y) { return shot.at(int(x), int(y)); };
+  auto background = [&](const std::uint8_t* p) {
+    return std::abs(p[0] - 41) <= 3 && std::abs(p[1] - 41) <= 3 && std::abs(p[2] - 46) <= 3;
+  };
+  // The sphere covers the middle of the view and leaves the corners empty.
+  EXPECT_FALSE(background(pixel((lo.x + hi.x) / 2, (lo.y + hi.y) / 2)));
+  EXPECT_TRUE(background(pixel(lo.x + 3, lo.y + 3)));
+  EXPECT_TRUE(background(pixel(hi.x - 3, hi.y - 3)));
+  // Facing the headlight, the middle is the brightest shade (near the base colour).
+  EXPECT_GT(pixel((lo.x + hi.x) / 2, (lo.y + hi.y) / 2)[0], 150);
+}
+
+}  // namespace
+}  // namespace loom::editor::test
