@@ -11,11 +11,14 @@ namespace {
 constexpr float kReach = 8;  // screen pixels
 
 double tenth(double v) { return std::round(v * 10) / 10; }
+// Whole pixels are written as integers, so graph files stay as people write them.
+json number(double v) { return v == std::floor(v) ? json(static_cast<long long>(v)) : json(v); }
 
 json to_literal(const PointPairs& pairs) {
   json out = json::array();
   for (std::size_t i = 0; i < pairs.size(); ++i)
-    out.push_back({tenth(pairs.p[i].x()), tenth(pairs.p[i].y()), tenth(pairs.q[i].x()), tenth(pairs.q[i].y())});
+    out.push_back({number(tenth(pairs.p[i].x())), number(tenth(pairs.p[i].y())), number(tenth(pairs.q[i].x())),
+                   number(tenth(pairs.q[i].y()))});
   return out;
 }
 
