@@ -214,8 +214,9 @@ int main(int argc, char** argv) {
     r.frame();
     drag.updates_per_s = double(shown.size()) / seconds;
     if (!solve_ms.empty())
-      std::printf("Poisson drag: %zu updates shown, blend node median %.1f ms (wall, in the editor's worker)\n",
-                  shown.size(), percentile(solve_ms, 0.5));
+      std::printf("Poisson drag: %zu new blends shown in %d frames, blend node median %.1f ms (wall, in the "
+                  "editor's worker)\n",
+                  shown.size(), frames, percentile(solve_ms, 0.5));
     phases.push_back(drag);
   }
   const double load_end = load_average();
@@ -238,7 +239,7 @@ int main(int argc, char** argv) {
   spec.title = "loom-editor: UI thread CPU time per frame (llvmpipe on that thread, Xvfb)";
   loom::bench::plot(per_frame, spec);
   spec.y = "ms";
-  spec.title = "loom-editor: wall time per frame (depends on the machine's load)";
+  spec.title = "loom-editor: wall time per frame (depends on the machine load)";
   spec.log_y = true;
   spec.file_suffix = "_wall";
   loom::bench::plot(per_frame, spec);

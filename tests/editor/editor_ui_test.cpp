@@ -201,3 +201,26 @@ TEST(EditorUi, WarpToolDragMovesTheWarp) {
 
 }  // namespace
 }  // namespace loom::editor::test
+
+namespace loom::editor::test {
+namespace {
+
+TEST(EditorUi, ValidationErrorsPointAtTheirInput) {
+  Harness h;
+  json graph = board_and_warp(64, json::array());
+  graph["nodes"]["warp"]["inputs"]["method"] = "bilinear";
+  h.app.open(write_graph(graph, "invalid.json"));
+  ASSERT_TRUE(h.settle());
+  const auto& issues = h.app.state().issues;
+  ASSERT_TRUE(issues.count("warp"));
+  ASSERT_TRUE(issues.at("warp").count("method"));
+  EXPECT_NE(issues.at("warp").at("method").find("bilinear"), std::string::npos) << issues.at("warp").at("method");
+  // Fixing it in the document clears the issue on the next evaluation.
+  h.app.document().set_input("warp", "method", "rbf");
+  ASSERT_TRUE(h.settle());
+  EXPECT_TRUE(h.app.state().issues.empty());
+  EXPECT_EQ(h.app.state().eval->result.nodes.at("warp").status, NodeStatus::ran);
+}
+
+}  // namespace
+}  // namespace loom::editor::test
