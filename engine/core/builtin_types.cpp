@@ -1,5 +1,6 @@
 #include "loom/builtin_types.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -150,9 +151,14 @@ std::vector<T> list(const json& j, const char* what, Read read) {
   }
   return out;
 }
+// "FloatList of 12: [0.5, 1, 2, ...]": the length and the first values.
 template <class T>
 std::string list_summary(const std::vector<T>& v, const char* name) {
-  return std::string(name) + " of " + std::to_string(v.size());
+  constexpr std::size_t kShown = 6;
+  std::string text = std::string(name) + " of " + std::to_string(v.size()) + ": [";
+  for (std::size_t i = 0; i < std::min(v.size(), kShown); ++i)
+    text += (i == 0 ? "" : ", ") + TypeTraits<T>::summary(v[i]);
+  return text + (v.size() > kShown ? ", ...]" : "]");
 }
 }  // namespace
 

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "literal.hpp"
+#include "loom/suggest.hpp"
 
 namespace loom {
 
@@ -187,7 +188,8 @@ Graph load_graph_file(const std::filesystem::path& file) {
   return parse_graph(doc, std::filesystem::absolute(file));
 }
 
-void validate_graph(const Graph& g, const Registry& registry, const std::string& searched) {
+void validate_graph(const Graph& g, const Registry& registry, const std::string& searched,
+                    const std::vector<std::string>& known_types) {
   std::vector<GraphIssue> issues;
   auto fail = [&](std::string pointer, std::string message) {
     issues.push_back({std::move(pointer), std::move(message)});
@@ -197,8 +199,9 @@ void validate_graph(const Graph& g, const Registry& registry, const std::string&
   for (const auto& [id, n] : g.nodes) {
     const NodeType* t = registry.find(n.type);
     if (!t) {
-      fail(node_pointer(id) + "/type",
-           "unknown node type \"" + n.type + "\"" + (searched.empty() ? "" : " (" + searched + ")"));
+      std::vector<std::string> known = known_types;
+      for (const NodeType* r : registry.all()) known.push_back(r->spec.name);
+      fail(node_pointer(id) + "/type", unknown_node_type_message(n.type, known, searched));
       continue;
     }
     for (const auto& [input, b] : n.inputs) {

@@ -17,7 +17,7 @@ Engine::Engine()
 Graph Engine::graph(const json& document, const fs::path& file) {
   Graph g = parse_graph(document, fs::absolute(file));
   loader.load_for(node_types_used(g));
-  validate_graph(g, registry, loader.searched_description());
+  validate_graph(g, registry, loader.searched_description(), loader.known_node_types());
   return g;
 }
 

@@ -70,9 +70,12 @@ LOOM_API Graph load_graph_file(const std::filesystem::path& file);
 // Against the registry: unknown types, unknown inputs, links to unknown nodes
 // or outputs, type mismatches, missing required inputs, bad enum values,
 // out-of-range values, cycles. Throws GraphError listing every issue found.
-// `searched` names where node types were looked for, for unknown-type errors.
+// `searched` names where node types were looked for, for unknown-type errors;
+// `known_types` (PluginLoader::known_node_types) adds the types of plugins not
+// loaded to the registry's for "did you mean".
 LOOM_API void validate_graph(const Graph& graph, const Registry& registry,
-                             const std::string& searched = {});
+                             const std::string& searched = {},
+                             const std::vector<std::string>& known_types = {});
 
 // Applies `--set ID.INPUT=JSON`; a value that is not valid JSON is taken as a
 // string. Throws GraphError for an unknown node.
