@@ -215,6 +215,10 @@ Graph parse_graph(const json& doc, const std::filesystem::path& file) {
   return g;
 }
 
+bool link_compatible(const TypeInfo& from, const TypeInfo& to) {
+  return from.storage == to.storage || from.name == "Any" || to.name == "Any";
+}
+
 Graph load_graph_file(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw GraphError(file.string(), {{"", "cannot open the file"}});
@@ -274,7 +278,7 @@ void validate_graph(const Graph& g, const Registry& registry, const std::string&
           continue;
         }
         const TypeInfo* have = ut->spec.outputs[static_cast<std::size_t>(o)].type;
-        if (have->storage != spec->type->storage && have->name != "Any" && spec->type->name != "Any")
+        if (!link_compatible(*have, *spec->type))
           fail(ip + "/from", "type mismatch: " + b.link->node + "." + b.link->output + " is " +
                                  have->name + " but input \"" + input + "\" expects " + spec->type->name);
       } else {

@@ -93,6 +93,11 @@ LOOM_API void set_input(Graph& graph, const std::string& assignment);
 
 LOOM_API json graph_to_json(const Graph& graph);
 
+// Whether an output of type `from` may feed an input of type `to`: the same
+// stored C++ type (Enum takes String), or either side Any (checked when the
+// value arrives). The one rule for validation and the editor's link drag.
+LOOM_API bool link_compatible(const TypeInfo& from, const TypeInfo& to);
+
 // The node types a graph uses, for loading only the plugins it needs.
 LOOM_API std::vector<std::string> node_types_used(const Graph& graph);
 

@@ -1,0 +1,351 @@
+#include "graph_document.hpp"
+
+#include "auto_layout.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "loom/atomic_file.hpp"
+
+namespace loom::editor {
+
+namespace {
+
+json empty_graph() { return json{{"loom", kGraphFormatVersion}, {"nodes", json::object()}}; }
+
+std::string link_text(const std::string& node, const std::string& output) { return node + "." + output; }
+
+std::optional<Link> parse_link(const json& value) {
+  if (!value.is_object() || !value.contains("from") || !value["from"].is_string()) return std::nullopt;
+  const std::string text = value["from"].get<std::string>();
+  const auto dot = text.find('.');
+  if (dot == std::string::npos) return std::nullopt;
+  return Link{text.substr(0, dot), text.substr(dot + 1)};
+}
+
+// "ImageWarp" -> "image_warp".
+std::string snake_case(const std::string& type) {
+  std::string id;
+  for (std::size_t i = 0; i < type.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(type[i]);
+    if (std::isupper(c) && i > 0 && !std::isupper(static_cast<unsigned char>(type[i - 1]))) id += '_';
+    id += std::isalnum(c) ? static_cast<char>(std::tolower(c)) : '_';
+  }
+  return id.empty() ? "node" : id;
+}
+
+}  // namespace
+
+GraphDocument::GraphDocument(const Registry& registry) : registry_(registry), doc_(empty_graph()) {}
+
+void GraphDocument::clear() {
+  doc_ = empty_graph();
+  file_.clear();
+  history_.clear();
+  saved_state_ = history_.state();
+  ++revision_;
+}
+
+void GraphDocument::load(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw GraphError(file.string(), {{"", "cannot open the file"}});
+  std::stringstream text;
+  text << in.rdbuf();
+  json doc;
+  try {
+    doc = json::parse(text.str());
+  } catch (const json::parse_error& e) {
+    throw GraphError(file.string(), {{"", std::string("not valid JSON: ") + e.what()}});
+  }
+  load_json(doc, std::filesystem::absolute(file));
+}
+
+void GraphDocument::load_json(const json& document, const std::filesystem::path& file) {
+  parse_graph(document, file);  // structure only: a graph with unknown types still opens
+  doc_ = document;
+  file_ = file;
+  place_unplaced_nodes();
+  history_.clear();
+  saved_state_ = history_.state();
+  ++revision_;
+}
+
+void GraphDocument::save(const std::filesystem::path& file) {
+  write_file_atomic(file, doc_.dump(1) + "\n");
+  file_ = std::filesystem::absolute(file);
+  saved_state_ = history_.state();
+}
+
+std::vector<std::string> GraphDocument::node_ids() const {
+  std::vector<std::string> ids;
+  for (const auto& [id, node] : doc_["nodes"].items()) ids.push_back(id);
+  std::sort(ids.begin(), ids.end());
+  return ids;
+}
+
+bool GraphDocument::has_node(const std::string& id) const { return doc_["nodes"].contains(id); }
+
+json& GraphDocument::node_json(const std::string& id) {
+  if (!has_node(id)) throw Error("no node \"" + id + "\" in the graph");
+  return doc_["nodes"][id];
+}
+
+const json& GraphDocument::node_json(const std::string& id) const {
+  if (!has_node(id)) throw Error("no node \"" + id + "\" in the graph");
+  return doc_["nodes"][id];
+}
+
+std::string GraphDocument::type_name(const std::string& id) const {
+  const json& n = node_json(id);
+  return n.contains("type") && n["type"].is_string() ? n["type"].get<std::string>() : std::string();
+}
+
+const NodeType* GraphDocument::node_type(const std::string& id) const { return registry_.find(type_name(id)); }
+
+CanvasPoint GraphDocument::position(const std::string& id) const {
+  const json& n = node_json(id);
+  if (n.contains("ui") && n["ui"].is_object() && n["ui"].contains("pos")) {
+    const json& p = n["ui"]["pos"];
+    if (p.is_array() && p.size() == 2 && p[0].is_number() && p[1].is_number())
+      return {p[0].get<double>(), p[1].get<double>()};
+  }
+  return {};
+}
+
+bool GraphDocument::collapsed(const std::string& id) const {
+  const json& n = node_json(id);
+  return n.contains("ui") && n["ui"].is_object() && n["ui"].value("collapsed", false);
+}
+
+std::optional<Link> GraphDocument::link(const std::string& id, const std::string& input) const {
+  const json& n = node_json(id);
+  if (!n.contains("inputs") || !n["inputs"].contains(input)) return std::nullopt;
+  return parse_link(n["inputs"][input]);
+}
+
+json GraphDocument::literal(const std::string& id, const std::string& input) const {
+  const json& n = node_json(id);
+  if (!n.contains("inputs") || !n["inputs"].contains(input)) return nullptr;
+  const json& v = n["inputs"][input];
+  return parse_link(v) ? json() : v;
+}
+
+void GraphDocument::begin_edit(std::string label, const std::string& merge_key) {
+  history_.record(doc_, std::move(label), merge_key);
+  ++revision_;
+}
+
+std::string GraphDocument::unique_id(const std::string& type) const {
+  const std::string base = snake_case(type);
+  if (!has_node(base)) return base;
+  for (int i = 2;; ++i)
+    if (!has_node(base + std::to_string(i))) return base + std::to_string(i);
+}
+
+std::string GraphDocument::add_node(const std::string& type, CanvasPoint at) {
+  if (!registry_.find(type)) throw Error("unknown node type \"" + type + "\"");
+  const std::string id = unique_id(type);
+  begin_edit("add " + id);
+  doc_["nodes"][id] = {{"type", type}, {"ui", {{"pos", {at.x, at.y}}}}};
+  return id;
+}
+
+void GraphDocument::remove_nodes(const std::vector<std::string>& ids) {
+  std::set<std::string> gone;
+  for (const auto& id : ids)
+    if (has_node(id)) gone.insert(id);
+  if (gone.empty()) return;
+  begin_edit(gone.size() == 1 ? "delete " + *gone.begin() : "delete " + std::to_string(gone.size()) + " nodes");
+  for (const auto& id : gone) doc_["nodes"].erase(id);
+  // Inputs fed by a removed node fall back to their defaults.
+  for (auto& [id, node] : doc_["nodes"].items()) {
+    if (!node.contains("inputs")) continue;
+    std::vector<std::string> cut;
+    for (auto& [input, value] : node["inputs"].items())
+      if (auto l = parse_link(value); l && gone.count(l->node)) cut.push_back(input);
+    for (const auto& input : cut) node["inputs"].erase(input);
+  }
+}
+
+bool GraphDocument::depends_on(const std::string& node, const std::string& ancestor) const {
+  std::vector<std::string> stack{node};
+  std::set<std::string> seen;
+  while (!stack.empty()) {
+    std::string id = stack.back();
+    stack.pop_back();
+    if (id == ancestor) return true;
+    if (!seen.insert(id).second || !has_node(id)) continue;
+    const json& n = doc_["nodes"][id];
+    if (!n.contains("inputs")) continue;
+    for (const auto& [input, value] : n["inputs"].items())
+      if (auto l = parse_link(value)) stack.push_back(l->node);
+  }
+  return false;
+}
+
+std::string GraphDocument::link_refusal(const std::string& from_node, const std::string& output,
+                                        const std::string& to_node, const std::string& input) const {
+  if (!has_node(from_node) || !has_node(to_node)) return "unknown node";
+  const NodeType* from = node_type(from_node);
+  const NodeType* to = node_type(to_node);
+  if (!from || !to) return "unknown node type";
+  const int o = from->spec.output_index(output);
+  const InputSpec* in = to->spec.find_input(input);
+  if (o < 0) return from_node + " has no output \"" + output + "\"";
+  if (!in) return to_node + " has no input \"" + input + "\"";
+  const TypeInfo& have = *from->spec.outputs[static_cast<std::size_t>(o)].type;
+  if (!link_compatible(have, *in->type))
+    return "type mismatch: " + link_text(from_node, output) + " is " + have.name + " but " + to_node +
+           "." + input + " expects " + in->type->name;
+  if (from_node == to_node || depends_on(from_node, to_node))
+    return "would make a cycle: " + from_node + " already depends on " + to_node;
+  return {};
+}
+
+std::string GraphDocument::connect(const std::string& from_node, const std::string& output,
+                                   const std::string& to_node, const std::string& input) {
+  std::string refusal = link_refusal(from_node, output, to_node, input);
+  if (!refusal.empty()) return refusal;
+  begin_edit("link " + link_text(from_node, output) + " -> " + link_text(to_node, input));
+  node_json(to_node)["inputs"][input] = {{"from", link_text(from_node, output)}};
+  return {};
+}
+
+void GraphDocument::disconnect(const std::string& to_node, const std::string& input) {
+  if (!link(to_node, input)) return;
+  begin_edit("unlink " + link_text(to_node, input));
+  node_json(to_node)["inputs"].erase(input);
+}
+
+void GraphDocument::set_input(const std::string& id, const std::string& input, json value,
+                              const std::string& merge_key) {
+  json& n = node_json(id);
+  if (n.contains("inputs") && n["inputs"].contains(input) && n["inputs"][input] == value) return;
+  begin_edit("set " + link_text(id, input), merge_key);
+  node_json(id)["inputs"][input] = std::move(value);
+}
+
+void GraphDocument::set_inputs(const std::string& id, const json& values, const std::string& merge_key) {
+  const json& n = node_json(id);
+  bool same = true;
+  for (const auto& [input, value] : values.items()) {
+    const bool present = n.contains("inputs") && n["inputs"].contains(input);
+    same = same && (value.is_null() ? !present : present && n["inputs"][input] == value);
+  }
+  if (same) return;
+  begin_edit("set " + std::to_string(values.size()) + " inputs of " + id, merge_key);
+  json& inputs = node_json(id)["inputs"];
+  for (const auto& [input, value] : values.items()) {
+    if (value.is_null())
+      inputs.erase(input);
+    else
+      inputs[input] = value;
+  }
+}
+
+json GraphDocument::evaluated_part() const {
+  json doc = doc_;
+  for (auto& [id, node] : doc["nodes"].items())
+    if (node.is_object()) node.erase("ui");
+  return doc;
+}
+
+void GraphDocument::reset_input(const std::string& id, const std::string& input) {
+  json& n = node_json(id);
+  if (!n.contains("inputs") || !n["inputs"].contains(input)) return;
+  begin_edit("reset " + link_text(id, input));
+  node_json(id)["inputs"].erase(input);
+  if (node_json(id)["inputs"].empty()) node_json(id).erase("inputs");
+}
+
+void GraphDocument::move_nodes(const std::vector<std::string>& ids, double dx, double dy,
+                               const std::string& merge_key) {
+  if (ids.empty() || (dx == 0 && dy == 0)) return;
+  begin_edit(ids.size() == 1 ? "move " + ids[0] : "move " + std::to_string(ids.size()) + " nodes", merge_key);
+  for (const auto& id : ids) {
+    if (!has_node(id)) continue;
+    const CanvasPoint p = position(id);
+    node_json(id)["ui"]["pos"] = {p.x + dx, p.y + dy};
+  }
+}
+
+void GraphDocument::set_collapsed(const std::string& id, bool collapsed) {
+  if (this->collapsed(id) == collapsed) return;
+  begin_edit((collapsed ? "collapse " : "expand ") + id);
+  json& ui = node_json(id)["ui"];
+  if (collapsed)
+    ui["collapsed"] = true;
+  else
+    ui.erase("collapsed");
+}
+
+json GraphDocument::copy(const std::vector<std::string>& ids) const {
+  const std::set<std::string> chosen(ids.begin(), ids.end());
+  json clip = empty_graph();
+  for (const auto& id : chosen) {
+    if (!has_node(id)) continue;
+    json n = doc_["nodes"][id];
+    if (n.contains("inputs")) {
+      std::vector<std::string> cut;
+      for (auto& [input, value] : n["inputs"].items())
+        if (auto l = parse_link(value); l && !chosen.count(l->node)) cut.push_back(input);
+      for (const auto& input : cut) n["inputs"].erase(input);
+    }
+    clip["nodes"][id] = std::move(n);
+  }
+  return clip;
+}
+
+std::vector<std::string> GraphDocument::paste(const json& clip, double dx, double dy) {
+  parse_graph(clip, "<clipboard>");
+  if (clip["nodes"].empty()) return {};
+  begin_edit("paste " + std::to_string(clip["nodes"].size()) + " nodes");
+  std::map<std::string, std::string> renamed;
+  for (const auto& [id, n] : clip["nodes"].items()) {
+    std::string fresh = has_node(id) ? unique_id(n.value("type", id)) : id;
+    renamed[id] = fresh;
+    doc_["nodes"][fresh] = json::object();  // reserve the id for the next unique_id
+  }
+  std::vector<std::string> added;
+  for (const auto& [id, source] : clip["nodes"].items()) {
+    json n = source;
+    if (n.contains("inputs"))
+      for (auto& [input, value] : n["inputs"].items())
+        if (auto l = parse_link(value)) {
+          auto it = renamed.find(l->node);
+          if (it != renamed.end()) value = {{"from", link_text(it->second, l->output)}};
+        }
+    CanvasPoint p{};
+    if (n.contains("ui") && n["ui"].is_object() && n["ui"].contains("pos") && n["ui"]["pos"].is_array() &&
+        n["ui"]["pos"].size() == 2)
+      p = {n["ui"]["pos"][0].get<double>(), n["ui"]["pos"][1].get<double>()};
+    n["ui"]["pos"] = {p.x + dx, p.y + dy};
+    doc_["nodes"][renamed[id]] = std::move(n);
+    added.push_back(renamed[id]);
+  }
+  return added;
+}
+
+std::vector<std::string> GraphDocument::duplicate(const std::vector<std::string>& ids) {
+  return paste(copy(ids), 40, 40);
+}
+
+bool GraphDocument::undo() {
+  if (!history_.undo(doc_)) return false;
+  ++revision_;
+  return true;
+}
+
+bool GraphDocument::redo() {
+  if (!history_.redo(doc_)) return false;
+  ++revision_;
+  return true;
+}
+
+void GraphDocument::place_unplaced_nodes() { place_unplaced_nodes_in(doc_, registry_); }
+
+}  // namespace loom::editor

@@ -1,0 +1,118 @@
+// The editor's model: the graph JSON being edited, its layout and its undo
+// history. No ImGui here, so it is tested without a window.
+//
+// The document is kept as the graph file's JSON, so whatever the editor does
+// not understand ("description", unknown "ui" keys) survives a round trip, and
+// a saved file is exactly what `loom run` reads. Layout lives in each node's
+// "ui" field: {"pos": [x, y], "collapsed": true} (canvas units, y down).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "edit_history.hpp"
+#include "loom/graph.hpp"
+#include "loom/registry.hpp"
+
+namespace loom::editor {
+
+struct CanvasPoint {
+  double x = 0, y = 0;
+};
+
+class GraphDocument {
+ public:
+  explicit GraphDocument(const Registry& registry);
+
+  // A new, empty graph.
+  void clear();
+  // Throws GraphError (with the file's name) if the file is not a graph.
+  void load(const std::filesystem::path& file);
+  void load_json(const json& document, const std::filesystem::path& file = {});
+  // Atomic write; the document becomes clean and `file` its path.
+  void save(const std::filesystem::path& file);
+
+  const json& document() const { return doc_; }
+  const std::filesystem::path& file() const { return file_; }
+  bool dirty() const { return history_.state() != saved_state_; }
+  // Changes on every edit, undo and redo: what the evaluation is keyed on.
+  std::uint64_t revision() const { return revision_; }
+  const Registry& registry() const { return registry_; }
+
+  // Queries. Node ids are sorted.
+  std::vector<std::string> node_ids() const;
+  bool has_node(const std::string& id) const;
+  std::string type_name(const std::string& id) const;
+  const NodeType* node_type(const std::string& id) const;  // null if unknown
+  CanvasPoint position(const std::string& id) const;
+  bool collapsed(const std::string& id) const;
+  std::optional<Link> link(const std::string& id, const std::string& input) const;
+  // The literal given in the graph, or null when unset or linked.
+  json literal(const std::string& id, const std::string& input) const;
+
+  // Edits: each is one undo step. Those taking a merge key collapse with the
+  // previous edit of the same key (a drag, a slider held down); call
+  // end_merge() when the gesture ends.
+  std::string add_node(const std::string& type, CanvasPoint at);
+  void remove_nodes(const std::vector<std::string>& ids);
+  // Returns why the link is refused (type mismatch, cycle, unknown), or "".
+  std::string connect(const std::string& from_node, const std::string& output,
+                      const std::string& to_node, const std::string& input);
+  // The reason connect() would give, without editing.
+  std::string link_refusal(const std::string& from_node, const std::string& output,
+                           const std::string& to_node, const std::string& input) const;
+  void disconnect(const std::string& to_node, const std::string& input);
+  void set_input(const std::string& id, const std::string& input, json value,
+                 const std::string& merge_key = {});
+  void reset_input(const std::string& id, const std::string& input);  // back to the default
+  void move_nodes(const std::vector<std::string>& ids, double dx, double dy,
+                  const std::string& merge_key = {});
+  void set_collapsed(const std::string& id, bool collapsed);
+  void end_merge() { history_.seal(); }
+  bool merging() const { return history_.merging(); }
+  // Sets several inputs of one node in one undo step; a null value unsets
+  // that input (back to its default). For tools whose one gesture changes
+  // more than one input (a region drawn as a rectangle drops the polygon).
+  void set_inputs(const std::string& id, const json& values, const std::string& merge_key = {});
+
+  // Copy/paste as graph JSON: {"loom": 1, "nodes": {...}} of the given nodes,
+  // keeping the links among them and dropping links to nodes outside.
+  json copy(const std::vector<std::string>& ids) const;
+  // Adds the clipboard's nodes shifted by (dx, dy), renaming ids that are
+  // taken and their links; returns the new ids. Throws GraphError if `clip` is
+  // not a graph.
+  std::vector<std::string> paste(const json& clip, double dx, double dy);
+  std::vector<std::string> duplicate(const std::vector<std::string>& ids);
+
+  bool can_undo() const { return history_.can_undo(); }
+  bool can_redo() const { return history_.can_redo(); }
+  const std::string& undo_label() const { return history_.undo_label(); }
+  const std::string& redo_label() const { return history_.redo_label(); }
+  bool undo();
+  bool redo();
+
+  // The document without layout ("ui" fields): what evaluation depends on.
+  json evaluated_part() const;
+
+  // A fresh id for a node of this type: "image_warp", "image_warp2", ...
+  std::string unique_id(const std::string& type) const;
+
+ private:
+  json& node_json(const std::string& id);
+  const json& node_json(const std::string& id) const;
+  void begin_edit(std::string label, const std::string& merge_key = {});
+  void place_unplaced_nodes();
+  bool depends_on(const std::string& node, const std::string& ancestor) const;
+
+  const Registry& registry_;
+  json doc_;
+  std::filesystem::path file_;
+  EditHistory history_;
+  std::uint64_t saved_state_ = 0;
+  std::uint64_t revision_ = 0;
+};
+
+}  // namespace loom::editor

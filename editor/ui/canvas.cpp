@@ -1,0 +1,289 @@
+#include "canvas.hpp"
+
+#include "canvas_geometry.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+
+namespace loom::editor {
+
+using namespace canvas_geometry;
+
+namespace {
+
+
+
+ImU32 status_color(const NodeReport* report, bool running) {
+  if (running) return IM_COL32(230, 190, 60, 255);
+  if (!report) return IM_COL32(70, 70, 78, 255);
+  switch (report->status) {
+    case NodeStatus::ran: return IM_COL32(60, 150, 80, 255);
+    case NodeStatus::cached: return IM_COL32(60, 110, 170, 255);
+    case NodeStatus::failed: return IM_COL32(200, 60, 60, 255);
+    case NodeStatus::skipped: return IM_COL32(150, 110, 60, 255);
+    case NodeStatus::pruned: return IM_COL32(70, 70, 78, 255);
+  }
+  return IM_COL32(70, 70, 78, 255);
+}
+
+std::string status_text(const NodeReport* report, const LiveNode* live) {
+  if (live) return "running " + std::to_string(int(live->progress * 100)) + "%" +
+                   (live->label.empty() ? "" : " " + live->label);
+  if (!report) return "not evaluated";
+  char time[32] = "";
+  if (report->status == NodeStatus::ran || report->status == NodeStatus::failed)
+    std::snprintf(time, sizeof time, " %.1f ms", report->seconds * 1e3);
+  return std::string(to_string(report->status)) + time;
+}
+
+}  // namespace
+
+ImU32 type_color(const std::string& type) {
+  if (type == "Image") return IM_COL32(240, 150, 60, 255);
+  if (type == "Mesh") return IM_COL32(90, 200, 120, 255);
+  if (type == "Float" || type == "Int") return IM_COL32(170, 170, 180, 255);
+  if (type == "Bool") return IM_COL32(220, 100, 100, 255);
+  if (type == "Any") return IM_COL32(255, 255, 255, 255);
+  const std::size_t h = std::hash<std::string>{}(type);
+  float r, g, b;
+  ImGui::ColorConvertHSVtoRGB(float(h % 360) / 360.0f, 0.55f, 0.9f, r, g, b);
+  return ImGui::ColorConvertFloat4ToU32(ImVec4(r, g, b, 1));
+}
+
+ImVec2 Canvas::to_screen(CanvasPoint p) const {
+  return origin_ + pan_ + ImVec2(float(p.x), float(p.y)) * zoom_;
+}
+
+CanvasPoint Canvas::to_canvas(ImVec2 s) const {
+  const ImVec2 c = (s - origin_ - pan_) * (1.0f / zoom_);
+  return {c.x, c.y};
+}
+
+Canvas::Box Canvas::box(const EditorState& state, const std::string& id) const {
+  if (state.doc.collapsed(id)) return {kWidth, kHeader};
+  const NodeType* t = state.doc.node_type(id);
+  const std::size_t rows = t ? t->spec.outputs.size() + t->spec.inputs.size() : 0;
+  float h = kHeader + kRow * float(rows) + kFooter;
+  const NodeReport* r = state.report(id);
+  if (r && !r->error.empty()) h += kRow * 2;
+  auto issue = state.issues.find(id);
+  if (issue != state.issues.end()) h += kRow;
+  return {kWidth, h};
+}
+
+ImVec2 Canvas::node_header(const EditorState& state, const std::string& id) const {
+  return to_screen(state.doc.position(id)) + ImVec2(kWidth * 0.5f, kHeader * 0.5f) * zoom_;
+}
+
+std::optional<ImVec2> Canvas::output_socket(const EditorState& state, const std::string& id,
+                                            const std::string& output) const {
+  const NodeType* t = state.doc.node_type(id);
+  if (!t) return std::nullopt;
+  const int o = t->spec.output_index(output);
+  if (o < 0) return std::nullopt;
+  const float y = state.doc.collapsed(id) ? kHeader * 0.5f : kHeader + kRow * (float(o) + 0.5f);
+  return to_screen(state.doc.position(id)) + ImVec2(kWidth, y) * zoom_;
+}
+
+std::optional<ImVec2> Canvas::input_socket(const EditorState& state, const std::string& id,
+                                           const std::string& input) const {
+  const NodeType* t = state.doc.node_type(id);
+  if (!t) return std::nullopt;
+  const int i = t->spec.input_index(input);
+  if (i < 0) return std::nullopt;
+  const float y = state.doc.collapsed(id)
+                      ? kHeader * 0.5f
+                      : kHeader + kRow * (float(t->spec.outputs.size() + std::size_t(i)) + 0.5f);
+  return to_screen(state.doc.position(id)) + ImVec2(0, y) * zoom_;
+}
+
+void Canvas::frame_all(const EditorState& state) {
+  const auto ids = state.doc.node_ids();
+  if (ids.empty() || size_.x <= 0) {
+    pan_ = {0, 0};
+    zoom_ = 1;
+    return;
+  }
+  float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
+  for (const auto& id : ids) {
+    const CanvasPoint p = state.doc.position(id);
+    const Box b = box(state, id);
+    x0 = std::min(x0, float(p.x));
+    y0 = std::min(y0, float(p.y));
+    x1 = std::max(x1, float(p.x) + b.width);
+    y1 = std::max(y1, float(p.y) + b.height);
+  }
+  const float margin = 30;
+  zoom_ = std::clamp(std::min((size_.x - 2 * margin) / (x1 - x0), (size_.y - 2 * margin) / (y1 - y0)), 0.1f, 1.5f);
+  pan_ = ImVec2((size_.x - (x1 - x0) * zoom_) * 0.5f - x0 * zoom_, (size_.y - (y1 - y0) * zoom_) * 0.5f - y0 * zoom_);
+}
+
+std::string Canvas::hit_node(const EditorState& state, ImVec2 s) const {
+  const auto ids = state.doc.node_ids();
+  for (auto it = ids.rbegin(); it != ids.rend(); ++it) {
+    const ImVec2 a = to_screen(state.doc.position(*it));
+    const Box b = box(state, *it);
+    if (s.x >= a.x && s.y >= a.y && s.x <= a.x + b.width * zoom_ && s.y <= a.y + b.height * zoom_) return *it;
+  }
+  return {};
+}
+
+std::optional<Canvas::SocketHit> Canvas::hit_socket(const EditorState& state, ImVec2 s) const {
+  const float reach = std::max(9.0f, kSocket * 1.8f * zoom_);
+  for (const auto& id : state.doc.node_ids()) {
+    const NodeType* t = state.doc.node_type(id);
+    if (!t || state.doc.collapsed(id)) continue;
+    for (const auto& o : t->spec.outputs)
+      if (distance(*output_socket(state, id, o.name), s) <= reach) return SocketHit{id, o.name, true};
+    for (const auto& i : t->spec.inputs)
+      if (distance(*input_socket(state, id, i.name), s) <= reach) return SocketHit{id, i.name, false};
+  }
+  return std::nullopt;
+}
+
+void Canvas::draw(EditorState& state) {
+  origin_ = ImGui::GetCursorScreenPos();
+  size_ = ImGui::GetContentRegionAvail();
+  size_.x = std::max(size_.x, 50.0f);
+  size_.y = std::max(size_.y, 50.0f);
+  if (!framed_once_) {
+    frame_all(state);
+    framed_once_ = true;
+  }
+  // The window's own background is the canvas colour (EditorApp sets it): a
+  // second full-size rectangle would cost llvmpipe a layer of fill per frame.
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  // A grid that pans and zooms with the canvas.
+  float step = 40 * zoom_;
+  while (step < 20) step *= 5;  // zoomed out: a coarser grid, not a grey wash of lines
+  for (float x = std::fmod(pan_.x, step); x < size_.x; x += step)
+    draw->AddLine(origin_ + ImVec2(x, 0), origin_ + ImVec2(x, size_.y), IM_COL32(45, 45, 50, 255));
+  for (float y = std::fmod(pan_.y, step); y < size_.y; y += step)
+    draw->AddLine(origin_ + ImVec2(0, y), origin_ + ImVec2(size_.x, y), IM_COL32(45, 45, 50, 255));
+
+  ImGui::InvisibleButton("canvas", size_,
+                         ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight |
+                             ImGuiButtonFlags_MouseButtonMiddle);
+  draw->PushClipRect(origin_, origin_ + size_, true);
+  draw_links(state, draw);
+  for (const auto& id : state.doc.node_ids())
+    if (!state.selection.count(id)) draw_node(state, draw, id);
+  for (const auto& id : state.selection)
+    if (state.doc.has_node(id)) draw_node(state, draw, id);
+  handle_mouse(state);
+  draw->PopClipRect();
+  handle_keys(state);
+  add_node_menu(state);
+}
+
+void Canvas::draw_links(EditorState& state, ImDrawList* draw) {
+  auto curve = [&](ImVec2 a, ImVec2 b, ImU32 color, float thickness) {
+    const float dx = std::max(40.0f * zoom_, std::abs(b.x - a.x) * 0.5f);
+    draw->AddBezierCubic(a, a + ImVec2(dx, 0), b - ImVec2(dx, 0), b, color, thickness * zoom_);
+  };
+  for (const auto& id : state.doc.node_ids()) {
+    const NodeType* t = state.doc.node_type(id);
+    if (!t) continue;
+    for (const auto& in : t->spec.inputs) {
+      auto l = state.doc.link(id, in.name);
+      if (!l || !state.doc.has_node(l->node)) continue;
+      auto from = output_socket(state, l->node, l->output);
+      auto to = input_socket(state, id, in.name);
+      if (from && to) curve(*from, *to, type_color(in.type->name), 2.5f);
+    }
+  }
+  if (gesture_ == Gesture::link) {
+    const ImVec2 mouse = ImGui::GetIO().MousePos;
+    auto anchor = link_from_.output ? output_socket(state, link_from_.node, link_from_.name)
+                                    : input_socket(state, link_from_.node, link_from_.name);
+    if (anchor) {
+      if (link_from_.output)
+        curve(*anchor, mouse, IM_COL32(255, 255, 255, 200), 2);
+      else
+        curve(mouse, *anchor, IM_COL32(255, 255, 255, 200), 2);
+    }
+  }
+}
+
+void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& id) {
+  const ImVec2 a = to_screen(state.doc.position(id));
+  const Box b = box(state, id);
+  const ImVec2 z = ImVec2(b.width, b.height) * zoom_;
+  const NodeType* t = state.doc.node_type(id);
+  const NodeReport* report = state.report(id);
+  auto live_it = state.live.find(id);
+  const LiveNode* live = live_it == state.live.end() ? nullptr : &live_it->second;
+  const bool selected = state.selection.count(id) > 0;
+  const float font = ImGui::GetFontSize() * zoom_;
+  ImFont* face = ImGui::GetFont();
+  const float rounding = 5 * zoom_;
+  // Zoomed far out, labels are unreadable: leave them out (and their
+  // triangles, which llvmpipe pays for per frame) and draw plain sockets.
+  const bool detail = zoom_ >= 0.5f;
+  const int segments = detail ? 0 : 6;
+
+  draw->AddRectFilled(a, a + z, IM_COL32(52, 52, 58, 240), rounding);
+  draw->AddRectFilled(a, a + ImVec2(z.x, kHeader * zoom_), status_color(report, live != nullptr), rounding,
+                      state.doc.collapsed(id) ? ImDrawFlags_RoundCornersAll : ImDrawFlags_RoundCornersTop);
+  draw->AddRect(a, a + z, selected ? IM_COL32(255, 220, 120, 255) : IM_COL32(20, 20, 24, 255), rounding, 0,
+                selected ? 2.5f : 1.0f);
+  if (state.viewed == id) draw->AddCircleFilled(a + ImVec2(z.x - 10 * zoom_, 13 * zoom_), 4 * zoom_, IM_COL32_WHITE);
+  const std::string title = state.doc.collapsed(id) ? "> " + id : id;
+  draw->AddText(face, font, a + ImVec2(8, 5) * zoom_, IM_COL32_WHITE, title.c_str());
+  if (!t) {
+    draw->AddText(face, font, a + ImVec2(8, kHeader + 2) * zoom_, IM_COL32(255, 120, 120, 255),
+                  ("unknown type " + state.doc.type_name(id)).c_str());
+    return;
+  }
+  if (state.doc.collapsed(id)) {
+    for (const auto& o : t->spec.outputs)
+      draw->AddCircleFilled(*output_socket(state, id, o.name), kSocket * zoom_, type_color(o.type->name), segments);
+    return;
+  }
+  auto node_issues = state.issues.find(id);
+  float y = kHeader;
+  for (const auto& o : t->spec.outputs) {
+    const ImVec2 socket = *output_socket(state, id, o.name);
+    draw->AddCircleFilled(socket, kSocket * zoom_, type_color(o.type->name), segments);
+    if (detail) {
+      const ImVec2 text = face->CalcTextSizeA(font, 1e9f, 0, o.name.c_str());
+      draw->AddText(face, font, a + ImVec2(kWidth * zoom_ - text.x - 12 * zoom_, (y + 3) * zoom_),
+                    IM_COL32(220, 220, 220, 255), o.name.c_str());
+    }
+    y += kRow;
+  }
+  for (const auto& in : t->spec.inputs) {
+    const ImVec2 socket = *input_socket(state, id, in.name);
+    const bool linked = state.doc.link(id, in.name).has_value();
+    const bool bad = node_issues != state.issues.end() && node_issues->second.count(in.name);
+    if (linked || !detail)
+      draw->AddCircleFilled(socket, kSocket * zoom_, type_color(in.type->name), segments);
+    else
+      draw->AddCircle(socket, kSocket * zoom_, type_color(in.type->name), 0, 1.5f * zoom_);
+    if (bad) draw->AddRect(a + ImVec2(2, y) * zoom_, a + ImVec2(kWidth - 2, y + kRow) * zoom_, IM_COL32(255, 80, 80, 255));
+    if (detail) {
+      const bool set = !linked && !state.doc.literal(id, in.name).is_null();
+      draw->AddText(face, font, a + ImVec2(12, y + 3) * zoom_,
+                    set ? IM_COL32(255, 255, 255, 255) : IM_COL32(170, 170, 170, 255), in.name.c_str());
+    }
+    y += kRow;
+  }
+  if (detail)
+    draw->AddText(face, font * 0.9f, a + ImVec2(8, y + 2) * zoom_, IM_COL32(190, 190, 190, 255),
+                  status_text(report, live).c_str());
+  y += kFooter;
+  if (report && !report->error.empty()) {
+    draw->AddText(face, font * 0.9f, a + ImVec2(8, y + 2) * zoom_, IM_COL32(255, 130, 130, 255),
+                  report->error.c_str(), nullptr, (kWidth - 16) * zoom_);
+    y += 2 * kRow;
+  }
+  if (node_issues != state.issues.end()) {
+    const std::string& first = node_issues->second.begin()->second;
+    draw->AddText(face, font * 0.9f, a + ImVec2(8, y + 2) * zoom_, IM_COL32(255, 130, 130, 255), first.c_str(),
+                  nullptr, (kWidth - 16) * zoom_);
+  }
+}
+
+}  // namespace loom::editor

@@ -1,0 +1,382 @@
+#include "editor_app.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include "loom/atomic_file.hpp"
+#include "loom/mesh.hpp"
+#include "value_views.hpp"
+
+namespace loom::editor {
+
+namespace fs = std::filesystem;
+
+Value EditorState::upstream_value(const std::string& id, const std::string& input) const {
+  auto l = doc.link(id, input);
+  if (!eval || !l || !doc.has_node(l->node)) return {};
+  const NodeType* t = doc.node_type(l->node);
+  auto it = eval->result.outputs.find(l->node);
+  if (!t || it == eval->result.outputs.end()) return {};
+  const int o = t->spec.output_index(l->output);
+  return o >= 0 && o < int(it->second.size()) ? it->second[std::size_t(o)] : Value();
+}
+
+Value EditorState::viewed_output(int index) const {
+  if (!eval || viewed.empty()) return {};
+  auto it = eval->result.outputs.find(viewed);
+  if (it == eval->result.outputs.end() || index < 0 || index >= int(it->second.size())) return {};
+  return it->second[std::size_t(index)];
+}
+
+EditorApp::EditorApp(EditorOptions options)
+    : options_(std::move(options)), doc_(registry_), state_(doc_) {
+  loader_ = options_.plugin_path.empty() ? std::make_unique<PluginLoader>(registry_)
+                                         : std::make_unique<PluginLoader>(registry_, options_.plugin_path);
+  // Every plugin up front: the add-node menu lists all node types, and the
+  // worker thread then only reads the registry.
+  for (const PluginInfo& info : loader_->plugins()) {
+    try {
+      loader_->load_library(info.library);
+    } catch (const std::exception& e) {
+      message_ += std::string(e.what()) + "\n";
+    }
+  }
+  controller_ = std::make_unique<EvaluationController>(registry_, options_.threads);
+  if (options_.config_dir.empty()) {
+    const char* xdg = std::getenv("XDG_CONFIG_HOME");
+    const char* home = std::getenv("HOME");
+    options_.config_dir = xdg && *xdg ? fs::path(xdg) / "loom" : fs::path(home ? home : ".") / ".config" / "loom";
+  }
+  load_recent();
+}
+
+EditorApp::~EditorApp() = default;
+
+void EditorApp::open(const fs::path& file) {
+  doc_.load(file);
+  state_.selection.clear();
+  state_.viewed.clear();
+  state_.eval.reset();
+  state_.issues.clear();
+  canvas_.frame_all(state_);
+  remember(doc_.file());
+  message_ = "opened " + doc_.file().string();
+}
+
+void EditorApp::save(const fs::path& file) {
+  doc_.save(file);
+  remember(doc_.file());
+  message_ = "saved " + doc_.file().string();
+}
+
+void EditorApp::load_recent() {
+  std::ifstream in(options_.config_dir / "editor-recent.json");
+  if (!in) return;
+  try {
+    for (const auto& f : json::parse(in)) recent_.push_back(f.get<std::string>());
+  } catch (const std::exception&) {
+    recent_.clear();  // a damaged list is not worth a message
+  }
+}
+
+void EditorApp::remember(const fs::path& file) {
+  recent_.erase(std::remove(recent_.begin(), recent_.end(), file), recent_.end());
+  recent_.insert(recent_.begin(), file);
+  if (recent_.size() > 10) recent_.resize(10);
+  json list = json::array();
+  for (const auto& f : recent_) list.push_back(f.string());
+  try {
+    write_file_atomic(options_.config_dir / "editor-recent.json", list.dump(1));
+  } catch (const std::exception& e) {
+    message_ = std::string("cannot remember recent files: ") + e.what();
+  }
+}
+
+std::vector<Target> EditorApp::preview_targets() const {
+  std::vector<Target> targets;
+  for (const auto& id : doc_.node_ids()) {
+    const NodeType* t = doc_.node_type(id);
+    if (t && !t->spec.sink) targets.push_back({id, ""});
+  }
+  return targets;
+}
+
+void EditorApp::sync_evaluation() {
+  if (doc_.revision() == submitted_revision_ && !write_outputs_) return;
+  submitted_revision_ = doc_.revision();
+  // Layout edits (moving, collapsing) change nothing evaluated: the running
+  // evaluation goes on, and its result stays current.
+  json evaluated = doc_.evaluated_part();
+  if (evaluated == submitted_document_ && !write_outputs_) return;
+  submitted_document_ = evaluated;
+  evaluated_revision_ = doc_.revision();
+  EvalRequest r;
+  r.document = std::move(evaluated);
+  r.file = doc_.file().empty() ? fs::current_path() / "untitled.json" : doc_.file();
+  r.output_dir = options_.output_dir;
+  r.revision = doc_.revision();
+  if (!write_outputs_) r.targets = preview_targets();
+  if (write_outputs_ || !r.targets.empty() || doc_.node_ids().empty())
+    controller_->submit(std::move(r), /*cancel_running=*/!doc_.merging());
+  write_outputs_ = false;
+}
+
+bool EditorApp::evaluation_current() const {
+  const auto& e = state_.eval;
+  return !controller_->busy() && e && e->revision == evaluated_revision_ && submitted_revision_ == doc_.revision();
+}
+
+void EditorApp::take_results() {
+  state_.live = controller_->live();
+  auto finished = controller_->take_finished();
+  if (!finished) return;
+  state_.eval = *finished;
+  state_.issues.clear();
+  for (const GraphIssue& issue : state_.eval->issues) {
+    // "/nodes/ID/inputs/NAME[/...]" or "/nodes/ID[/...]"
+    const std::string& p = issue.pointer;
+    if (p.rfind("/nodes/", 0) != 0) {
+      message_ = issue.message;
+      continue;
+    }
+    const auto id_end = p.find('/', 7);
+    const std::string id = p.substr(7, id_end == std::string::npos ? std::string::npos : id_end - 7);
+    std::string input;
+    if (id_end != std::string::npos && p.compare(id_end, 8, "/inputs/") == 0) {
+      input = p.substr(id_end + 8);
+      input = input.substr(0, input.find('/'));
+    }
+    state_.issues[id][input] = issue.message;
+  }
+  if (!state_.eval->error.empty()) message_ = state_.eval->error;
+}
+
+void EditorApp::request(std::string action, fs::path file) {
+  if (doc_.dirty() && action != "save") {
+    pending_action_ = std::move(action);
+    pending_file_ = std::move(file);
+    prompt_open_ = true;
+    return;
+  }
+  perform(action, file);
+}
+
+void EditorApp::perform(const std::string& action, const fs::path& file) {
+  if (action == "new") {
+    doc_.clear();
+    state_.selection.clear();
+    state_.viewed.clear();
+    state_.eval.reset();
+    state_.issues.clear();
+  } else if (action == "open" && file.empty()) {
+    files_.open("open", "Open a graph", doc_.file().empty() ? fs::current_path() : doc_.file().parent_path(), false);
+  } else if (action == "open") {
+    try {
+      open(file);
+    } catch (const std::exception& e) {
+      message_ = e.what();
+    }
+  } else if (action == "quit") {
+    quit_ = true;
+  }
+}
+
+void EditorApp::unsaved_prompt() {
+  if (prompt_open_) {
+    ImGui::OpenPopup("Unsaved changes");
+    prompt_open_ = false;
+  }
+  if (!ImGui::BeginPopupModal("Unsaved changes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+  ImGui::Text("%s has unsaved changes.", doc_.file().empty() ? "This graph" : doc_.file().filename().c_str());
+  if (ImGui::Button("Save")) {
+    if (doc_.file().empty()) {
+      files_.open("save", "Save the graph as", fs::current_path() / "untitled.json", true);
+    } else {
+      save(doc_.file());
+      perform(pending_action_, pending_file_);
+    }
+    ImGui::CloseCurrentPopup();
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Discard")) {
+    perform(pending_action_, pending_file_);
+    ImGui::CloseCurrentPopup();
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Cancel")) {
+    pending_action_.clear();
+    ImGui::CloseCurrentPopup();
+  }
+  ImGui::EndPopup();
+}
+
+void EditorApp::menu_bar(Window& window) {
+  if (!ImGui::BeginMainMenuBar()) return;
+  if (ImGui::BeginMenu("File")) {
+    if (ImGui::MenuItem("New")) request("new");
+    if (ImGui::MenuItem("Open...", "Ctrl+O")) request("open");
+    if (ImGui::BeginMenu("Open Recent", !recent_.empty())) {
+      for (const auto& f : recent_)
+        if (ImGui::MenuItem(f.string().c_str())) request("open", f);
+      ImGui::EndMenu();
+    }
+    if (ImGui::MenuItem("Save", "Ctrl+S")) {
+      if (doc_.file().empty())
+        files_.open("save", "Save the graph as", fs::current_path() / "untitled.json", true);
+      else
+        save(doc_.file());
+    }
+    if (ImGui::MenuItem("Save As..."))
+      files_.open("save", "Save the graph as", doc_.file().empty() ? fs::current_path() : doc_.file(), true);
+    ImGui::Separator();
+    if (ImGui::MenuItem("Quit")) request("quit");
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("Edit")) {
+    if (ImGui::MenuItem(("Undo " + doc_.undo_label()).c_str(), "Ctrl+Z", false, doc_.can_undo())) doc_.undo();
+    if (ImGui::MenuItem(("Redo " + doc_.redo_label()).c_str(), "Ctrl+Shift+Z", false, doc_.can_redo())) doc_.redo();
+    ImGui::Separator();
+    if (ImGui::MenuItem("Frame all", "F")) canvas_.frame_all(state_);
+    ImGui::EndMenu();
+  }
+  if (ImGui::BeginMenu("Graph")) {
+    if (ImGui::MenuItem("Write outputs (run the sinks)", "Ctrl+R")) write_outputs();
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("into %s", fs::absolute(options_.output_dir).c_str());
+    ImGui::EndMenu();
+  }
+  // The evaluation state, right of the menus.
+  const auto& eval = state_.eval;
+  std::string status = controller_->busy() ? "evaluating..." : "idle";
+  if (eval && !controller_->busy()) {
+    char text[96];
+    std::snprintf(text, sizeof text, "evaluated in %.1f ms%s", eval->seconds * 1e3,
+                  !eval->issues.empty() ? ", invalid graph" : !eval->result.ok() ? ", a node failed" : "");
+    status = text;
+  }
+  ImGui::SameLine(ImGui::GetWindowWidth() - 420);
+  ImGui::TextDisabled("%s%s | %.1f ms/frame", doc_.dirty() ? "* " : "", status.c_str(),
+                      1000.0f / std::max(ImGui::GetIO().Framerate, 1.0f));
+  ImGui::EndMainMenuBar();
+  if (window.should_close()) {
+    window.set_should_close(false);
+    request("quit");
+  }
+}
+
+void EditorApp::shortcuts() {
+  ImGuiIO& io = ImGui::GetIO();
+  if (io.WantTextInput || !io.KeyCtrl) return;
+  if (ImGui::IsKeyPressed(GLFW_KEY_Z) && !io.KeyShift) doc_.undo();
+  if ((ImGui::IsKeyPressed(GLFW_KEY_Z) && io.KeyShift) || ImGui::IsKeyPressed(GLFW_KEY_Y)) doc_.redo();
+  if (ImGui::IsKeyPressed(GLFW_KEY_S)) {
+    if (doc_.file().empty())
+      files_.open("save", "Save the graph as", fs::current_path() / "untitled.json", true);
+    else
+      save(doc_.file());
+  }
+  if (ImGui::IsKeyPressed(GLFW_KEY_O)) request("open");
+  if (ImGui::IsKeyPressed(GLFW_KEY_R)) write_outputs();
+}
+
+void EditorApp::viewer() {
+  image_view_ = ImageView{};
+  image_view_.scale = 0;
+  const std::string& id = state_.viewed;
+  if (id.empty() || !doc_.has_node(id)) {
+    ImGui::TextDisabled("Click a node to view its outputs.");
+    return;
+  }
+  const NodeType* t = doc_.node_type(id);
+  if (!t || t->spec.outputs.empty()) {
+    ImGui::TextDisabled("%s has no outputs to view.", id.c_str());
+    return;
+  }
+  viewed_output_ = std::clamp(viewed_output_, 0, int(t->spec.outputs.size()) - 1);
+  ImGui::SetNextItemWidth(200);
+  if (ImGui::BeginCombo("output", t->spec.outputs[std::size_t(viewed_output_)].name.c_str())) {
+    for (std::size_t o = 0; o < t->spec.outputs.size(); ++o)
+      if (ImGui::Selectable(t->spec.outputs[o].name.c_str(), int(o) == viewed_output_)) viewed_output_ = int(o);
+    ImGui::EndCombo();
+  }
+  ImGui::SameLine();
+  const Value value = state_.viewed_output(viewed_output_);
+  const bool stale = !evaluation_current();
+  ImGui::TextDisabled("%s%s", value ? value.summary().c_str() : "not evaluated", stale ? " (updating)" : "");
+  // The interactive tools draw on the viewed image and write node inputs.
+  const bool poisson = PoissonTool::applies(state_, id), drawing = DrawTool::applies(state_, id);
+  Value shown = value;
+  if (poisson && poisson_tool_.toolbar()) {
+    shown = state_.upstream_value(id, "source");
+    if (!shown) ImGui::TextDisabled("the source is not evaluated yet");
+  }
+  if (drawing) draw_tool_.toolbar();
+  if (!shown) return;
+  if (shown.is<Image>()) {
+    image_view_ = image_viewer_.draw(shown.as<Image>(), shown.shared<Image>().get());
+    if (WarpTool::applies(state_, id)) warp_tool_.draw(state_, id, image_view_);
+    if (poisson) poisson_tool_.draw(state_, id, image_view_);
+    if (drawing) draw_tool_.draw(state_, id, image_view_);
+  } else if (shown.is<Mesh>()) {
+    mesh_viewer_.draw(shown.as<Mesh>(), shown.shared<Mesh>().get());
+  } else {
+    draw_value(value);
+  }
+}
+
+void EditorApp::draw(Window& window) {
+  take_results();
+  shortcuts();
+  menu_bar(window);
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  const ImVec2 at = vp->WorkPos, size = vp->WorkSize;
+  const float left = std::floor(size.x * 0.58f);
+  const ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                                 ImGuiWindowFlags_NoBringToFrontOnFocus;
+
+  ImGui::SetNextWindowPos(at);
+  ImGui::SetNextWindowSize(ImVec2(left, size.y));
+  ImGui::PushStyleColor(ImGuiCol_WindowBg, IM_COL32(30, 30, 34, 255));
+  ImGui::Begin(doc_.file().empty() ? "untitled###canvas" : (doc_.file().filename().string() + "###canvas").c_str(),
+               nullptr, fixed | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+  if (!message_.empty()) {
+    ImGui::TextWrapped("%s", message_.c_str());
+    ImGui::SameLine();
+    if (ImGui::SmallButton("x")) message_.clear();
+  }
+  canvas_.draw(state_);
+  ImGui::End();
+  ImGui::PopStyleColor();
+
+  const float props = std::floor(size.y * 0.38f);
+  ImGui::SetNextWindowPos(ImVec2(at.x + left, at.y));
+  ImGui::SetNextWindowSize(ImVec2(size.x - left, props));
+  ImGui::Begin("Properties", nullptr, fixed);
+  properties_.draw(state_, files_);
+  ImGui::End();
+
+  ImGui::SetNextWindowPos(ImVec2(at.x + left, at.y + props));
+  ImGui::SetNextWindowSize(ImVec2(size.x - left, size.y - props));
+  ImGui::Begin("Viewer", nullptr, fixed | ImGuiWindowFlags_NoScrollWithMouse);
+  viewer();
+  ImGui::End();
+
+  files_.draw();
+  if (auto file = files_.take("open")) perform("open", *file);
+  if (auto file = files_.take("save")) {
+    try {
+      save(*file);
+      if (!pending_action_.empty()) perform(pending_action_, pending_file_);
+    } catch (const std::exception& e) {
+      message_ = e.what();
+    }
+    pending_action_.clear();
+  }
+  unsaved_prompt();
+  sync_evaluation();
+}
+
+}  // namespace loom::editor

@@ -1,0 +1,110 @@
+// The editor: menus, the canvas, the property panel and the viewers over one
+// GraphDocument, with evaluation in the background (EvaluationController).
+//
+// After every edit the graph is submitted again; what is submitted are the
+// viewed node and every non-sink node (the preview), so every node shows a
+// status but no file is written until "Write outputs" runs the sinks, as
+// `loom run` would. The UI thread never waits for an evaluation.
+#pragma once
+
+#include <deque>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "canvas.hpp"
+#include "controller/evaluation_controller.hpp"
+#include "editor_state.hpp"
+#include "file_dialog.hpp"
+#include "image_viewer.hpp"
+#include "mesh_viewer.hpp"
+#include "loom/plugin_loader.hpp"
+#include "model/graph_document.hpp"
+#include "property_panel.hpp"
+#include "draw_tool.hpp"
+#include "poisson_tool.hpp"
+#include "warp_tool.hpp"
+#include "window.hpp"
+
+namespace loom::editor {
+
+struct EditorOptions {
+  std::vector<std::filesystem::path> plugin_path;  // empty: the default search path
+  std::filesystem::path output_dir = ".";          // where "Write outputs" writes
+  std::filesystem::path config_dir;                // recent files; empty: ~/.config/loom
+  int threads = 0;
+};
+
+class EditorApp {
+ public:
+  explicit EditorApp(EditorOptions options = {});
+  ~EditorApp();
+
+  // Throws GraphError when the file is not a graph (the document is unchanged).
+  void open(const std::filesystem::path& file);
+  void save(const std::filesystem::path& file);
+  // One frame of UI, between Window::begin_frame and end_frame.
+  void draw(Window& window);
+  bool quit_requested() const { return quit_; }
+
+  GraphDocument& document() { return doc_; }
+  EditorState& state() { return state_; }
+  Canvas& canvas() { return canvas_; }
+  PropertyPanel& properties() { return properties_; }
+  PoissonTool& poisson_tool() { return poisson_tool_; }
+  DrawTool& draw_tool() { return draw_tool_; }
+  // Where the viewer drew the image last frame (scale 0: no image shown).
+  const ImageView& image_view() const { return image_view_; }
+  const MeshViewer& mesh_viewer() const { return mesh_viewer_; }
+  EvaluationController& controller() { return *controller_; }
+  const Registry& registry() const { return registry_; }
+  const std::vector<std::filesystem::path>& recent_files() const { return recent_; }
+  const std::string& message() const { return message_; }
+  // Submits the current document now if it changed (draw() does this too).
+  void sync_evaluation();
+  // Whether the shown evaluation is of the current document and none is running.
+  bool evaluation_current() const;
+  // Evaluates the sinks (writes files) on the next submission.
+  void write_outputs() { write_outputs_ = true; }
+
+ private:
+  std::vector<Target> preview_targets() const;
+  void take_results();
+  void menu_bar(Window& window);
+  void shortcuts();
+  void viewer();
+  void unsaved_prompt();
+  void request(std::string action, std::filesystem::path file = {});
+  void perform(const std::string& action, const std::filesystem::path& file);
+  void remember(const std::filesystem::path& file);
+  void load_recent();
+
+  EditorOptions options_;
+  Registry registry_;
+  std::unique_ptr<PluginLoader> loader_;
+  GraphDocument doc_;
+  EditorState state_;
+  std::unique_ptr<EvaluationController> controller_;
+  Canvas canvas_;
+  PropertyPanel properties_;
+  ImageViewer image_viewer_;
+  MeshViewer mesh_viewer_;
+  WarpTool warp_tool_;
+  PoissonTool poisson_tool_;
+  DrawTool draw_tool_;
+  FileDialog files_;
+  std::uint64_t submitted_revision_ = ~0ull;
+  json submitted_document_;
+  std::uint64_t evaluated_revision_ = ~0ull;  // the revision submitted_document_ came from
+  bool write_outputs_ = false, quit_ = false;
+  std::string pending_action_;
+  std::filesystem::path pending_file_;
+  bool prompt_open_ = false;
+  std::vector<std::filesystem::path> recent_;
+  std::string message_;
+  int viewed_output_ = 0;
+  ImageView image_view_;
+};
+
+}  // namespace loom::editor

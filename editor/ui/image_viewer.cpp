@@ -1,0 +1,142 @@
+#include "image_viewer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <GL/gl.h>
+
+namespace loom::editor {
+
+ImageViewer::~ImageViewer() {
+  if (texture_) glDeleteTextures(1, &texture_);
+}
+
+void ImageViewer::upload(const Image& image) {
+  const int w = image.width(), h = image.height(), c = image.channels();
+  const bool linear = image.encoding == Encoding::linear;
+  const float gain = std::exp2(exposure_);
+  // Which channels are on: a single one is shown as gray.
+  int only = -1, on = 0;
+  for (int k = 0; k < std::min(c, 4); ++k)
+    if (channels_[k]) {
+      only = k;
+      ++on;
+    }
+  std::vector<std::uint8_t> rgba(std::size_t(w) * h * 4);
+  auto encode = [&](float v, bool alpha) {
+    if (!std::isfinite(v)) v = 0;
+    if (!alpha && linear) v = linear_to_srgb(std::max(0.0f, v * gain));
+    return std::uint8_t(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f);
+  };
+  for (int y = 0; y < h; ++y) {
+    const float* row = image.pixels.ptr<float>(y);
+    for (int x = 0; x < w; ++x) {
+      const float* px = row + std::size_t(x) * c;
+      std::uint8_t* out = &rgba[(std::size_t(y) * w + x) * 4];
+      const bool has_alpha = c == 2 || c == 4;
+      if (on == 1) {
+        const std::uint8_t g = encode(px[only], has_alpha && only == c - 1);
+        out[0] = out[1] = out[2] = g;
+      } else if (c <= 2) {
+        out[0] = out[1] = out[2] = channels_[0] ? encode(px[0], false) : 0;
+      } else {
+        for (int k = 0; k < 3; ++k) out[k] = channels_[k] ? encode(px[k], false) : 0;
+      }
+      out[3] = 255;
+    }
+  }
+  if (!texture_) glGenTextures(1, &texture_);
+  glBindTexture(GL_TEXTURE_2D, texture_);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+}
+
+ImageView ImageViewer::draw(const Image& image, const void* identity) {
+  ImageView view;
+  if (image.empty()) {
+    ImGui::TextDisabled("empty image");
+    return view;
+  }
+  const int c = image.channels();
+  const bool linear = image.encoding == Encoding::linear;
+  static const char* names[4] = {"R", "G", "B", "A"};
+  const char* gray_names[2] = {"Y", "A"};
+  for (int k = 0; k < std::min(c, 4); ++k) {
+    if (k) ImGui::SameLine();
+    ImGui::Checkbox(c <= 2 ? gray_names[k] : names[k], &channels_[k]);
+  }
+  if (linear) {
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(120);
+    ImGui::SliderFloat("exposure", &exposure_, -8, 8, "%+.1f EV");
+  }
+  ImGui::SameLine();
+  if (ImGui::SmallButton("fit")) fit_ = true;
+  ImGui::SameLine();
+  ImGui::TextDisabled("%dx%dx%d %s", image.width(), image.height(), c, linear ? "linear" : "sRGB");
+
+  bool same_channels = std::equal(channels_, channels_ + 4, uploaded_channels_);
+  if (identity != uploaded_ || exposure_ != uploaded_exposure_ || !same_channels) {
+    upload(image);
+    uploaded_ = identity;
+    uploaded_exposure_ = exposure_;
+    std::copy(channels_, channels_ + 4, uploaded_channels_);
+  }
+  if (image.width() != width_ || image.height() != height_) {
+    width_ = image.width();
+    height_ = image.height();
+    fit_ = true;
+  }
+
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  ImVec2 size = ImGui::GetContentRegionAvail();
+  size.y -= ImGui::GetTextLineHeightWithSpacing();
+  size.x = std::max(size.x, 32.0f);
+  size.y = std::max(size.y, 32.0f);
+  if (fit_) {
+    zoom_ = std::min(size.x / float(width_), size.y / float(height_));
+    pan_ = ImVec2((size.x - width_ * zoom_) * 0.5f, (size.y - height_ * zoom_) * 0.5f);
+    fit_ = false;
+  }
+  ImGui::InvisibleButton("image", size, ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight |
+                                            ImGuiButtonFlags_MouseButtonMiddle);
+  view.hovered = ImGui::IsItemHovered() || ImGui::IsItemActive();
+  ImGuiIO& io = ImGui::GetIO();
+  if (ImGui::IsItemHovered() && io.MouseWheel != 0) {
+    const ImVec2 m = io.MousePos;
+    const float ix = (m.x - origin.x - pan_.x) / zoom_, iy = (m.y - origin.y - pan_.y) / zoom_;
+    zoom_ = std::clamp(zoom_ * std::pow(1.2f, io.MouseWheel), 0.02f, 64.0f);
+    pan_ = ImVec2(m.x - origin.x - ix * zoom_, m.y - origin.y - iy * zoom_);
+  }
+  if (ImGui::IsItemActive() && (ImGui::IsMouseDown(ImGuiMouseButton_Right) || ImGui::IsMouseDown(ImGuiMouseButton_Middle)))
+    pan_ = ImVec2(pan_.x + io.MouseDelta.x, pan_.y + io.MouseDelta.y);
+
+  view.origin = ImVec2(origin.x + pan_.x, origin.y + pan_.y);
+  view.scale = zoom_;
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  draw->PushClipRect(origin, ImVec2(origin.x + size.x, origin.y + size.y), true);
+  draw->AddImage(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(texture_)), view.to_screen(0, 0),
+                 view.to_screen(width_, height_));
+  draw->PopClipRect();
+
+  // Pixel inspector: the values as stored, in the image's encoding.
+  const ImVec2 p = view.to_image(io.MousePos);
+  const int x = int(std::floor(p.x)), y = int(std::floor(p.y));
+  if (ImGui::IsItemHovered() && x >= 0 && y >= 0 && x < width_ && y < height_) {
+    const float* px = image.pixels.ptr<float>(y) + std::size_t(x) * c;
+    char text[160];
+    int n = std::snprintf(text, sizeof text, "(%d, %d):", x, y);
+    for (int k = 0; k < c && n < int(sizeof text) - 16; ++k) n += std::snprintf(text + n, sizeof text - n, " %.4g", px[k]);
+    ImGui::TextUnformatted(text);
+  } else {
+    ImGui::TextDisabled("hover for pixel values; wheel zooms, right-drag pans");
+  }
+  return view;
+}
+
+}  // namespace loom::editor

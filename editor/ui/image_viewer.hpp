@@ -1,0 +1,55 @@
+// The image viewer: zoom (wheel) and pan (right or middle drag), a pixel
+// inspector with values in the image's own encoding, channel toggles, and
+// exposure for linear images (shown sRGB-encoded, as SaveImage would write
+// them). The left mouse button is left to the interactive tools, which get
+// the image-to-screen mapping through ImageView.
+#pragma once
+
+#include <cstdint>
+
+#include <imgui.h>
+
+#include "loom/image.hpp"
+
+namespace loom::editor {
+
+// Image pixel coordinates (origin top-left, y down, pixel centres at +0.5)
+// to screen pixels and back.
+struct ImageView {
+  ImVec2 origin{0, 0};
+  float scale = 1;
+  bool hovered = false;
+  ImVec2 to_screen(double x, double y) const {
+    return {origin.x + float(x) * scale, origin.y + float(y) * scale};
+  }
+  ImVec2 to_image(ImVec2 s) const { return {(s.x - origin.x) / scale, (s.y - origin.y) / scale}; }
+};
+
+class ImageViewer {
+ public:
+  ImageViewer() = default;
+  ~ImageViewer();
+  ImageViewer(const ImageViewer&) = delete;
+  ImageViewer& operator=(const ImageViewer&) = delete;
+
+  // Draws the image into the remaining content region. `fixed` keeps the
+  // previous zoom and pan when the image changes size (a new result of the
+  // same node); otherwise it fits the image.
+  ImageView draw(const Image& image, const void* identity);
+  void fit() { fit_ = true; }
+
+ private:
+  void upload(const Image& image);
+  unsigned texture_ = 0;
+  const void* uploaded_ = nullptr;
+  float uploaded_exposure_ = 0;
+  bool uploaded_channels_[4] = {true, true, true, true};
+  int width_ = 0, height_ = 0;
+  float exposure_ = 0;
+  bool channels_[4] = {true, true, true, true};
+  float zoom_ = 1;
+  ImVec2 pan_{0, 0};
+  bool fit_ = true;
+};
+
+}  // namespace loom::editor

@@ -1,0 +1,143 @@
+// Background evaluation without a window: results reach the caller, a new
+// request cancels the running one, the session cache is kept across requests,
+// and validation errors come back with their JSON pointers.
+#include <chrono>
+#include <thread>
+
+#include "controller/evaluation_controller.hpp"
+#include "loom_test.hpp"
+
+namespace loom::editor {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+json sleepy(int ms, double value) {
+  return {{"loom", 1},
+          {"nodes",
+           {{"slow", {{"type", "Sleep"}, {"inputs", {{"ms", ms}, {"value", value}}}}},
+            {"twice", {{"type", "Math"}, {"inputs", {{"a", {{"from", "slow.value"}}}, {"b", {{"from", "slow.value"}}}}}}}}}};
+}
+
+struct EvaluationControllerTest : ::testing::Test {
+  test::Engine engine;
+  void SetUp() override { engine.loader.load_for({"Math", "Sleep", "Fail", "Checkerboard", "ImageWarp"}); }
+  EvalRequest request(json doc, std::uint64_t revision, std::vector<std::string> targets = {"twice"}) {
+    EvalRequest r;
+    r.document = std::move(doc);
+    r.file = test::temp_dir() / "g.json";
+    r.output_dir = r.file.parent_path();
+    r.revision = revision;
+    for (const auto& t : targets) r.targets.push_back(parse_target(t));
+    return r;
+  }
+};
+
+TEST_F(EvaluationControllerTest, DeliversTheTargetsOutputs) {
+  EvaluationController controller(engine.registry, 2);
+  controller.submit(request(sleepy(1, 1.25), 1));
+  controller.wait_idle();
+  auto done = controller.take_finished();
+  ASSERT_TRUE(done.has_value());
+  const Evaluation& e = **done;
+  EXPECT_EQ(e.revision, 1u);
+  ASSERT_TRUE(e.result.ok()) << e.error;
+  EXPECT_DOUBLE_EQ(e.result.outputs.at("twice").at(0).as<double>(), 2.5);
+  EXPECT_FALSE(controller.take_finished().has_value());  // handed over once
+}
+
+TEST_F(EvaluationControllerTest, ANewRequestCancelsTheRunningOne) {
+  EvaluationController controller(engine.registry, 2);
+  const auto start = Clock::now();
+  controller.submit(request(sleepy(20000, 1), 1));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(controller.busy());
+  EXPECT_FALSE(controller.live().empty());  // the sleeper reports progress
+  const auto submitted = Clock::now();
+  controller.submit(request(sleepy(1, 3), 2));
+  EXPECT_LT(seconds_since(submitted), 0.05);  // submitting never waits for the run
+  controller.wait_idle();
+  EXPECT_LT(seconds_since(start), 5.0);  // the 20 s node did not run to the end
+  auto done = controller.take_finished();
+  ASSERT_TRUE(done.has_value());
+  EXPECT_EQ((*done)->revision, 2u);
+  ASSERT_TRUE((*done)->result.ok());
+  EXPECT_DOUBLE_EQ((*done)->result.outputs.at("twice").at(0).as<double>(), 6);
+}
+
+TEST_F(EvaluationControllerTest, DuringADragTheRunningEvaluationFinishes) {
+  EvaluationController controller(engine.registry, 2);
+  controller.submit(request(sleepy(300, 1), 1));
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  controller.submit(request(sleepy(300, 2), 2), /*cancel_running=*/false);
+  controller.submit(request(sleepy(300, 3), 3), /*cancel_running=*/false);  // replaces 2
+  std::vector<std::uint64_t> shown;
+  while (controller.busy() || shown.empty() || shown.back() != 3) {
+    if (auto done = controller.take_finished()) {
+      ASSERT_FALSE((*done)->result.cancelled);
+      shown.push_back((*done)->revision);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  EXPECT_EQ(shown, (std::vector<std::uint64_t>{1, 3}));
+}
+
+TEST_F(EvaluationControllerTest, OnlyWhatAnEditTouchedRecomputes) {
+  EvaluationController controller(engine.registry, 2);
+  json doc = sleepy(300, 1);
+  controller.submit(request(doc, 1));
+  controller.wait_idle();
+  ASSERT_TRUE(controller.latest()->result.ok());
+  doc["nodes"]["twice"]["inputs"]["op"] = "multiply";  // downstream of the sleeper only
+  const auto start = Clock::now();
+  controller.submit(request(doc, 2));
+  controller.wait_idle();
+  const Evaluation& e = *controller.latest();
+  EXPECT_EQ(e.result.nodes.at("slow").status, NodeStatus::cached);
+  EXPECT_EQ(e.result.nodes.at("twice").status, NodeStatus::ran);
+  EXPECT_DOUBLE_EQ(e.result.outputs.at("twice").at(0).as<double>(), 1);
+  EXPECT_LT(seconds_since(start), 0.25);  // the 300 ms node was not rerun
+}
+
+TEST_F(EvaluationControllerTest, ValidationIssuesComeBackWithPointers) {
+  EvaluationController controller(engine.registry, 2);
+  json doc = sleepy(1, 1);
+  doc["nodes"]["twice"]["inputs"]["op"] = "cube";
+  controller.submit(request(doc, 1));
+  controller.wait_idle();
+  const Evaluation& e = *controller.latest();
+  ASSERT_EQ(e.issues.size(), 1u);
+  EXPECT_EQ(e.issues[0].pointer, "/nodes/twice/inputs/op");
+  EXPECT_TRUE(e.result.nodes.empty());
+}
+
+TEST_F(EvaluationControllerTest, FailuresAreReportedPerNode) {
+  EvaluationController controller(engine.registry, 2);
+  json doc = {{"loom", 1},
+              {"nodes",
+               {{"bad", {{"type", "Fail"}}},
+                {"after", {{"type", "Math"}, {"inputs", {{"a", {{"from", "bad.value"}}}}}}}}}};
+  controller.submit(request(doc, 1, {"after"}));
+  controller.wait_idle();
+  const Evaluation& e = *controller.latest();
+  EXPECT_EQ(e.result.nodes.at("bad").status, NodeStatus::failed);
+  EXPECT_NE(e.result.nodes.at("bad").error.find("failing on purpose"), std::string::npos);
+  EXPECT_EQ(e.result.nodes.at("after").status, NodeStatus::skipped);
+}
+
+TEST_F(EvaluationControllerTest, DestroyingWhileRunningCancels) {
+  const auto start = Clock::now();
+  {
+    EvaluationController controller(engine.registry, 2);
+    controller.submit(request(sleepy(20000, 1), 1));
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_LT(seconds_since(start), 5.0);
+}
+
+}  // namespace
+}  // namespace loom::editor
