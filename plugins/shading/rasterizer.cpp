@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <string>
 
@@ -111,6 +112,15 @@ namespace {
 
 Eigen::Matrix3d normal_matrix(const Eigen::Matrix4d& model) {
   return model.topLeftCorner<3, 3>().inverse().transpose();
+}
+
+// llvmpipe loses triangles (and time) when one draw tessellates more than
+// about 10^5 triangles: such draws go in chunks of patches.
+void draw_patches(const GlApi& gl, GLsizei count, int level) {
+  const GLsizei per_draw = 3 * std::max(1, 16384 / std::max(1, level * level));
+  for (GLsizei first = 0; first < count; first += per_draw)
+    gl.DrawElements(GL_PATCHES, std::min(per_draw, count - first), GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(static_cast<std::uintptr_t>(first) * sizeof(unsigned)));
 }
 
 bool displaced(const GpuObject& o, const RenderOptions& options) {
@@ -278,7 +288,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
           p.set("u_tess_level", static_cast<double>(options.tessellation));
           p.set("u_displacement_scale", o.source->material.displacement_scale);
           gl.BindTextureUnit(unit_displacement, o.displacement_map);
-          gl.DrawElements(GL_PATCHES, o.count, GL_UNSIGNED_INT, nullptr);
+          draw_patches(gl, o.count, options.tessellation);
         } else {
           gl.DrawElements(GL_TRIANGLES, o.count, GL_UNSIGNED_INT, nullptr);
         }
@@ -387,7 +397,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
       if (o.displacement_map) gl.BindTextureUnit(unit_displacement, o.displacement_map);
       if (tess) {
         p.set("u_tess_level", static_cast<double>(options.tessellation));
-        gl.DrawElements(GL_PATCHES, o.count, GL_UNSIGNED_INT, nullptr);
+        draw_patches(gl, o.count, options.tessellation);
       } else {
         gl.DrawElements(GL_TRIANGLES, o.count, GL_UNSIGNED_INT, nullptr);
       }
