@@ -259,7 +259,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
           p.use();
           set_samplers(p);
           p.set("u_model", o.source->transform);
-          p.set("u_radius_scale", 1.0);
+          p.set("u_radius_scale", o.source->points->has_radius() ? 1.0 : options.point_radius);
           p.set("u_view", lview);
           p.set("u_proj", m.view.projection);
           p.set("u_ortho", m.view.ortho);
