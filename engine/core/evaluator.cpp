@@ -1,17 +1,17 @@
+// Scheduling and running: the closure of the requested nodes runs on a TBB
+// task group as inputs become ready; each node is looked up in the memory
+// cache first. The plan (bindings, order, hashes) is in plan.cpp, the hash
+// rule in computation_hash.cpp, what node bodies reach in node_host.cpp.
 #include "loom/evaluator.hpp"
 
 #include <algorithm>
-#include <deque>
-#include <mutex>
-#include <unordered_map>
-
-#include <thread>
 
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
-#include "literal.hpp"
+#include "evaluation.hpp"
+#include "node_host.hpp"
 
 namespace loom {
 
@@ -38,247 +38,7 @@ bool EvalResult::ok() const {
   return !cancelled;
 }
 
-struct Session::State {
-  explicit State(const Registry& r) : registry(r) {}
-  const Registry& registry;
-
-  struct CacheEntry {
-    std::vector<Value> outputs;
-    std::uint64_t generation = 0;
-  };
-  std::mutex cache_mutex;
-  std::unordered_map<std::uint64_t, CacheEntry> cache;
-  std::uint64_t generation = 0;
-  std::uint64_t evaluations = 0;
-
-  static constexpr std::size_t kScratchPerNode = 4;
-  std::mutex scratch_mutex;
-  std::map<std::string, std::deque<std::pair<std::uint64_t, std::shared_ptr<void>>>> scratch;
-};
-
-namespace {
-
-// Thrown into a node body when a lazily fetched input's upstream failed.
-struct UpstreamFailed : Error {
-  using Error::Error;
-};
-
-struct Evaluation;
-
-struct NodeState {
-  const GraphNode* node = nullptr;
-  const NodeType* type = nullptr;
-  struct Binding {
-    enum Kind { unset, literal, link } kind = unset;
-    Value literal_value;
-    int upstream = -1;
-    int output = -1;
-  };
-  std::vector<Binding> inputs;  // one per declared input
-  std::uint64_t hash = 0;
-  std::uint64_t seed = 0;
-  bool cacheable = false;
-
-  std::atomic<bool> claimed{false};  // one thread runs the node...
-  std::atomic<bool> done{false};     // ...and sets this when it has finished
-  bool ok = false;  // ran or cached
-  NodeReport report;
-  std::vector<Value> outputs;
-};
-
-struct Evaluation {
-  Session::State& session;
-  const Graph& graph;
-  const EvalOptions& options;
-  std::vector<std::unique_ptr<NodeState>> nodes;
-  std::unordered_map<std::string_view, int> index;  // views of graph.nodes' keys
-  const std::filesystem::path graph_dir;
-
-  Evaluation(Session::State& s, const Graph& g, const EvalOptions& o)
-      : session(s), graph(g), options(o), graph_dir(g.dir()) {}
-
-  bool cancelled() const { return options.cancel && options.cancel->load(std::memory_order_relaxed); }
-
-  bool cache_has(std::uint64_t hash) {
-    std::lock_guard lock(session.cache_mutex);
-    return session.cache.count(hash) != 0;
-  }
-
-  void build();
-  void execute(const std::vector<int>& roots);
-  // Runs node n unless another thread does or did. Contention only happens when
-  // a lazy fetch and the scheduler reach the same node; the loser waits. The
-  // winner never waits on the loser (node bodies run isolated, and the graph is
-  // acyclic), so waiting cannot deadlock.
-  void run_once(int n) {
-    NodeState& s = *nodes[static_cast<std::size_t>(n)];
-    if (s.done.load(std::memory_order_acquire)) return;
-    if (!s.claimed.exchange(true, std::memory_order_acq_rel)) return run_node(n);
-    while (!s.done.load(std::memory_order_acquire)) std::this_thread::yield();
-  }
-  void run_node(int n);
-  void finish(NodeState& s) {
-    s.done.store(true, std::memory_order_release);
-    if (options.observer) options.observer->node_finished(s.node->id, s.report);
-  }
-};
-
-// Per-node services for the node body.
-class Host final : public NodeHost {
- public:
-  Host(Evaluation& e, NodeState& s) : e_(e), s_(s) {}
-
-  Value fetch_input(int i) override {
-    const auto& b = s_.inputs[static_cast<std::size_t>(i)];
-    if (b.kind == NodeState::Binding::literal) return b.literal_value;
-    NodeState& up = *e_.nodes[static_cast<std::size_t>(b.upstream)];
-    if (!up.done.load(std::memory_order_acquire)) e_.execute({b.upstream});
-    if (!up.ok)
-      throw UpstreamFailed("input \"" + s_.type->spec.inputs[static_cast<std::size_t>(i)].name +
-                           "\": node \"" + up.node->id + "\" " + to_string(up.report.status));
-    return up.outputs[static_cast<std::size_t>(b.output)];
-  }
-  bool input_set(int i) const override {
-    return s_.inputs[static_cast<std::size_t>(i)].kind != NodeState::Binding::unset;
-  }
-  void report_progress(double fraction, std::string_view label) override {
-    if (fraction < last_ + 0.01 && fraction < 1.0 && label == last_label_) return;
-    last_ = fraction;
-    last_label_ = label;
-    if (e_.options.observer) e_.options.observer->node_progress(s_.node->id, fraction, last_label_);
-  }
-  void report(bool warning, std::string text) override {
-    if (warning) {
-      std::lock_guard lock(mutex_);
-      s_.report.warnings.push_back(text);
-    }
-    if (e_.options.observer) e_.options.observer->node_message(s_.node->id, warning, text);
-  }
-  bool cancelled() const override { return e_.cancelled(); }
-  std::shared_ptr<void> scratch(std::uint64_t key,
-                                const std::function<std::shared_ptr<void>()>& make) override {
-    auto& session = e_.session;
-    {
-      std::lock_guard lock(session.scratch_mutex);
-      auto& list = session.scratch[s_.node->id];
-      for (auto it = list.begin(); it != list.end(); ++it)
-        if (it->first == key) {
-          auto entry = *it;
-          list.erase(it);
-          list.push_front(entry);
-          return entry.second;
-        }
-    }
-    std::shared_ptr<void> made = make();  // outside the lock: may be slow
-    std::lock_guard lock(session.scratch_mutex);
-    auto& list = session.scratch[s_.node->id];
-    list.emplace_front(key, made);
-    if (list.size() > Session::State::kScratchPerNode) list.pop_back();
-    return made;
-  }
-
- private:
-  Evaluation& e_;
-  NodeState& s_;
-  std::mutex mutex_;
-  double last_ = -1;
-  std::string last_label_;
-};
-
-void hash_file_stamp(Hasher& h, const std::string& path) {
-  std::error_code ec;
-  auto size = std::filesystem::file_size(path, ec);
-  h.pod(ec ? std::uint64_t(-1) : static_cast<std::uint64_t>(size));
-  auto time = std::filesystem::last_write_time(path, ec);
-  h.pod(ec ? std::int64_t(-1) : static_cast<std::int64_t>(time.time_since_epoch().count()));
-}
-
-void Evaluation::build() {
-  nodes.reserve(graph.nodes.size());
-  for (const auto& [id, n] : graph.nodes) {
-    index.emplace(id, static_cast<int>(nodes.size()));
-    auto s = std::make_unique<NodeState>();
-    s->node = &n;
-    s->type = session.registry.find(n.type);
-    if (!s->type) throw Error("node \"" + id + "\": unknown type " + n.type + " (graph not validated)");
-    nodes.push_back(std::move(s));
-  }
-  // Bindings, links and topological order (iterative post-order DFS).
-  for (auto& sp : nodes) {
-    NodeState& s = *sp;
-    const auto& specs = s.type->spec.inputs;
-    s.inputs.resize(specs.size());
-    for (std::size_t i = 0; i < specs.size(); ++i) {
-      const InputSpec& spec = specs[i];
-      auto& b = s.inputs[i];
-      auto it = s.node->inputs.find(spec.name);
-      if (it != s.node->inputs.end() && it->second.link) {
-        b.kind = NodeState::Binding::link;
-        b.upstream = index.at(it->second.link->node);
-        const NodeState& up = *nodes[static_cast<std::size_t>(b.upstream)];
-        b.output = up.type->spec.output_index(it->second.link->output);
-        continue;
-      }
-      const json* literal = it != s.node->inputs.end() ? &it->second.literal
-                            : spec.default_value.is_null() ? nullptr
-                                                           : &spec.default_value;
-      if (!literal) continue;  // optional and unset
-      b.kind = NodeState::Binding::literal;
-      b.literal_value = detail::literal_value(spec, *literal);
-      if (spec.role != InputRole::value) {
-        std::filesystem::path p = b.literal_value.as<std::string>();
-        const auto& base = spec.role == InputRole::input_file ? graph_dir : options.output_dir;
-        if (p.is_relative()) p = base / p;
-        b.literal_value = Value::make<std::string>(p.lexically_normal().string());
-      }
-    }
-  }
-  std::vector<int> order;
-  std::vector<char> mark(nodes.size(), 0);
-  for (int root = 0; root < static_cast<int>(nodes.size()); ++root) {
-    if (mark[static_cast<std::size_t>(root)]) continue;
-    std::vector<std::pair<int, std::size_t>> stack{{root, 0}};
-    mark[static_cast<std::size_t>(root)] = 1;
-    while (!stack.empty()) {
-      auto& [n, next] = stack.back();
-      const auto& ins = nodes[static_cast<std::size_t>(n)]->inputs;
-      if (next == ins.size()) {
-        order.push_back(n);
-        stack.pop_back();
-        continue;
-      }
-      const auto& b = ins[next++];
-      if (b.kind == NodeState::Binding::link && !mark[static_cast<std::size_t>(b.upstream)]) {
-        mark[static_cast<std::size_t>(b.upstream)] = 1;
-        stack.emplace_back(b.upstream, 0);
-      }
-    }
-  }
-  const std::uint64_t run_salt = Hasher().pod(session.evaluations).str("nondeterministic").digest();
-  for (int n : order) {
-    NodeState& s = *nodes[static_cast<std::size_t>(n)];
-    const NodeSpec& spec = s.type->spec;
-    Hasher h;
-    // The node's seed enters the hash: any node may draw from ctx.rng(), so two
-    // nodes with equal inputs but different ids (or graph seeds) may differ.
-    s.seed = Hasher(graph.seed).str(s.node->id).digest();
-    h.str(spec.name).pod(spec.version).pod(s.seed);
-    for (std::size_t i = 0; i < s.inputs.size(); ++i) {
-      const auto& b = s.inputs[i];
-      h.str(spec.inputs[i].name).pod(static_cast<int>(b.kind));
-      if (b.kind == NodeState::Binding::literal) {
-        hash_json(h, b.literal_value.to_json());
-        if (spec.inputs[i].role == InputRole::input_file)
-          hash_file_stamp(h, b.literal_value.as<std::string>());
-      } else if (b.kind == NodeState::Binding::link) {
-        h.pod(nodes[static_cast<std::size_t>(b.upstream)]->hash).pod(b.output);
-      }
-    }
-    if (spec.nondeterministic) h.pod(run_salt);
-    s.hash = h.digest();
-    s.cacheable = !spec.sink && !spec.nondeterministic;
-  }
-}
+namespace detail {
 
 void Evaluation::execute(const std::vector<int>& roots) {
   // The closure of the roots over non-lazy links, stopping at finished nodes
@@ -297,7 +57,7 @@ void Evaluation::execute(const std::vector<int>& roots) {
     const int n = stack.back();
     stack.pop_back();
     members.push_back(n);
-    NodeState& s = *nodes[static_cast<std::size_t>(n)];
+    NodeState& s = at(n);
     if (s.cacheable && cache_has(s.hash)) {
       hit[static_cast<std::size_t>(n)] = 1;
       continue;
@@ -313,7 +73,7 @@ void Evaluation::execute(const std::vector<int>& roots) {
   std::vector<int> ups;
   for (int n : members) {
     if (hit[static_cast<std::size_t>(n)]) continue;
-    const NodeState& s = *nodes[static_cast<std::size_t>(n)];
+    const NodeState& s = at(n);
     const auto& specs = s.type->spec.inputs;
     ups.clear();
     for (std::size_t i = 0; i < s.inputs.size(); ++i) {
@@ -347,7 +107,7 @@ void Evaluation::execute(const std::vector<int>& roots) {
 }
 
 void Evaluation::run_node(int n) {
-  NodeState& s = *nodes[static_cast<std::size_t>(n)];
+  NodeState& s = at(n);
   const NodeSpec& spec = s.type->spec;
   if (cancelled()) {
     s.report.status = NodeStatus::skipped;
@@ -423,7 +183,7 @@ void Evaluation::run_node(int n) {
   finish(s);
 }
 
-}  // namespace
+}  // namespace detail
 
 Session::Session(const Registry& registry) : state_(std::make_unique<State>(registry)) {}
 Session::~Session() = default;
@@ -445,7 +205,7 @@ EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
   State& st = *state_;
   ++st.evaluations;
   ++st.generation;
-  Evaluation e(st, graph, options);
+  detail::Evaluation e(st, graph, options);
   e.build();
 
   std::vector<int> roots;
@@ -456,7 +216,7 @@ EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
     for (const Target& t : options.targets) {
       auto it = e.index.find(t.node);
       if (it == e.index.end()) throw Error("--target names unknown node \"" + t.node + "\"");
-      const NodeState& s = *e.nodes[static_cast<std::size_t>(it->second)];
+      const detail::NodeState& s = *e.nodes[static_cast<std::size_t>(it->second)];
       if (!t.output.empty() && s.type->spec.output_index(t.output) < 0)
         throw Error("--target: node \"" + t.node + "\" (" + s.type->spec.name +
                     ") has no output \"" + t.output + "\"");
@@ -472,7 +232,7 @@ EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
   for (auto& sp : e.nodes)  // e.nodes is in id order: each insertion is at the end
     result.nodes.emplace_hint(result.nodes.end(), sp->node->id, std::move(sp->report));
   for (const Target& t : options.targets) {
-    const NodeState& s = *e.nodes[static_cast<std::size_t>(e.index.at(t.node))];
+    const detail::NodeState& s = *e.nodes[static_cast<std::size_t>(e.index.at(t.node))];
     if (!s.ok) continue;
     if (t.output.empty()) {
       result.outputs[t.node] = s.outputs;

@@ -1,0 +1,48 @@
+// The computation hash (Gaffer's contract): a result is reused exactly when
+// this hash is equal, so everything a node's result depends on enters it:
+//
+//   hash = H(node type name, node type version, seed,
+//            for each declared input: its name, how it is bound, and
+//              a literal: its value (and, for an input file, its size and mtime)
+//              a link:    the upstream node's hash and which output,
+//            for a nondeterministic node: a salt new at every evaluation)
+//
+// The seed (graph seed + node id) is in it because any node may draw from
+// ctx.rng(): two nodes with equal inputs but different ids may differ.
+#include "computation_hash.hpp"
+
+#include <filesystem>
+
+namespace loom::detail {
+namespace {
+
+void hash_file_stamp(Hasher& h, const std::string& path) {
+  std::error_code ec;
+  auto size = std::filesystem::file_size(path, ec);
+  h.pod(ec ? std::uint64_t(-1) : static_cast<std::uint64_t>(size));
+  auto time = std::filesystem::last_write_time(path, ec);
+  h.pod(ec ? std::int64_t(-1) : static_cast<std::int64_t>(time.time_since_epoch().count()));
+}
+
+}  // namespace
+
+std::uint64_t computation_hash(const NodeState& s, const std::vector<std::unique_ptr<NodeState>>& nodes,
+                               std::uint64_t run_salt) {
+  const NodeSpec& spec = s.type->spec;
+  Hasher h;
+  h.str(spec.name).pod(spec.version).pod(s.seed);
+  for (std::size_t i = 0; i < s.inputs.size(); ++i) {
+    const auto& b = s.inputs[i];
+    h.str(spec.inputs[i].name).pod(static_cast<int>(b.kind));
+    if (b.kind == NodeState::Binding::literal) {
+      hash_json(h, b.literal_value.to_json());
+      if (spec.inputs[i].role == InputRole::input_file) hash_file_stamp(h, b.literal_value.as<std::string>());
+    } else if (b.kind == NodeState::Binding::link) {
+      h.pod(nodes[static_cast<std::size_t>(b.upstream)]->hash).pod(b.output);
+    }
+  }
+  if (spec.nondeterministic) h.pod(run_salt);
+  return h.digest();
+}
+
+}  // namespace loom::detail

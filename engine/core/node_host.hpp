@@ -1,0 +1,32 @@
+// Internal: what a node body reaches through Inputs and Context during one
+// evaluation (lazy inputs, progress, messages, cancellation, scratch store).
+#pragma once
+
+#include <mutex>
+#include <string>
+
+#include "evaluation.hpp"
+
+namespace loom::detail {
+
+class Host final : public NodeHost {
+ public:
+  Host(Evaluation& e, NodeState& s) : e_(e), s_(s) {}
+
+  Value fetch_input(int i) override;
+  bool input_set(int i) const override;
+  void report_progress(double fraction, std::string_view label) override;
+  void report(bool warning, std::string text) override;
+  bool cancelled() const override { return e_.cancelled(); }
+  std::shared_ptr<void> scratch(std::uint64_t key,
+                                const std::function<std::shared_ptr<void>()>& make) override;
+
+ private:
+  Evaluation& e_;
+  NodeState& s_;
+  std::mutex mutex_;
+  double last_ = -1;
+  std::string last_label_;
+};
+
+}  // namespace loom::detail

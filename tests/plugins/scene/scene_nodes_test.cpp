@@ -1,0 +1,138 @@
+// The scene assembly nodes through the engine: transforms against hand-built
+// matrices, merging rules, and refusals of bad input.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "loom/scene.hpp"
+#include "loom_test.hpp"
+
+namespace {
+
+using loom::json;
+
+json object_graph(const json& object_inputs) {
+  json object = {{"type", "Object"}, {"inputs", object_inputs}};
+  if (!object["inputs"].contains("mesh") && !object["inputs"].contains("points"))
+    object["inputs"]["mesh"] = {{"from", "sphere.mesh"}};
+  return {{"loom", 1},
+          {"nodes",
+           {{"sphere", {{"type", "UVSphere"}, {"inputs", {{"rings", 4}, {"segments", 8}}}}},
+            {"object", object}}}};
+}
+
+TEST(SceneNodes, ObjectTransformScalesThenRotatesThenTranslates) {
+  loom::test::Engine engine;
+  const auto doc = object_graph(
+      {{"translate", {1, 2, 3}}, {"rotate_degrees", {0, 90, 0}}, {"scale", {2, 1, 1}}});
+  const auto& scene = engine.output(doc, "object.scene").as<loom::Scene>();
+  ASSERT_EQ(scene.objects.size(), 1u);
+  const Eigen::Matrix4d& T = scene.objects[0].transform;
+  // x = (1,0,0) scaled to (2,0,0), turned 90 degrees about +y to (0,0,-2), then moved.
+  const Eigen::Vector4d p = T * Eigen::Vector4d(1, 0, 0, 1);
+  EXPECT_NEAR((p.head<3>() - Eigen::Vector3d(1, 2, 1)).norm(), 0, 1e-12);
+  // Bounds of the placed unit sphere: x in [0, 2] (radius 1 along z -> x after the turn),
+  // z in [3 - 2, 3 + 2] (scaled radius 2 along x -> z).
+  const Eigen::AlignedBox3d box = loom::bounds(scene);
+  EXPECT_NEAR(box.min().z(), 1, 1e-9);
+  EXPECT_NEAR(box.max().z(), 5, 1e-9);
+  EXPECT_NO_THROW(loom::require_valid(scene, "scene"));
+}
+
+TEST(SceneNodes, ObjectNeedsExactlyOneGeometryAndAValidScale) {
+  loom::test::Engine engine;
+  auto doc = object_graph({{"scale", {1, 0, 1}}});
+  auto g = engine.graph(doc);
+  auto r = engine.run(g, {"object"});
+  EXPECT_EQ(r.nodes.at("object").status, loom::NodeStatus::failed);
+  EXPECT_NE(r.nodes.at("object").error.find("scale"), std::string::npos);
+
+  doc = object_graph({});
+  doc["nodes"]["object"]["inputs"].erase("mesh");
+  doc["nodes"]["object"]["inputs"]["name"] = "nothing";
+  r = engine.run(engine.graph(doc), {"object"});
+  EXPECT_EQ(r.nodes.at("object").status, loom::NodeStatus::failed);
+  EXPECT_NE(r.nodes.at("object").error.find("exactly one"), std::string::npos);
+}
+
+TEST(SceneNodes, MergeConcatenatesAndTheLastCameraWins) {
+  loom::test::Engine engine;
+  json doc = object_graph({});
+  auto& n = doc["nodes"];
+  n["light"] = {{"type", "Light"},
+                {"inputs", {{"kind", "spot"}, {"direction", {0, -2, 0}}, {"spot_inner_degrees", 10}}}};
+  n["cam1"] = {{"type", "Camera"}, {"inputs", {{"eye", {0, 0, 9}}}}};
+  n["cam2"] = {{"type", "Camera"}, {"inputs", {{"eye", {0, 4, 0}}, {"up", {0, 0, -1}}, {"fov_degrees", 90}}}};
+  n["env"] = {{"type", "Environment"}, {"inputs", {{"color", {0.5, 0.5, 0.5}}, {"intensity", 2}}}};
+  n["merge"] = {{"type", "MergeScenes"},
+                {"inputs",
+                 {{"a", {{"from", "object.scene"}}},
+                  {"b", {{"from", "cam1.scene"}}},
+                  {"c", {{"from", "light.scene"}}},
+                  {"d", {{"from", "object.scene"}}},
+                  {"e", {{"from", "env.scene"}}},
+                  {"f", {{"from", "cam2.scene"}}}}}};
+  auto g = engine.graph(doc);
+  auto r = engine.run(g, {"merge"});
+  ASSERT_EQ(r.nodes.at("merge").status, loom::NodeStatus::ran) << r.nodes.at("merge").error;
+  const auto& scene = r.outputs.at("merge")[0].as<loom::Scene>();
+  EXPECT_EQ(scene.objects.size(), 2u);
+  ASSERT_EQ(scene.lights.size(), 1u);
+  EXPECT_EQ(scene.lights[0].kind, loom::Light::Kind::spot);
+  EXPECT_NEAR((scene.lights[0].direction - Eigen::Vector3d(0, -1, 0)).norm(), 0, 1e-15);
+  EXPECT_NEAR(scene.lights[0].spot_inner, 10 * M_PI / 180, 1e-15);
+  ASSERT_TRUE(scene.camera);
+  EXPECT_EQ(scene.camera->eye, Eigen::Vector3d(0, 4, 0));
+  EXPECT_NEAR(scene.camera->fov_y, M_PI / 2, 1e-15);
+  EXPECT_EQ(scene.environment.color, Eigen::Vector3d(0.5, 0.5, 0.5));
+  EXPECT_EQ(scene.environment.intensity, 2);
+  ASSERT_EQ(r.nodes.at("merge").warnings.size(), 1u);
+  EXPECT_NE(r.nodes.at("merge").warnings[0].find("camera"), std::string::npos);
+}
+
+TEST(SceneNodes, CameraAndLightRefuseDegenerateDirections) {
+  loom::test::Engine engine;
+  json doc = {{"loom", 1},
+              {"nodes",
+               {{"cam", {{"type", "Camera"}, {"inputs", {{"eye", {0, 5, 0}}, {"up", {0, 1, 0}}}}}},
+                {"same", {{"type", "Camera"}, {"inputs", {{"eye", {0, 0, 0}}}}}},
+                {"light", {{"type", "Light"}, {"inputs", {{"kind", "directional"}, {"direction", {0, 0, 0}}}}}},
+                {"spot",
+                 {{"type", "Light"},
+                  {"inputs", {{"kind", "spot"}, {"spot_inner_degrees", 40}, {"spot_outer_degrees", 30}}}}}}}};
+  auto r = engine.run(engine.graph(doc), {"cam", "same", "light", "spot"});
+  for (const char* id : {"cam", "same", "light", "spot"})
+    EXPECT_EQ(r.nodes.at(id).status, loom::NodeStatus::failed) << id;
+  EXPECT_NE(r.nodes.at("cam").error.find("up"), std::string::npos);
+  EXPECT_NE(r.nodes.at("light").error.find("direction"), std::string::npos);
+}
+
+TEST(SceneNodes, MaterialDecodesSRGBColorMapsAndKeepsNormalMapsAsStored) {
+  loom::test::Engine engine;
+  json doc = {{"loom", 1},
+              {"nodes",
+               {{"board", {{"type", "Checkerboard"}, {"inputs", {{"size", {8, 8}}, {"cells", 2}}}}},
+                {"material",
+                 {{"type", "Material"},
+                  {"inputs",
+                   {{"model", "conductor"},
+                    {"base_color", {0.9, 0.6, 0.2}},
+                    {"base_color_map", {{"from", "board.image"}}},
+                    {"normal_map", {{"from", "board.image"}}},
+                    {"emission", {1, 2, 3}},
+                    {"emission_strength", 2}}}}}}}};
+  const auto& board = engine.output(doc, "board.image").as<loom::Image>();
+  const auto& m = engine.output(doc, "material.material").as<loom::Material>();
+  EXPECT_EQ(m.model, loom::Material::Model::conductor);
+  EXPECT_EQ(m.emission, Eigen::Vector3d(2, 4, 6));
+  ASSERT_TRUE(m.base_color_map && m.normal_map);
+  EXPECT_EQ(m.base_color_map->encoding, loom::Encoding::linear);
+  // The normal map is the very image linked (no copy, no conversion).
+  EXPECT_EQ(m.normal_map->pixels.data, board.pixels.data);
+  if (board.encoding == loom::Encoding::srgb) {
+    const float v = board.pixels.at<cv::Vec3f>(0, 0)[0];
+    EXPECT_NEAR(m.base_color_map->pixels.at<cv::Vec3f>(0, 0)[0], loom::srgb_to_linear(v), 1e-6);
+  }
+}
+
+}  // namespace
