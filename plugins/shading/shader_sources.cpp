@@ -125,8 +125,8 @@ float stored_depth(int s, bool cube, vec2 uv, vec3 dir, vec3 t, vec3 b, vec2 off
 }
 
 // Fraction of the light seen from P: shadow-map test with a constant plus
-// slope-scaled bias (both in texels, the slope term grows with the filter
-// radius since the receiver's depth varies across it), then hard, PCF
+// slope-scaled bias (both in texels; the slope term grows with the filter
+// radius, since the receiver's depth varies across the kernel), then hard, PCF
 // (k x k texels) or PCSS (Fernando 2005: blocker search, penumbra
 // w = light_size (d_receiver - d_blocker) / d_blocker, PCF of that width).
 float visibility(int i, vec3 P, vec3 N, vec3 L) {
@@ -155,7 +155,7 @@ float visibility(int i, vec3 P, vec3 N, vec3 L) {
     // Blocker search over the penumbra a blocker halfway to the light would cast.
     float search = clamp(u_light_size * (ortho ? 0.5 * d : 1.0) / texel, 1.0, 24.0);
     float sum = 0.0, count = 0.0;
-    float bias0 = texel * (u_bias + u_slope_bias * tan_theta * search);
+    float bias0 = texel * (u_bias + u_slope_bias * tan_theta * (0.5 + 1.415 * search));
     for (int y = -3; y <= 3; ++y)
       for (int x = -3; x <= 3; ++x) {
         float z = stored_depth(s, cube, uv, dir, t, b, vec2(x, y) * (search / 3.0));
@@ -167,7 +167,10 @@ float visibility(int i, vec3 P, vec3 N, vec3 L) {
                            : u_light_size * (d - blocker) / max(blocker, 1e-6);
     radius = clamp(penumbra / texel, 0.5, 32.0);
   }
-  float bias = texel * (u_bias + u_slope_bias * tan_theta * max(radius, 1.0));
+  // A plane tilted by theta changes depth by tan(theta) per texel: the farthest
+  // kernel sample (sqrt 2 radius away, diagonally) plus the half texel of the
+  // lookup itself.
+  float bias = texel * (u_bias + u_slope_bias * tan_theta * (0.5 + 1.415 * radius));
   if (radius == 0.0) return d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(0.0)) ? 1.0 : 0.0;
   int n = u_shadow_filter == 1 ? u_pcf_size : 8;
   float lit = 0.0;
@@ -179,9 +182,10 @@ float visibility(int i, vec3 P, vec3 N, vec3 L) {
   return lit / float(n * n);
 }
 
-// Outgoing radiance at P (unit normal N) toward the eye; shadow_out is the
-// visibility of the first shadowed light (for the shadow image).
-vec3 shade(vec3 P, vec3 N, vec3 albedo, float specular, float shininess, out float shadow_out) {
+// Outgoing radiance at P (shading normal N, geometric normal G: the shadow
+// bias follows the surface, not its normal map) toward the eye; shadow_out is
+// the visibility of the first shadowed light (for the shadow image).
+vec3 shade(vec3 P, vec3 N, vec3 G, vec3 albedo, float specular, float shininess, out float shadow_out) {
   vec3 V = safe_normalize(u_eye - P, N);
   vec3 radiance = albedo * u_ambient;
   shadow_out = 1.0;
@@ -201,7 +205,7 @@ vec3 shade(vec3 P, vec3 N, vec3 albedo, float specular, float shininess, out flo
     }
     float vis = 1.0;
     if (u_light_shadow[i] >= 0) {
-      vis = visibility(i, P, N, L);
+      vis = visibility(i, P, G, L);
       if (first) { shadow_out = vis; first = false; }
     }
     float cos_theta = dot(N, L);
@@ -250,6 +254,7 @@ void main() {
     vec3 n = safe_normalize(cross(du, dv), N);
     N = dot(n, N) < 0.0 ? -n : n;
   }
+  vec3 G = N;
   if (u_has_normal_map) {
     // Tangent frame by Gram-Schmidt: T = dP/du minus its part along N; B
     // completes it with the handedness of the UV map.
@@ -264,7 +269,7 @@ void main() {
   vec3 albedo = u_base_color * v.color;
   if (u_has_base_map) albedo *= texture(u_base_map, tex_uv).rgb;
   float shadow;
-  vec3 c = u_emission + shade(v.P, N, albedo, u_specular, u_shininess, shadow);
+  vec3 c = u_emission + shade(v.P, N, G, albedo, u_specular, u_shininess, shadow);
   o_color = vec4(max(c, vec3(0.0)), 1.0);
   o_normal = vec4(N, 1.0);
   o_position = vec4(v.P, -(u_view * vec4(v.P, 1.0)).z);
@@ -382,7 +387,7 @@ void main() {
     return;
   }
   float shadow;
-  o_color = vec4(max(shade(P, N, s.color, u_specular, u_shininess, shadow), vec3(0.0)), 1.0);
+  o_color = vec4(max(shade(P, N, N, s.color, u_specular, u_shininess, shadow), vec3(0.0)), 1.0);
   o_normal = vec4(N, 1.0);
   o_position = vec4(P, -(u_view * vec4(P, 1.0)).z);
   o_shadow = vec4(shadow, 0.0, 0.0, 1.0);
