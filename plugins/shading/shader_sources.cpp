@@ -121,7 +121,13 @@ float stored_depth(int s, bool cube, vec2 uv, vec3 dir, vec3 t, vec3 b, vec2 off
     float step = 2.0 / float(u_shadow_resolution[s]);
     return texture(u_shadow_cube[s], dir + (off.x * t + off.y * b) * step).r;
   }
-  return texture(u_shadow_map[s], uv + off / float(u_shadow_resolution[s])).r;
+  // texelFetch: no filtering or wrapping work for llvmpipe to do per tap.
+  // Taps past the map's edge see nothing (lit), rather than the edge texel's
+  // depth, which belongs to another surface point.
+  int n = u_shadow_resolution[s];
+  ivec2 texel = ivec2(floor(uv * float(n) + off));
+  if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, ivec2(n)))) return 1e30;
+  return texelFetch(u_shadow_map[s], texel, 0).r;
 }
 
 // Fraction of the light seen from P: shadow-map test with a constant plus

@@ -16,11 +16,12 @@ Rasterizer& rasterizer() {
   return r;
 }
 
-exact::ShadowComparison misclassified(Light::Kind kind, ShadowFilter filter, const RenderOptions& base = {}) {
+exact::ShadowComparison misclassified(Light::Kind kind, ShadowFilter filter, const RenderOptions& base = {},
+                                      int width = 480, int height = 320) {
   const Scene scene = scenes::shadow_scene(kind);
   RenderOptions o = base;
-  o.width = 480;
-  o.height = 320;
+  o.width = width;
+  o.height = height;
   o.samples = 1;  // every pixel one surface point: the exact reference's
   o.aux = true;
   o.shadows = filter;
@@ -32,8 +33,10 @@ exact::ShadowComparison misclassified(Light::Kind kind, ShadowFilter filter, con
 TEST(ShadowMaps, DefaultBiasIsWithinOnePercentOfExactVisibility) {
   for (Light::Kind kind : {Light::Kind::directional, Light::Kind::spot, Light::Kind::point})
     for (ShadowFilter filter : {ShadowFilter::hard, ShadowFilter::pcf}) {
-      const auto c = misclassified(kind, filter);
-      EXPECT_GT(c.compared, 50000);
+      // 960x640: a pixel is about one 2048 texel of floor, so texel-sized
+      // errors are not hidden inside the excluded edge band.
+      const auto c = misclassified(kind, filter, {}, 960, 640);
+      EXPECT_GT(c.compared, 200000);
       EXPECT_LE(c.rate(), 0.01) << "light " << int(kind) << " filter " << int(filter) << ": " << c.wrong
                                 << " of " << c.compared;
     }
