@@ -164,7 +164,8 @@ const char* filter_name(ShadowFilter f) {
 
 void shadows(bool quick) {
   Rasterizer r;
-  bench::Csv res("shadow_resolution", {"light_filter", "resolution", "misclassified_percent", "compared", "load1"});
+  bench::Csv res("shadow_resolution", {"light_filter", "resolution", "misclassified_percent", "percent_of_shadow",
+                                       "compared", "load1"});
   for (Light::Kind k : {Light::Kind::directional, Light::Kind::spot, Light::Kind::point})
     for (ShadowFilter f : {ShadowFilter::hard, ShadowFilter::pcf})
       for (int n : quick ? std::vector<int>{512, 2048} : std::vector<int>{256, 512, 1024, 2048, 4096}) {
@@ -173,13 +174,13 @@ void shadows(bool quick) {
         o.shadow_resolution = n;
         const auto c = shadow_error(r, k, o);
         res.row({std::string(kind_name(k)) + " " + filter_name(f), static_cast<long long>(n), 100 * c.rate(),
-                 static_cast<long long>(c.compared), load1()});
+                 100 * c.rate_of_shadow(), static_cast<long long>(c.compared), load1()});
       }
   res.save();
   bench::plot(res, {"resolution", "misclassified_percent", "light_filter",
                     "Misclassified pixels vs shadow-map resolution (default bias)", true, true, ""});
 
-  bench::Csv bias("shadow_bias", {"slope_bias", "bias_texels", "misclassified_percent", "load1"});
+  bench::Csv bias("shadow_bias", {"slope_bias", "bias_texels", "misclassified_percent", "percent_of_shadow", "load1"});
   for (double slope : {0.0, 1.0})
     for (double b : quick ? std::vector<double>{0, 1, 100} : std::vector<double>{0, 0.25, 0.5, 1, 2, 4, 8, 16, 32, 64, 128, 256}) {
       RenderOptions o;
@@ -187,20 +188,22 @@ void shadows(bool quick) {
       o.shadow_bias = b;
       o.shadow_slope_bias = slope;
       const auto c = shadow_error(r, Light::Kind::directional, o);
-      bias.row({slope == 0 ? std::string("slope 0") : std::string("slope 1"), b, 100 * c.rate(), load1()});
+      bias.row({slope == 0 ? std::string("slope 0") : std::string("slope 1"), b, 100 * c.rate(),
+                100 * c.rate_of_shadow(), load1()});
     }
   bias.save();
   bench::plot(bias, {"bias_texels", "misclassified_percent", "slope_bias",
                      "Bias sweep (directional, 2048, hard): acne left, peter-panning right", false, true, ""});
 
-  bench::Csv pcf("shadow_pcf", {"light", "pcf_size", "misclassified_percent", "load1"});
+  bench::Csv pcf("shadow_pcf", {"light", "pcf_size", "misclassified_percent", "percent_of_shadow", "load1"});
   for (Light::Kind k : {Light::Kind::directional, Light::Kind::spot, Light::Kind::point})
     for (int size : {1, 3, 5, 7, 9}) {
       RenderOptions o;
       o.shadows = ShadowFilter::pcf;
       o.pcf_size = size;
       const auto c = shadow_error(r, k, o);
-      pcf.row({std::string(kind_name(k)), static_cast<long long>(size), 100 * c.rate(), load1()});
+      pcf.row({std::string(kind_name(k)), static_cast<long long>(size), 100 * c.rate(), 100 * c.rate_of_shadow(),
+               load1()});
     }
   pcf.save();
   bench::plot(pcf, {"pcf_size", "misclassified_percent", "light", "Misclassified pixels vs PCF kernel (2048)", false, false, ""});

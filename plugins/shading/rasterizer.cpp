@@ -268,7 +268,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
           p.set("u_depth_pass", true);
           p.set("u_depth_origin", m.view.origin);
           p.set("u_depth_axis", m.view.axis);
-          p.set("u_depth_radial", m.view.cube);
+          p.set("u_depth_radial", !m.view.ortho);
           gl.BindVertexArray(o.vao);
           gl.DrawArrays(GL_POINTS, 0, o.count);
           continue;
@@ -282,7 +282,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
         p.set("u_view_proj", lvp);
         p.set("u_depth_origin", m.view.origin);
         p.set("u_depth_axis", m.view.axis);
-        p.set("u_depth_radial", m.view.cube);
+        p.set("u_depth_radial", !m.view.ortho);
         gl.BindVertexArray(o.vao);
         if (tess) {
           p.set("u_tess_level", static_cast<double>(options.tessellation));

@@ -4,7 +4,7 @@
 // (Blinn-Phong with the (s + 8) / (8 pi) normalization of Akenine-Moller,
 // Haines and Hoffman, Real-Time Rendering, 3rd ed., sec. 7.6), with E the light's irradiance (intensity / d^2, or the
 // directional irradiance). Shadow maps store a linear depth metric in scene
-// units (distance along the light's axis, or to a point light).
+// units (distance along a directional light, or to a spot or point light).
 #include "shader_sources.hpp"
 
 #include <string>
@@ -141,7 +141,10 @@ float visibility(int i, vec3 P, vec3 N, vec3 L) {
   bool cube = u_light_kind[i] == 0;
   bool ortho = u_light_kind[i] == 2;
   vec3 v = P - u_shadow_origin[s];
-  float d = cube ? length(v) : dot(v, u_shadow_axis[s]);
+  // Perspective maps (spot, point) store the distance to the light, so the
+  // slope term, which follows the angle to the light, matches how the stored
+  // depth varies across texels; orthographic maps store depth along the light.
+  float d = ortho ? dot(v, u_shadow_axis[s]) : length(v);
   vec2 uv = vec2(0.0);
   if (!cube) {
     vec4 q = u_shadow_matrix[s] * vec4(P, 1.0);

@@ -21,9 +21,9 @@ void camera_matrices(const Camera& camera, double aspect, Eigen::Matrix4d& view,
                      Eigen::Matrix4d& projection);
 
 // What a shadow map of one light sees. The map stores a linear depth metric in
-// scene units: distance along `axis` from `origin` (spot, directional), or
-// the distance to `origin` (point light, a cube map: one view per face, in
-// GL's face order +x -x +y -y +z -z).
+// scene units: distance along `axis` from `origin` (directional, orthographic),
+// or the distance to `origin` (spot, perspective; point, a cube map: one view
+// per face, in GL's face order +x -x +y -y +z -z).
 struct ShadowView {
   bool cube = false, ortho = false;
   Eigen::Vector3d origin, axis;

@@ -17,7 +17,10 @@ namespace loom::shading::exact {
 
 struct ShadowComparison {
   long compared = 0, wrong = 0, excluded_edges = 0;
+  long shadowed = 0;  // compared pixels in the exact shadow
   double rate() const { return compared ? double(wrong) / compared : 0; }
+  // Misclassified pixels per pixel of exact shadow: the scene-independent view.
+  double rate_of_shadow() const { return shadowed ? double(wrong) / shadowed : 0; }
 };
 
 // true_lit: CV_8U, 1 where the light is visible from the pixel's surface
@@ -109,6 +112,7 @@ inline ShadowComparison compare_shadows(const cv::Mat& exact_lit, const cv::Mat&
         continue;
       }
       ++c.compared;
+      c.shadowed += e == 0;
       c.wrong += (shadow.at<float>(y, x) >= 0.5f) != (e == 1);
     }
   return c;
