@@ -162,7 +162,7 @@ const char* filter_name(ShadowFilter f) {
   return f == ShadowFilter::hard ? "hard" : f == ShadowFilter::pcf ? "pcf" : f == ShadowFilter::pcss ? "pcss" : "off";
 }
 
-void shadows(bool quick) {
+void shadow_resolution(bool quick) {
   Rasterizer r;
   bench::Csv res("shadow_resolution", {"light_filter", "resolution", "misclassified_percent", "percent_of_shadow",
                                        "compared", "load1"});
@@ -179,10 +179,14 @@ void shadows(bool quick) {
   res.save();
   bench::plot(res, {"resolution", "misclassified_percent", "light_filter",
                     "Misclassified pixels vs shadow-map resolution (default bias)", true, true, ""});
+}
 
+void shadow_bias(bool quick) {
+  Rasterizer r;
   bench::Csv bias("shadow_bias", {"slope_bias", "bias_texels", "misclassified_percent", "percent_of_shadow", "load1"});
   for (double slope : {0.0, 1.0})
-    for (double b : quick ? std::vector<double>{0, 1, 100} : std::vector<double>{0, 0.25, 0.5, 1, 2, 4, 8, 16, 32, 64, 128, 256}) {
+    for (double b : quick ? std::vector<double>{0.0625, 1, 128}
+                          : std::vector<double>{0.0625, 0.125, 0.25, 0.5, 1, 2, 4, 8, 16, 32, 64, 128, 256}) {
       RenderOptions o;
       o.shadows = ShadowFilter::hard;
       o.shadow_bias = b;
@@ -193,8 +197,11 @@ void shadows(bool quick) {
     }
   bias.save();
   bench::plot(bias, {"bias_texels", "misclassified_percent", "slope_bias",
-                     "Bias sweep (directional, 2048, hard): acne left, peter-panning right", false, true, ""});
+                     "Bias sweep (directional, 2048, hard): acne left, peter-panning right", true, true, ""});
+}
 
+void shadow_pcf() {
+  Rasterizer r;
   bench::Csv pcf("shadow_pcf", {"light", "pcf_size", "misclassified_percent", "percent_of_shadow", "load1"});
   for (Light::Kind k : {Light::Kind::directional, Light::Kind::spot, Light::Kind::point})
     for (int size : {1, 3, 5, 7, 9}) {
@@ -320,7 +327,7 @@ void denoising() {
 
 int main(int argc, char** argv) {
   loom::bench::handle_help(argc, argv,
-                           "bench_shading [--quick] [speed|shadows|normals|denoise ...]\n"
+                           "bench_shading [--quick] [speed|shadows|bias|pcf|normals|denoise ...]\n"
                            "Writes shading_*.csv, shadow_*.csv, normal_mapping.csv, denoising*.csv and plots\n"
                            "to bench/results (or $LOOM_BENCH_OUT). Without a part name runs all.");
   bool quick = false;
@@ -334,7 +341,9 @@ int main(int argc, char** argv) {
   }
   auto want = [&](const char* p) { return parts.empty() || std::find(parts.begin(), parts.end(), p) != parts.end(); };
   if (want("speed")) speed(quick);
-  if (want("shadows")) shadows(quick);
+  if (want("shadows")) shadow_resolution(quick);
+  if (want("bias") || want("shadows")) shadow_bias(quick);
+  if (want("pcf") || want("shadows")) shadow_pcf();
   if (want("normals")) normal_mapping();
   if (want("denoise")) denoising();
   return 0;
