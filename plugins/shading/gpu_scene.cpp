@@ -1,5 +1,8 @@
 #include "gpu_scene.hpp"
 
+#include <algorithm>
+#include <cstdint>
+
 #include <opencv2/core.hpp>
 
 #include "surface_frames.hpp"
@@ -128,6 +131,21 @@ GpuScene::~GpuScene() {
   for (const GpuObject& o : objects_) gl_.DeleteVertexArrays(1, &o.vao);
   if (!buffers_.empty()) gl_.DeleteBuffers(static_cast<GLsizei>(buffers_.size()), buffers_.data());
   for (const auto& [image, t] : textures_) gl_.DeleteTextures(1, &t);
+}
+
+Eigen::Matrix3d normal_matrix(const Eigen::Matrix4d& model) {
+  return model.topLeftCorner<3, 3>().inverse().transpose();
+}
+
+bool displaced(const GpuObject& o, int tessellation) {
+  return o.displacement_map && o.source->material.displacement_scale != 0 && tessellation > 0;
+}
+
+void draw_patches(const GlApi& gl, GLsizei count, int level) {
+  const GLsizei per_draw = 3 * std::max(1, 16384 / std::max(1, level * level));
+  for (GLsizei first = 0; first < count; first += per_draw)
+    gl.DrawElements(GL_PATCHES, std::min(per_draw, count - first), GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(static_cast<std::uintptr_t>(first) * sizeof(unsigned)));
 }
 
 }  // namespace loom::shading

@@ -20,6 +20,14 @@ struct GpuObject {
   GLuint base_map = 0, normal_map = 0, displacement_map = 0;
 };
 
+// (M^-1)^T of the model matrix's linear part: how normals transform.
+Eigen::Matrix3d normal_matrix(const Eigen::Matrix4d& model);
+// Whether the object is drawn through the tessellation (displacement) programs.
+bool displaced(const GpuObject& o, int tessellation);
+// Draws a displaced mesh's patches. llvmpipe loses triangles (and time) when
+// one draw tessellates more than about 10^5 triangles: such draws go in chunks.
+void draw_patches(const GlApi& gl, GLsizei count, int level);
+
 class GpuScene {
  public:
   GpuScene(const GlApi& gl, const Scene& scene);

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdint>
 #include <cmath>
 #include <string>
 
@@ -13,6 +12,7 @@
 #include "gpu_scene.hpp"
 #include "loom/error.hpp"
 #include "shader_sources.hpp"
+#include "shadow_pass.hpp"
 #include "view_math.hpp"
 
 namespace loom::shading {
@@ -22,8 +22,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-constexpr int max_lights = 8, max_shadows = 4;
-constexpr GLuint unit_base = 0, unit_normal = 1, unit_displacement = 2, unit_shadow = 4, unit_cube = 8;
 
 // Blinn-Phong exponent from the perceptual roughness: alpha = roughness²,
 // s = 2 / alpha² - 2 (Walter et al. 2007's Beckmann/Phong correspondence).
@@ -40,12 +38,6 @@ Eigen::Vector3d ambient_of(const Environment& env) {
   return Eigen::Vector3d(mean[0], mean[1], mean[2]) * env.intensity;
 }
 
-// One shadow map: a linear depth metric in an R32F texture (2D or cube).
-struct ShadowMap {
-  int light = -1;
-  ShadowView view;
-  GLuint color = 0, depth = 0, fbo = 0;
-};
 
 }  // namespace
 
@@ -110,36 +102,9 @@ const std::string& Rasterizer::renderer() const { return state_->context.rendere
 
 namespace {
 
-Eigen::Matrix3d normal_matrix(const Eigen::Matrix4d& model) {
-  return model.topLeftCorner<3, 3>().inverse().transpose();
-}
-
-// llvmpipe loses triangles (and time) when one draw tessellates more than
-// about 10^5 triangles: such draws go in chunks of patches.
-void draw_patches(const GlApi& gl, GLsizei count, int level) {
-  const GLsizei per_draw = 3 * std::max(1, 16384 / std::max(1, level * level));
-  for (GLsizei first = 0; first < count; first += per_draw)
-    gl.DrawElements(GL_PATCHES, std::min(per_draw, count - first), GL_UNSIGNED_INT,
-                    reinterpret_cast<const void*>(static_cast<std::uintptr_t>(first) * sizeof(unsigned)));
-}
-
-bool displaced(const GpuObject& o, const RenderOptions& options) {
-  return o.displacement_map && o.source->material.displacement_scale != 0 && options.tessellation > 0;
-}
-
-void set_samplers(GlProgram& p) {
-  p.set("u_base_map", static_cast<int>(unit_base));
-  p.set("u_normal_map", static_cast<int>(unit_normal));
-  p.set("u_displacement_map", static_cast<int>(unit_displacement));
-  for (int i = 0; i < max_shadows; ++i) {
-    p.set(("u_shadow_map[" + std::to_string(i) + "]").c_str(), static_cast<int>(unit_shadow + i));
-    p.set(("u_shadow_cube[" + std::to_string(i) + "]").c_str(), static_cast<int>(unit_cube + i));
-  }
-}
-
 void set_lighting(GlProgram& p, const Scene& scene, const std::vector<ShadowMap>& maps,
                   const RenderOptions& o, const Eigen::Vector3d& eye, const Eigen::Vector3d& ambient) {
-  set_samplers(p);
+  bind_sampler_units(p);
   p.set("u_eye", eye);
   p.set("u_ambient", ambient);
   const int n = std::min<int>(static_cast<int>(scene.lights.size()), max_lights);
@@ -212,91 +177,8 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
 
   // Shadow maps.
   t = Clock::now();
-  std::vector<ShadowMap> maps;
-  const int light_count = std::min<int>(static_cast<int>(scene.lights.size()), max_lights);
-  if (options.shadows != ShadowFilter::off)
-    for (int i = 0; i < light_count && static_cast<int>(maps.size()) < max_shadows; ++i) {
-      if (!scene.lights[i].casts_shadow) continue;
-      ShadowMap m;
-      m.light = i;
-      m.view = shadow_view(scene.lights[i], box, options.shadow_resolution);
-      maps.push_back(m);
-    }
-  const int R = options.shadow_resolution;
-  for (std::size_t mi = 0; mi < maps.size(); ++mi) {
-    ShadowMap& m = maps[mi];
-    gl.CreateTextures(m.view.cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, 1, &m.color);
-    gl.TextureStorage2D(m.color, 1, GL_R32F, R, R);
-    for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) gl.TextureParameteri(m.color, p, GL_NEAREST);
-    for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-      gl.TextureParameteri(m.color, p, GL_CLAMP_TO_EDGE);
-    gl.CreateTextures(GL_TEXTURE_2D, 1, &m.depth);
-    gl.TextureStorage2D(m.depth, 1, GL_DEPTH_COMPONENT32F, R, R);
-    gl.CreateFramebuffers(1, &m.fbo);
-    gl.NamedFramebufferTexture(m.fbo, GL_DEPTH_ATTACHMENT, m.depth, 0);
-    gl.BindFramebuffer(GL_FRAMEBUFFER, m.fbo);
-    gl.Viewport(0, 0, R, R);
-    const int faces = m.view.cube ? 6 : 1;
-    for (int f = 0; f < faces; ++f) {
-      if (m.view.cube)
-        gl.NamedFramebufferTextureLayer(m.fbo, GL_COLOR_ATTACHMENT0, m.color, 0, f);
-      else
-        gl.NamedFramebufferTexture(m.fbo, GL_COLOR_ATTACHMENT0, m.color, 0);
-      const GLenum attachment = GL_COLOR_ATTACHMENT0;
-      gl.NamedFramebufferDrawBuffers(m.fbo, 1, &attachment);
-      if (gl.CheckNamedFramebufferStatus(m.fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-        throw Error("the shadow map framebuffer is incomplete (resolution " + std::to_string(R) + ")");
-      const float far_value[4] = {1e30f, 1e30f, 1e30f, 1e30f};
-      const float one = 1;
-      gl.ClearBufferfv(GL_COLOR, 0, far_value);
-      gl.ClearBufferfv(GL_DEPTH, 0, &one);
-      const Eigen::Matrix4d lview = m.view.cube ? m.view.faces[f] : m.view.view;
-      const Eigen::Matrix4d lvp = m.view.projection * lview;
-      for (const GpuObject& o : gpu.objects()) {
-        if (!o.source->casts_shadow || o.kind == GpuObject::Kind::lines || o.count == 0) continue;
-        if (o.kind == GpuObject::Kind::points) {
-          GlProgram& p = *s.sphere;
-          p.use();
-          set_samplers(p);
-          p.set("u_model", o.source->transform);
-          p.set("u_radius_scale", o.source->points->has_radius() ? 1.0 : options.point_radius);
-          p.set("u_view", lview);
-          p.set("u_proj", m.view.projection);
-          p.set("u_ortho", m.view.ortho);
-          p.set("u_inverse_view_proj", Eigen::Matrix4d(lvp.inverse()));
-          p.set("u_viewport", Eigen::Vector2d(R, R));
-          p.set("u_depth_pass", true);
-          p.set("u_depth_origin", m.view.origin);
-          p.set("u_depth_axis", m.view.axis);
-          p.set("u_depth_radial", !m.view.ortho);
-          gl.BindVertexArray(o.vao);
-          gl.DrawArrays(GL_POINTS, 0, o.count);
-          continue;
-        }
-        const bool tess = displaced(o, options);
-        GlProgram& p = tess ? *s.depth_tess : *s.depth;
-        p.use();
-        set_samplers(p);
-        p.set("u_model", o.source->transform);
-        p.set("u_normal_matrix", normal_matrix(o.source->transform));
-        p.set("u_view_proj", lvp);
-        p.set("u_depth_origin", m.view.origin);
-        p.set("u_depth_axis", m.view.axis);
-        p.set("u_depth_radial", !m.view.ortho);
-        gl.BindVertexArray(o.vao);
-        if (tess) {
-          p.set("u_tess_level", static_cast<double>(options.tessellation));
-          p.set("u_displacement_scale", o.source->material.displacement_scale);
-          gl.BindTextureUnit(unit_displacement, o.displacement_map);
-          draw_patches(gl, o.count, options.tessellation);
-        } else {
-          gl.DrawElements(GL_TRIANGLES, o.count, GL_UNSIGNED_INT, nullptr);
-        }
-      }
-    }
-    gl.BindTextureUnit(m.view.cube ? unit_cube + mi : unit_shadow + mi, m.color);
-  }
-  gl.check("rendering the shadow maps");
+  std::vector<ShadowMap> maps =
+      render_shadow_maps(gl, {*s.depth, *s.depth_tess, *s.sphere}, gpu, scene, box, options);
   gl.Finish();
   time.shadows = since(t);
 
@@ -376,7 +258,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
       gl.LineWidth(std::clamp(static_cast<float>(options.line_width), s.line_width_range[0], s.line_width_range[1]));
       gl.DrawElements(GL_LINES, o.count, GL_UNSIGNED_INT, nullptr);
     } else {
-      const bool tess = displaced(o, options);
+      const bool tess = displaced(o, options.tessellation);
       GlProgram& p = tess ? *s.mesh_tess : *s.mesh;
       p.use();
       set_lighting(p, scene, maps, options, camera.eye, ambient);
@@ -458,12 +340,8 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   gl.DeleteFramebuffers(1, &resolve);
   gl.DeleteTextures(5, ms_tex);
   gl.DeleteTextures(4, rs_tex);
-  for (ShadowMap& m : maps) {
-    gl.DeleteFramebuffers(1, &m.fbo);
-    gl.DeleteTextures(1, &m.color);
-    gl.DeleteTextures(1, &m.depth);
-  }
-  for (GLuint u = 0; u < 12; ++u) gl.BindTextureUnit(u, 0);
+  delete_shadow_maps(gl, maps);
+  for (GLuint u = 0; u < texture_units_used; ++u) gl.BindTextureUnit(u, 0);
   time.readback = since(t);
   return images;
 }

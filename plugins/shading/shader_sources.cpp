@@ -12,6 +12,20 @@
 #define LOOM_SURFACE_BLOCK \
   "{ vec3 P; vec3 N; vec2 uv; vec3 dpdu; vec3 dpdv; vec3 color; }"
 
+namespace loom::shading {
+
+void bind_sampler_units(GlProgram& p) {
+  p.set("u_base_map", static_cast<int>(unit_base));
+  p.set("u_normal_map", static_cast<int>(unit_normal));
+  p.set("u_displacement_map", static_cast<int>(unit_displacement));
+  for (int i = 0; i < max_shadows; ++i) {
+    p.set(("u_shadow_map[" + std::to_string(i) + "]").c_str(), static_cast<int>(unit_shadow + i));
+    p.set(("u_shadow_cube[" + std::to_string(i) + "]").c_str(), static_cast<int>(unit_cube + i));
+  }
+}
+
+}  // namespace loom::shading
+
 namespace loom::shading::glsl {
 
 const char* const mesh_vertex = R"(#version 450 core
