@@ -51,6 +51,38 @@ TEST(LoadScene, ObjWithMtlAndTextures) {
   EXPECT_TRUE(saw_textured);
 }
 
+// A hand-written glTF 2.0: one triangle under a translated node, a metallic
+// PBR material; the buffer is embedded as base64.
+TEST(LoadScene, GltfNodeTransformAndPbrMaterial) {
+  const auto dir = test::temp_dir();
+  std::ofstream(dir / "tri.gltf") << R"({
+  "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+  "nodes": [{"mesh": 0, "translation": [1, 2, 3]}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+  "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.6, 0.2, 1], "metallicFactor": 1.0,
+                                          "roughnessFactor": 0.3}}],
+  "buffers": [{"byteLength": 42,
+               "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIA"}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]
+})";
+  test::Engine engine;
+  const json g = {{"loom", 1},
+                  {"nodes", {{"load", {{"type", "LoadScene"}, {"inputs", {{"path", (dir / "tri.gltf").string()}}}}}}}};
+  const Scene& scene = engine.output(g, "load.scene").as<Scene>();
+  ASSERT_EQ(scene.objects.size(), 1u);
+  const SceneObject& o = scene.objects[0];
+  EXPECT_EQ(o.mesh->faces(), 1);
+  EXPECT_NEAR(o.transform(0, 3), 1, 1e-12);
+  EXPECT_NEAR(o.transform(1, 3), 2, 1e-12);
+  EXPECT_NEAR(o.transform(2, 3), 3, 1e-12);
+  EXPECT_EQ(o.material.model, Material::Model::conductor);
+  EXPECT_NEAR(o.material.base_color.x(), 0.9, 1e-6);
+  EXPECT_NEAR(o.material.base_color.z(), 0.2, 1e-6);
+  EXPECT_NEAR(o.material.roughness, 0.3, 1e-6);
+}
+
 TEST(LoadScene, MissingFileFailsClearly) {
   test::Engine engine;
   const json g = {{"loom", 1},
