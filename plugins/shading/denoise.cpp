@@ -24,6 +24,7 @@ struct Denoise {
     const loom::Mesh& mesh = in.get<loom::Mesh>("mesh");
     loom::require_valid(mesh, "mesh");
     if (!mesh.has_uv()) throw loom::Error("mesh has no UVs: the displacement map lives in UV space");
+    if (!mesh.UV.allFinite()) throw loom::Error("mesh has non-finite UVs");
     const loom::Image& image = in.get<loom::Image>("displacement");
     if (image.empty()) throw loom::Error("displacement is empty");
     loom::require_finite(image, "displacement");

@@ -26,6 +26,7 @@ struct DisplacementFromNoise {
     loom::require_valid(mesh, "mesh");
     if (mesh.faces() == 0) throw loom::Error("mesh has no faces");
     if (!mesh.has_uv()) throw loom::Error("mesh has no UVs: parameterize it first (e.g. Parameterize)");
+    if (!mesh.UV.allFinite()) throw loom::Error("mesh has non-finite UVs");
     const Eigen::MatrixX3d N = loom::shading::vertex_normals(mesh.V, mesh.F);
     const Eigen::VectorXd d = loom::shading::normal_displacements(mesh.V, mesh.F, N);
     ctx.progress(0.3, 1, "baking");

@@ -146,6 +146,11 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
     throw Error("image size " + std::to_string(options.width) + "x" + std::to_string(options.height) +
                 " is outside 1..16384");
+  // llvmpipe allocates every sample in host memory: refuse what cannot fit
+  // (2^28 samples is 4 GiB of RGBA16F color alone, before depth).
+  if (static_cast<double>(options.width) * options.height * std::max(options.samples, 1) > double(1 << 28))
+    throw Error("image of " + std::to_string(options.width) + "x" + std::to_string(options.height) + " with " +
+                std::to_string(options.samples) + " samples per pixel is too large: lower the size or samples");
   if (options.shadow_resolution < 16 || options.shadow_resolution > 16384)
     throw Error("shadow_resolution must be in 16..16384");
   if (options.pcf_size < 1 || options.pcf_size > 15) throw Error("pcf_size must be in 1..15");

@@ -159,6 +159,10 @@ TEST(Rasterizer, InvalidSceneAndOptionsFailClearly) {
   RenderOptions bad;
   bad.width = 0;
   EXPECT_THROW(rasterizer().render(scene, bad), Error);
+  RenderOptions huge;
+  huge.width = huge.height = 16384;
+  huge.samples = 4;
+  EXPECT_THROW(rasterizer().render(scene, huge), Error);
   // An empty scene renders the background.
   RenderOptions tiny;
   tiny.width = tiny.height = 8;
