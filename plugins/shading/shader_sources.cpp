@@ -196,6 +196,19 @@ float visibility(int i, vec3 P, vec3 N, vec3 L) {
   float bias = texel * (u_bias + u_slope_bias * tan_theta * (0.5 + 1.415 * radius));
   if (radius == 0.0) return d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(0.0)) ? 1.0 : 0.0;
   int n = u_shadow_filter == 1 ? u_pcf_size : 8;
+  float step = u_shadow_filter == 1 ? 1.0 : 2.0 * radius / float(n - 1);
+  float h = 0.5 * float(n - 1) * step;
+  if (n >= 4) {
+    // Early out: the kernel's four corners and center agree (a fully lit or
+    // fully shadowed neighbourhood, most of the image): skip the other taps.
+    float c = 0.0;
+    c += d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(-h, -h)) ? 1.0 : 0.0;
+    c += d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(h, -h)) ? 1.0 : 0.0;
+    c += d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(-h, h)) ? 1.0 : 0.0;
+    c += d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(h, h)) ? 1.0 : 0.0;
+    c += d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(0.0)) ? 1.0 : 0.0;
+    if (c == 0.0 || c == 5.0) return c / 5.0;
+  }
   float lit = 0.0;
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
