@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs Loom into a temporary prefix, builds plugins/example out of tree
-# against it with find_package(loom), and runs a graph with the installed loom
+# against it with find_package(loom), runs its tests and a graph with the installed loom
 # and the new plugin: what a plugin author does.
 set -euo pipefail
 build=$1 source=$2
@@ -11,6 +11,9 @@ cmake -S "$source/plugins/example" -B "$work/example" -G Ninja -DCMAKE_BUILD_TYP
   -DCMAKE_PREFIX_PATH="$work/prefix" > "$work/configure.log" || { cat "$work/configure.log"; exit 1; }
 cmake --build "$work/example" > "$work/build.log" || { cat "$work/build.log"; exit 1; }
 test -f "$work/example/lib/loom/plugins/libloom_example.loom.json"
+# Its own GoogleTest test, written with loom::testing and registered by loom_add_plugin.
+ctest --test-dir "$work/example" --output-on-failure > "$work/ctest.log" || { cat "$work/ctest.log"; exit 1; }
+grep -q "100% tests passed" "$work/ctest.log"
 cat > "$work/graph.json" <<'JSON'
 {"loom": 1, "nodes": {
   "board": {"type": "Checkerboard", "inputs": {"size": [64, 64]}},

@@ -6,5 +6,5 @@ loom=$1 graph=$2 out=$3 data=$4
 case "$graph" in
   *.coursedata.json) [ -d "$data" ] || { echo "course data absent: $data"; exit 77; } ;;
 esac
-rm -rf "$out"
-exec "$loom" run "$graph" --out "$out" --quiet
+rm -rf "$out" "$out.cache"
+exec "$loom" run "$graph" --out "$out" --cache "$out.cache" --quiet

@@ -1,5 +1,6 @@
 #include "loom/builtin_types.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -150,9 +151,14 @@ std::vector<T> list(const json& j, const char* what, Read read) {
   }
   return out;
 }
+// "FloatList of 12: [0.5, 1, 2, ...]": the length and the first values.
 template <class T>
 std::string list_summary(const std::vector<T>& v, const char* name) {
-  return std::string(name) + " of " + std::to_string(v.size());
+  constexpr std::size_t kShown = 6;
+  std::string text = std::string(name) + " of " + std::to_string(v.size()) + ": [";
+  for (std::size_t i = 0; i < std::min(v.size(), kShown); ++i)
+    text += (i == 0 ? "" : ", ") + TypeTraits<T>::summary(v[i]);
+  return text + (v.size() > kShown ? ", ...]" : "]");
 }
 }  // namespace
 
@@ -247,6 +253,91 @@ json TypeTraits<PointPairs>::to_json(const PointPairs& v) {
 }
 std::string TypeTraits<PointPairs>::summary(const PointPairs& v) {
   return "PointPairs of " + std::to_string(v.size());
+}
+
+// Serialization for the persistent cache: PODs as they are in memory, fixed
+// vectors as their coefficients, lists prefixed by their length, Json as CBOR.
+namespace {
+template <class Vec>
+void write_fixed(const Vec& v, ByteWriter& w) {
+  w.bytes(v.data(), sizeof(typename Vec::Scalar) * static_cast<std::size_t>(Vec::RowsAtCompileTime));
+}
+template <class Vec>
+Vec read_fixed(ByteReader& r) {
+  Vec v;
+  r.bytes(v.data(), sizeof(typename Vec::Scalar) * static_cast<std::size_t>(Vec::RowsAtCompileTime));
+  return v;
+}
+template <class Vec>
+void write_fixed_list(const std::vector<Vec>& list, ByteWriter& w) {
+  w.pod<std::uint64_t>(list.size());
+  for (const Vec& v : list) write_fixed(v, w);
+}
+template <class Vec>
+std::vector<Vec> read_fixed_list(ByteReader& r) {
+  const auto n = r.pod<std::uint64_t>();
+  if (n > r.remaining() / sizeof(Vec)) throw Error("stored value is truncated");
+  std::vector<Vec> list(static_cast<std::size_t>(n));
+  for (Vec& v : list) v = read_fixed<Vec>(r);
+  return list;
+}
+}  // namespace
+
+void TypeTraits<bool>::write(const bool& v, ByteWriter& w) { w.pod<std::uint8_t>(v ? 1 : 0); }
+bool TypeTraits<bool>::read(ByteReader& r) { return r.pod<std::uint8_t>() != 0; }
+void TypeTraits<int>::write(const int& v, ByteWriter& w) { w.pod<std::int32_t>(v); }
+int TypeTraits<int>::read(ByteReader& r) { return r.pod<std::int32_t>(); }
+void TypeTraits<double>::write(const double& v, ByteWriter& w) { w.pod(v); }
+double TypeTraits<double>::read(ByteReader& r) { return r.pod<double>(); }
+void TypeTraits<std::string>::write(const std::string& v, ByteWriter& w) { w.str(v); }
+std::string TypeTraits<std::string>::read(ByteReader& r) { return r.str(); }
+void TypeTraits<Vec2i>::write(const Vec2i& v, ByteWriter& w) { write_fixed(v, w); }
+Vec2i TypeTraits<Vec2i>::read(ByteReader& r) { return read_fixed<Vec2i>(r); }
+void TypeTraits<Vec2>::write(const Vec2& v, ByteWriter& w) { write_fixed(v, w); }
+Vec2 TypeTraits<Vec2>::read(ByteReader& r) { return read_fixed<Vec2>(r); }
+void TypeTraits<Vec3i>::write(const Vec3i& v, ByteWriter& w) { write_fixed(v, w); }
+Vec3i TypeTraits<Vec3i>::read(ByteReader& r) { return read_fixed<Vec3i>(r); }
+void TypeTraits<Vec3>::write(const Vec3& v, ByteWriter& w) { write_fixed(v, w); }
+Vec3 TypeTraits<Vec3>::read(ByteReader& r) { return read_fixed<Vec3>(r); }
+void TypeTraits<Color>::write(const Color& v, ByteWriter& w) { write_fixed(v.rgba, w); }
+Color TypeTraits<Color>::read(ByteReader& r) { return Color{read_fixed<Eigen::Vector4d>(r)}; }
+void TypeTraits<std::vector<int>>::write(const std::vector<int>& v, ByteWriter& w) { w.vector(v); }
+std::vector<int> TypeTraits<std::vector<int>>::read(ByteReader& r) { return r.vector<int>(); }
+void TypeTraits<std::vector<double>>::write(const std::vector<double>& v, ByteWriter& w) { w.vector(v); }
+std::vector<double> TypeTraits<std::vector<double>>::read(ByteReader& r) { return r.vector<double>(); }
+void TypeTraits<std::vector<std::string>>::write(const std::vector<std::string>& v, ByteWriter& w) {
+  w.pod<std::uint64_t>(v.size());
+  for (const auto& s : v) w.str(s);
+}
+std::vector<std::string> TypeTraits<std::vector<std::string>>::read(ByteReader& r) {
+  const auto n = r.pod<std::uint64_t>();
+  if (n > r.remaining() / sizeof(std::uint64_t)) throw Error("stored value is truncated");
+  std::vector<std::string> v(static_cast<std::size_t>(n));
+  for (auto& s : v) s = r.str();
+  return v;
+}
+void TypeTraits<std::vector<Vec2>>::write(const std::vector<Vec2>& v, ByteWriter& w) { write_fixed_list(v, w); }
+std::vector<Vec2> TypeTraits<std::vector<Vec2>>::read(ByteReader& r) { return read_fixed_list<Vec2>(r); }
+void TypeTraits<std::vector<Vec3>>::write(const std::vector<Vec3>& v, ByteWriter& w) { write_fixed_list(v, w); }
+std::vector<Vec3> TypeTraits<std::vector<Vec3>>::read(ByteReader& r) { return read_fixed_list<Vec3>(r); }
+void TypeTraits<json>::write(const json& v, ByteWriter& w) { w.vector(json::to_cbor(v)); }
+json TypeTraits<json>::read(ByteReader& r) {
+  try {
+    return json::from_cbor(r.vector<std::uint8_t>());
+  } catch (const json::exception& e) {
+    throw Error(std::string("stored JSON is corrupt: ") + e.what());
+  }
+}
+void TypeTraits<PointPairs>::write(const PointPairs& v, ByteWriter& w) {
+  write_fixed_list(v.p, w);
+  write_fixed_list(v.q, w);
+}
+PointPairs TypeTraits<PointPairs>::read(ByteReader& r) {
+  PointPairs v;
+  v.p = read_fixed_list<Vec2>(r);
+  v.q = read_fixed_list<Vec2>(r);
+  if (v.p.size() != v.q.size()) throw Error("stored point pairs have unequal lengths");
+  return v;
 }
 
 }  // namespace loom

@@ -5,7 +5,17 @@
 //            for each declared input: its name, how it is bound, and
 //              a literal: its value (and, for an input file, its size and mtime)
 //              a link:    the upstream node's hash and which output,
-//            for a nondeterministic node: a salt new at every evaluation)
+//            for a nondeterministic node: a salt new at every evaluation,
+//            for a time-dependent node: the frame, start frame and rate)
+//
+// Only a node that reads time has the frame in its own hash; a node depending
+// on one has it through the upstream hash. Every other result is the same at
+// every frame, so it is computed once and shared.
+//
+// A simulation's state at frame f is H(chain, f), where the chain is the
+// node's hash at the start frame (its initial state, parameters, start and
+// rate, but not the frame): a parameter change gives a new chain and so new
+// states at every frame; a change downstream leaves the chain alone.
 //
 // The seed (graph seed + node id) is in it because any node may draw from
 // ctx.rng(): two nodes with equal inputs but different ids may differ.
@@ -27,7 +37,7 @@ void hash_file_stamp(Hasher& h, const std::string& path) {
 }  // namespace
 
 std::uint64_t computation_hash(const NodeState& s, const std::vector<std::unique_ptr<NodeState>>& nodes,
-                               std::uint64_t run_salt) {
+                               std::uint64_t run_salt, const FrameTime& time) {
   const NodeSpec& spec = s.type->spec;
   Hasher h;
   h.str(spec.name).pod(spec.version).pod(s.seed);
@@ -42,7 +52,13 @@ std::uint64_t computation_hash(const NodeState& s, const std::vector<std::unique
     }
   }
   if (spec.nondeterministic) h.pod(run_salt);
+  if (spec.simulation()) h.pod(time.start).pod(time.fps);  // the frame enters through state_hash
+  else if (spec.time_dependent) h.pod(time.frame).pod(time.start).pod(time.fps);
   return h.digest();
+}
+
+std::uint64_t state_hash(std::uint64_t chain, int frame) {
+  return Hasher(chain).str("simulation state").pod(frame).digest();
 }
 
 }  // namespace loom::detail

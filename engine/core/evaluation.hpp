@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string_view>
 #include <thread>
 #include <unordered_map>
@@ -22,14 +23,34 @@ struct Session::State {
   explicit State(const Registry& r) : registry(r) {}
   const Registry& registry;
 
+  // The memory cache. An ordinary entry lives while it was used in one of
+  // the last two frames evaluated; a simulation state (`state`) lives under
+  // the state memory budget, least recently used first out.
   struct CacheEntry {
     std::vector<Value> outputs;
     std::uint64_t generation = 0;
+    bool state = false;
+    std::size_t bytes = 0;  // states only
   };
   std::mutex cache_mutex;
   std::unordered_map<std::uint64_t, CacheEntry> cache;
   std::uint64_t generation = 0;
   std::uint64_t evaluations = 0;
+  // Per simulation chain (its hash at the start frame): the latest state
+  // computed, kept outside the budget (while the chain is in use) so stepping
+  // on never restarts, and the step time spent since a state of the chain was
+  // last written to disk.
+  struct LatestState {
+    int frame = 0;
+    std::vector<Value> outputs;
+    std::uint64_t generation = 0;  // last used
+  };
+  std::unordered_map<std::uint64_t, LatestState> latest_states;
+  std::unordered_map<std::uint64_t, double> unsaved_seconds;
+
+  // Sequence sinks' state (Context::sequence_state), for one evaluate() call.
+  std::mutex sequence_mutex;
+  std::map<std::string, std::shared_ptr<void>> sequences;
 
   static constexpr std::size_t kScratchPerNode = 4;
   std::mutex scratch_mutex;
@@ -56,6 +77,13 @@ struct NodeState {
   std::uint64_t hash = 0;
   std::uint64_t seed = 0;
   bool cacheable = false;
+  bool time_dependent = false;  // its own flag, a simulation, or a time-dependent upstream
+  // Simulations: the state input's index, the chain (the node's hash at the
+  // start frame) and, past the start frame, its outputs at the previous frame.
+  int state_input = -1;
+  int state_output = -1;
+  std::uint64_t chain = 0;
+  std::vector<Value> previous;
 
   std::atomic<bool> claimed{false};  // one thread runs the node...
   std::atomic<bool> done{false};     // ...and sets this when it has finished
@@ -71,17 +99,30 @@ struct Evaluation {
   std::vector<std::unique_ptr<NodeState>> nodes;
   std::unordered_map<std::string_view, int> index;  // views of graph.nodes' keys
   const std::filesystem::path graph_dir;
+  const FrameTime time;  // step is set per node
+  // A simulation stepping through frames evaluates the graph at each frame
+  // with its previous outputs handed in here (see step_to in evaluator.cpp).
+  int fed_node = -1;
+  std::vector<Value> fed_previous;
 
-  Evaluation(Session::State& s, const Graph& g, const EvalOptions& o)
-      : session(s), graph(g), options(o), graph_dir(g.dir()) {}
+  Evaluation(Session::State& s, const Graph& g, const EvalOptions& o, FrameTime t)
+      : session(s), graph(g), options(o), graph_dir(g.dir()), time(t) {}
 
   NodeState& at(int n) { return *nodes[static_cast<std::size_t>(n)]; }
   bool cancelled() const { return options.cancel && options.cancel->load(std::memory_order_relaxed); }
-
-  bool cache_has(std::uint64_t hash) {
-    std::lock_guard lock(session.cache_mutex);
-    return session.cache.count(hash) != 0;
+  // Past the start frame a simulation's state input is its own previous
+  // output, not the initial state linked in the graph.
+  bool fed_state(const NodeState& s, std::size_t input) const {
+    return s.state_input == static_cast<int>(input) && time.frame > time.start;
   }
+  bool links_upstream(const NodeState& s, std::size_t input) const {
+    return s.inputs[input].kind == NodeState::Binding::link && !fed_state(s, input);
+  }
+
+  // Memory, then the disk cache: is the result of a node with this hash kept?
+  bool cache_has(const NodeState& s);
+  std::optional<std::vector<Value>> cache_find(const NodeState& s, std::uint64_t hash, bool* from_disk);
+  void cache_put(NodeState& s, double seconds);
 
   // plan.cpp: node states, input bindings, topological order, hashes.
   void build();
@@ -102,11 +143,18 @@ struct Evaluation {
     while (!s.done.load(std::memory_order_acquire)) std::this_thread::yield();
   }
   void run_node(int n);
+  // Simulations past the start frame: fills s.previous with the outputs at
+  // frame - 1, stepping from the latest cached frame. False if it could not.
+  bool step_to_previous(int n);
   void finish(NodeState& s) {
     s.done.store(true, std::memory_order_release);
     if (options.observer) options.observer->node_finished(s.node->id, s.report);
   }
 };
+
+// End of a frame: drops ordinary entries unused for two frames, simulation
+// states beyond the budget (least recently used first) and unused chains.
+void evict(Session::State& st, std::size_t state_budget);
 
 }  // namespace detail
 }  // namespace loom

@@ -1,7 +1,9 @@
 // Scheduling and running: the closure of the requested nodes runs on a TBB
-// task group as inputs become ready; each node is looked up in the memory
-// cache first. The plan (bindings, order, hashes) is in plan.cpp, the hash
-// rule in computation_hash.cpp, what node bodies reach in node_host.cpp.
+// task group as inputs become ready; each node is looked up in the caches
+// first; Session::evaluate walks the frames. The plan (bindings, order,
+// hashes) is in plan.cpp, the hash rule in computation_hash.cpp, what node
+// bodies reach in node_host.cpp, the caches' policy in result_cache.cpp,
+// simulation stepping in simulation.cpp.
 #include "loom/evaluator.hpp"
 
 #include <algorithm>
@@ -58,13 +60,13 @@ void Evaluation::execute(const std::vector<int>& roots) {
     stack.pop_back();
     members.push_back(n);
     NodeState& s = at(n);
-    if (s.cacheable && cache_has(s.hash)) {
+    if (s.cacheable && cache_has(s)) {
       hit[static_cast<std::size_t>(n)] = 1;
       continue;
     }
     const auto& specs = s.type->spec.inputs;
     for (std::size_t i = 0; i < s.inputs.size(); ++i)
-      if (s.inputs[i].kind == NodeState::Binding::link && !specs[i].lazy) visit(s.inputs[i].upstream);
+      if (links_upstream(s, i) && !specs[i].lazy) visit(s.inputs[i].upstream);
   }
   // For each member, how many distinct member inputs it waits on, and who
   // waits on whom.
@@ -78,7 +80,7 @@ void Evaluation::execute(const std::vector<int>& roots) {
     ups.clear();
     for (std::size_t i = 0; i < s.inputs.size(); ++i) {
       const auto& b = s.inputs[i];
-      if (b.kind == NodeState::Binding::link && !specs[i].lazy && member[static_cast<std::size_t>(b.upstream)])
+      if (links_upstream(s, i) && !specs[i].lazy && member[static_cast<std::size_t>(b.upstream)])
         ups.push_back(b.upstream);
     }
     std::sort(ups.begin(), ups.end());
@@ -115,31 +117,30 @@ void Evaluation::run_node(int n) {
     return finish(s);
   }
   if (s.cacheable) {
-    std::lock_guard lock(session.cache_mutex);
-    auto it = session.cache.find(s.hash);
-    if (it != session.cache.end()) {
-      it->second.generation = session.generation;
-      s.outputs = it->second.outputs;
+    bool from_disk = false;
+    if (auto v = cache_find(s, s.hash, &from_disk)) {
+      s.outputs = std::move(*v);
       s.ok = true;
       s.report.status = NodeStatus::cached;
+      (from_disk ? s.report.disk_hits : s.report.memory_hits) += 1;
+      return finish(s);
     }
   }
-  if (s.ok) return finish(s);
+  if (spec.simulation() && time.frame > time.start && !step_to_previous(n)) return finish(s);
 
   // Normally the scheduler has run every non-lazy input already; if not (a
-  // lazy fetch reached this node through another path), run them now.
+  // lazy fetch or a corrupt disk entry reached this node), run them now.
   std::vector<int> missing;
   for (std::size_t i = 0; i < s.inputs.size(); ++i) {
     const auto& b = s.inputs[i];
-    if (b.kind == NodeState::Binding::link && !spec.inputs[i].lazy &&
-        !nodes[static_cast<std::size_t>(b.upstream)]->done.load(std::memory_order_acquire))
+    if (links_upstream(s, i) && !spec.inputs[i].lazy && !at(b.upstream).done.load(std::memory_order_acquire))
       missing.push_back(b.upstream);
   }
   if (!missing.empty()) execute(missing);
   for (std::size_t i = 0; i < s.inputs.size(); ++i) {
     const auto& b = s.inputs[i];
-    if (b.kind != NodeState::Binding::link || spec.inputs[i].lazy) continue;
-    const NodeState& up = *nodes[static_cast<std::size_t>(b.upstream)];
+    if (!links_upstream(s, i) || spec.inputs[i].lazy) continue;
+    const NodeState& up = at(b.upstream);
     if (!up.ok) {
       s.report.status = NodeStatus::skipped;
       s.report.error = "input \"" + spec.inputs[i].name + "\": node \"" + up.node->id + "\" " +
@@ -152,15 +153,17 @@ void Evaluation::run_node(int n) {
   Host host(*this, s);
   Inputs in(spec, host);
   Outputs out(spec);
-  Context ctx(host, s.node->id, s.seed, graph_dir,
-              options.output_dir);
+  FrameTime t = time;
+  t.step = spec.simulation() && time.frame > time.start ? 1.0 / time.fps : 0.0;
+  Context ctx(host, s.node->id, s.seed, graph_dir, options.output_dir, t);
   auto start = std::chrono::steady_clock::now();
+  double seconds = 0;
   try {
     tbb::this_task_arena::isolate([&] { s.type->run(in, out, ctx); });
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     for (std::size_t o = 0; o < spec.outputs.size(); ++o)
       if (!out.values()[o])
-        throw Error("node did not set its output \"" + spec.outputs[o].name + "\" (a bug in " +
-                    spec.name + ")");
+        throw Error("node did not set its output \"" + spec.outputs[o].name + "\" (a bug in " + spec.name + ")");
     s.outputs = std::move(out.values());
     s.ok = true;
     s.report.status = NodeStatus::ran;
@@ -174,12 +177,11 @@ void Evaluation::run_node(int n) {
     s.report.status = NodeStatus::failed;
     s.report.error = "unknown exception";
   }
-  s.report.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (s.ok && s.cacheable && !cancelled()) {
-    std::lock_guard lock(session.cache_mutex);
-    session.cache[s.hash] = {s.outputs, session.generation};
-  }
+  if (seconds == 0) seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  s.previous.clear();  // the step is done with it: a state copied once per frame, not held twice
+  s.report.seconds += seconds;
+  s.report.runs += 1;
+  if (s.ok && s.cacheable && !cancelled()) cache_put(s, seconds);
   finish(s);
 }
 
@@ -196,59 +198,118 @@ std::size_t Session::cache_entries() const {
 void Session::clear_cache() {
   std::lock_guard lock(state_->cache_mutex);
   state_->cache.clear();
+  state_->latest_states.clear();
+  state_->unsaved_seconds.clear();
   std::lock_guard scratch_lock(state_->scratch_mutex);
   state_->scratch.clear();
 }
 
+namespace {
+
+// Over frames a node's status is the most telling one it had.
+int severity(NodeStatus s) {
+  switch (s) {
+    case NodeStatus::pruned: return 0;
+    case NodeStatus::cached: return 1;
+    case NodeStatus::ran: return 2;
+    case NodeStatus::skipped: return 3;
+    case NodeStatus::failed: return 4;
+  }
+  return 0;
+}
+
+void merge(NodeReport& into, NodeReport&& frame) {
+  if (severity(frame.status) > severity(into.status)) {
+    into.status = frame.status;
+    into.error = std::move(frame.error);
+  }
+  into.seconds += frame.seconds;
+  into.runs += frame.runs;
+  into.memory_hits += frame.memory_hits;
+  into.disk_hits += frame.disk_hits;
+  for (auto& w : frame.warnings)
+    if (std::find(into.warnings.begin(), into.warnings.end(), w) == into.warnings.end())
+      into.warnings.push_back(std::move(w));
+}
+
+}  // namespace
+
 EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
   auto start = std::chrono::steady_clock::now();
   State& st = *state_;
-  ++st.evaluations;
-  ++st.generation;
-  detail::Evaluation e(st, graph, options);
-  e.build();
-
-  std::vector<int> roots;
-  if (options.targets.empty()) {
-    for (std::size_t i = 0; i < e.nodes.size(); ++i)
-      if (e.nodes[i]->type->spec.sink) roots.push_back(static_cast<int>(i));
-  } else {
-    for (const Target& t : options.targets) {
-      auto it = e.index.find(t.node);
-      if (it == e.index.end()) throw Error("--target names unknown node \"" + t.node + "\"");
-      const detail::NodeState& s = *e.nodes[static_cast<std::size_t>(it->second)];
-      if (!t.output.empty() && s.type->spec.output_index(t.output) < 0)
-        throw Error("--target: node \"" + t.node + "\" (" + s.type->spec.name +
-                    ") has no output \"" + t.output + "\"");
-      roots.push_back(it->second);
-    }
+  FrameTime time;
+  if (graph.time) {
+    time.start = graph.time->start;
+    time.fps = graph.time->fps;
   }
-
-  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
-  tbb::task_arena arena(threads);
-  arena.execute([&] { e.execute(roots); });
+  const FrameRange range = options.frames ? *options.frames : FrameRange{time.start, time.start};
+  if (range.first > range.last)
+    throw Error("frames " + std::to_string(range.first) + "-" + std::to_string(range.last) +
+                ": the first frame is after the last");
+  if (range.first < time.start)
+    throw Error("frame " + std::to_string(range.first) + " is before the graph's start frame " +
+                std::to_string(time.start));
+  time.first = range.first;
+  time.last = range.last;
 
   EvalResult result;
-  for (auto& sp : e.nodes)  // e.nodes is in id order: each insertion is at the end
-    result.nodes.emplace_hint(result.nodes.end(), sp->node->id, std::move(sp->report));
-  for (const Target& t : options.targets) {
-    const detail::NodeState& s = *e.nodes[static_cast<std::size_t>(e.index.at(t.node))];
-    if (!s.ok) continue;
-    if (t.output.empty()) {
-      result.outputs[t.node] = s.outputs;
+  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  tbb::task_arena arena(threads);
+  const int count = range.last - range.first + 1;
+  for (int frame = range.first; frame <= range.last; ++frame) {
+    if (options.cancel && options.cancel->load()) break;
+    if (options.observer && count > 1) options.observer->frame_started(frame, frame - range.first + 1, count);
+    ++st.evaluations;
+    ++st.generation;
+    time.frame = frame;
+    detail::Evaluation e(st, graph, options, time);
+    e.build();
+
+    std::vector<int> roots;
+    if (options.targets.empty()) {
+      for (std::size_t i = 0; i < e.nodes.size(); ++i)
+        if (e.nodes[i]->type->spec.sink) roots.push_back(static_cast<int>(i));
     } else {
-      result.outputs[t.node + "." + t.output] = {
-          s.outputs[static_cast<std::size_t>(s.type->spec.output_index(t.output))]};
+      for (const Target& t : options.targets) {
+        auto it = e.index.find(t.node);
+        if (it == e.index.end()) throw Error("--target names unknown node \"" + t.node + "\"");
+        const detail::NodeState& s = *e.nodes[static_cast<std::size_t>(it->second)];
+        if (!t.output.empty() && s.type->spec.output_index(t.output) < 0)
+          throw Error("--target: node \"" + t.node + "\" (" + s.type->spec.name + ") has no output \"" +
+                      t.output + "\"");
+        roots.push_back(it->second);
+      }
     }
+    arena.execute([&] { e.execute(roots); });
+
+    bool failed = false;
+    for (auto& sp : e.nodes) {  // e.nodes is in id order
+      failed = failed || sp->report.status == NodeStatus::failed || sp->report.status == NodeStatus::skipped;
+      merge(result.nodes[sp->node->id], std::move(sp->report));
+    }
+    result.outputs.clear();  // the targets' values at the latest frame
+    for (const Target& t : options.targets) {
+      const detail::NodeState& s = *e.nodes[static_cast<std::size_t>(e.index.at(t.node))];
+      if (!s.ok) continue;
+      if (t.output.empty()) {
+        result.outputs[t.node] = s.outputs;
+      } else {
+        result.outputs[t.node + "." + t.output] = {
+            s.outputs[static_cast<std::size_t>(s.type->spec.output_index(t.output))]};
+      }
+    }
+    if (!e.cancelled()) ++result.frames;
+    detail::evict(st, options.state_memory_budget);
+    if (failed) break;  // later frames would fail alike, or build on a failed state
   }
-  result.cancelled = e.cancelled();
-  {  // keep what the last two evaluations used
-    std::lock_guard lock(st.cache_mutex);
-    for (auto it = st.cache.begin(); it != st.cache.end();)
-      it = it->second.generation + 1 < st.generation ? st.cache.erase(it) : std::next(it);
+  {
+    // Finished sequence sinks have closed their files at the last frame; the
+    // state of an unfinished one is destroyed here and removes its file.
+    std::lock_guard lock(st.sequence_mutex);
+    st.sequences.clear();
   }
-  result.total_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.cancelled = options.cancel && options.cancel->load();
+  result.total_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "literal.hpp"
+#include "loom/suggest.hpp"
 
 namespace loom {
 
@@ -80,6 +81,46 @@ std::string input_pointer(const std::string& id, const std::string& input) {
 GraphError::GraphError(std::string file, std::vector<GraphIssue> issues)
     : Error(issues_text(file, issues)), file_(std::move(file)), issues_(std::move(issues)) {}
 
+namespace {
+
+// The "time" object; throws GraphError with /time pointers.
+TimeRange parse_time(const json& t) {
+  std::vector<GraphIssue> issues;
+  TimeRange r;
+  if (!t.is_object())
+    throw GraphError("", {{"/time", "expected {\"start\": 1, \"end\": 48, \"fps\": 24}, got " + describe_json(t)}});
+  for (const auto& [key, value] : t.items())
+    if (key != "start" && key != "end" && key != "fps")
+      issues.push_back({"/time/" + detail::pointer_escape(key), "unknown key (expected \"start\", \"end\" or \"fps\")"});
+  auto frame = [&](const char* key, int fallback) {
+    if (!t.contains(key)) return fallback;
+    const json& v = t[key];
+    if (!v.is_number_integer() || v.get<long long>() < -1000000000LL || v.get<long long>() > 1000000000LL) {
+      issues.push_back({std::string("/time/") + key, "expected a frame number (an integer), got " + describe_json(v)});
+      return fallback;
+    }
+    return static_cast<int>(v.get<long long>());
+  };
+  r.start = frame("start", 1);
+  r.end = frame("end", r.start);
+  if (t.contains("fps")) {
+    const json& v = t["fps"];
+    if (!v.is_number() || !(v.get<double>() > 0) || v.get<double>() > 1e6)
+      issues.push_back({"/time/fps", "expected frames per second (a number above 0), got " + describe_json(v)});
+    else
+      r.fps = v.get<double>();
+  }
+  if (r.end < r.start)
+    issues.push_back({"/time/end", "the end frame " + std::to_string(r.end) + " is before the start frame " +
+                                       std::to_string(r.start)});
+  if (!issues.empty()) throw GraphError("", issues);
+  return r;
+}
+
+json time_to_json(const TimeRange& r) { return {{"start", r.start}, {"end", r.end}, {"fps", r.fps}}; }
+
+}  // namespace
+
 Graph parse_graph(const json& doc, const std::filesystem::path& file) {
   Graph g;
   g.file = file;
@@ -91,9 +132,16 @@ Graph parse_graph(const json& doc, const std::filesystem::path& file) {
 
   if (!doc.is_object()) throw GraphError(name, {{"", "expected a JSON object, got " + describe_json(doc)}});
   for (const auto& [key, value] : doc.items())
-    if (key != "loom" && key != "seed" && key != "nodes" && key != "description")
+    if (key != "loom" && key != "seed" && key != "nodes" && key != "description" && key != "time")
       fail("/" + detail::pointer_escape(key),
-           "unknown key (expected \"loom\", \"seed\", \"nodes\" or \"description\")");
+           "unknown key (expected \"loom\", \"seed\", \"time\", \"nodes\" or \"description\")");
+  if (doc.contains("time")) {
+    try {
+      g.time = parse_time(doc["time"]);
+    } catch (const GraphError& e) {
+      for (const auto& i : e.issues()) fail(i.pointer, i.message);
+    }
+  }
   if (!doc.contains("loom"))
     fail("/loom", "missing: a graph file starts with {\"loom\": 1, ...}");
   else if (!doc["loom"].is_number_integer() || doc["loom"].get<long long>() != kGraphFormatVersion)
@@ -183,7 +231,8 @@ Graph load_graph_file(const std::filesystem::path& file) {
   return parse_graph(doc, std::filesystem::absolute(file));
 }
 
-void validate_graph(const Graph& g, const Registry& registry, const std::string& searched) {
+void validate_graph(const Graph& g, const Registry& registry, const std::string& searched,
+                    const std::vector<std::string>& known_types) {
   std::vector<GraphIssue> issues;
   auto fail = [&](std::string pointer, std::string message) {
     issues.push_back({std::move(pointer), std::move(message)});
@@ -193,8 +242,9 @@ void validate_graph(const Graph& g, const Registry& registry, const std::string&
   for (const auto& [id, n] : g.nodes) {
     const NodeType* t = registry.find(n.type);
     if (!t) {
-      fail(node_pointer(id) + "/type",
-           "unknown node type \"" + n.type + "\"" + (searched.empty() ? "" : " (" + searched + ")"));
+      std::vector<std::string> known = known_types;
+      for (const NodeType* r : registry.all()) known.push_back(r->spec.name);
+      fail(node_pointer(id) + "/type", unknown_node_type_message(n.type, known, searched));
       continue;
     }
     for (const auto& [input, b] : n.inputs) {
@@ -291,10 +341,20 @@ void set_input(Graph& g, const std::string& assignment) {
   std::string input = assignment.substr(dot + 1, eq - dot - 1);
   std::string text = assignment.substr(eq + 1);
   auto it = g.nodes.find(id);
-  if (it == g.nodes.end())
-    throw GraphError(g.file.string(), {{node_pointer(id), "--set names unknown node \"" + id + "\""}});
   json value = json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (value.is_discarded()) value = text;  // plain words: a string
+  if (it == g.nodes.end() && id == "time") {
+    json t = g.time ? time_to_json(*g.time) : json::object();
+    t[input] = value;
+    try {
+      g.time = parse_time(t);
+    } catch (const GraphError& e) {
+      throw GraphError("--set " + assignment, e.issues());
+    }
+    return;
+  }
+  if (it == g.nodes.end())
+    throw GraphError(g.file.string(), {{node_pointer(id), "--set names unknown node \"" + id + "\""}});
   InputBinding b;
   if (value.is_object() && value.contains("from") && value["from"].is_string()) {
     std::string from = value["from"].get<std::string>();
@@ -319,7 +379,9 @@ json graph_to_json(const Graph& g) {
     if (!n.ui.is_null()) node["ui"] = n.ui;
     nodes[id] = node;
   }
-  return {{"loom", kGraphFormatVersion}, {"seed", g.seed}, {"nodes", nodes}};
+  json doc = {{"loom", kGraphFormatVersion}, {"seed", g.seed}, {"nodes", nodes}};
+  if (g.time) doc["time"] = time_to_json(*g.time);
+  return doc;
 }
 
 std::vector<std::string> node_types_used(const Graph& g) {

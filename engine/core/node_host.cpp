@@ -4,6 +4,7 @@ namespace loom::detail {
 
 Value Host::fetch_input(int i) {
   const auto& b = s_.inputs[static_cast<std::size_t>(i)];
+  if (e_.fed_state(s_, static_cast<std::size_t>(i))) return s_.previous[static_cast<std::size_t>(s_.state_output)];
   if (b.kind == NodeState::Binding::literal) return b.literal_value;
   NodeState& up = e_.at(b.upstream);
   if (!up.done.load(std::memory_order_acquire)) e_.execute({b.upstream});
@@ -14,7 +15,15 @@ Value Host::fetch_input(int i) {
 }
 
 bool Host::input_set(int i) const {
-  return s_.inputs[static_cast<std::size_t>(i)].kind != NodeState::Binding::unset;
+  return e_.fed_state(s_, static_cast<std::size_t>(i)) ||
+         s_.inputs[static_cast<std::size_t>(i)].kind != NodeState::Binding::unset;
+}
+
+std::shared_ptr<void> Host::sequence_state(const std::function<std::shared_ptr<void>()>& make) {
+  std::lock_guard lock(e_.session.sequence_mutex);
+  auto& state = e_.session.sequences[s_.node->id];
+  if (!state) state = make();
+  return state;
 }
 
 void Host::report_progress(double fraction, std::string_view label) {

@@ -20,6 +20,7 @@ class Host final : public NodeHost {
   bool cancelled() const override { return e_.cancelled(); }
   std::shared_ptr<void> scratch(std::uint64_t key,
                                 const std::function<std::shared_ptr<void>()>& make) override;
+  std::shared_ptr<void> sequence_state(const std::function<std::shared_ptr<void>()>& make) override;
 
  private:
   Evaluation& e_;

@@ -5,6 +5,7 @@
 #include "computation_hash.hpp"
 #include "evaluation.hpp"
 #include "literal.hpp"
+#include "loom/frame_pattern.hpp"
 
 namespace loom::detail {
 
@@ -23,7 +24,8 @@ void Evaluation::build() {
 }
 
 // Each declared input: a link, a literal (from the graph or the default, paths
-// resolved against the graph's or the output folder), or unset.
+// resolved against the graph's or the output folder, {frame:04} in output
+// paths expanded), or unset.
 void Evaluation::bind_inputs() {
   for (auto& sp : nodes) {
     NodeState& s = *sp;
@@ -46,7 +48,9 @@ void Evaluation::bind_inputs() {
       b.kind = NodeState::Binding::literal;
       b.literal_value = literal_value(spec, *literal);
       if (spec.role != InputRole::value) {
-        std::filesystem::path p = b.literal_value.as<std::string>();
+        std::string text = b.literal_value.as<std::string>();
+        if (spec.role == InputRole::output_file) text = expand_frame_pattern(text, time.frame);
+        std::filesystem::path p = text;
         const auto& base = spec.role == InputRole::input_file ? graph_dir : options.output_dir;
         if (p.is_relative()) p = base / p;
         b.literal_value = Value::make<std::string>(p.lexically_normal().string());
@@ -81,15 +85,45 @@ std::vector<int> Evaluation::topological_order() const {
   return order;
 }
 
+// Hashes in topological order (computation_hash.cpp has the rule). Past the
+// start frame, a first pass at the start frame gives each simulation its chain.
 void Evaluation::hash_nodes(const std::vector<int>& order) {
   const std::uint64_t run_salt = Hasher().pod(session.evaluations).str("nondeterministic").digest();
+  bool any_simulation = false;
   for (int n : order) {
     NodeState& s = at(n);
     const NodeSpec& spec = s.type->spec;
     s.seed = Hasher(graph.seed).str(s.node->id).digest();
-    s.hash = computation_hash(s, nodes, run_salt);
     s.cacheable = !spec.sink && !spec.nondeterministic;
+    s.time_dependent = spec.time_dependent;
+    for (const auto& b : s.inputs)
+      if (b.kind == NodeState::Binding::link) s.time_dependent = s.time_dependent || at(b.upstream).time_dependent;
+    if (spec.simulation()) {
+      any_simulation = true;
+      s.state_input = spec.input_index(spec.state_input);
+      s.state_output = spec.output_index(spec.state_output);
+      if (s.state_input < 0 || s.state_output < 0)
+        throw Error("node type " + spec.name + " declares a simulation state \"" + spec.state_input + "\" -> \"" +
+                    spec.state_output + "\" but lacks that input or output (a bug in the node)");
+    }
   }
+  auto pass = [&](const FrameTime& t) {
+    for (int n : order) {
+      NodeState& s = at(n);
+      if (s.type->spec.simulation()) {
+        if (t.frame == time.start) s.chain = computation_hash(s, nodes, run_salt, t);
+        s.hash = state_hash(s.chain, t.frame);
+      } else {
+        s.hash = computation_hash(s, nodes, run_salt, t);
+      }
+    }
+  };
+  if (any_simulation && time.frame != time.start) {
+    FrameTime start = time;
+    start.frame = time.start;
+    pass(start);
+  }
+  pass(time);
 }
 
 }  // namespace loom::detail

@@ -111,8 +111,19 @@ void PluginLoader::load(PluginInfo& info) {
   Registry staged;  // register into a copy first: a failing plugin adds nothing
   entry->register_nodes(staged);
   info.node_types.clear();
+  // The library file's identity enters the disk cache's keys (NodeSpec::build).
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(info.library, ec);
+  const auto mtime = std::filesystem::last_write_time(info.library, ec);
+  const std::uint64_t build = Hasher()
+                                  .str(info.library.string())
+                                  .pod(static_cast<std::uint64_t>(ec ? 0 : size))
+                                  .pod(static_cast<std::int64_t>(mtime.time_since_epoch().count()))
+                                  .digest();
   for (const NodeType* t : staged.all()) {
-    registry_.add(*t, entry->name);
+    NodeType copy = *t;
+    copy.spec.build = build;
+    registry_.add(std::move(copy), entry->name);
     info.node_types.push_back(t->spec.name);
   }
   info.name = entry->name;

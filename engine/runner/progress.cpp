@@ -43,6 +43,10 @@ void ConsoleObserver::clear_locked() {
 void ConsoleObserver::draw_locked() {
   clear_locked();
   auto now = std::chrono::steady_clock::now();
+  if (!frame_line_.empty()) {
+    std::fprintf(stderr, "%s\n", frame_line_.c_str());
+    ++drawn_lines_;
+  }
   for (const auto& [id, a] : active_) {
     if (now - a.start < kShowAfter) continue;
     constexpr int width = 30;
@@ -99,6 +103,15 @@ void ConsoleObserver::node_finished(const std::string& id, const NodeReport& rep
     std::snprintf(line, sizeof line, "[%s] done in %.2f s", id.c_str(), report.seconds);
     print_locked(line);
   }
+}
+
+void ConsoleObserver::frame_started(int frame, int index, int count) {
+  std::lock_guard lock(mutex_);
+  frame_line_ = "frame " + std::to_string(index) + " of " + std::to_string(count) + " (frame " +
+                std::to_string(frame) + ")";
+  if (tty_ || quiet_) return;
+  const int step = count / 10 > 0 ? count / 10 : 1;
+  if (index == 1 || index == count || index % step == 0) print_locked(frame_line_);
 }
 
 }  // namespace loom::runner

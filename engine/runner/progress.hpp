@@ -1,6 +1,7 @@
 // What `loom run` shows while it works: on a terminal, a progress bar for each
 // node that runs longer than a moment; otherwise plain lines at 25% steps.
-// Warnings always; node log lines unless --quiet.
+// Warnings always; node log lines unless --quiet. Over a frame range, "frame
+// k of N" above the bars (or a line at every tenth of the range).
 #pragma once
 
 #include <atomic>
@@ -25,6 +26,7 @@ class ConsoleObserver final : public Observer {
   void node_progress(const std::string& id, double fraction, const std::string& label) override;
   void node_message(const std::string& id, bool warning, const std::string& text) override;
   void node_finished(const std::string& id, const NodeReport& report) override;
+  void frame_started(int frame, int index, int count) override;
 
  private:
   struct Active {
@@ -42,6 +44,7 @@ class ConsoleObserver final : public Observer {
   std::mutex mutex_;
   std::condition_variable wake_;
   std::map<std::string, Active> active_;
+  std::string frame_line_;  // "frame k of N" while a frame range runs
   int drawn_lines_ = 0;
   bool stopping_ = false;
   std::thread painter_;

@@ -41,4 +41,31 @@ std::string TypeTraits<Image>::summary(const Image& image) {
   return s.str();
 }
 
+// Rows, columns, channels, encoding, then the float pixels row by row.
+void TypeTraits<Image>::write(const Image& image, ByteWriter& w) {
+  w.pod<std::int32_t>(image.height());
+  w.pod<std::int32_t>(image.width());
+  w.pod<std::int32_t>(image.channels());
+  w.pod<std::int32_t>(image.encoding == Encoding::srgb ? 1 : 0);
+  const std::size_t row = sizeof(float) * static_cast<std::size_t>(image.width() * image.channels());
+  for (int y = 0; y < image.height(); ++y) w.bytes(image.pixels.ptr<float>(y), row);
+}
+
+Image TypeTraits<Image>::read(ByteReader& r) {
+  const auto rows = r.pod<std::int32_t>(), cols = r.pod<std::int32_t>(), ch = r.pod<std::int32_t>();
+  const auto enc = r.pod<std::int32_t>();
+  if (rows < 0 || cols < 0 || ch < 1 || ch > 4 || (enc != 0 && enc != 1) ||
+      static_cast<std::uint64_t>(rows) * static_cast<std::uint64_t>(cols) * static_cast<std::uint64_t>(ch) >
+          r.remaining() / sizeof(float))
+    throw Error("stored image has impossible dimensions");
+  Image image(cv::Mat(rows, cols, CV_MAKETYPE(CV_32F, ch)), enc ? Encoding::srgb : Encoding::linear);
+  const std::size_t row = sizeof(float) * static_cast<std::size_t>(cols * ch);
+  for (int y = 0; y < rows; ++y) r.bytes(image.pixels.ptr<float>(y), row);
+  return image;
+}
+
+std::size_t TypeTraits<Image>::bytes(const Image& image) {
+  return image.pixels.total() * image.pixels.elemSize();
+}
+
 }  // namespace loom

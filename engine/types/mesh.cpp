@@ -24,4 +24,27 @@ std::string TypeTraits<Mesh>::summary(const Mesh& mesh) {
   return s.str();
 }
 
+void TypeTraits<Mesh>::write(const Mesh& m, ByteWriter& w) {
+  w.matrix(m.V);
+  w.matrix(m.F);
+  w.matrix(m.UV);
+  w.matrix(m.N);
+  w.matrix(m.C);
+}
+
+Mesh TypeTraits<Mesh>::read(ByteReader& r) {
+  Mesh m;
+  m.V = r.matrix<Eigen::MatrixX3d>();
+  m.F = r.matrix<Eigen::MatrixX3i>();
+  m.UV = r.matrix<Eigen::MatrixX2d>();
+  m.N = r.matrix<Eigen::MatrixX3d>();
+  m.C = r.matrix<Eigen::MatrixX3d>();
+  return m;
+}
+
+std::size_t TypeTraits<Mesh>::bytes(const Mesh& m) {
+  return sizeof(double) * static_cast<std::size_t>(m.V.size() + m.UV.size() + m.N.size() + m.C.size()) +
+         sizeof(int) * static_cast<std::size_t>(m.F.size());
+}
+
 }  // namespace loom

@@ -25,4 +25,22 @@ std::string TypeTraits<PointSet>::summary(const PointSet& points) {
   return s.str();
 }
 
+void TypeTraits<PointSet>::write(const PointSet& p, ByteWriter& w) {
+  w.matrix(p.P);
+  w.matrix(p.radius);
+  w.matrix(p.C);
+}
+
+PointSet TypeTraits<PointSet>::read(ByteReader& r) {
+  PointSet p;
+  p.P = r.matrix<Eigen::MatrixX3d>();
+  p.radius = r.matrix<Eigen::VectorXd>();
+  p.C = r.matrix<Eigen::MatrixX3d>();
+  return p;
+}
+
+std::size_t TypeTraits<PointSet>::bytes(const PointSet& p) {
+  return sizeof(double) * static_cast<std::size_t>(p.P.size() + p.radius.size() + p.C.size());
+}
+
 }  // namespace loom

@@ -21,4 +21,23 @@ std::string TypeTraits<Polylines>::summary(const Polylines& lines) {
   return s.str();
 }
 
+void TypeTraits<Polylines>::write(const Polylines& l, ByteWriter& w) {
+  w.matrix(l.P);
+  w.matrix(l.E);
+  w.matrix(l.C);
+}
+
+Polylines TypeTraits<Polylines>::read(ByteReader& r) {
+  Polylines l;
+  l.P = r.matrix<Eigen::MatrixX3d>();
+  l.E = r.matrix<Eigen::MatrixX2i>();
+  l.C = r.matrix<Eigen::MatrixX3d>();
+  return l;
+}
+
+std::size_t TypeTraits<Polylines>::bytes(const Polylines& l) {
+  return sizeof(double) * static_cast<std::size_t>(l.P.size() + l.C.size()) +
+         sizeof(int) * static_cast<std::size_t>(l.E.size());
+}
+
 }  // namespace loom

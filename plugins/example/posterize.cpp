@@ -5,6 +5,10 @@
 // What this file shows a plugin author: declaring typed inputs with defaults
 // and ranges, reading them, a clear error for bad input, a TBB loop over rows
 // with progress and cancellation, and an output that keeps the input's tag.
+// Progress and cancellation are checked on the calling thread between bands
+// of rows, never inside the parallel_for body (the host is not called from
+// TBB workers).
+#include <algorithm>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -33,17 +37,22 @@ struct Posterize {
     const int channels = image.channels();
     const int color = (channels == 2 || channels == 4) ? channels - 1 : channels;
 
+    // Pixels are float32, channels interleaved in RGB(A) order, values in the
+    // image's encoding: posterizing never needs to convert.
     cv::Mat result = image.pixels.clone();
-    tbb::parallel_for(tbb::blocked_range<int>(0, result.rows), [&](const tbb::blocked_range<int>& rows) {
-      if (ctx.cancelled()) return;
-      for (int y = rows.begin(); y < rows.end(); ++y) {
-        float* p = result.ptr<float>(y);
-        for (int x = 0; x < result.cols; ++x)
-          for (int c = 0; c < color; ++c) p[x * channels + c] = std::round(p[x * channels + c] * steps) / steps;
-      }
-      ctx.progress(rows.end(), result.rows, "rows");
-    });
-    ctx.check_cancelled();
+    constexpr int kBand = 64;  // rows between progress reports
+    for (int band = 0; band < result.rows; band += kBand) {
+      ctx.check_cancelled();
+      const int end = std::min(band + kBand, result.rows);
+      tbb::parallel_for(tbb::blocked_range<int>(band, end), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+          float* p = result.ptr<float>(y);
+          for (int x = 0; x < result.cols; ++x)
+            for (int c = 0; c < color; ++c) p[x * channels + c] = std::round(p[x * channels + c] * steps) / steps;
+        }
+      });
+      ctx.progress(end, result.rows, "rows");
+    }
     out.set("image", loom::Image(result, image.encoding));
   }
 };

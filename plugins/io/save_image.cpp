@@ -12,7 +12,7 @@ struct SaveImage {
                "and renames it, so no half-written file is ever seen.")
         .set_sink()
         .input<loom::Image>("image", "the image to write")
-        .input<std::string>("path", "the file to write, relative to the output folder").output_file()
+        .input<std::string>("path", "the file to write, relative to the output folder; {frame:04} in it becomes the frame number (one file per frame)").output_file()
         .enum_input("depth", "8", {"8", "16", "float"}, "bits per channel (EXR/HDR are always float)");
   }
   static void run(loom::Inputs& in, loom::Outputs&, loom::Context& ctx) {

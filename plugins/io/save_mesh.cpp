@@ -12,7 +12,7 @@ struct SaveMesh {
                "colors the format can hold.")
         .set_sink()
         .input<loom::Mesh>("mesh", "the mesh to write")
-        .input<std::string>("path", "the file to write, relative to the output folder").output_file()
+        .input<std::string>("path", "the file to write, relative to the output folder; {frame:04} in it becomes the frame number (one file per frame)").output_file()
         .input<std::string>("texture", std::string(),
                             "an image file name for the material's diffuse map (OBJ, glTF)");
   }

@@ -1,3 +1,3 @@
 #include "loom/plugin.hpp"
 
-LOOM_PLUGIN("util", "Constants, Switch, scalar math and Print: graph plumbing with no heavy dependencies")
+LOOM_PLUGIN("util", "Constants, Switch, scalar math, Print and Time: graph plumbing with no heavy dependencies")

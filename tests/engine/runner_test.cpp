@@ -28,7 +28,7 @@ json read_json(const fs::path& p) {
 
 int loom_with_test_plugins(const std::string& args, std::string* out = nullptr) {
   // run_loom prefixes the binary; the environment goes in front through env(1).
-  std::string cmd = "env " + kTestPlugins + LOOM_RUNNER + " " + args + " 2>&1";
+  std::string cmd = "env " + kTestPlugins + test::fresh_cache_env(args) + LOOM_RUNNER + " " + args + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   std::string text;
   char buf[4096];

@@ -17,7 +17,7 @@ Engine::Engine()
 Graph Engine::graph(const json& document, const fs::path& file) {
   Graph g = parse_graph(document, fs::absolute(file));
   loader.load_for(node_types_used(g));
-  validate_graph(g, registry, loader.searched_description());
+  validate_graph(g, registry, loader.searched_description(), loader.known_node_types());
   return g;
 }
 
@@ -54,8 +54,19 @@ fs::path temp_dir() {
   return dir;
 }
 
-int run_loom(const std::string& arguments, std::string* output) {
-  std::string cmd = std::string(LOOM_RUNNER) + " " + arguments + " 2>&1";
+std::string fresh_cache_env(const std::string& arguments) {
+  if (arguments.find("--cache") != std::string::npos) return "";
+  return "XDG_CACHE_HOME=" + (temp_dir() / "xdg-cache").string() + " ";
+}
+
+int run_loom(const std::string& arguments, std::string* output) { return run_loom_env("", arguments, output); }
+
+int run_loom_env(const std::string& environment, const std::string& arguments, std::string* output) {
+  return run_shell("env " + environment + " " + fresh_cache_env(arguments) + LOOM_RUNNER + " " + arguments, output);
+}
+
+int run_shell(const std::string& script, std::string* output) {
+  std::string cmd = "( " + script + " ) 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return -1;
   std::string text;

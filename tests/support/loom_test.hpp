@@ -39,6 +39,14 @@ std::filesystem::path data_file(const std::string& relative);
 std::filesystem::path temp_dir();
 
 // Runs the built `loom` command; returns its exit code, stdout+stderr in *output.
+// Unless the arguments name a --cache folder, the run gets a fresh, empty
+// persistent cache (XDG_CACHE_HOME in a new temporary folder).
 int run_loom(const std::string& arguments, std::string* output = nullptr);
+// run_loom with VAR=value assignments in front of the command.
+int run_loom_env(const std::string& environment, const std::string& arguments, std::string* output = nullptr);
+// Runs a shell script; returns its exit code, stdout+stderr in *output.
+int run_shell(const std::string& script, std::string* output = nullptr);
+// The environment assignment run_loom puts in front of the command.
+std::string fresh_cache_env(const std::string& arguments);
 
 }  // namespace loom::test

@@ -6,6 +6,8 @@
 //   Color   [r, g, b] or [r, g, b, a] in the image's own encoding, or "#rrggbb[aa]"
 //   IntList [1, 2]  FloatList [0.5]  StringList ["a"]  Vec2List [[0, 1], [2, 3]]
 //   Vec3List [[0, 0, 1]]    Json    any JSON value (e.g. figures to draw)
+//
+// Each is storable in the persistent cache (write/read, see loom/serialize.hpp).
 #pragma once
 
 #include <string>
@@ -34,6 +36,9 @@ struct Color {
     LOOM_API static T from_json(const json& j);               \
     LOOM_API static json to_json(const T& v);                 \
     LOOM_API static std::string summary(const T& v);          \
+    static constexpr int version = 1;                         \
+    LOOM_API static void write(const T& v, ByteWriter& w);    \
+    LOOM_API static T read(ByteReader& r);                    \
   }
 
 LOOM_BUILTIN_TYPE(bool, "Bool", "true or false");

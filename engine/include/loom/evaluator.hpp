@@ -7,6 +7,13 @@
 // hash = node type + version + for each input either its literal value or the
 // hash of the upstream node feeding it (Gaffer's contract). Re-evaluating after
 // one change therefore recomputes only what depends on that change.
+//
+// Time: evaluate() walks options.frames in order. A node's hash has the frame
+// in it only if it reads time (its own flag, a simulation, or an upstream
+// hash with the frame in it), so time-independent results are computed once
+// and shared by every frame. A simulation's state at frame f is keyed by
+// H(its hash at the start frame, f) and stepped from the latest cached frame.
+// See docs/architecture.md, "Time, state and the persistent cache".
 #pragma once
 
 #include <atomic>
@@ -15,6 +22,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,8 +34,13 @@ enum class NodeStatus { pruned, ran, cached, skipped, failed };
 LOOM_API const char* to_string(NodeStatus status);
 
 struct NodeReport {
+  // Over several frames: failed, else skipped, else ran (at some frame), else
+  // cached, else pruned.
   NodeStatus status = NodeStatus::pruned;
-  double seconds = 0;         // run time of the node body (0 unless ran/failed)
+  double seconds = 0;         // run time of the node body (0 unless ran/failed), summed over frames
+  int runs = 0;               // frames (or simulation steps) at which the body ran
+  int memory_hits = 0;        // frames served by the memory cache
+  int disk_hits = 0;          // frames served by the persistent cache
   std::string error;          // failed or skipped: why
   std::vector<std::string> warnings;
 };
@@ -49,7 +62,15 @@ class Observer {
   virtual void node_message(const std::string& /*id*/, bool /*warning*/,
                             const std::string& /*text*/) {}
   virtual void node_finished(const std::string& /*id*/, const NodeReport& /*report*/) {}
+  // Before each frame of a frame range: frame number, index (1-based) and count.
+  virtual void frame_started(int /*frame*/, int /*index*/, int /*count*/) {}
 };
+
+struct FrameRange {
+  int first = 1, last = 1;  // inclusive, first <= last
+};
+
+class DiskCache;
 
 struct EvalOptions {
   std::vector<Target> targets;  // empty: every sink in the graph
@@ -57,12 +78,22 @@ struct EvalOptions {
   std::filesystem::path output_dir = ".";
   Observer* observer = nullptr;
   const std::atomic<bool>* cancel = nullptr;  // set it to cancel cooperatively
+  // The frames to evaluate, in order; unset: the graph's start frame only (1
+  // for a graph without "time"). Sinks run at every frame; nodes that do not
+  // depend on time run once and are shared by every frame.
+  std::optional<FrameRange> frames;
+  // The persistent result cache, or null for none (see loom/disk_cache.hpp).
+  DiskCache* disk_cache = nullptr;
+  // Memory kept for simulation states (besides each simulation's latest
+  // state); older states beyond it are dropped (the disk cache may hold them).
+  std::size_t state_memory_budget = std::size_t(2) << 30;
 };
 
 struct EvalResult {
   std::map<std::string, NodeReport> nodes;  // every node of the graph
   std::map<std::string, std::vector<Value>> outputs;  // the targets' outputs
   double total_seconds = 0;
+  int frames = 0;  // frames evaluated (fewer than asked when cancelled or failed)
   bool cancelled = false;
   bool ok() const;  // no node failed or was skipped
 };

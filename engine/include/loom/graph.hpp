@@ -37,9 +37,18 @@ struct GraphNode {
   json ui;  // editor layout, kept as is
 };
 
+// "time": {"start": 1, "end": 240, "fps": 24}: the frames a run walks by
+// default and their rate. A graph without it is one evaluation at frame 1.
+struct TimeRange {
+  int start = 1;
+  int end = 1;  // inclusive, at least start
+  double fps = 24;
+};
+
 struct Graph {
   std::filesystem::path file;  // for messages and relative input paths
   std::uint64_t seed = 0;
+  std::optional<TimeRange> time;
   std::map<std::string, GraphNode> nodes;  // by id, sorted
 
   std::filesystem::path dir() const { return file.empty() ? std::filesystem::current_path()
@@ -70,12 +79,16 @@ LOOM_API Graph load_graph_file(const std::filesystem::path& file);
 // Against the registry: unknown types, unknown inputs, links to unknown nodes
 // or outputs, type mismatches, missing required inputs, bad enum values,
 // out-of-range values, cycles. Throws GraphError listing every issue found.
-// `searched` names where node types were looked for, for unknown-type errors.
+// `searched` names where node types were looked for, for unknown-type errors;
+// `known_types` (PluginLoader::known_node_types) adds the types of plugins not
+// loaded to the registry's for "did you mean".
 LOOM_API void validate_graph(const Graph& graph, const Registry& registry,
-                             const std::string& searched = {});
+                             const std::string& searched = {},
+                             const std::vector<std::string>& known_types = {});
 
 // Applies `--set ID.INPUT=JSON`; a value that is not valid JSON is taken as a
-// string. Throws GraphError for an unknown node.
+// string. Throws GraphError for an unknown node. `time.start`, `time.end` and
+// `time.fps` set the graph's time (unless a node is named "time").
 LOOM_API void set_input(Graph& graph, const std::string& assignment);
 
 LOOM_API json graph_to_json(const Graph& graph);

@@ -43,6 +43,10 @@ struct TypeTraits<Image> {
   static constexpr const char* description =
       "float32 pixels, 1-4 channels (RGB order), tagged linear or sRGB-encoded";
   LOOM_API static std::string summary(const Image& image);
+  static constexpr int version = 1;
+  LOOM_API static void write(const Image& v, ByteWriter& w);
+  LOOM_API static Image read(ByteReader& r);
+  LOOM_API static std::size_t bytes(const Image& v);
 };
 
 }  // namespace loom

@@ -36,6 +36,10 @@ struct TypeTraits<Mesh> {
   static constexpr const char* description =
       "triangle mesh: V #V×3, F #F×3, optional per-vertex UV, normals, colors";
   LOOM_API static std::string summary(const Mesh& mesh);
+  static constexpr int version = 1;
+  LOOM_API static void write(const Mesh& v, ByteWriter& w);
+  LOOM_API static Mesh read(ByteReader& r);
+  LOOM_API static std::size_t bytes(const Mesh& v);
 };
 
 }  // namespace loom

@@ -71,6 +71,10 @@ struct FrameTime {
   // initial state and advances it by nothing (as in Blender's simulation
   // zones), 1/fps at every later frame. 0 for every other node.
   double step = 0;
+  // The frames the current evaluation walks, in order (first == last == frame
+  // for a single frame). A sink that gathers a sequence (SaveVideo) finishes
+  // its file at `last`.
+  int first = 1, last = 1;
 
   double seconds() const { return (frame - start) / fps; }  // since the start frame
 };
@@ -85,6 +89,10 @@ class LOOM_API NodeSpec {
   std::string name;
   std::string description;
   std::string plugin;  // set by the registry
+  // The identity of the plugin's library file (size and modification time),
+  // set by the plugin loader: it enters the persistent cache's keys, so a
+  // rebuilt plugin never serves results of its previous build.
+  std::uint64_t build = 0;
   int version = 1;     // bump when results change: it enters the cache hash
   bool sink = false;   // has side effects (writes files); always runs, never cached
   bool nondeterministic = false;  // never cached, nor is anything downstream
@@ -164,6 +172,7 @@ class NodeHost {
   virtual bool cancelled() const = 0;
   virtual std::shared_ptr<void> scratch(std::uint64_t key,
                                         const std::function<std::shared_ptr<void>()>& make) = 0;
+  virtual std::shared_ptr<void> sequence_state(const std::function<std::shared_ptr<void>()>& make) = 0;
 };
 
 class LOOM_API Inputs {
@@ -254,6 +263,18 @@ class LOOM_API Context {
   std::shared_ptr<T> scratch(std::uint64_t key, Make make) {
     return std::static_pointer_cast<T>(
         host_.scratch(key, [&]() -> std::shared_ptr<void> { return make(); }));
+  }
+
+  // State of a sink that gathers the frames of one evaluation in order (a
+  // video writer): made at the first frame this node runs, handed back at every
+  // later frame of the same evaluation, and destroyed when the evaluation ends.
+  // The node finishes its work at time().last; if the evaluation stops early
+  // (cancelled, failed) the state is destroyed unfinished, so its destructor
+  // must clean up (remove a temporary file).
+  template <class T, class Make>
+  std::shared_ptr<T> sequence_state(Make make) {
+    return std::static_pointer_cast<T>(
+        host_.sequence_state([&]() -> std::shared_ptr<void> { return make(); }));
   }
 
   const std::filesystem::path& graph_dir() const { return graph_dir_; }

@@ -45,6 +45,11 @@ class LOOM_API PluginLoader {
   const std::vector<std::filesystem::path>& search_path() const { return search_path_; }
   const std::vector<PluginInfo>& plugins() const { return plugins_; }
   std::string searched_description() const;  // for "unknown node type" errors
+  // Every node type known without loading more: the registry's and those the
+  // manifests of plugins not loaded name (for "did you mean").
+  std::vector<std::string> known_node_types() const;
+  // Entries of the search path that cannot hold plugins: missing, or files.
+  std::vector<std::string> search_path_warnings() const;
 
   // Loads the plugins that provide these node types. Types no manifest names
   // are left for validation to report (after loading any plugin that has no

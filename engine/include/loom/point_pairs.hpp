@@ -23,6 +23,9 @@ struct TypeTraits<PointPairs> {
   LOOM_API static PointPairs from_json(const json& j);
   LOOM_API static json to_json(const PointPairs& v);
   LOOM_API static std::string summary(const PointPairs& v);
+  static constexpr int version = 1;
+  LOOM_API static void write(const PointPairs& v, ByteWriter& w);
+  LOOM_API static PointPairs read(ByteReader& r);
 };
 
 }  // namespace loom

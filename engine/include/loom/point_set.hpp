@@ -33,6 +33,10 @@ struct TypeTraits<PointSet> {
   static constexpr const char* description =
       "points: P #P×3, optional per-point radius and linear RGB colors";
   LOOM_API static std::string summary(const PointSet& points);
+  static constexpr int version = 1;
+  LOOM_API static void write(const PointSet& v, ByteWriter& w);
+  LOOM_API static PointSet read(ByteReader& r);
+  LOOM_API static std::size_t bytes(const PointSet& v);
 };
 
 }  // namespace loom

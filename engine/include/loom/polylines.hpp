@@ -31,6 +31,10 @@ struct TypeTraits<Polylines> {
   static constexpr const char* description =
       "line segments: P #P×3 vertices, E #E×2 index pairs, optional per-vertex colors";
   LOOM_API static std::string summary(const Polylines& lines);
+  static constexpr int version = 1;
+  LOOM_API static void write(const Polylines& v, ByteWriter& w);
+  LOOM_API static Polylines read(ByteReader& r);
+  LOOM_API static std::size_t bytes(const Polylines& v);
 };
 
 }  // namespace loom

@@ -20,6 +20,9 @@
 //     static constexpr int version = 1;
 //     static void write(const MyThing& v, loom::ByteWriter& w);
 //     static MyThing read(loom::ByteReader& r);
+//     // optional: memory held, for the simulation-state budget (without it a
+//     // storable value is measured by writing it)
+//     static std::size_t bytes(const MyThing& v);
 //   };
 #pragma once
 
@@ -55,6 +58,7 @@ struct TypeInfo {
   int serial_version = 0;
   std::function<void(const void*, ByteWriter&)> write;
   std::function<std::shared_ptr<const void>(ByteReader&)> read;
+  std::function<std::size_t(const void*)> bytes;  // optional: memory held
 
   bool literal() const { return static_cast<bool>(from_json); }
   bool storable() const { return static_cast<bool>(write) && static_cast<bool>(read); }
@@ -94,6 +98,10 @@ template <class Tr, class = void>
 struct has_serial_version : std::false_type {};
 template <class Tr>
 struct has_serial_version<Tr, std::void_t<decltype(Tr::version)>> : std::true_type {};
+template <class Tr, class T, class = void>
+struct has_bytes : std::false_type {};
+template <class Tr, class T>
+struct has_bytes<Tr, T, std::void_t<decltype(Tr::bytes(std::declval<const T&>()))>> : std::true_type {};
 template <class Tr, class = void>
 struct has_description : std::false_type {};
 template <class Tr>
@@ -124,6 +132,8 @@ TypeInfo make_type_info() {
       return std::make_shared<const T>(Tr::read(r));
     };
   }
+  if constexpr (has_bytes<Tr, T>::value)
+    info.bytes = [](const void* p) { return Tr::bytes(*static_cast<const T*>(p)); };
   return info;
 }
 }  // namespace detail
@@ -151,6 +161,7 @@ class Value {
   }
 
   const TypeInfo* type() const { return type_; }
+  const void* data() const { return data_.get(); }  // for TypeInfo's functions
   explicit operator bool() const { return static_cast<bool>(data_); }
 
   template <class T>

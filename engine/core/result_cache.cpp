@@ -1,0 +1,146 @@
+// What is kept and where: the memory cache (ordinary results for two frames,
+// simulation states under a budget, each chain's latest state) and the
+// persistent disk cache (results slow to compute and quick to read back).
+#include <algorithm>
+
+#include "computation_hash.hpp"
+#include "evaluation.hpp"
+#include "loom/disk_cache.hpp"
+
+namespace loom::detail {
+
+namespace {
+
+// Memory held by a simulation state, for the budget.
+std::size_t bytes_of(const std::vector<Value>& values) {
+  std::size_t total = 0;
+  for (const Value& v : values) {
+    if (!v) continue;
+    if (v.type()->bytes) {
+      total += v.type()->bytes(v.data());
+    } else if (v.type()->storable()) {
+      ByteWriter w;
+      v.type()->write(v.data(), w);
+      total += w.buffer().size();
+    } else {
+      total += 1024;
+    }
+  }
+  return total;
+}
+
+}  // namespace
+
+bool Evaluation::cache_has(const NodeState& s) {
+  {
+    std::lock_guard lock(session.cache_mutex);
+    if (session.cache.count(s.hash)) return true;
+  }
+  return options.disk_cache && options.disk_cache->contains(options.disk_cache->key(s.hash, s.type->spec.build));
+}
+
+std::optional<std::vector<Value>> Evaluation::cache_find(const NodeState& s, std::uint64_t hash, bool* from_disk) {
+  *from_disk = false;
+  {
+    std::lock_guard lock(session.cache_mutex);
+    auto it = session.cache.find(hash);
+    if (it != session.cache.end()) {
+      it->second.generation = session.generation;
+      return it->second.outputs;
+    }
+    if (s.type->spec.simulation()) {
+      auto latest = session.latest_states.find(s.chain);
+      if (latest != session.latest_states.end() && state_hash(s.chain, latest->second.frame) == hash) {
+        latest->second.generation = session.generation;
+        return latest->second.outputs;
+      }
+    }
+  }
+  if (!options.disk_cache) return std::nullopt;
+  std::string problem;
+  auto values = options.disk_cache->load(options.disk_cache->key(hash, s.type->spec.build), &problem);
+  if (!problem.empty() && options.observer) options.observer->node_message(s.node->id, true, problem);
+  if (!values) return std::nullopt;
+  *from_disk = true;
+  const auto& outputs = s.type->spec.outputs;
+  if (values->size() != outputs.size()) return std::nullopt;
+  for (std::size_t o = 0; o < outputs.size(); ++o)
+    if (outputs[o].type->name != "Any" && (*values)[o].type()->storage != outputs[o].type->storage)
+      return std::nullopt;
+  std::lock_guard lock(session.cache_mutex);
+  auto& entry = session.cache[hash];
+  entry.outputs = *values;
+  entry.generation = session.generation;
+  entry.state = s.type->spec.simulation();
+  entry.bytes = entry.state ? bytes_of(entry.outputs) : 0;
+  return values;
+}
+
+// Keeps a result that just ran: in memory, and on disk when it was slow to
+// compute (for a simulation: when the steps since its last state on disk were).
+void Evaluation::cache_put(NodeState& s, double seconds) {
+  const bool simulation = s.type->spec.simulation();
+  {
+    std::lock_guard lock(session.cache_mutex);
+    auto& entry = session.cache[s.hash];
+    entry.outputs = s.outputs;
+    entry.generation = session.generation;
+    entry.state = simulation;
+    entry.bytes = simulation ? bytes_of(s.outputs) : 0;
+    if (simulation) {
+      auto& latest = session.latest_states[s.chain];
+      if (latest.outputs.empty() || time.frame >= latest.frame) {
+        latest.frame = time.frame;
+        latest.outputs = s.outputs;
+      }
+      latest.generation = session.generation;
+    }
+  }
+  DiskCache* disk = options.disk_cache;
+  if (!disk) return;
+  double slow = seconds;
+  if (simulation) {
+    std::lock_guard lock(session.cache_mutex);
+    slow = session.unsaved_seconds[s.chain] += seconds;
+  }
+  if (disk->store(disk->key(s.hash, s.type->spec.build), s.outputs, slow) > 0 && simulation) {
+    std::lock_guard lock(session.cache_mutex);
+    session.unsaved_seconds[s.chain] = 0;
+  }
+}
+
+// Ordinary entries live while used in one of the last two frames; simulation
+// states live under the budget, least recently used out first; a chain's
+// latest state lives while the chain was used in one of the last two frames.
+void evict(Session::State& st, std::size_t state_budget) {
+  std::lock_guard lock(st.cache_mutex);
+  for (auto it = st.latest_states.begin(); it != st.latest_states.end();) {
+    if (it->second.generation + 1 < st.generation) {
+      st.unsaved_seconds.erase(it->first);
+      it = st.latest_states.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> states;  // generation, hash
+  std::size_t state_bytes = 0;
+  for (auto it = st.cache.begin(); it != st.cache.end();) {
+    if (it->second.state) {
+      states.emplace_back(it->second.generation, it->first);
+      state_bytes += it->second.bytes;
+      ++it;
+    } else {
+      it = it->second.generation + 1 < st.generation ? st.cache.erase(it) : std::next(it);
+    }
+  }
+  if (state_bytes <= state_budget) return;
+  std::sort(states.begin(), states.end());
+  for (const auto& [generation, hash] : states) {
+    if (state_bytes <= state_budget) break;
+    auto it = st.cache.find(hash);
+    state_bytes -= it->second.bytes;
+    st.cache.erase(it);
+  }
+}
+
+}  // namespace loom::detail

@@ -1,0 +1,61 @@
+// Simulation stepping: a step node past the start frame gets its own output
+// at the previous frame, found in the caches or computed by evaluating the
+// graph at each missing frame in order (see docs/architecture.md).
+#include "computation_hash.hpp"
+#include "evaluation.hpp"
+#include "node_host.hpp"
+
+namespace loom::detail {
+
+bool Evaluation::step_to_previous(int n) {
+  NodeState& s = at(n);
+  if (fed_node == n) {
+    s.previous = fed_previous;
+    return true;
+  }
+  const int want = time.frame - 1;
+  bool from_disk = false;
+  if (auto v = cache_find(s, state_hash(s.chain, want), &from_disk)) {
+    s.previous = std::move(*v);
+    return true;
+  }
+  // The latest frame before `want` that is kept, then step on from there,
+  // evaluating the graph at each frame so time-dependent inputs are current.
+  int next = time.start;
+  std::vector<Value> previous;
+  for (int k = want - 1; k >= time.start; --k)
+    if (auto v = cache_find(s, state_hash(s.chain, k), &from_disk)) {
+      previous = std::move(*v);
+      next = k + 1;
+      break;
+    }
+  for (int g = next; g <= want; ++g) {
+    if (cancelled()) {
+      s.report.status = NodeStatus::skipped;
+      s.report.error = "cancelled";
+      return false;
+    }
+    Host(*this, s).report_progress(static_cast<double>(g - next) / (time.frame - next),
+                                   "stepping frame " + std::to_string(g) + " of " + std::to_string(time.frame));
+    FrameTime t = time;
+    t.frame = g;
+    Evaluation sub(session, graph, options, t);
+    sub.fed_node = n;
+    sub.fed_previous = std::move(previous);
+    sub.build();
+    sub.execute({n});
+    NodeState& step = sub.at(n);
+    s.report.runs += step.report.runs;
+    s.report.seconds += step.report.seconds;
+    if (!step.ok) {
+      s.report.status = step.report.status == NodeStatus::failed ? NodeStatus::failed : NodeStatus::skipped;
+      s.report.error = "at frame " + std::to_string(g) + ": " + step.report.error;
+      return false;
+    }
+    previous = step.outputs;
+  }
+  s.previous = std::move(previous);
+  return true;
+}
+
+}  // namespace loom::detail

@@ -1,0 +1,50 @@
+// Video files from a sequence of loom::Images, through OpenCV's videoio
+// (FFmpeg backend on Debian). Frames arrive in order; the file appears only
+// when finished.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "loom/image.hpp"
+
+namespace cv {
+class VideoWriter;
+}
+
+namespace loom::io {
+
+enum class VideoCodec { automatic, h264, mpeg4 };
+
+// Writes to a temporary file beside `path` and renames it over `path` in
+// finish(); destroyed unfinished (cancelled, failed), it removes the temporary
+// file, so a partial video is never seen.
+class VideoSequence {
+ public:
+  VideoSequence(std::filesystem::path path, double fps, VideoCodec codec);
+  ~VideoSequence();
+  VideoSequence(const VideoSequence&) = delete;
+  VideoSequence& operator=(const VideoSequence&) = delete;
+
+  // 8-bit sRGB-encoded; 1, 3 or 4 channels (alpha dropped). Every frame must
+  // have the size of the first; odd sizes are padded to even ones (H.264's
+  // 4:2:0 chroma needs them) by repeating the last row or column.
+  void add(const Image& frame);
+  void finish();
+
+  const std::string& codec_name() const { return codec_name_; }  // "avc1 (H.264)" or "mp4v (MPEG-4 Part 2)"
+  int frames() const { return frames_; }
+
+ private:
+  void open(int width, int height);
+  std::filesystem::path path_, temp_;
+  double fps_;
+  VideoCodec codec_;
+  std::unique_ptr<cv::VideoWriter> writer_;
+  std::string codec_name_;
+  int width_ = 0, height_ = 0, frames_ = 0;
+  bool finished_ = false;
+};
+
+}  // namespace loom::io

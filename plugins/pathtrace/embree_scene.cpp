@@ -1,0 +1,238 @@
+#include "embree_scene.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "loom/error.hpp"
+#include "loom/hash.hpp"
+
+namespace loom::pathtrace {
+
+namespace {
+
+constexpr unsigned kCameraMask = 1, kShadowMask = 2;
+
+template <class M>
+void hash_matrix(Hasher& h, const M& m) {
+  h.pod(std::int64_t(m.rows())).pod(std::int64_t(m.cols()));
+  if (m.size() > 0) h.bytes(m.data(), sizeof(typename M::Scalar) * std::size_t(m.size()));
+}
+
+}  // namespace
+
+std::uint64_t geometry_key(const Scene& scene) {
+  Hasher h(0x70617468747261ull);
+  h.pod(std::uint64_t(scene.objects.size()));
+  for (const SceneObject& o : scene.objects) {
+    hash_matrix(h, o.transform);
+    h.pod(int(o.casts_shadow));
+    if (o.mesh) {
+      h.pod(1);
+      hash_matrix(h, o.mesh->V);
+      hash_matrix(h, o.mesh->F);
+      hash_matrix(h, o.mesh->N);
+      hash_matrix(h, o.mesh->UV);
+      hash_matrix(h, o.mesh->C);
+    } else if (o.points) {
+      h.pod(2);
+      hash_matrix(h, o.points->P);
+      hash_matrix(h, o.points->radius);
+      hash_matrix(h, o.points->C);
+    } else {
+      h.pod(3);
+    }
+  }
+  return h.digest();
+}
+
+EmbreeScene::EmbreeScene(const Scene& scene) {
+  const auto start = std::chrono::steady_clock::now();
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw Error("Embree could not create a device (error " +
+                            std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+  scene_ = rtcNewScene(device_);
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  Eigen::AlignedBox3f box;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const SceneObject& o = scene.objects[i];
+    const Eigen::Matrix4d& T = o.transform;
+    const Eigen::Matrix3d L = T.topLeftCorner<3, 3>();
+    const Eigen::Matrix3d normal_matrix = L.inverse().transpose();
+    TracedObject t;
+    t.scene_index = int(i);
+    RTCGeometry g = nullptr;
+    if (o.mesh && o.mesh->faces() > 0) {
+      const Mesh& m = *o.mesh;
+      t.P.resize(m.vertices());
+      for (int v = 0; v < m.vertices(); ++v) {
+        t.P[v] = (L * m.V.row(v).transpose() + T.block<3, 1>(0, 3)).cast<float>();
+        box.extend(t.P[v]);
+      }
+      if (m.has_normals()) {
+        t.N.resize(m.vertices());
+        for (int v = 0; v < m.vertices(); ++v) {
+          const Eigen::Vector3d n = normal_matrix * m.N.row(v).transpose();
+          t.N[v] = n.norm() > 0 ? Vec3f(n.normalized().cast<float>()) : Vec3f(Vec3f::Zero());
+        }
+      }
+      if (m.has_uv()) {
+        t.UV.resize(m.vertices());
+        for (int v = 0; v < m.vertices(); ++v) t.UV[v] = m.UV.row(v).transpose().cast<float>();
+      }
+      if (m.has_colors()) {
+        t.C.resize(m.vertices());
+        for (int v = 0; v < m.vertices(); ++v) t.C[v] = m.C.row(v).transpose().cast<float>();
+      }
+      t.F.resize(m.faces());
+      for (int f = 0; f < m.faces(); ++f) t.F[f] = m.F.row(f).transpose();
+      g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+      auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+          g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), t.P.size()));
+      for (std::size_t v = 0; v < t.P.size(); ++v)
+        for (int k = 0; k < 3; ++k) vb[3 * v + k] = t.P[v][k];
+      auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+          g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), t.F.size()));
+      for (std::size_t f = 0; f < t.F.size(); ++f)
+        for (int k = 0; k < 3; ++k) ib[3 * f + k] = unsigned(t.F[f][k]);
+      triangles_ += t.F.size();
+    } else if (o.points && o.points->points() > 0) {
+      const PointSet& ps = *o.points;
+      t.spheres = true;
+      // A default radius of 1% of the cloud's extent when the set has none.
+      Eigen::AlignedBox3d local;
+      for (int p = 0; p < ps.points(); ++p) local.extend(Eigen::Vector3d(ps.P.row(p)));
+      const double fallback = std::max(0.01 * local.diagonal().norm(), 1e-3);
+      const double scale = std::cbrt(std::abs(L.determinant()));
+      t.points.resize(ps.points());
+      for (int p = 0; p < ps.points(); ++p) {
+        const Eigen::Vector3d c = L * ps.P.row(p).transpose() + T.block<3, 1>(0, 3);
+        const double r = (ps.has_radius() ? ps.radius[p] : fallback) * scale;
+        t.points[p] = Eigen::Vector4f(float(c.x()), float(c.y()), float(c.z()), float(r));
+        box.extend(c.cast<float>() + Vec3f::Constant(float(r)));
+        box.extend(c.cast<float>() - Vec3f::Constant(float(r)));
+      }
+      if (ps.has_colors()) {
+        t.point_colors.resize(ps.points());
+        for (int p = 0; p < ps.points(); ++p) t.point_colors[p] = ps.C.row(p).transpose().cast<float>();
+      }
+      g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+      auto* pb = static_cast<float*>(rtcSetNewGeometryBuffer(
+          g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), t.points.size()));
+      for (std::size_t p = 0; p < t.points.size(); ++p)
+        for (int k = 0; k < 4; ++k) pb[4 * p + k] = t.points[p][k];
+    } else {
+      if (o.lines) ++skipped_polylines_;
+      continue;
+    }
+    rtcSetGeometryMask(g, o.casts_shadow ? (kCameraMask | kShadowMask) : kCameraMask);
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(scene_, g);
+    rtcReleaseGeometry(g);
+    if (object_of_geometry_.size() <= id) object_of_geometry_.resize(id + 1, -1);
+    object_of_geometry_[id] = int(objects_.size());
+    objects_.push_back(std::move(t));
+  }
+  rtcCommitScene(scene_);
+  if (rtcGetDeviceError(device_) != RTC_ERROR_NONE)
+    throw Error("Embree failed to build the BVH (out of memory?)");
+  extent_ = box.isEmpty() ? 1.f : std::max(box.diagonal().norm(), 1e-6f);
+  build_seconds_ =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+EmbreeScene::~EmbreeScene() {
+  if (scene_) rtcReleaseScene(scene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceHit* hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray.org_x = o.x();
+  rh.ray.org_y = o.y();
+  rh.ray.org_z = o.z();
+  rh.ray.dir_x = d.x();
+  rh.ray.dir_y = d.y();
+  rh.ray.dir_z = d.z();
+  rh.ray.tnear = 0;
+  rh.ray.tfar = tmax;
+  rh.ray.mask = kCameraMask;
+  rh.ray.flags = 0;
+  rh.ray.time = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  const int index = object_of_geometry_[rh.hit.geomID];
+  const TracedObject& obj = objects_[index];
+  SurfaceHit& h = *hit;
+  h.t = rh.ray.tfar;
+  h.p = o + h.t * d;
+  h.object = index;
+  h.prim = int(rh.hit.primID);
+  h.uv = Vec2f::Zero();
+  h.color = Vec3f::Ones();
+  const Vec3f backward = -d.normalized();
+  if (obj.spheres) {
+    const Eigen::Vector4f& s = obj.points[h.prim];
+    Vec3f n = h.p - s.head<3>();
+    h.ng = n.norm() > 0 ? n.normalized() : backward;
+    h.ns = h.ng;
+    if (!obj.point_colors.empty()) h.color = obj.point_colors[h.prim];
+    return true;
+  }
+  const Eigen::Vector3i& f = obj.F[h.prim];
+  const float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1 - b1 - b2;
+  const Vec3f n = (obj.P[f[1]] - obj.P[f[0]]).cross(obj.P[f[2]] - obj.P[f[0]]);
+  // A degenerate triangle has no normal of its own: it faces the ray.
+  h.ng = n.squaredNorm() > 0 && std::isfinite(n.squaredNorm()) ? n.normalized() : backward;
+  h.ns = h.ng;
+  if (!obj.N.empty()) {
+    const Vec3f ns = b0 * obj.N[f[0]] + b1 * obj.N[f[1]] + b2 * obj.N[f[2]];
+    if (ns.squaredNorm() > 1e-12f) {
+      h.ns = ns.normalized();
+      if (h.ns.dot(h.ng) < 0) h.ns = -h.ns;
+    }
+  }
+  if (!obj.UV.empty()) h.uv = b0 * obj.UV[f[0]] + b1 * obj.UV[f[1]] + b2 * obj.UV[f[2]];
+  if (!obj.C.empty()) h.color = b0 * obj.C[f[0]] + b1 * obj.C[f[1]] + b2 * obj.C[f[2]];
+  return true;
+}
+
+bool EmbreeScene::occluded(const Vec3f& o, const Vec3f& d, float tmax) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray;
+  ray.org_x = o.x();
+  ray.org_y = o.y();
+  ray.org_z = o.z();
+  ray.dir_x = d.x();
+  ray.dir_y = d.y();
+  ray.dir_z = d.z();
+  ray.tnear = 0;
+  ray.tfar = tmax;
+  ray.mask = kShadowMask;
+  ray.flags = 0;
+  ray.time = 0;
+  rtcOccluded1(scene_, &context, &ray);
+  return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
+}
+
+bool EmbreeScene::occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const {
+  const Vec3f origin = offset(hit, light_point - hit.p);
+  Vec3f d = light_point - origin;
+  const float length = d.norm();
+  // The segment stops short of the light's surface by the same margin.
+  const float tmax = length - offset_distance(light_point);
+  if (!(tmax > 0)) return false;
+  return occluded(origin, d / length, tmax);
+}
+
+Vec3f EmbreeScene::offset(const SurfaceHit& hit, const Vec3f& direction) const {
+  const float eps = offset_distance(hit.p);
+  return hit.p + (hit.ng.dot(direction) >= 0 ? eps : -eps) * hit.ng;
+}
+
+}  // namespace loom::pathtrace

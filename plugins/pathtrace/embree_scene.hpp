@@ -1,0 +1,85 @@
+// A loom::Scene's geometry in world space with one Embree 3 BVH over it.
+// Built once per geometry (key: geometry_key) and kept in the PathTrace
+// node's scratch: materials, lights, camera and sample counts do not enter
+// the key, so re-renders that change only those reuse the BVH.
+// Meshes become triangle geometries, PointSets sphere points; Polylines are
+// not traced (the rasterizer draws them).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <embree3/rtcore.h>
+
+#include "loom/scene.hpp"
+#include "sampling.hpp"
+
+namespace loom::pathtrace {
+
+// Everything the BVH depends on: each object's geometry and transform.
+std::uint64_t geometry_key(const Scene& scene);
+
+struct TracedObject {
+  int scene_index = -1;  // into Scene::objects
+  bool spheres = false;
+  // Triangles (world space).
+  std::vector<Vec3f> P, N, C;
+  std::vector<Vec2f> UV;
+  std::vector<Eigen::Vector3i> F;
+  // Sphere points (world space): x, y, z, radius; per-point color or empty.
+  std::vector<Eigen::Vector4f> points;
+  std::vector<Vec3f> point_colors;
+};
+
+// A point on a surface, as the integrator needs it.
+struct SurfaceHit {
+  Vec3f p;
+  Vec3f ng;  // unit geometric normal: outward by the triangle's winding, outward for spheres
+  Vec3f ns;  // unit shading normal (interpolated vertex normals), on ng's side
+  Vec2f uv{0, 0};
+  Vec3f color{1, 1, 1};  // per-vertex / per-point color, multiplies base color
+  float t = 0;
+  int object = -1;  // into EmbreeScene::objects
+  int prim = -1;
+};
+
+class EmbreeScene {
+ public:
+  // `skipped` counts objects that are not traced (polylines, empty geometry).
+  explicit EmbreeScene(const Scene& scene);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  const std::vector<TracedObject>& objects() const { return objects_; }
+  int skipped_polylines() const { return skipped_polylines_; }
+  double build_seconds() const { return build_seconds_; }
+  std::size_t triangles() const { return triangles_; }
+  float extent() const { return extent_; }  // bounding-box diagonal
+
+  bool intersect(const Vec3f& origin, const Vec3f& direction, float tmax, SurfaceHit* hit) const;
+  // Any shadow-casting surface between origin and origin + tmax * direction.
+  bool occluded(const Vec3f& origin, const Vec3f& direction, float tmax) const;
+  // A ray origin moved off the surface to the side `direction` leaves by.
+  Vec3f offset(const SurfaceHit& hit, const Vec3f& direction) const;
+  // How far offset() moves a point at p: float precision at p's magnitude.
+  float offset_distance(const Vec3f& p) const {
+    return 1e-4f * (1 + p.cwiseAbs().maxCoeff()) + 1e-6f * extent_;
+  }
+  // Whether the segment from hit (offset) to a point on a light is blocked;
+  // both ends are kept off their surfaces.
+  bool occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const;
+
+ private:
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+  std::vector<TracedObject> objects_;
+  std::vector<int> object_of_geometry_;
+  int skipped_polylines_ = 0;
+  double build_seconds_ = 0;
+  std::size_t triangles_ = 0;
+  float extent_ = 1;
+};
+
+}  // namespace loom::pathtrace

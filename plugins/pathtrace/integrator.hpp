@@ -1,0 +1,58 @@
+// Unidirectional path tracing with next-event estimation and multiple
+// importance sampling (Veach 1997, ch. 9; pbrt-v4's PathIntegrator):
+//   L = Le + Σ_paths β (NEE: f Le w_light / p_light + BSDF hit: Le w_bsdf),
+//   w by the power heuristic between the light's and the BSDF's densities.
+// A path has at most max_depth bounces: max_depth = 1 is direct light only
+// (Embree's tutorial counts the same way: "1 = primary + shadow").
+// Sample s of pixel p draws from Rng(seed, p, s), so the image does not depend
+// on the thread count or on how samples are batched into passes.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include <opencv2/core.hpp>
+
+#include "embree_scene.hpp"
+#include "environment_light.hpp"
+#include "loom/scene.hpp"
+
+namespace loom::pathtrace {
+
+enum class Strategy { mis, nee, bsdf };
+
+struct RenderSettings {
+  int width = 512, height = 512;
+  int spp = 64;
+  int max_depth = 8;
+  bool russian_roulette = true;
+  int rr_min_depth = 3;  // bounces before roulette may end a path
+  Strategy strategy = Strategy::mis;
+  EnvironmentLight::Sampling environment_sampling = EnvironmentLight::Sampling::importance;
+  // Adaptive sampling: a pixel stops once the relative standard error of its
+  // luminance mean falls below the threshold (0: off), after at least min spp.
+  double adaptive_threshold = 0;
+  int adaptive_min_spp = 16;
+  std::uint64_t seed = 1;
+};
+
+struct RenderResult {
+  cv::Mat image;    // CV_32FC3 linear radiance
+  cv::Mat albedo;   // CV_32FC3 first-hit base color (black where nothing is hit)
+  cv::Mat normal;   // CV_32FC3 first-hit world shading normal (zero where nothing is hit)
+  cv::Mat depth;    // CV_32FC1 first-hit distance along the ray (0 where nothing is hit)
+  cv::Mat samples;  // CV_32FC1 samples taken per pixel
+  double mean_spp = 0;
+  std::uint64_t paths = 0, rays = 0;
+  std::uint64_t nonfinite = 0;  // samples discarded because they were NaN or infinite
+  std::size_t emissive_triangles = 0;
+  bool environment_sampled = false;
+};
+
+// `between_batches(fraction done)` is called on the calling thread between
+// batches of tiles (progress; it may throw to cancel).
+RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene& traced,
+                    const RenderSettings& settings,
+                    const std::function<void(double)>& between_batches = {});
+
+}  // namespace loom::pathtrace

@@ -1,0 +1,132 @@
+// PathTrace: the scene rendered by unidirectional path tracing with
+// next-event estimation and MIS (integrator.hpp) over an Embree BVH kept in
+// the node's scratch (embree_scene.hpp).
+#include <chrono>
+
+#include "embree_scene.hpp"
+#include "integrator.hpp"
+#include "loom/plugin.hpp"
+
+namespace {
+
+using namespace loom::pathtrace;
+
+Strategy strategy_of(const std::string& s) {
+  return s == "nee" ? Strategy::nee : s == "bsdf" ? Strategy::bsdf : Strategy::mis;
+}
+
+void warn_about_unused(const loom::Scene& scene, const EmbreeScene& traced, const RenderSettings& s,
+                       loom::Context& ctx) {
+  if (traced.skipped_polylines() > 0)
+    ctx.warn(std::to_string(traced.skipped_polylines()) +
+             " polyline objects are not path traced (Render draws them)");
+  bool maps = false, emissive_points = false;
+  for (const auto& o : scene.objects) {
+    maps |= o.material.normal_map || o.material.displacement_map;
+    emissive_points |= o.points && (o.material.emission.array() > 0).any();
+  }
+  if (maps) ctx.warn("normal and displacement maps are ignored by the path tracer");
+  if (emissive_points && s.strategy != Strategy::bsdf)
+    ctx.warn("emissive points are found only by BSDF sampling (no light sampling on spheres)");
+  if (!scene.lights.empty() && s.strategy == Strategy::bsdf)
+    ctx.warn("point, spot and directional lights cannot be hit by BSDF sampling: with strategy "
+             "'bsdf' they contribute nothing");
+}
+
+struct PathTrace {
+  static constexpr const char* name = "PathTrace";
+  static void declare(loom::NodeSpec& s) {
+    s.describe("Path tracing (Embree 3 BVH) with next-event estimation on emissive triangles and "
+               "lights, BSDF sampling and MIS (power heuristic), environment-map importance "
+               "sampling (alias table, eq. 64), Russian roulette and adaptive sampling; linear HDR "
+               "image plus albedo, normal and depth AOVs.")
+        .input<loom::Scene>("scene", "what to render; without a camera the scene is framed")
+        .input<loom::Vec2i>("size", loom::Vec2i(512, 512), "image width and height").range(1, 16384)
+        .input<int>("spp", 64, "samples per pixel (the most, with adaptive sampling)").range(1, 1 << 20)
+        .input<int>("max_depth", 8, "bounces at most; 1 is direct light only").range(1, 1024)
+        .input<bool>("russian_roulette", true, "end paths at random after rr_min_depth bounces (unbiased)")
+        .input<int>("rr_min_depth", 3, "bounces before Russian roulette may end a path").range(1, 1024)
+        .enum_input("strategy", "mis", {"mis", "nee", "bsdf"},
+                    "mis: light and BSDF sampling weighted by the power heuristic; nee: light "
+                    "sampling only (BSDF rays ignore emitters they hit); bsdf: no light sampling")
+        .enum_input("environment_sampling", "importance", {"importance", "uniform"},
+                    "how light sampling draws directions of an environment map")
+        .input<double>("adaptive_threshold", 0.0,
+                       "stop a pixel when its relative standard error falls below this (0: off)")
+        .range(0, 1)
+        .input<int>("adaptive_min_spp", 16, "samples before a pixel may stop").range(2, 1 << 20)
+        .output<loom::Image>("image", "linear HDR radiance (RGB)")
+        .output<loom::Image>("albedo", "first-hit base color (RGB), for denoisers")
+        .output<loom::Image>("normal", "first-hit world-space shading normal (RGB = xyz)")
+        .output<loom::Image>("depth", "first-hit distance along the camera ray (0: nothing hit)")
+        .output<loom::Image>("samples", "samples taken per pixel")
+        .output<double>("spp", "mean samples per pixel actually taken")
+        .output<loom::json>("stats", "paths, rays, seconds, throughput, BVH build time and reuse");
+  }
+
+  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
+    const auto scene = in.share<loom::Scene>("scene");
+    loom::require_valid(*scene, "scene");
+    if (scene->environment.map) loom::require_finite(*scene->environment.map, "scene environment map");
+    for (const auto& o : scene->objects)
+      if (o.material.base_color_map)
+        loom::require_finite(*o.material.base_color_map, ("base color map of " + o.name).c_str());
+    RenderSettings s;
+    const loom::Vec2i size = in.get<loom::Vec2i>("size");
+    s.width = size.x();
+    s.height = size.y();
+    s.spp = in.get<int>("spp");
+    s.max_depth = in.get<int>("max_depth");
+    s.russian_roulette = in.get<bool>("russian_roulette");
+    s.rr_min_depth = in.get<int>("rr_min_depth");
+    s.strategy = strategy_of(in.get<std::string>("strategy"));
+    s.environment_sampling = in.get<std::string>("environment_sampling") == "uniform"
+                                 ? EnvironmentLight::Sampling::uniform
+                                 : EnvironmentLight::Sampling::importance;
+    s.adaptive_threshold = in.get<double>("adaptive_threshold");
+    s.adaptive_min_spp = in.get<int>("adaptive_min_spp");
+    s.seed = ctx.seed();
+
+    bool built = false;
+    const auto traced = ctx.scratch<EmbreeScene>(geometry_key(*scene), [&] {
+      ctx.progress(0, 1, "building the BVH");
+      built = true;
+      return std::make_shared<EmbreeScene>(*scene);
+    });
+    warn_about_unused(*scene, *traced, s, ctx);
+    const loom::Camera camera =
+        scene->camera ? *scene->camera : loom::framing_camera(*scene, double(s.width) / s.height);
+
+    const auto start = std::chrono::steady_clock::now();
+    const RenderResult r = render(*scene, camera, *traced, s, [&](double fraction) {
+      ctx.check_cancelled();
+      ctx.progress(fraction, 1, "path tracing");
+    });
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (r.nonfinite > 0)
+      ctx.warn(std::to_string(r.nonfinite) + " samples were NaN or infinite and counted as black");
+
+    out.set("image", loom::Image(r.image, loom::Encoding::linear));
+    out.set("albedo", loom::Image(r.albedo, loom::Encoding::linear));
+    out.set("normal", loom::Image(r.normal, loom::Encoding::linear));
+    out.set("depth", loom::Image(r.depth, loom::Encoding::linear));
+    out.set("samples", loom::Image(r.samples, loom::Encoding::linear));
+    out.set("spp", r.mean_spp);
+    out.set("stats", loom::json{{"paths", r.paths},
+                                {"rays", r.rays},
+                                {"seconds", seconds},
+                                {"paths_per_second", double(r.paths) / std::max(seconds, 1e-9)},
+                                {"rays_per_second", double(r.rays) / std::max(seconds, 1e-9)},
+                                {"mean_spp", r.mean_spp},
+                                {"nonfinite_samples", r.nonfinite},
+                                {"emissive_triangles", r.emissive_triangles},
+                                {"environment_sampled", r.environment_sampled},
+                                {"triangles", traced->triangles()},
+                                {"bvh_build_seconds", traced->build_seconds()},
+                                {"bvh_reused", !built}});
+    ctx.progress(1, 1, "path tracing");
+  }
+};
+LOOM_NODE(PathTrace);
+
+}  // namespace

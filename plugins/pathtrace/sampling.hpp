@@ -1,0 +1,91 @@
+// Random streams and the small warps every estimator here uses (pbrt-v4,
+// "Sampling Algorithms"): each maps uniform numbers in [0, 1) to a density
+// that is returned beside it, so a test can check the two agree.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace loom::pathtrace {
+
+using Vec2f = Eigen::Vector2f;
+using Vec3f = Eigen::Vector3f;
+
+constexpr float kPi = 3.14159265358979323846f;
+constexpr float kInvPi = 1 / kPi;
+constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
+
+// One random stream per (seed, pixel, sample): the numbers a sample draws do
+// not depend on which thread draws them or on how samples are batched.
+class Rng {
+ public:
+  Rng(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample)
+      : state_(mix(seed ^ mix(pixel * 0x9e3779b97f4a7c15ull + mix(sample + 1)))) {}
+  std::uint64_t next_u64() { return mix(state_ += 0x9e3779b97f4a7c15ull); }  // splitmix64
+  float uniform() {
+    return std::fmin(float(next_u64() >> 40) * 0x1p-24f, kOneMinusEpsilon);
+  }
+  Vec2f uniform2() {
+    const float a = uniform();
+    return {a, uniform()};
+  }
+
+  static std::uint64_t mix(std::uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  }
+
+ private:
+  std::uint64_t state_;
+};
+
+// Cosine-weighted hemisphere about +z by Malley's method: pdf = cos(theta) / pi.
+inline Vec3f sample_cosine_hemisphere(const Vec2f& u) {
+  const float r = std::sqrt(u.x()), phi = 2 * kPi * u.y();
+  return {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::fmax(0.f, 1 - u.x()))};
+}
+inline float cosine_hemisphere_pdf(float cos_theta) { return std::fmax(cos_theta, 0.f) * kInvPi; }
+
+// Uniform over the unit sphere: pdf = 1 / (4 pi).
+inline Vec3f sample_uniform_sphere(const Vec2f& u) {
+  const float z = 1 - 2 * u.x(), r = std::sqrt(std::fmax(0.f, 1 - z * z)), phi = 2 * kPi * u.y();
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+constexpr float kUniformSpherePdf = 1 / (4 * kPi);
+
+// Uniform over a triangle, as barycentric weights of its 2nd and 3rd corners
+// (Heitz 2019's low-distortion map would do too; this is the square-root one).
+inline Vec2f sample_uniform_triangle(const Vec2f& u) {
+  const float s = std::sqrt(u.x());
+  return {s * (1 - u.y()), s * u.y()};
+}
+
+// Veach 1997, eq. 9.13: the power heuristic with beta = 2, for one sample
+// from each of two strategies.
+inline float power_heuristic(float pdf_a, float pdf_b) {
+  const float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
+  if (!(a > 0)) return 0;
+  if (std::isinf(a)) return 1;
+  return a / (a + b);
+}
+
+inline float luminance(const Vec3f& c) { return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z(); }
+
+// An orthonormal frame about a unit normal (Duff et al. 2017).
+struct Frame {
+  Vec3f s, t, n;
+  explicit Frame(const Vec3f& normal) : n(normal) {
+    const float sign = std::copysign(1.f, n.z());
+    const float a = -1 / (sign + n.z()), b = n.x() * n.y() * a;
+    s = {1 + sign * n.x() * n.x() * a, sign * b, -sign * n.x()};
+    t = {b, sign + n.y() * n.y() * a, -n.y()};
+  }
+  Vec3f to_local(const Vec3f& v) const { return {v.dot(s), v.dot(t), v.dot(n)}; }
+  Vec3f to_world(const Vec3f& v) const { return v.x() * s + v.y() * t + v.z() * n; }
+};
+
+}  // namespace loom::pathtrace
