@@ -2,7 +2,7 @@
 #include "loom/image.hpp"
 #include "loom/mesh.hpp"
 #include "loom/plugin.hpp"
-#include "uv_raster.hpp"
+#include "uv_layout_drawing.hpp"
 
 namespace {
 

@@ -1,0 +1,354 @@
+#include "rasterizer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include <opencv2/imgproc.hpp>
+
+#include "gl_context.hpp"
+#include "gl_program.hpp"
+#include "gpu_scene.hpp"
+#include "loom/error.hpp"
+#include "shader_sources.hpp"
+#include "shadow_pass.hpp"
+#include "view_math.hpp"
+
+namespace loom::shading {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+
+// Blinn-Phong exponent from the perceptual roughness: alpha = roughness²,
+// s = 2 / alpha² - 2 (Walter et al. 2007's Beckmann/Phong correspondence).
+double shininess(double roughness) {
+  const double a = std::max(roughness * roughness, 1e-3);
+  return std::clamp(2 / (a * a) - 2, 1.0, 1e4);
+}
+
+Eigen::Vector3d ambient_of(const Environment& env) {
+  if (!env.map || env.map->empty()) return env.color * env.intensity;
+  const cv::Scalar mean = cv::mean(env.map->pixels);
+  const int ch = env.map->channels();
+  if (ch < 3) return Eigen::Vector3d::Constant(mean[0] * env.intensity);
+  return Eigen::Vector3d(mean[0], mean[1], mean[2]) * env.intensity;
+}
+
+
+}  // namespace
+
+struct Rasterizer::State {
+  GlContext context;
+  double context_seconds = 0, compile_seconds = 0;
+  int max_samples = 1;
+  float line_width_range[2] = {1, 1};
+  std::unique_ptr<GlProgram> mesh, mesh_tess, depth, depth_tess, sphere, line;
+
+  const GlApi& gl() const { return context.gl(); }
+};
+
+Rasterizer::Rasterizer() {
+  const auto t0 = Clock::now();
+  state_ = std::make_unique<State>();
+  state_->context_seconds = since(t0);
+  const auto t1 = Clock::now();
+  GlContext::Current current(state_->context);
+  const GlApi& gl = state_->gl();
+  using namespace glsl;
+  auto& s = *state_;
+  s.mesh = std::make_unique<GlProgram>(gl, "mesh", std::vector<std::pair<GLenum, const char*>>{
+      {GL_VERTEX_SHADER, mesh_vertex}, {GL_FRAGMENT_SHADER, mesh_fragment}});
+  s.mesh_tess = std::make_unique<GlProgram>(gl, "displaced mesh", std::vector<std::pair<GLenum, const char*>>{
+      {GL_VERTEX_SHADER, mesh_vertex}, {GL_TESS_CONTROL_SHADER, mesh_tess_control},
+      {GL_TESS_EVALUATION_SHADER, mesh_tess_eval}, {GL_FRAGMENT_SHADER, mesh_fragment}});
+  s.depth = std::make_unique<GlProgram>(gl, "shadow depth", std::vector<std::pair<GLenum, const char*>>{
+      {GL_VERTEX_SHADER, mesh_vertex}, {GL_FRAGMENT_SHADER, depth_fragment}});
+  s.depth_tess = std::make_unique<GlProgram>(gl, "displaced shadow depth", std::vector<std::pair<GLenum, const char*>>{
+      {GL_VERTEX_SHADER, mesh_vertex}, {GL_TESS_CONTROL_SHADER, mesh_tess_control},
+      {GL_TESS_EVALUATION_SHADER, mesh_tess_eval}, {GL_FRAGMENT_SHADER, depth_fragment}});
+  s.sphere = std::make_unique<GlProgram>(gl, "sphere impostors", std::vector<std::pair<GLenum, const char*>>{
+      {GL_VERTEX_SHADER, sphere_vertex}, {GL_GEOMETRY_SHADER, sphere_geometry},
+      {GL_FRAGMENT_SHADER, sphere_fragment}});
+  s.line = std::make_unique<GlProgram>(gl, "lines", std::vector<std::pair<GLenum, const char*>>{
+      {GL_VERTEX_SHADER, line_vertex}, {GL_FRAGMENT_SHADER, line_fragment}});
+  gl.GetIntegerv(GL_MAX_SAMPLES, &s.max_samples);
+  GLint range[2] = {1, 1};
+  gl.GetIntegerv(GL_ALIASED_LINE_WIDTH_RANGE, range);
+  s.line_width_range[0] = static_cast<float>(range[0]);
+  s.line_width_range[1] = static_cast<float>(range[1]);
+  gl.check("compiling the rasterizer's programs");
+  s.compile_seconds = since(t1);
+}
+
+Rasterizer::~Rasterizer() {
+  if (!state_) return;
+  GlContext::Current current(state_->context);
+  state_->mesh.reset();
+  state_->mesh_tess.reset();
+  state_->depth.reset();
+  state_->depth_tess.reset();
+  state_->sphere.reset();
+  state_->line.reset();
+}
+
+double Rasterizer::context_seconds() const { return state_->context_seconds; }
+double Rasterizer::compile_seconds() const { return state_->compile_seconds; }
+int Rasterizer::max_samples() const { return state_->max_samples; }
+const std::string& Rasterizer::renderer() const { return state_->context.renderer(); }
+
+namespace {
+
+void set_lighting(GlProgram& p, const Scene& scene, const std::vector<ShadowMap>& maps,
+                  const RenderOptions& o, const Eigen::Vector3d& eye, const Eigen::Vector3d& ambient) {
+  bind_sampler_units(p);
+  p.set("u_eye", eye);
+  p.set("u_ambient", ambient);
+  const int n = std::min<int>(static_cast<int>(scene.lights.size()), max_lights);
+  p.set("u_light_count", n);
+  for (int i = 0; i < n; ++i) {
+    const Light& l = scene.lights[i];
+    const std::string k = "[" + std::to_string(i) + "]";
+    p.set(("u_light_kind" + k).c_str(), l.kind == Light::Kind::point ? 0 : l.kind == Light::Kind::spot ? 1 : 2);
+    p.set(("u_light_position" + k).c_str(), l.position);
+    p.set(("u_light_direction" + k).c_str(), Eigen::Vector3d(l.direction.normalized()));
+    p.set(("u_light_radiance" + k).c_str(), Eigen::Vector3d(l.color * l.intensity));
+    p.set(("u_spot_cos_inner" + k).c_str(), std::cos(l.spot_inner));
+    p.set(("u_spot_cos_outer" + k).c_str(), std::cos(std::max(l.spot_outer, l.spot_inner + 1e-4)));
+    int slot = -1;
+    for (std::size_t m = 0; m < maps.size(); ++m)
+      if (maps[m].light == i) slot = static_cast<int>(m);
+    p.set(("u_light_shadow" + k).c_str(), slot);
+  }
+  p.set("u_shadow_filter", o.shadows == ShadowFilter::pcss ? 2 : o.shadows == ShadowFilter::pcf ? 1 : 0);
+  p.set("u_pcf_size", o.pcf_size);
+  p.set("u_bias", o.shadow_bias);
+  p.set("u_slope_bias", o.shadow_slope_bias);
+  p.set("u_light_size", o.light_size);
+  for (std::size_t m = 0; m < maps.size(); ++m) {
+    const ShadowView& v = maps[m].view;
+    const std::string k = "[" + std::to_string(m) + "]";
+    p.set(("u_shadow_matrix" + k).c_str(), Eigen::Matrix4d(v.projection * v.view));
+    p.set(("u_shadow_origin" + k).c_str(), v.origin);
+    p.set(("u_shadow_axis" + k).c_str(), v.axis);
+    p.set(("u_shadow_texel" + k).c_str(), v.texel);
+    p.set(("u_shadow_resolution" + k).c_str(), o.shadow_resolution);
+  }
+}
+
+}  // namespace
+
+RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options, RenderTimings* timings) {
+  require_valid(scene, "scene");
+  if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
+    throw Error("image size " + std::to_string(options.width) + "x" + std::to_string(options.height) +
+                " is outside 1..16384");
+  // llvmpipe allocates every sample in host memory: refuse what cannot fit
+  // (2^28 samples is 4 GiB of RGBA16F color alone, before depth).
+  if (static_cast<double>(options.width) * options.height * std::max(options.samples, 1) > double(1 << 28))
+    throw Error("image of " + std::to_string(options.width) + "x" + std::to_string(options.height) + " with " +
+                std::to_string(options.samples) + " samples per pixel is too large: lower the size or samples");
+  if (options.shadow_resolution < 16 || options.shadow_resolution > 16384)
+    throw Error("shadow_resolution must be in 16..16384");
+  if (options.pcf_size < 1 || options.pcf_size > 15) throw Error("pcf_size must be in 1..15");
+  RenderTimings local;
+  RenderTimings& time = timings ? *timings : local;
+  State& s = *state_;
+  GlContext::Current current(s.context);
+  const GlApi& gl = s.gl();
+  auto t = Clock::now();
+
+  GpuScene gpu(gl, scene);
+  const double aspect = static_cast<double>(options.width) / options.height;
+  const Camera camera = scene.camera ? *scene.camera : framing_camera(scene, aspect);
+  Eigen::Matrix4d view, proj;
+  camera_matrices(camera, aspect, view, proj);
+  const Eigen::Vector3d ambient = ambient_of(scene.environment);
+  Eigen::AlignedBox3d box = bounds(scene);
+  if (box.isEmpty()) box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1));
+  gl.Enable(GL_DEPTH_TEST);
+  gl.DepthFunc(GL_LESS);
+  gl.DepthMask(GL_TRUE);
+  gl.Disable(GL_CULL_FACE);
+  gl.Disable(GL_BLEND);
+  gl.Enable(GL_PROGRAM_POINT_SIZE);
+  gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  gl.PatchParameteri(GL_PATCH_VERTICES, 3);
+  gl.check("uploading the scene");
+  time.upload = since(t);
+
+  // Shadow maps.
+  t = Clock::now();
+  std::vector<ShadowMap> maps =
+      render_shadow_maps(gl, {*s.depth, *s.depth_tess, *s.sphere}, gpu, scene, box, options);
+  gl.Finish();
+  time.shadows = since(t);
+
+  // The image: an MSAA framebuffer (color + optional normal, position, shadow).
+  t = Clock::now();
+  const int W = options.width, H = options.height;
+  const int samples = std::clamp(options.samples, 1, s.max_samples);
+  const int attachments = options.aux ? 4 : 1;
+  const GLenum formats[4] = {GL_RGBA16F, GL_RGBA16F, GL_RGBA32F, GL_RGBA16F};
+  GLuint msaa = 0, resolve = 0, ms_tex[5] = {}, rs_tex[4] = {};
+  gl.CreateFramebuffers(1, &msaa);
+  gl.CreateFramebuffers(1, &resolve);
+  GLenum draw_buffers[4];
+  for (int a = 0; a < attachments; ++a) {
+    gl.CreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &ms_tex[a]);
+    gl.TextureStorage2DMultisample(ms_tex[a], samples, formats[a], W, H, GL_TRUE);
+    gl.NamedFramebufferTexture(msaa, GL_COLOR_ATTACHMENT0 + a, ms_tex[a], 0);
+    gl.CreateTextures(GL_TEXTURE_2D, 1, &rs_tex[a]);
+    gl.TextureStorage2D(rs_tex[a], 1, a == 0 ? GL_RGBA32F : formats[a], W, H);
+    gl.NamedFramebufferTexture(resolve, GL_COLOR_ATTACHMENT0 + a, rs_tex[a], 0);
+    draw_buffers[a] = GL_COLOR_ATTACHMENT0 + a;
+  }
+  gl.CreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &ms_tex[4]);
+  gl.TextureStorage2DMultisample(ms_tex[4], samples, GL_DEPTH_COMPONENT32F, W, H, GL_TRUE);
+  gl.NamedFramebufferTexture(msaa, GL_DEPTH_ATTACHMENT, ms_tex[4], 0);
+  gl.NamedFramebufferDrawBuffers(msaa, attachments, draw_buffers);
+  if (gl.CheckNamedFramebufferStatus(msaa, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw Error("the render framebuffer is incomplete (" + std::to_string(W) + "x" + std::to_string(H) + ", " +
+                std::to_string(samples) + " samples)");
+  gl.BindFramebuffer(GL_FRAMEBUFFER, msaa);
+  gl.Viewport(0, 0, W, H);
+  const Eigen::Vector3d bg = ambient;
+  const float clear_color[4] = {float(bg.x()), float(bg.y()), float(bg.z()), 0};
+  const float clear_zero[4] = {0, 0, 0, 0};
+  const float clear_position[4] = {0, 0, 0, float(camera.far_plane)};
+  const float clear_shadow[4] = {1, 0, 0, 0};
+  const float one = 1;
+  gl.ClearBufferfv(GL_COLOR, 0, clear_color);
+  if (options.aux) {
+    gl.ClearBufferfv(GL_COLOR, 1, clear_zero);
+    gl.ClearBufferfv(GL_COLOR, 2, clear_position);
+    gl.ClearBufferfv(GL_COLOR, 3, clear_shadow);
+  }
+  gl.ClearBufferfv(GL_DEPTH, 0, &one);
+  const Eigen::Matrix4d vp = proj * view;
+  const bool ortho = camera.projection == Camera::Projection::orthographic;
+  if (options.wireframe) {
+    gl.Enable(GL_POLYGON_OFFSET_FILL);
+    gl.PolygonOffset(1, 1);
+  }
+  for (const GpuObject& o : gpu.objects()) {
+    if (o.count == 0) continue;
+    const Material& mat = o.source->material;
+    gl.BindVertexArray(o.vao);
+    if (o.kind == GpuObject::Kind::points) {
+      GlProgram& p = *s.sphere;
+      p.use();
+      set_lighting(p, scene, maps, options, camera.eye, ambient);
+      p.set("u_model", o.source->transform);
+      p.set("u_radius_scale", o.source->points->has_radius() ? 1.0 : options.point_radius);
+      p.set("u_view", view);
+      p.set("u_proj", proj);
+      p.set("u_ortho", ortho);
+      p.set("u_inverse_view_proj", Eigen::Matrix4d(vp.inverse()));
+      p.set("u_viewport", Eigen::Vector2d(W, H));
+      p.set("u_depth_pass", false);
+      p.set("u_specular", mat.specular);
+      p.set("u_shininess", shininess(mat.roughness));
+      gl.DrawArrays(GL_POINTS, 0, o.count);
+    } else if (o.kind == GpuObject::Kind::lines) {
+      GlProgram& p = *s.line;
+      p.use();
+      p.set("u_model", o.source->transform);
+      p.set("u_view_proj", vp);
+      p.set("u_view", view);
+      p.set("u_uniform_color", false);
+      gl.LineWidth(std::clamp(static_cast<float>(options.line_width), s.line_width_range[0], s.line_width_range[1]));
+      gl.DrawElements(GL_LINES, o.count, GL_UNSIGNED_INT, nullptr);
+    } else {
+      const bool tess = displaced(o, options.tessellation);
+      GlProgram& p = tess ? *s.mesh_tess : *s.mesh;
+      p.use();
+      set_lighting(p, scene, maps, options, camera.eye, ambient);
+      p.set("u_model", o.source->transform);
+      p.set("u_normal_matrix", normal_matrix(o.source->transform));
+      p.set("u_view_proj", vp);
+      p.set("u_view", view);
+      p.set("u_base_color", mat.base_color);
+      p.set("u_emission", mat.emission);
+      p.set("u_specular", mat.specular);
+      p.set("u_shininess", shininess(mat.roughness));
+      p.set("u_has_base_map", o.base_map != 0);
+      p.set("u_has_normal_map", o.normal_map != 0);
+      p.set("u_has_displacement", tess);
+      p.set("u_displacement_scale", mat.displacement_scale);
+      if (o.base_map) gl.BindTextureUnit(unit_base, o.base_map);
+      if (o.normal_map) gl.BindTextureUnit(unit_normal, o.normal_map);
+      if (o.displacement_map) gl.BindTextureUnit(unit_displacement, o.displacement_map);
+      if (tess) {
+        p.set("u_tess_level", static_cast<double>(options.tessellation));
+        draw_patches(gl, o.count, options.tessellation);
+      } else {
+        gl.DrawElements(GL_TRIANGLES, o.count, GL_UNSIGNED_INT, nullptr);
+      }
+    }
+  }
+  gl.Disable(GL_POLYGON_OFFSET_FILL);
+  if (options.wireframe) {
+    GlProgram& p = *s.line;
+    p.use();
+    p.set("u_view_proj", vp);
+    p.set("u_view", view);
+    p.set("u_uniform_color", true);
+    p.set("u_color", options.wireframe_color);
+    gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.LineWidth(std::clamp(static_cast<float>(options.line_width), s.line_width_range[0], s.line_width_range[1]));
+    for (const GpuObject& o : gpu.objects()) {
+      if (o.kind != GpuObject::Kind::mesh || o.count == 0) continue;
+      p.set("u_model", o.source->transform);
+      gl.BindVertexArray(o.vao);
+      gl.DrawElements(GL_TRIANGLES, o.count, GL_UNSIGNED_INT, nullptr);
+    }
+    gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    gl.DepthFunc(GL_LESS);
+  }
+  gl.check("drawing the scene");
+  gl.Finish();
+  time.draw = since(t);
+
+  // Resolve the samples and read the pixels back (GL's rows go bottom-up).
+  t = Clock::now();
+  RenderImages images;
+  cv::Mat* targets[4] = {&images.color, &images.normal, &images.position, &images.shadow};
+  for (int a = 0; a < attachments; ++a) {
+    const GLenum attachment = GL_COLOR_ATTACHMENT0 + a;
+    gl.NamedFramebufferReadBuffer(msaa, attachment);
+    gl.NamedFramebufferDrawBuffers(resolve, 1, &attachment);
+    gl.BlitNamedFramebuffer(msaa, resolve, 0, 0, W, H, 0, 0, W, H, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, resolve);
+    gl.NamedFramebufferReadBuffer(resolve, attachment);
+    cv::Mat rgba(H, W, CV_32FC4);
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+    gl.ReadPixels(0, 0, W, H, GL_RGBA, GL_FLOAT, rgba.data);
+    cv::flip(rgba, rgba, 0);
+    if (a == 1) cv::cvtColor(rgba, rgba, cv::COLOR_RGBA2RGB);
+    if (a == 3) cv::extractChannel(rgba, rgba, 0);
+    // No NaN or infinity leaves the renderer (a degenerate frame could make one).
+    cv::patchNaNs(rgba, 0);
+    cv::min(rgba, 1e30, rgba);
+    cv::max(rgba, -1e30, rgba);
+    *targets[a] = rgba;
+  }
+  gl.check("reading the image back");
+  gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+  gl.BindVertexArray(0);
+  gl.UseProgram(0);
+  gl.DeleteFramebuffers(1, &msaa);
+  gl.DeleteFramebuffers(1, &resolve);
+  gl.DeleteTextures(5, ms_tex);
+  gl.DeleteTextures(4, rs_tex);
+  delete_shadow_maps(gl, maps);
+  for (GLuint u = 0; u < texture_units_used; ++u) gl.BindTextureUnit(u, 0);
+  time.readback = since(t);
+  return images;
+}
+
+}  // namespace loom::shading

@@ -1,0 +1,468 @@
+// The rasterizer's GLSL. Conventions: world-space lighting; radiance out =
+// emission + ambient * albedo + sum over lights of
+//   (albedo / pi + specular * (s + 8) / (8 pi) * (n.h)^s) * E * max(n.l, 0) * visibility
+// (Blinn-Phong with the (s + 8) / (8 pi) normalization of Akenine-Moller,
+// Haines and Hoffman, Real-Time Rendering, 3rd ed., sec. 7.6), with E the light's irradiance (intensity / d^2, or the
+// directional irradiance). Shadow maps store a linear depth metric in scene
+// units (distance along a directional light, or to a spot or point light).
+#include "shader_sources.hpp"
+
+#include <string>
+
+#define LOOM_SURFACE_BLOCK \
+  "{ vec3 P; vec3 N; vec2 uv; vec3 dpdu; vec3 dpdv; vec3 color; }"
+
+namespace loom::shading {
+
+void bind_sampler_units(GlProgram& p) {
+  p.set("u_base_map", static_cast<int>(unit_base));
+  p.set("u_normal_map", static_cast<int>(unit_normal));
+  p.set("u_displacement_map", static_cast<int>(unit_displacement));
+  for (int i = 0; i < max_shadows; ++i) {
+    p.set(("u_shadow_map[" + std::to_string(i) + "]").c_str(), static_cast<int>(unit_shadow + i));
+    p.set(("u_shadow_cube[" + std::to_string(i) + "]").c_str(), static_cast<int>(unit_cube + i));
+  }
+}
+
+}  // namespace loom::shading
+
+namespace loom::shading::glsl {
+
+const char* const mesh_vertex = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec2 a_uv;
+layout(location = 3) in vec3 a_dpdu;
+layout(location = 4) in vec3 a_dpdv;
+layout(location = 5) in vec3 a_color;
+uniform mat4 u_model;
+uniform mat3 u_normal_matrix;
+uniform mat4 u_view_proj;
+out Surface )" LOOM_SURFACE_BLOCK R"( v;
+void main() {
+  vec4 world = u_model * vec4(a_position, 1.0);
+  v.P = world.xyz;
+  v.N = u_normal_matrix * a_normal;
+  v.uv = a_uv;
+  v.dpdu = mat3(u_model) * a_dpdu;
+  v.dpdv = mat3(u_model) * a_dpdv;
+  v.color = a_color;
+  gl_Position = u_view_proj * world;
+}
+)";
+
+const char* const mesh_tess_control = R"(#version 450 core
+layout(vertices = 3) out;
+in Surface )" LOOM_SURFACE_BLOCK R"( v[];
+out Surface )" LOOM_SURFACE_BLOCK R"( t[];
+uniform float u_tess_level;
+void main() {
+  t[gl_InvocationID].P = v[gl_InvocationID].P;
+  t[gl_InvocationID].N = v[gl_InvocationID].N;
+  t[gl_InvocationID].uv = v[gl_InvocationID].uv;
+  t[gl_InvocationID].dpdu = v[gl_InvocationID].dpdu;
+  t[gl_InvocationID].dpdv = v[gl_InvocationID].dpdv;
+  t[gl_InvocationID].color = v[gl_InvocationID].color;
+  if (gl_InvocationID == 0) {
+    gl_TessLevelInner[0] = u_tess_level;
+    gl_TessLevelOuter[0] = u_tess_level;
+    gl_TessLevelOuter[1] = u_tess_level;
+    gl_TessLevelOuter[2] = u_tess_level;
+  }
+}
+)";
+
+// Displacement: P' = P + h(uv) * scale * N along the interpolated original
+// normal; the shading normal of P' is recomputed per fragment.
+const char* const mesh_tess_eval = R"(#version 450 core
+layout(triangles, equal_spacing, ccw) in;
+in Surface )" LOOM_SURFACE_BLOCK R"( t[];
+out Surface )" LOOM_SURFACE_BLOCK R"( v;
+uniform sampler2D u_displacement_map;
+uniform float u_displacement_scale;
+uniform mat4 u_view_proj;
+void main() {
+  vec3 b = gl_TessCoord;
+  v.P = b.x * t[0].P + b.y * t[1].P + b.z * t[2].P;
+  v.N = b.x * t[0].N + b.y * t[1].N + b.z * t[2].N;
+  v.uv = b.x * t[0].uv + b.y * t[1].uv + b.z * t[2].uv;
+  v.dpdu = b.x * t[0].dpdu + b.y * t[1].dpdu + b.z * t[2].dpdu;
+  v.dpdv = b.x * t[0].dpdv + b.y * t[1].dpdv + b.z * t[2].dpdv;
+  v.color = b.x * t[0].color + b.y * t[1].color + b.z * t[2].color;
+  float len = length(v.N);
+  vec3 n = len > 0.0 ? v.N / len : vec3(0.0);
+  float h = textureLod(u_displacement_map, vec2(v.uv.x, 1.0 - v.uv.y), 0.0).r;
+  v.P += n * h * u_displacement_scale;
+  gl_Position = u_view_proj * vec4(v.P, 1.0);
+}
+)";
+
+namespace {
+const char* const lighting = R"(
+const float PI = 3.14159265358979;
+const int MAX_LIGHTS = 8;
+const int MAX_SHADOWS = 4;
+uniform vec3 u_eye;
+uniform vec3 u_ambient;
+uniform int u_light_count;
+uniform int u_light_kind[MAX_LIGHTS];          // 0 point, 1 spot, 2 directional
+uniform vec3 u_light_position[MAX_LIGHTS];
+uniform vec3 u_light_direction[MAX_LIGHTS];    // where the light shines
+uniform vec3 u_light_radiance[MAX_LIGHTS];     // color * intensity
+uniform float u_spot_cos_inner[MAX_LIGHTS];
+uniform float u_spot_cos_outer[MAX_LIGHTS];
+uniform int u_light_shadow[MAX_LIGHTS];        // shadow slot, or -1
+uniform int u_shadow_filter;                   // 0 hard, 1 pcf, 2 pcss
+uniform int u_pcf_size;
+uniform float u_bias, u_slope_bias;            // in shadow-map texels
+uniform float u_light_size;                    // pcss: emitter radius, or tan(angular radius)
+uniform mat4 u_shadow_matrix[MAX_SHADOWS];     // world -> light clip (2D maps)
+uniform vec3 u_shadow_origin[MAX_SHADOWS];
+uniform vec3 u_shadow_axis[MAX_SHADOWS];
+uniform float u_shadow_texel[MAX_SHADOWS];     // texel size in scene units (at unit depth if perspective)
+uniform int u_shadow_resolution[MAX_SHADOWS];
+uniform sampler2D u_shadow_map[MAX_SHADOWS];
+uniform samplerCube u_shadow_cube[MAX_SHADOWS];
+
+vec3 safe_normalize(vec3 v, vec3 fallback) {
+  float l = length(v);
+  return l > 1e-20 ? v / l : fallback;
+}
+
+// The stored depth `off` texels away from the receiver's lookup point.
+float stored_depth(int s, bool cube, vec2 uv, vec3 dir, vec3 t, vec3 b, vec2 off) {
+  if (cube) {
+    float step = 2.0 / float(u_shadow_resolution[s]);
+    return texture(u_shadow_cube[s], dir + (off.x * t + off.y * b) * step).r;
+  }
+  // texelFetch: no filtering or wrapping work for llvmpipe to do per tap.
+  // Taps past the map's edge see nothing (lit), rather than the edge texel's
+  // depth, which belongs to another surface point.
+  int n = u_shadow_resolution[s];
+  ivec2 texel = ivec2(floor(uv * float(n) + off));
+  if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, ivec2(n)))) return 1e30;
+  return texelFetch(u_shadow_map[s], texel, 0).r;
+}
+
+// Fraction of the light seen from P: shadow-map test with a constant plus
+// slope-scaled bias (both in texels; the slope term grows with the filter
+// radius, since the receiver's depth varies across the kernel), then hard, PCF
+// (k x k texels) or PCSS (Fernando 2005: blocker search, penumbra
+// w = light_size (d_receiver - d_blocker) / d_blocker, PCF of that width).
+float visibility(int i, vec3 P, vec3 N, vec3 L) {
+  int s = u_light_shadow[i];
+  if (s < 0) return 1.0;
+  bool cube = u_light_kind[i] == 0;
+  bool ortho = u_light_kind[i] == 2;
+  vec3 v = P - u_shadow_origin[s];
+  // Perspective maps (spot, point) store the distance to the light, so the
+  // slope term, which follows the angle to the light, matches how the stored
+  // depth varies across texels; orthographic maps store depth along the light.
+  float d = ortho ? dot(v, u_shadow_axis[s]) : length(v);
+  vec2 uv = vec2(0.0);
+  if (!cube) {
+    vec4 q = u_shadow_matrix[s] * vec4(P, 1.0);
+    if (q.w <= 0.0) return 1.0;
+    uv = q.xy / q.w * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+  }
+  vec3 dir = safe_normalize(v, vec3(0.0, 0.0, 1.0));
+  vec3 t = safe_normalize(cross(dir, abs(dir.y) < 0.9 ? vec3(0, 1, 0) : vec3(1, 0, 0)), vec3(1, 0, 0));
+  vec3 b = cross(dir, t);
+  float texel = u_shadow_texel[s] * (ortho ? 1.0 : d);
+  float c = clamp(dot(N, L), 1e-3, 1.0);
+  float tan_theta = min(sqrt(1.0 - c * c) / c, 10.0);
+  float radius = 0.0;
+  if (u_shadow_filter == 1) radius = 0.5 * float(u_pcf_size - 1);
+  if (u_shadow_filter == 2) {
+    // Blocker search over the penumbra a blocker halfway to the light would cast.
+    float search = clamp(u_light_size * (ortho ? 0.5 * d : 1.0) / texel, 1.0, 24.0);
+    float sum = 0.0, count = 0.0;
+    float bias0 = texel * (u_bias + u_slope_bias * tan_theta * (0.5 + 1.415 * search));
+    for (int y = -3; y <= 3; ++y)
+      for (int x = -3; x <= 3; ++x) {
+        float z = stored_depth(s, cube, uv, dir, t, b, vec2(x, y) * (search / 3.0));
+        if (z < d - bias0) { sum += z; count += 1.0; }
+      }
+    if (count == 0.0) return 1.0;
+    float blocker = sum / count;
+    float penumbra = ortho ? u_light_size * (d - blocker)
+                           : u_light_size * (d - blocker) / max(blocker, 1e-6);
+    radius = clamp(penumbra / texel, 0.5, 32.0);
+  }
+  // A plane tilted by theta changes depth by tan(theta) per texel: the farthest
+  // kernel sample (sqrt 2 radius away, diagonally) plus the half texel of the
+  // lookup itself.
+  float bias = texel * (u_bias + u_slope_bias * tan_theta * (0.5 + 1.415 * radius));
+  if (radius == 0.0) return d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(0.0)) ? 1.0 : 0.0;
+  int n = u_shadow_filter == 1 ? u_pcf_size : 8;
+  float step = u_shadow_filter == 1 ? 1.0 : 2.0 * radius / float(n - 1);
+  float h = 0.5 * float(n - 1) * step;
+  if (n >= 4) {
+    // Early out: the kernel's four corners and center agree (a fully lit or
+    // fully shadowed neighbourhood, most of the image): skip the other taps.
+    float c = 0.0;
+    c += d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(-h, -h)) ? 1.0 : 0.0;
+    c += d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(h, -h)) ? 1.0 : 0.0;
+    c += d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(-h, h)) ? 1.0 : 0.0;
+    c += d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(h, h)) ? 1.0 : 0.0;
+    c += d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(0.0)) ? 1.0 : 0.0;
+    if (c == 0.0 || c == 5.0) return c / 5.0;
+  }
+  float lit = 0.0;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      vec2 off = (vec2(x, y) - 0.5 * float(n - 1)) * (u_shadow_filter == 1 ? 1.0 : 2.0 * radius / float(n - 1));
+      lit += d - bias <= stored_depth(s, cube, uv, dir, t, b, off) ? 1.0 : 0.0;
+    }
+  return lit / float(n * n);
+}
+
+// Outgoing radiance at P (shading normal N, geometric normal G: the shadow
+// bias follows the surface, not its normal map) toward the eye; shadow_out is
+// the visibility of the first shadowed light (for the shadow image).
+vec3 shade(vec3 P, vec3 N, vec3 G, vec3 albedo, float specular, float shininess, out float shadow_out) {
+  vec3 V = safe_normalize(u_eye - P, N);
+  vec3 radiance = albedo * u_ambient;
+  shadow_out = 1.0;
+  bool first = true;
+  for (int i = 0; i < u_light_count; ++i) {
+    vec3 L;
+    vec3 E = u_light_radiance[i];
+    if (u_light_kind[i] == 2) {
+      L = -u_light_direction[i];
+    } else {
+      vec3 to_light = u_light_position[i] - P;
+      float d2 = max(dot(to_light, to_light), 1e-12);
+      L = to_light * inversesqrt(d2);
+      E /= d2;
+      if (u_light_kind[i] == 1)
+        E *= smoothstep(u_spot_cos_outer[i], u_spot_cos_inner[i], dot(-L, u_light_direction[i]));
+    }
+    float vis = 1.0;
+    if (u_light_shadow[i] >= 0) {
+      vis = visibility(i, P, G, L);
+      if (first) { shadow_out = vis; first = false; }
+    }
+    float cos_theta = dot(N, L);
+    if (cos_theta <= 0.0) continue;
+    vec3 H = safe_normalize(L + V, N);
+    float spec = specular * (shininess + 8.0) / (8.0 * PI) * pow(max(dot(N, H), 0.0), shininess);
+    radiance += (albedo / PI + vec3(spec)) * E * cos_theta * vis;
+  }
+  return radiance;
+}
+)";
+}  // namespace
+
+// Static strings joined at start-up (one translation unit: in order).
+static const std::string mesh_fragment_source = std::string("#version 450 core\n") + lighting + R"(
+in Surface )" LOOM_SURFACE_BLOCK R"( v;
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out vec4 o_normal;
+layout(location = 2) out vec4 o_position;
+layout(location = 3) out vec4 o_shadow;
+uniform mat4 u_view;
+uniform vec3 u_base_color;
+uniform vec3 u_emission;
+uniform float u_specular;
+uniform float u_shininess;
+uniform bool u_has_base_map, u_has_normal_map, u_has_displacement;
+uniform float u_displacement_scale;
+uniform sampler2D u_base_map;
+uniform sampler2D u_normal_map;
+uniform sampler2D u_displacement_map;
+
+float height(vec2 uv) { return texture(u_displacement_map, vec2(uv.x, 1.0 - uv.y)).r; }
+
+void main() {
+  vec3 N = safe_normalize(v.N, vec3(0.0, 0.0, 1.0));
+  if (!gl_FrontFacing) N = -N;
+  vec2 tex_uv = vec2(v.uv.x, 1.0 - v.uv.y);
+  if (u_has_displacement) {
+    // The displaced surface P + s h N: dP'/du = dP/du + s h_u N (the change
+    // of N itself neglected), n' = dP'/du x dP'/dv.
+    vec2 texel = 1.0 / vec2(textureSize(u_displacement_map, 0));
+    float hu = (height(v.uv + vec2(texel.x, 0)) - height(v.uv - vec2(texel.x, 0))) / (2.0 * texel.x);
+    float hv = (height(v.uv + vec2(0, texel.y)) - height(v.uv - vec2(0, texel.y))) / (2.0 * texel.y);
+    vec3 du = v.dpdu + u_displacement_scale * hu * N;
+    vec3 dv = v.dpdv + u_displacement_scale * hv * N;
+    vec3 n = safe_normalize(cross(du, dv), N);
+    N = dot(n, N) < 0.0 ? -n : n;
+  }
+  vec3 G = N;
+  if (u_has_normal_map) {
+    // Tangent frame by Gram-Schmidt: T = dP/du minus its part along N; B
+    // completes it with the handedness of the UV map.
+    vec3 T = safe_normalize(v.dpdu - N * dot(N, v.dpdu), vec3(0.0));
+    if (T != vec3(0.0)) {
+      vec3 B = cross(N, T);
+      if (dot(B, v.dpdv) < 0.0) B = -B;
+      vec3 m = texture(u_normal_map, tex_uv).xyz * 2.0 - 1.0;
+      N = safe_normalize(T * m.x + B * m.y + N * m.z, N);
+    }
+  }
+  vec3 albedo = u_base_color * v.color;
+  if (u_has_base_map) albedo *= texture(u_base_map, tex_uv).rgb;
+  float shadow;
+  vec3 c = u_emission + shade(v.P, N, G, albedo, u_specular, u_shininess, shadow);
+  o_color = vec4(max(c, vec3(0.0)), 1.0);
+  o_normal = vec4(N, 1.0);
+  o_position = vec4(v.P, -(u_view * vec4(v.P, 1.0)).z);
+  o_shadow = vec4(shadow, 0.0, 0.0, 1.0);
+}
+)";
+
+const char* const mesh_fragment = mesh_fragment_source.c_str();
+
+const char* const depth_fragment = R"(#version 450 core
+in Surface )" LOOM_SURFACE_BLOCK R"( v;
+layout(location = 0) out float o_depth;
+uniform vec3 u_depth_origin;
+uniform vec3 u_depth_axis;
+uniform bool u_depth_radial;
+void main() {
+  vec3 d = v.P - u_depth_origin;
+  o_depth = u_depth_radial ? length(d) : dot(d, u_depth_axis);
+}
+)";
+
+const char* const sphere_vertex = R"(#version 450 core
+layout(location = 0) in vec3 a_center;
+layout(location = 1) in float a_radius;
+layout(location = 2) in vec3 a_color;
+uniform mat4 u_model;
+uniform float u_radius_scale;
+out Sphere { vec3 center; float radius; vec3 color; } s;
+void main() {
+  s.center = (u_model * vec4(a_center, 1.0)).xyz;
+  s.radius = a_radius * u_radius_scale;
+  s.color = a_color;
+}
+)";
+
+// A quad facing the eye that covers the sphere's silhouette cone exactly:
+// at distance d - r along the axis eye -> center, half-size
+// (d - r) r / sqrt(d^2 - r^2); orthographic views use the view axis.
+const char* const sphere_geometry = R"(#version 450 core
+layout(points) in;
+layout(triangle_strip, max_vertices = 4) out;
+in Sphere { vec3 center; float radius; vec3 color; } s[];
+out Impostor { vec3 center; float radius; vec3 color; } o;
+uniform mat4 u_view;
+uniform mat4 u_proj;
+uniform bool u_ortho;
+void main() {
+  vec3 c = (u_view * vec4(s[0].center, 1.0)).xyz;
+  float r = s[0].radius;
+  if (r <= 0.0) return;
+  vec3 axis;
+  vec3 base;
+  float half_size;
+  if (u_ortho) {
+    axis = vec3(0.0, 0.0, -1.0);
+    base = c - axis * r;
+    half_size = r;
+  } else {
+    float d = length(c);
+    if (d <= r * 1.0001) return;
+    axis = c / d;
+    base = axis * (d - r);
+    half_size = (d - r) * r / sqrt(d * d - r * r) * 1.01;
+  }
+  vec3 x = normalize(cross(axis, abs(axis.y) < 0.9 ? vec3(0, 1, 0) : vec3(1, 0, 0)));
+  vec3 y = cross(x, axis);
+  for (int k = 0; k < 4; ++k) {
+    vec2 corner = vec2(k & 1, k >> 1) * 2.0 - 1.0;
+    vec3 p = base + (corner.x * x + corner.y * y) * half_size;
+    o.center = s[0].center;
+    o.radius = r;
+    o.color = s[0].color;
+    gl_Position = u_proj * vec4(p, 1.0);
+    EmitVertex();
+  }
+  EndPrimitive();
+}
+)";
+
+static const std::string sphere_fragment_source = std::string("#version 450 core\n") + lighting + R"(
+in Impostor { vec3 center; float radius; vec3 color; } s;
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out vec4 o_normal;
+layout(location = 2) out vec4 o_position;
+layout(location = 3) out vec4 o_shadow;
+uniform mat4 u_view;
+uniform mat4 u_proj;
+uniform mat4 u_inverse_view_proj;
+uniform vec2 u_viewport;
+uniform float u_specular;
+uniform float u_shininess;
+uniform bool u_depth_pass;
+uniform vec3 u_depth_origin;
+uniform vec3 u_depth_axis;
+uniform bool u_depth_radial;
+void main() {
+  // The pixel's ray (world space), from the near to the far plane.
+  vec2 ndc = gl_FragCoord.xy / u_viewport * 2.0 - 1.0;
+  vec4 a = u_inverse_view_proj * vec4(ndc, -1.0, 1.0);
+  vec4 b = u_inverse_view_proj * vec4(ndc, 1.0, 1.0);
+  vec3 origin = a.xyz / a.w;
+  vec3 dir = normalize(b.xyz / b.w - origin);
+  vec3 oc = origin - s.center;
+  float half_b = dot(oc, dir);
+  float disc = half_b * half_b - (dot(oc, oc) - s.radius * s.radius);
+  if (disc < 0.0) discard;
+  float t = -half_b - sqrt(disc);
+  vec3 P = origin + t * dir;
+  vec3 N = (P - s.center) / s.radius;
+  vec4 clip = u_proj * u_view * vec4(P, 1.0);
+  gl_FragDepth = clamp(0.5 * clip.z / clip.w + 0.5, 0.0, 1.0);
+  if (u_depth_pass) {
+    vec3 d = P - u_depth_origin;
+    o_color = vec4(u_depth_radial ? length(d) : dot(d, u_depth_axis));
+    return;
+  }
+  float shadow;
+  o_color = vec4(max(shade(P, N, N, s.color, u_specular, u_shininess, shadow), vec3(0.0)), 1.0);
+  o_normal = vec4(N, 1.0);
+  o_position = vec4(P, -(u_view * vec4(P, 1.0)).z);
+  o_shadow = vec4(shadow, 0.0, 0.0, 1.0);
+}
+)";
+
+const char* const sphere_fragment = sphere_fragment_source.c_str();
+
+const char* const line_vertex = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+layout(location = 5) in vec3 a_color;
+uniform mat4 u_model;
+uniform mat4 u_view_proj;
+out vec3 v_color;
+out vec3 v_world;
+void main() {
+  vec4 world = u_model * vec4(a_position, 1.0);
+  v_world = world.xyz;
+  v_color = a_color;
+  gl_Position = u_view_proj * world;
+}
+)";
+
+const char* const line_fragment = R"(#version 450 core
+in vec3 v_color;
+in vec3 v_world;
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out vec4 o_normal;
+layout(location = 2) out vec4 o_position;
+layout(location = 3) out vec4 o_shadow;
+uniform mat4 u_view;
+uniform bool u_uniform_color;
+uniform vec3 u_color;
+void main() {
+  o_color = vec4(u_uniform_color ? u_color : v_color, 1.0);
+  o_normal = vec4(0.0, 0.0, 0.0, 1.0);
+  o_position = vec4(v_world, -(u_view * vec4(v_world, 1.0)).z);
+  o_shadow = vec4(1.0);
+}
+)";
+
+}  // namespace loom::shading::glsl

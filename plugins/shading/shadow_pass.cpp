@@ -1,0 +1,111 @@
+#include "shadow_pass.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "loom/error.hpp"
+#include "shader_sources.hpp"
+
+namespace loom::shading {
+
+std::vector<ShadowMap> render_shadow_maps(const GlApi& gl, const DepthPrograms& programs, const GpuScene& gpu,
+                                          const Scene& scene, const Eigen::AlignedBox3d& box,
+                                          const RenderOptions& options) {
+  std::vector<ShadowMap> maps;
+  const int light_count = std::min<int>(static_cast<int>(scene.lights.size()), max_lights);
+  if (options.shadows != ShadowFilter::off)
+    for (int i = 0; i < light_count && static_cast<int>(maps.size()) < max_shadows; ++i) {
+      if (!scene.lights[i].casts_shadow) continue;
+      ShadowMap m;
+      m.light = i;
+      m.view = shadow_view(scene.lights[i], box, options.shadow_resolution);
+      maps.push_back(m);
+    }
+  const int R = options.shadow_resolution;
+  for (std::size_t mi = 0; mi < maps.size(); ++mi) {
+    ShadowMap& m = maps[mi];
+    gl.CreateTextures(m.view.cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, 1, &m.color);
+    gl.TextureStorage2D(m.color, 1, GL_R32F, R, R);
+    for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) gl.TextureParameteri(m.color, p, GL_NEAREST);
+    for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+      gl.TextureParameteri(m.color, p, GL_CLAMP_TO_EDGE);
+    gl.CreateTextures(GL_TEXTURE_2D, 1, &m.depth);
+    gl.TextureStorage2D(m.depth, 1, GL_DEPTH_COMPONENT32F, R, R);
+    gl.CreateFramebuffers(1, &m.fbo);
+    gl.NamedFramebufferTexture(m.fbo, GL_DEPTH_ATTACHMENT, m.depth, 0);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, m.fbo);
+    gl.Viewport(0, 0, R, R);
+    const int faces = m.view.cube ? 6 : 1;
+    for (int f = 0; f < faces; ++f) {
+      if (m.view.cube)
+        gl.NamedFramebufferTextureLayer(m.fbo, GL_COLOR_ATTACHMENT0, m.color, 0, f);
+      else
+        gl.NamedFramebufferTexture(m.fbo, GL_COLOR_ATTACHMENT0, m.color, 0);
+      const GLenum attachment = GL_COLOR_ATTACHMENT0;
+      gl.NamedFramebufferDrawBuffers(m.fbo, 1, &attachment);
+      if (gl.CheckNamedFramebufferStatus(m.fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("the shadow map framebuffer is incomplete (resolution " + std::to_string(R) + ")");
+      const float far_value[4] = {1e30f, 1e30f, 1e30f, 1e30f};
+      const float one = 1;
+      gl.ClearBufferfv(GL_COLOR, 0, far_value);
+      gl.ClearBufferfv(GL_DEPTH, 0, &one);
+      const Eigen::Matrix4d lview = m.view.cube ? m.view.faces[f] : m.view.view;
+      const Eigen::Matrix4d lvp = m.view.projection * lview;
+      for (const GpuObject& o : gpu.objects()) {
+        if (!o.source->casts_shadow || o.kind == GpuObject::Kind::lines || o.count == 0) continue;
+        if (o.kind == GpuObject::Kind::points) {
+          GlProgram& p = programs.spheres;
+          p.use();
+          bind_sampler_units(p);
+          p.set("u_model", o.source->transform);
+          p.set("u_radius_scale", o.source->points->has_radius() ? 1.0 : options.point_radius);
+          p.set("u_view", lview);
+          p.set("u_proj", m.view.projection);
+          p.set("u_ortho", m.view.ortho);
+          p.set("u_inverse_view_proj", Eigen::Matrix4d(lvp.inverse()));
+          p.set("u_viewport", Eigen::Vector2d(R, R));
+          p.set("u_depth_pass", true);
+          p.set("u_depth_origin", m.view.origin);
+          p.set("u_depth_axis", m.view.axis);
+          p.set("u_depth_radial", !m.view.ortho);
+          gl.BindVertexArray(o.vao);
+          gl.DrawArrays(GL_POINTS, 0, o.count);
+          continue;
+        }
+        const bool tess = displaced(o, options.tessellation);
+        GlProgram& p = tess ? programs.tessellated : programs.mesh;
+        p.use();
+        bind_sampler_units(p);
+        p.set("u_model", o.source->transform);
+        p.set("u_normal_matrix", normal_matrix(o.source->transform));
+        p.set("u_view_proj", lvp);
+        p.set("u_depth_origin", m.view.origin);
+        p.set("u_depth_axis", m.view.axis);
+        p.set("u_depth_radial", !m.view.ortho);
+        gl.BindVertexArray(o.vao);
+        if (tess) {
+          p.set("u_tess_level", static_cast<double>(options.tessellation));
+          p.set("u_displacement_scale", o.source->material.displacement_scale);
+          gl.BindTextureUnit(unit_displacement, o.displacement_map);
+          draw_patches(gl, o.count, options.tessellation);
+        } else {
+          gl.DrawElements(GL_TRIANGLES, o.count, GL_UNSIGNED_INT, nullptr);
+        }
+      }
+    }
+    gl.BindTextureUnit(m.view.cube ? unit_cube + mi : unit_shadow + mi, m.color);
+  }
+  gl.check("rendering the shadow maps");
+  return maps;
+}
+
+void delete_shadow_maps(const GlApi& gl, std::vector<ShadowMap>& maps) {
+  for (ShadowMap& m : maps) {
+    gl.DeleteFramebuffers(1, &m.fbo);
+    gl.DeleteTextures(1, &m.color);
+    gl.DeleteTextures(1, &m.depth);
+  }
+  maps.clear();
+}
+
+}  // namespace loom::shading

@@ -1,0 +1,33 @@
+// The shadow-map pass: one map per shadow-casting light (up to max_shadows),
+// each storing a linear depth metric in scene units in an R32F texture (2D,
+// or a cube for point lights), bound to its texture unit for the image pass.
+#pragma once
+
+#include <vector>
+
+#include "gl_program.hpp"
+#include "gpu_scene.hpp"
+#include "rasterizer.hpp"
+#include "view_math.hpp"
+
+namespace loom::shading {
+
+struct ShadowMap {
+  int light = -1;  // index in scene.lights
+  ShadowView view;
+  GLuint color = 0, depth = 0, fbo = 0;
+};
+
+struct DepthPrograms {
+  GlProgram& mesh;
+  GlProgram& tessellated;
+  GlProgram& spheres;
+};
+
+// Renders the maps and binds map i to unit_shadow + i (2D) or unit_cube + i.
+std::vector<ShadowMap> render_shadow_maps(const GlApi& gl, const DepthPrograms& programs, const GpuScene& gpu,
+                                          const Scene& scene, const Eigen::AlignedBox3d& box,
+                                          const RenderOptions& options);
+void delete_shadow_maps(const GlApi& gl, std::vector<ShadowMap>& maps);
+
+}  // namespace loom::shading
