@@ -97,7 +97,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   try {
     graph = loom::load_graph_file(graph_path);
     for (const auto& s : sets) loom::set_input(graph, s);
-  } catch (const loom::GraphError& e) {
+  } catch (const std::exception& e) {  // GraphError, or anything from reading the file
     std::cerr << "error: " << e.what() << "\n";
     return kInvalid;
   }
@@ -112,7 +112,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   }
   try {
     loom::validate_graph(graph, registry, loader.searched_description());
-  } catch (const loom::GraphError& e) {
+  } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kInvalid;
   }
@@ -137,7 +137,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   loom::EvalResult result;
   try {
     result = loom::Session(registry).evaluate(graph, options);
-  } catch (const loom::Error& e) {
+  } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kInvalid;
   }
@@ -203,6 +203,9 @@ int cmd_validate(const std::string& graph_path) {
   } catch (const loom::Error& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kPluginError;
+  } catch (const std::exception& e) {  // e.g. a JSON library error
+    std::cerr << "error: " << e.what() << "\n";
+    return kInvalid;
   }
 }
 

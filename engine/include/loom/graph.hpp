@@ -12,6 +12,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "loom/registry.hpp"
@@ -19,11 +20,18 @@
 namespace loom {
 
 constexpr int kGraphFormatVersion = 1;
+// Graph files and --set values nested deeper than this are refused when
+// parsed (a deeper document would exhaust the stack of any recursive walk).
+constexpr std::size_t kMaxJsonDepth = 256;
 
 struct Link {
   std::string node;
   std::string output;
 };
+
+// The one parser of links written "ID.OUTPUT": the node id before the first
+// '.', the output name after it; nullopt when either is empty or there is no '.'.
+LOOM_API std::optional<Link> parse_link(std::string_view text);
 
 struct InputBinding {
   std::optional<Link> link;  // set: linked; unset: literal
