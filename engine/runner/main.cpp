@@ -89,7 +89,7 @@ std::string nodes_markdown(const loom::Registry& registry) {
 
 int cmd_run(const std::string& graph_path, const std::string& out_dir,
             const std::vector<std::string>& sets, const std::vector<std::string>& targets,
-            int threads, const std::string& profile_path, bool quiet) {
+            int threads, const std::string& profile_path, bool quiet, bool allow_outside) {
   auto start = std::chrono::steady_clock::now();
   loom::Registry registry;
   loom::PluginLoader loader(registry);
@@ -121,6 +121,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   for (const auto& t : targets) options.targets.push_back(loom::parse_target(t));
   options.threads = threads;
   options.output_dir = std::filesystem::absolute(out_dir);
+  options.allow_outside_output = allow_outside;
   options.cancel = &g_cancel;
   loom::runner::ConsoleObserver observer(quiet);
   options.observer = &observer;
@@ -289,7 +290,7 @@ int main(int argc, char** argv) {
   std::string graph_path, out_dir = "out", profile_path, type, manifest_lib, manifest_out;
   std::vector<std::string> sets, targets;
   int threads = 0;
-  bool quiet = false, as_json = false, as_markdown = false;
+  bool quiet = false, as_json = false, as_markdown = false, allow_outside = false;
 
   auto* run = app.add_subcommand("run", "Run a graph: evaluate its sinks (or --target outputs).");
   run->add_option("graph", graph_path, "graph file (JSON)")->required();
@@ -300,6 +301,8 @@ int main(int argc, char** argv) {
   run->add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
   run->add_option("--profile", profile_path, "write a JSON profile of the run to this file");
   run->add_flag("--quiet,-q", quiet, "print only errors and requested outputs");
+  run->add_flag("--allow-outside-out", allow_outside,
+                "let output paths be absolute or climb out of --out with \"..\" (refused otherwise)");
 
   auto* validate = app.add_subcommand("validate", "Check a graph without running it.");
   validate->add_option("graph", graph_path, "graph file (JSON)")->required();
@@ -320,7 +323,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kOk : kInvalid;
   }
-  if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet);
+  if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, allow_outside);
   if (*validate) return cmd_validate(graph_path);
   if (*nodes) return cmd_nodes(type, as_json, as_markdown);
   if (*plugins) return cmd_plugins(manifest_lib, manifest_out);
