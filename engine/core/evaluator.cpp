@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
+#include "input_check.hpp"
 #include "literal.hpp"
 
 namespace loom {
@@ -136,7 +137,15 @@ class Host final : public NodeHost {
     if (!up.ok)
       throw UpstreamFailed("input \"" + s_.type->spec.inputs[static_cast<std::size_t>(i)].name +
                            "\": node \"" + up.node->id + "\" " + to_string(up.report.status));
-    return up.outputs[static_cast<std::size_t>(b.output)];
+    const InputSpec& spec = s_.type->spec.inputs[static_cast<std::size_t>(i)];
+    detail::check_input_value(spec, up.outputs[static_cast<std::size_t>(b.output)]);
+    if (spec.role == InputRole::value) return up.outputs[static_cast<std::size_t>(b.output)];
+    // A resolved path is a new value: the host keeps it alive for the run,
+    // since in.get returns a reference into it.
+    Value path = detail::resolve_path_value(spec, up.outputs[static_cast<std::size_t>(b.output)], e_.graph_dir,
+                                            e_.options.output_dir, e_.options.allow_outside_output);
+    std::lock_guard lock(mutex_);
+    return resolved_paths_.emplace_back(std::move(path));
   }
   bool input_set(int i) const override {
     return s_.inputs[static_cast<std::size_t>(i)].kind != NodeState::Binding::unset;
@@ -181,6 +190,7 @@ class Host final : public NodeHost {
   Evaluation& e_;
   NodeState& s_;
   std::mutex mutex_;
+  std::deque<Value> resolved_paths_;
   double last_ = -1;
   std::string last_label_;
 };
@@ -225,11 +235,11 @@ void Evaluation::build() {
       if (!literal) continue;  // optional and unset
       b.kind = NodeState::Binding::literal;
       b.literal_value = detail::literal_value(spec, *literal);
-      if (spec.role != InputRole::value) {
-        std::filesystem::path p = b.literal_value.as<std::string>();
-        const auto& base = spec.role == InputRole::input_file ? graph_dir : options.output_dir;
-        if (p.is_relative()) p = base / p;
-        b.literal_value = Value::make<std::string>(p.lexically_normal().string());
+      try {
+        b.literal_value = detail::resolve_path_value(spec, b.literal_value, graph_dir, options.output_dir,
+                                                     options.allow_outside_output);
+      } catch (const Error& e) {
+        throw Error("node \"" + s.node->id + "\": " + e.what());
       }
     }
   }
