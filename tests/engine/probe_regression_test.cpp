@@ -83,3 +83,114 @@ TEST(ProbeRegression, OneLinkParser) {
 
 }  // namespace
 }  // namespace loom
+
+namespace loom {
+namespace {
+
+// Runs a graph document through the runner; returns the exit code.
+int run_doc(const json& doc, std::string* out, const std::string& extra = "") {
+  auto dir = test::temp_dir();
+  std::ofstream(dir / "g.json") << doc.dump();
+  return test::run_loom("run " + (dir / "g.json").string() + " --out " + (dir / "out").string() + " " + extra, out);
+}
+
+json link(const std::string& from) { return {{"from", from}}; }
+
+TEST(LinkedValues, RangesAreCheckedOnLinkedValues) {
+  struct Case {
+    std::string source_type;
+    json value;
+    std::string type, input;
+    json sink_from;
+  };
+  // Each: a constant linked into a declared-range input, and a sink that
+  // consumes the node's result.
+  const std::vector<Case> cases = {
+      {"IntConstant", 0, "UVSphere", "rings", "n.mesh"},
+      {"IntConstant", 1, "Posterize", "levels", "n.image"},
+      {"FloatConstant", 0.0, "UVSphere", "radius", "n.mesh"},
+      {"IntConstant", 409600, "HemisphereMesh", "rings", "n.mesh"},
+      {"IntConstant", 7, "Switch", "index", "n.value"},
+  };
+  for (const Case& c : cases) {
+    json inputs = {{c.input, link("c.value")}};
+    if (c.type == "Posterize") inputs["image"] = link("board.image");
+    json nodes = {{"c", {{"type", c.source_type}, {"inputs", {{"value", c.value}}}}},
+                  {"board", {{"type", "Checkerboard"}, {"inputs", {{"size", {8, 8}}}}}},
+                  {"n", {{"type", c.type}, {"inputs", inputs}}},
+                  {"p", {{"type", "Print"}, {"inputs", {{"value", link(c.sink_from)}}}}}};
+    std::string out;
+    EXPECT_EQ(run_doc({{"loom", 1}, {"nodes", nodes}}, &out), 1) << c.type << ": " << out;
+    EXPECT_NE(out.find("input \"" + c.input + "\""), std::string::npos) << out;
+    EXPECT_NE(out.find("out of range"), std::string::npos) << out;
+  }
+}
+
+TEST(LinkedValues, EnumChoicesAreCheckedOnLinkedValues) {
+  json nodes = {{"s", {{"type", "StringConstant"}, {"inputs", {{"value", "bogus"}}}}},
+                {"m", {{"type", "Math"}, {"inputs", {{"op", link("s.value")}}}}},
+                {"p", {{"type", "Print"}, {"inputs", {{"value", link("m.result")}}}}}};
+  std::string out;
+  EXPECT_EQ(run_doc({{"loom", 1}, {"nodes", nodes}}, &out), 1) << out;
+  EXPECT_NE(out.find("\"bogus\" is not one of the choices"), std::string::npos) << out;
+}
+
+TEST(LinkedValues, ParameterizeWeightsHaveTheirChoices) {
+  std::string out;
+  ASSERT_EQ(test::run_loom("nodes --json Parameterize", &out), 0) << out;
+  const json j = json::parse(out.substr(out.find('{')));
+  bool found = false;
+  for (const json& in : j["Parameterize"]["inputs"])
+    if (in["name"] == "weights") {
+      found = true;
+      EXPECT_GE(in["choices"].size(), 5u) << in.dump();
+    }
+  EXPECT_TRUE(found) << out.substr(0, 500);
+}
+
+json save_doc(const json& path) {
+  return {{"loom", 1},
+          {"nodes",
+           {{"board", {{"type", "Checkerboard"}, {"inputs", {{"size", {8, 8}}}}}},
+            {"name", {{"type", "StringConstant"}, {"inputs", {{"value", path}}}}},
+            {"s", {{"type", "SaveImage"}, {"inputs", {{"image", link("board.image")}, {"path", link("name.value")}}}}}}}};
+}
+
+TEST(OutputPaths, LinkedPathsResolveUnderTheOutputFolder) {
+  auto dir = test::temp_dir();
+  std::ofstream(dir / "g.json") << save_doc("linked.png").dump();
+  std::string out;
+  ASSERT_EQ(test::run_loom("run " + (dir / "g.json").string() + " --out " + (dir / "out").string(), &out), 0) << out;
+  EXPECT_TRUE(fs::exists(dir / "out" / "linked.png"));
+}
+
+TEST(OutputPaths, EscapesNulBytesAndAbsolutePathsAreRefused) {
+  auto dir = test::temp_dir();
+  for (const std::string& bad : {std::string("evil.sh\0.png", 12), std::string("../../x.png"),
+                                 std::string("a/../../x.png"), (dir / "abs.png").string(), std::string("x\n.png")}) {
+    for (bool linked : {false, true}) {
+      json doc = save_doc(bad);
+      if (!linked) doc["nodes"]["s"]["inputs"]["path"] = bad;
+      std::ofstream(dir / "g.json") << doc.dump();
+      std::string out;
+      const int rc = test::run_loom("run " + (dir / "g.json").string() + " --out " + (dir / "out").string(), &out);
+      EXPECT_NE(rc, 0) << json(bad).dump() << " linked=" << linked << ": " << out;
+      EXPECT_TRUE(out.find("output folder") != std::string::npos || out.find("control character") != std::string::npos)
+          << out;
+    }
+  }
+  EXPECT_FALSE(fs::exists(dir / "evil.sh"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "evil.sh"));
+  EXPECT_FALSE(fs::exists(dir / "abs.png"));
+  EXPECT_FALSE(fs::exists(dir.parent_path().parent_path() / "x.png"));
+  // With the flag, an absolute path is written.
+  json doc = save_doc((dir / "abs.png").string());
+  std::ofstream(dir / "g.json") << doc.dump();
+  std::string out;
+  EXPECT_EQ(test::run_loom("run " + (dir / "g.json").string() + " --out " + (dir / "out").string() +
+                               " --allow-outside-out", &out), 0) << out;
+  EXPECT_TRUE(fs::exists(dir / "abs.png"));
+}
+
+}  // namespace
+}  // namespace loom
