@@ -5,6 +5,7 @@
 // What this file shows a plugin author: declaring typed inputs with defaults
 // and ranges, reading them, a clear error for bad input, a TBB loop over rows
 // with progress and cancellation, and an output that keeps the input's tag.
+#include <algorithm>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -34,15 +35,21 @@ struct Posterize {
     const int color = (channels == 2 || channels == 4) ? channels - 1 : channels;
 
     cv::Mat result = image.pixels.clone();
-    tbb::parallel_for(tbb::blocked_range<int>(0, result.rows), [&](const tbb::blocked_range<int>& rows) {
-      if (ctx.cancelled()) return;
-      for (int y = rows.begin(); y < rows.end(); ++y) {
-        float* p = result.ptr<float>(y);
-        for (int x = 0; x < result.cols; ++x)
-          for (int c = 0; c < color; ++c) p[x * channels + c] = std::round(p[x * channels + c] * steps) / steps;
-      }
-      ctx.progress(rows.end(), result.rows, "rows");
-    });
+    // Rows in chunks: the calling thread reports progress and checks for
+    // cancellation between them; TBB spreads each chunk over the workers.
+    constexpr int kChunk = 256;
+    for (int y0 = 0; y0 < result.rows; y0 += kChunk) {
+      ctx.check_cancelled();
+      ctx.progress(y0, result.rows, "rows");
+      const int y1 = std::min(result.rows, y0 + kChunk);
+      tbb::parallel_for(tbb::blocked_range<int>(y0, y1), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+          float* p = result.ptr<float>(y);
+          for (int x = 0; x < result.cols; ++x)
+            for (int c = 0; c < color; ++c) p[x * channels + c] = std::round(p[x * channels + c] * steps) / steps;
+        }
+      });
+    }
     ctx.check_cancelled();
     out.set("image", loom::Image(result, image.encoding));
   }
