@@ -13,6 +13,7 @@
 
 #include "input_check.hpp"
 #include "literal.hpp"
+#include "progress_gate.hpp"
 
 namespace loom {
 
@@ -151,10 +152,9 @@ class Host final : public NodeHost {
     return s_.inputs[static_cast<std::size_t>(i)].kind != NodeState::Binding::unset;
   }
   void report_progress(double fraction, std::string_view label) override {
-    if (fraction < last_ + 0.01 && fraction < 1.0 && label == last_label_) return;
-    last_ = fraction;
-    last_label_ = label;
-    if (e_.options.observer) e_.options.observer->node_progress(s_.node->id, fraction, last_label_);
+    progress_.offer(fraction, label, [&](double f, const std::string& l) {
+      if (e_.options.observer) e_.options.observer->node_progress(s_.node->id, f, l);
+    });
   }
   void report(bool warning, std::string text) override {
     if (warning) {
@@ -191,8 +191,7 @@ class Host final : public NodeHost {
   NodeState& s_;
   std::mutex mutex_;
   std::deque<Value> resolved_paths_;
-  double last_ = -1;
-  std::string last_label_;
+  detail::ProgressGate progress_;
 };
 
 void hash_file_stamp(Hasher& h, const std::string& path) {
