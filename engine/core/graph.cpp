@@ -263,6 +263,12 @@ Graph load_graph_file(const std::filesystem::path& file) {
   return parse_graph(doc, std::filesystem::absolute(file));
 }
 
+Graph parse_graph_text(std::string_view text, const std::filesystem::path& file) {
+  json doc;
+  if (auto problem = parse_json_text(text, doc)) throw GraphError(file.empty() ? "<graph>" : file.string(), {{"", *problem}});
+  return parse_graph(doc, file);
+}
+
 void validate_graph(const Graph& g, const Registry& registry, const std::string& searched) {
   std::vector<GraphIssue> issues;
   auto fail = [&](std::string pointer, std::string message) {

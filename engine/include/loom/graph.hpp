@@ -74,6 +74,10 @@ class LOOM_API GraphError : public Error {
 // links written as "ID.OUTPUT". Throws GraphError.
 LOOM_API Graph parse_graph(const json& document, const std::filesystem::path& file);
 LOOM_API Graph load_graph_file(const std::filesystem::path& file);
+// The same for JSON text in memory (the fuzzer, the editor's paste): any
+// failure of the JSON itself (syntax, a number beyond double, nesting deeper
+// than kMaxJsonDepth) is a GraphError too.
+LOOM_API Graph parse_graph_text(std::string_view text, const std::filesystem::path& file);
 
 // Against the registry: unknown types, unknown inputs, links to unknown nodes
 // or outputs, type mismatches, missing required inputs, bad enum values,
