@@ -64,8 +64,12 @@ std::string nodes_markdown(const loom::Registry& registry) {
           }
           if (in.min || in.max) {
             std::ostringstream r;
-            r << " [" << (in.min ? std::to_string(*in.min) : "-∞") << ", "
-              << (in.max ? std::to_string(*in.max) : "∞") << "]";
+            auto number = [](double v) {  // %g: 1, 0.5, 1e+09, not 1.000000
+              char b[32];
+              std::snprintf(b, sizeof b, "%g", v);
+              return std::string(b);
+            };
+            r << " [" << (in.min ? number(*in.min) : "-∞") << ", " << (in.max ? number(*in.max) : "∞") << "]";
             desc += r.str();
           }
           if (in.lazy) desc += " (lazy)";

@@ -264,7 +264,7 @@ TEST(MeshTopology, SaveMeshRefusesAnInjectedMtlLineAndKeepsTheOldFiles) {
 }
 
 // assimp's glTF exporter always joins identical vertices (it enforces that
-// step), so a glTF keeps the faces but not a cut: documented in docs/io.md.
+// step), so a glTF keeps the faces but not a cut: documented in docs/robustness.md.
 TEST(MeshTopology, GltfWritesItsBufferBesideIt) {
   auto dir = test::temp_dir();
   const Mesh disk = cut_disk(2, 6);
