@@ -405,6 +405,10 @@ void Evaluation::run_node(int n) {
               options.output_dir);
   auto start = std::chrono::steady_clock::now();
   try {
+    // Every non-lazy linked value is checked before the body runs, whether or
+    // not the body reads it (fetch_input checks ranges, choices and paths).
+    for (std::size_t i = 0; i < s.inputs.size(); ++i)
+      if (s.inputs[i].kind == NodeState::Binding::link && !spec.inputs[i].lazy) host.fetch_input(static_cast<int>(i));
     tbb::this_task_arena::isolate([&] { s.type->run(in, out, ctx); });
     for (std::size_t o = 0; o < spec.outputs.size(); ++o)
       if (!out.values()[o])
