@@ -2,6 +2,7 @@
 // real runner: a clear error and the documented exit code, never a crash, a
 // hang or a silently wrong result.
 #include <fstream>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -123,6 +124,21 @@ TEST(LinkedValues, RangesAreCheckedOnLinkedValues) {
     EXPECT_EQ(run_doc({{"loom", 1}, {"nodes", nodes}}, &out), 1) << c.type << ": " << out;
     EXPECT_NE(out.find("input \"" + c.input + "\""), std::string::npos) << out;
     EXPECT_NE(out.find("out of range"), std::string::npos) << out;
+  }
+}
+
+TEST(LinkedValues, InputsTheBodyDoesNotReadAreCheckedToo) {
+  // WarpField reads idw_power and idw_affine only for method "idw": the
+  // engine checks linked values before the body runs, read or not.
+  for (const auto& [input, source, value] :
+       {std::tuple<std::string, std::string, json>{"idw_power", "FloatConstant", 0.001},
+        {"idw_affine", "StringConstant", "bogus"}}) {
+    json nodes = {{"c", {{"type", source}, {"inputs", {{"value", value}}}}},
+                  {"w", {{"type", "WarpField"}, {"inputs", {{"size", {8, 8}}, {input, link("c.value")}}}}},
+                  {"p", {{"type", "Print"}, {"inputs", {{"value", link("w.displacement")}}}}}};
+    std::string out;
+    EXPECT_EQ(run_doc({{"loom", 1}, {"nodes", nodes}}, &out), 1) << input << ": " << out;
+    EXPECT_NE(out.find("input \"" + input + "\""), std::string::npos) << out;
   }
 }
 
