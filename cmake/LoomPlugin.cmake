@@ -60,3 +60,20 @@ function(loom_add_plugin name)
     gtest_discover_tests(${target}_tests TEST_PREFIX "${name}." DISCOVERY_TIMEOUT 60)
   endif()
 endfunction()
+
+# loom_add_plugin_library(NAME SOURCES a.cpp ... [PUBLIC targets...] [PRIVATE targets...])
+#
+# A plugin's algorithm as a static library that the plugin, its tests and its
+# benchmark share: position-independent and built with hidden visibility, so
+# the plugin still exports nothing but its entry point. Its folder is on the
+# include path of whatever links it.
+function(loom_add_plugin_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC;PRIVATE" ${ARGN})
+  add_library(${name} STATIC ${ARG_SOURCES})
+  target_include_directories(${name} PUBLIC "${CMAKE_CURRENT_SOURCE_DIR}")
+  target_link_libraries(${name} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
+  set_target_properties(${name} PROPERTIES
+    POSITION_INDEPENDENT_CODE ON
+    CXX_VISIBILITY_PRESET hidden
+    VISIBILITY_INLINES_HIDDEN ON)
+endfunction()

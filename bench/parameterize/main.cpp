@@ -152,8 +152,8 @@ int main(int argc, char** argv) {
     for (BoundaryShape shape : {BoundaryShape::circle, BoundaryShape::square}) {
       if (huge && shape == BoundaryShape::square) continue;
       const std::string bname = shape == BoundaryShape::circle ? "circle" : "square";
-      for (size_t w = 0; w < loom::parameterize::weight_names.size(); ++w) {
-        const std::string wname = loom::parameterize::weight_names[w];
+      for (size_t w = 0; w < loom::parameterize::weight_names().size(); ++w) {
+        const std::string wname = loom::parameterize::weight_names()[w];
         const auto weights = static_cast<loom::parameterize::Weights>(w);
         loom::parameterize::Parameterization p;
         // The square only for flip counts: timings are the circle's.

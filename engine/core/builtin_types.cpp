@@ -10,7 +10,7 @@
 namespace loom {
 
 std::string describe_json(const json& j) {
-  std::string text = j.dump();
+  std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
   if (text.size() > 60) text = text.substr(0, 57) + "...";
   const char* kind = j.is_null()              ? "null"
                      : j.is_boolean()         ? "a boolean"

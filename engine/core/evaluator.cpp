@@ -29,9 +29,8 @@ const char* to_string(NodeStatus s) {
 }
 
 Target parse_target(const std::string& text) {
-  auto dot = text.find('.');
-  if (dot == std::string::npos) return {text, ""};
-  return {text.substr(0, dot), text.substr(dot + 1)};
+  if (auto link = parse_link(text)) return {link->node, link->output};
+  return {text, ""};  // a node id alone: every output
 }
 
 bool EvalResult::ok() const {
@@ -159,6 +158,10 @@ void Evaluation::run_node(int n) {
   auto start = std::chrono::steady_clock::now();
   double seconds = 0;
   try {
+    // Every non-lazy linked value is checked before the body runs, whether or
+    // not the body reads it (fetch_input checks ranges, choices and paths).
+    for (std::size_t i = 0; i < s.inputs.size(); ++i)
+      if (links_upstream(s, i) && !spec.inputs[i].lazy) host.fetch_input(static_cast<int>(i));
     tbb::this_task_arena::isolate([&] { s.type->run(in, out, ctx); });
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     for (std::size_t o = 0; o < spec.outputs.size(); ++o)

@@ -1,5 +1,6 @@
 #include "loom/graph.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -43,7 +44,14 @@ Value literal_value(const InputSpec& spec, const json& literal) {
   if (!spec.type->literal())
     throw Error(spec.type->name + " values cannot be written in a graph file: link this input " +
                 "to a node output, e.g. {\"from\": \"ID.OUTPUT\"}");
-  Value v(spec.type, spec.type->from_json(literal));
+  Value v;
+  try {
+    v = Value(spec.type, spec.type->from_json(literal));
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {  // a JSON library error in a conversion
+    throw Error("expected " + spec.type->name + ", got " + describe_json(literal) + " (" + e.what() + ")");
+  }
   if (!spec.choices.empty()) {
     const auto& s = v.as<std::string>();
     bool found = false;
@@ -62,14 +70,87 @@ Value literal_value(const InputSpec& spec, const json& literal) {
 
 namespace {
 
+// At most this many issues are printed; the rest are counted.
+constexpr std::size_t kIssuesShown = 100;
+
 std::string issues_text(const std::string& file, const std::vector<GraphIssue>& issues) {
   std::string text;
-  for (const auto& i : issues) {
+  for (std::size_t k = 0; k < issues.size() && k < kIssuesShown; ++k) {
+    const GraphIssue& i = issues[k];
     if (!text.empty()) text += "\n";
     text += file + ": " + (i.pointer.empty() ? "" : i.pointer + ": ") + i.message;
   }
+  if (issues.size() > kIssuesShown)
+    text += "\n" + file + ": ... and " + std::to_string(issues.size() - kIssuesShown) + " more issues";
   return text;
 }
+
+// A JSON text's deepest nesting of arrays and objects, scanning past strings;
+// stops counting once past `limit`.
+std::size_t nesting_depth(std::string_view text, std::size_t limit) {
+  std::size_t depth = 0, deepest = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+      if (deepest > limit) return deepest;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
+bool valid_utf8(std::string_view s) {
+  std::size_t i = 0;
+  while (i < s.size()) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    std::size_t n = c < 0x80 ? 0 : (c >> 5) == 6 ? 1 : (c >> 4) == 14 ? 2 : (c >> 3) == 30 ? 3 : 9;
+    if (n == 9 || (n > 0 && i + n >= s.size())) return false;
+    for (std::size_t k = 1; k <= n; ++k)
+      if ((static_cast<unsigned char>(s[i + k]) >> 6) != 2) return false;
+    // Overlong forms and surrogates.
+    if (n == 1 && c < 0xC2) return false;
+    if (n == 2) {
+      const auto d = static_cast<unsigned char>(s[i + 1]);
+      if ((c == 0xE0 && d < 0xA0) || (c == 0xED && d >= 0xA0)) return false;
+    }
+    if (n == 3) {
+      const auto d = static_cast<unsigned char>(s[i + 1]);
+      if ((c == 0xF0 && d < 0x90) || c > 0xF4 || (c == 0xF4 && d >= 0x90)) return false;
+    }
+    i += n + 1;
+  }
+  return true;
+}
+
+// Parses JSON text into `out`. Any failure (syntax, a number beyond double,
+// invalid UTF-8, nesting beyond kMaxJsonDepth) is an issue message, never an
+// exception of the JSON library.
+std::optional<std::string> parse_json_text(std::string_view text, json& out) {
+  if (nesting_depth(text, kMaxJsonDepth) > kMaxJsonDepth)
+    return "nested deeper than " + std::to_string(kMaxJsonDepth) + " arrays/objects";
+  try {
+    out = json::parse(text);
+    return std::nullopt;
+  } catch (const json::exception& e) {
+    std::string what = e.what();
+    auto p = what.find("] ");
+    std::string message = p == std::string::npos ? what : what.substr(p + 2);
+    if (message.size() > 300) message = message.substr(0, 300) + "...";
+    return "not valid JSON: " + message;
+  } catch (const std::exception& e) {
+    return std::string("not valid JSON: ") + e.what();
+  }
+}
+
+std::string cut(const std::string& s, std::size_t n) { return s.size() > n ? s.substr(0, n) + "..." : s; }
 
 std::string node_pointer(const std::string& id) { return "/nodes/" + detail::pointer_escape(id); }
 std::string input_pointer(const std::string& id, const std::string& input) {
@@ -77,6 +158,12 @@ std::string input_pointer(const std::string& id, const std::string& input) {
 }
 
 }  // namespace
+
+std::optional<Link> parse_link(std::string_view text) {
+  const auto dot = text.find('.');
+  if (dot == std::string_view::npos || dot == 0 || dot + 1 == text.size()) return std::nullopt;
+  return Link{std::string(text.substr(0, dot)), std::string(text.substr(dot + 1))};
+}
 
 GraphError::GraphError(std::string file, std::vector<GraphIssue> issues)
     : Error(issues_text(file, issues)), file_(std::move(file)), issues_(std::move(issues)) {}
@@ -195,13 +282,12 @@ Graph parse_graph(const json& doc, const std::filesystem::path& file) {
             const std::string ip = input_pointer(id, input) + "/from";
             if (value.size() != 1) fail(input_pointer(id, input), "a link has only the key \"from\"");
             const json& from = value["from"];
-            std::string text = from.is_string() ? from.get<std::string>() : "";
-            auto dot = text.find('.');
-            if (dot == std::string::npos || dot == 0 || dot + 1 == text.size()) {
+            auto link = from.is_string() ? parse_link(from.get<std::string>()) : std::nullopt;
+            if (!link) {
               fail(ip, "expected \"ID.OUTPUT\", got " + describe_json(from));
               continue;
             }
-            b.link = Link{text.substr(0, dot), text.substr(dot + 1)};
+            b.link = std::move(*link);
           } else {
             b.literal = value;
           }
@@ -225,14 +311,14 @@ Graph load_graph_file(const std::filesystem::path& file) {
   std::stringstream buffer;
   buffer << in.rdbuf();
   json doc;
-  try {
-    doc = json::parse(buffer.str());
-  } catch (const json::parse_error& e) {
-    std::string what = e.what();
-    auto p = what.find("parse error");
-    throw GraphError(file.string(), {{"", "not valid JSON: " + (p == std::string::npos ? what : what.substr(p))}});
-  }
+  if (auto problem = parse_json_text(buffer.str(), doc)) throw GraphError(file.string(), {{"", *problem}});
   return parse_graph(doc, std::filesystem::absolute(file));
+}
+
+Graph parse_graph_text(std::string_view text, const std::filesystem::path& file) {
+  json doc;
+  if (auto problem = parse_json_text(text, doc)) throw GraphError(file.empty() ? "<graph>" : file.string(), {{"", *problem}});
+  return parse_graph(doc, file);
 }
 
 void validate_graph(const Graph& g, const Registry& registry, const std::string& searched,
@@ -296,9 +382,15 @@ void validate_graph(const Graph& g, const Registry& registry, const std::string&
                  spec.description + ")");
   }
 
-  // Cycles: iterative DFS over links; report the link that closes each cycle.
+  // Cycles: iterative DFS over links. Each link that closes a cycle is
+  // reported with a path of at most a few nodes, and only the first
+  // kCyclesShown of them: a graph with thousands of links into one loop gets a
+  // short, readable answer.
+  constexpr std::size_t kCyclesShown = 10, kPathShown = 8;
+  std::size_t cycles = 0;
   enum Mark { unseen, active, done };
   std::map<std::string, Mark> mark;
+  std::map<std::string, std::size_t> depth;  // stack position of active nodes
   for (const auto& [root, unused] : g.nodes) {
     if (mark[root] != unseen) continue;
     struct Frame {
@@ -307,6 +399,7 @@ void validate_graph(const Graph& g, const Registry& registry, const std::string&
     };
     std::vector<Frame> stack{{&g.nodes.at(root), g.nodes.at(root).inputs.begin()}};
     mark[root] = active;
+    depth[root] = 0;
     while (!stack.empty()) {
       Frame& f = stack.back();
       if (f.next == f.node->inputs.end()) {
@@ -318,35 +411,56 @@ void validate_graph(const Graph& g, const Registry& registry, const std::string&
       if (!b.link || !g.nodes.count(b.link->node)) continue;
       Mark& m = mark[b.link->node];
       if (m == active) {
-        std::string path = b.link->node;
-        bool on = false;
-        for (const Frame& s : stack) {
-          on = on || s.node->id == b.link->node;
-          if (on && s.node->id != b.link->node) path += " → " + s.node->id;
+        if (++cycles > kCyclesShown) continue;
+        const std::size_t from = depth[b.link->node], length = stack.size() - from;
+        std::string path = cut(b.link->node, 60);
+        for (std::size_t k = from + 1; k < stack.size(); ++k) {
+          if (length > kPathShown && k == from + kPathShown / 2) {
+            path += " → ... (" + std::to_string(length - kPathShown) + " more)";
+            k = stack.size() - kPathShown / 2;
+          }
+          path += " → " + cut(stack[k].node->id, 60);
         }
-        path += " → " + b.link->node;
-        fail(input_pointer(f.node->id, input) + "/from", "cycle: " + path);
+        path += " → " + cut(b.link->node, 60);
+        fail(input_pointer(f.node->id, input) + "/from",
+             "cycle of " + std::to_string(length) + " node" + (length == 1 ? "" : "s") + ": " + path);
       } else if (m == unseen) {
         m = active;
+        depth[b.link->node] = stack.size();
         const GraphNode& up = g.nodes.at(b.link->node);
         stack.push_back({&up, up.inputs.begin()});
       }
     }
   }
+  if (cycles > kCyclesShown)
+    fail("/nodes", std::to_string(cycles - kCyclesShown) + " more links close cycles (not listed)");
   if (!issues.empty()) throw GraphError(name, issues);
 }
 
 void set_input(Graph& g, const std::string& assignment) {
+  if (!valid_utf8(assignment))
+    throw GraphError("--set", {{"", "the assignment is not valid UTF-8 text"}});
   auto eq = assignment.find('=');
   auto dot = assignment.find('.');
   if (eq == std::string::npos || dot == std::string::npos || dot > eq)
-    throw GraphError("--set", {{"", "expected ID.INPUT=VALUE, got \"" + assignment + "\""}});
+    throw GraphError("--set", {{"", "expected ID.INPUT=VALUE, got \"" + cut(assignment, 80) + "\""}});
   std::string id = assignment.substr(0, dot);
   std::string input = assignment.substr(dot + 1, eq - dot - 1);
   std::string text = assignment.substr(eq + 1);
   auto it = g.nodes.find(id);
-  json value = json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (value.is_discarded()) value = text;  // plain words: a string
+  json value;
+  if (parse_json_text(text, value)) {
+    // Not JSON: plain words are a string, but a value that looks like JSON
+    // and fails (deep nesting, 1e400) is an error, not silently a string.
+    const auto first = text.find_first_not_of(" \t");
+    const bool looks_json = first != std::string::npos &&
+                            std::string("[{\"-0123456789").find(text[first]) != std::string::npos;
+    if (looks_json) {
+      json ignored;
+      throw GraphError("--set", {{input_pointer(id, input), *parse_json_text(text, ignored)}});
+    }
+    value = text;
+  }
   if (it == g.nodes.end() && id == "time") {
     json t = g.time ? time_to_json(*g.time) : json::object();
     t[input] = value;
@@ -358,14 +472,12 @@ void set_input(Graph& g, const std::string& assignment) {
     return;
   }
   if (it == g.nodes.end())
-    throw GraphError(g.file.string(), {{node_pointer(id), "--set names unknown node \"" + id + "\""}});
+    throw GraphError(g.file.string(), {{node_pointer(id), "--set names unknown node \"" + cut(id, 80) + "\""}});
   InputBinding b;
   if (value.is_object() && value.contains("from") && value["from"].is_string()) {
-    std::string from = value["from"].get<std::string>();
-    auto d = from.find('.');
-    if (d == std::string::npos)
-      throw GraphError("--set", {{"", "expected {\"from\": \"ID.OUTPUT\"}, got " + text}});
-    b.link = Link{from.substr(0, d), from.substr(d + 1)};
+    auto link = parse_link(value["from"].get<std::string>());
+    if (!link) throw GraphError("--set", {{"", "expected {\"from\": \"ID.OUTPUT\"}, got " + cut(text, 80)}});
+    b.link = std::move(*link);
   } else {
     b.literal = value;
   }

@@ -1,5 +1,8 @@
 #include "node_host.hpp"
 
+#include "input_check.hpp"
+#include "loom/frame_pattern.hpp"
+
 namespace loom::detail {
 
 Value Host::fetch_input(int i) {
@@ -8,10 +11,21 @@ Value Host::fetch_input(int i) {
   if (b.kind == NodeState::Binding::literal) return b.literal_value;
   NodeState& up = e_.at(b.upstream);
   if (!up.done.load(std::memory_order_acquire)) e_.execute({b.upstream});
+  const InputSpec& spec = s_.type->spec.inputs[static_cast<std::size_t>(i)];
   if (!up.ok)
-    throw UpstreamFailed("input \"" + s_.type->spec.inputs[static_cast<std::size_t>(i)].name + "\": node \"" +
-                         up.node->id + "\" " + to_string(up.report.status));
-  return up.outputs[static_cast<std::size_t>(b.output)];
+    throw UpstreamFailed("input \"" + spec.name + "\": node \"" + up.node->id + "\" " +
+                         to_string(up.report.status));
+  // Every linked value is checked against the input's declaration, as literals
+  // are at validation; file paths follow the same rules as literal ones.
+  const Value& value = up.outputs[static_cast<std::size_t>(b.output)];
+  check_input_value(spec, value);
+  if (spec.role == InputRole::value) return value;
+  Value path = value;
+  if (spec.role == InputRole::output_file)
+    path = Value::make<std::string>(expand_frame_pattern(value.as<std::string>(), e_.time.frame));
+  path = resolve_path_value(spec, path, e_.graph_dir, e_.options.output_dir, e_.options.allow_outside_output);
+  std::lock_guard lock(mutex_);
+  return resolved_paths_.emplace_back(std::move(path));
 }
 
 bool Host::input_set(int i) const {
@@ -27,10 +41,9 @@ std::shared_ptr<void> Host::sequence_state(const std::function<std::shared_ptr<v
 }
 
 void Host::report_progress(double fraction, std::string_view label) {
-  if (fraction < last_ + 0.01 && fraction < 1.0 && label == last_label_) return;
-  last_ = fraction;
-  last_label_ = label;
-  if (e_.options.observer) e_.options.observer->node_progress(s_.node->id, fraction, last_label_);
+  progress_.offer(fraction, label, [&](double f, const std::string& l) {
+    if (e_.options.observer) e_.options.observer->node_progress(s_.node->id, f, l);
+  });
 }
 
 void Host::report(bool warning, std::string text) {

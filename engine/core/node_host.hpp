@@ -2,10 +2,12 @@
 // evaluation (lazy inputs, progress, messages, cancellation, scratch store).
 #pragma once
 
+#include <deque>
 #include <mutex>
 #include <string>
 
 #include "evaluation.hpp"
+#include "progress_gate.hpp"
 
 namespace loom::detail {
 
@@ -26,8 +28,8 @@ class Host final : public NodeHost {
   Evaluation& e_;
   NodeState& s_;
   std::mutex mutex_;
-  double last_ = -1;
-  std::string last_label_;
+  std::deque<Value> resolved_paths_;  // linked paths resolved here: in.get returns references into them
+  ProgressGate progress_;
 };
 
 }  // namespace loom::detail

@@ -4,6 +4,7 @@
 
 #include "computation_hash.hpp"
 #include "evaluation.hpp"
+#include "input_check.hpp"
 #include "literal.hpp"
 #include "loom/frame_pattern.hpp"
 
@@ -50,10 +51,12 @@ void Evaluation::bind_inputs() {
       if (spec.role != InputRole::value) {
         std::string text = b.literal_value.as<std::string>();
         if (spec.role == InputRole::output_file) text = expand_frame_pattern(text, time.frame);
-        std::filesystem::path p = text;
-        const auto& base = spec.role == InputRole::input_file ? graph_dir : options.output_dir;
-        if (p.is_relative()) p = base / p;
-        b.literal_value = Value::make<std::string>(p.lexically_normal().string());
+        try {
+          b.literal_value = resolve_path_value(spec, Value::make<std::string>(std::move(text)), graph_dir,
+                                               options.output_dir, options.allow_outside_output);
+        } catch (const Error& e) {
+          throw Error("node \"" + s.node->id + "\": " + e.what());
+        }
       }
     }
   }

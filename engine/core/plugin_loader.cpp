@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <iostream>
 
 #include <dlfcn.h>
 #include <unistd.h>
@@ -68,7 +69,16 @@ std::vector<fs::path> PluginLoader::default_search_path() {
     while (start <= s.size()) {
       std::size_t end = s.find(':', start);
       if (end == std::string::npos) end = s.size();
-      if (end > start) path.emplace_back(s.substr(start, end - start));
+      if (end > start) {
+        // A relative entry would make whatever folder loom runs in a plugin
+        // source: refused, with a warning.
+        fs::path entry = s.substr(start, end - start);
+        if (entry.is_absolute())
+          path.push_back(entry.lexically_normal());
+        else
+          std::cerr << "warning: LOOM_PLUGIN_PATH entry \"" << entry.string()
+                    << "\" ignored: plugin folders must be absolute paths\n";
+      }
       start = end + 1;
     }
   }
@@ -143,7 +153,10 @@ void PluginLoader::load_for(const std::vector<std::string>& node_types) {
     if (provider) load(*provider);
     else unknown = true;
   }
-  if (unknown)  // a plugin without a manifest may provide it
+  // A library without a manifest may provide it, but loading one runs its
+  // constructors before any check: only when asked (LOOM_LOAD_UNLISTED=1).
+  const char* unlisted = std::getenv("LOOM_LOAD_UNLISTED");
+  if (unknown && unlisted && std::string(unlisted) == "1")
     for (auto& p : plugins_)
       if (p.node_types.empty()) load(p);
 }
@@ -171,6 +184,10 @@ std::string PluginLoader::searched_description() const {
     first = false;
   }
   if (first) text += "none found";
+  int unlisted = 0;
+  for (const auto& p : plugins_) unlisted += p.node_types.empty() && !p.loaded;
+  if (unlisted > 0)
+    text += " (" + std::to_string(unlisted) + " without a manifest, not loaded: LOOM_LOAD_UNLISTED=1 loads them)";
   text += "; plugin path: ";
   first = true;
   for (const auto& d : search_path_) {

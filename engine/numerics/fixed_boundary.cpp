@@ -10,28 +10,15 @@ namespace loom::numerics {
 
 namespace {
 
-int find(std::vector<int>& parent, int v) {
-  while (parent[v] != v) v = parent[v] = parent[parent[v]];
-  return v;
-}
-
 // Every connected piece of F must touch a fixed vertex, or its rows are singular.
 void require_fixed_in_every_piece(const Eigen::MatrixX3i& F, int n, const std::vector<char>& fixed) {
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  for (int f = 0; f < F.rows(); ++f)
-    for (int k = 1; k < 3; ++k) parent[find(parent, F(f, k))] = find(parent, F(f, 0));
-  std::vector<char> anchored(n, 0), piece(n, 0);
+  int pieces = 0;
+  const std::vector<int> piece_of = connected_components(F, n, &pieces);
+  std::vector<char> anchored(static_cast<std::size_t>(pieces), 0);
   for (int v = 0; v < n; ++v)
-    if (fixed[v]) anchored[find(parent, v)] = 1;
+    if (fixed[v] && piece_of[static_cast<std::size_t>(v)] >= 0) anchored[static_cast<std::size_t>(piece_of[static_cast<std::size_t>(v)])] = 1;
   int floating = 0;
-  for (int f = 0; f < F.rows(); ++f) {
-    const int r = find(parent, F(f, 0));
-    if (!anchored[r] && !piece[r]) {
-      piece[r] = 1;
-      ++floating;
-    }
-  }
+  for (char a : anchored) floating += !a;
   if (floating > 0)
     throw Error("the mesh has " + std::to_string(floating) +
                 " connected piece(s) without a boundary vertex: a fixed-boundary map needs one disk; "

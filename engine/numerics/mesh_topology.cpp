@@ -1,6 +1,7 @@
 #include "loom/numerics/mesh_topology.hpp"
 
 #include <algorithm>
+#include <numeric>
 #include <cstdint>
 #include <string>
 
@@ -94,6 +95,33 @@ std::vector<bool> referenced_vertices(const Eigen::MatrixX3i& F, int n) {
   for (int f = 0; f < F.rows(); ++f)
     for (int k = 0; k < 3; ++k) used[F(f, k)] = true;
   return used;
+}
+
+std::vector<int> connected_components(const Eigen::MatrixX3i& F, int n, int* count) {
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto root = [&parent](int v) {
+    while (parent[static_cast<std::size_t>(v)] != v)
+      v = parent[static_cast<std::size_t>(v)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(v)])];
+    return v;
+  };
+  std::vector<char> used(static_cast<std::size_t>(n), 0);
+  for (Eigen::Index t = 0; t < F.rows(); ++t)
+    for (int i = 0; i < 3; ++i) {
+      used[static_cast<std::size_t>(F(t, i))] = 1;
+      const int a = root(F(t, i)), b = root(F(t, (i + 1) % 3));
+      if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+    }
+  std::vector<int> component(static_cast<std::size_t>(n), -1), numbered(static_cast<std::size_t>(n), -1);
+  int k = 0;
+  for (int v = 0; v < n; ++v) {
+    if (!used[static_cast<std::size_t>(v)]) continue;
+    int& c = numbered[static_cast<std::size_t>(root(v))];
+    if (c < 0) c = k++;
+    component[static_cast<std::size_t>(v)] = c;
+  }
+  if (count) *count = k;
+  return component;
 }
 
 }  // namespace loom::numerics

@@ -69,7 +69,7 @@ std::optional<loom::FrameRange> parse_frames(const std::string& text) {
 int cmd_run(const std::string& graph_path, const std::string& out_dir,
             const std::vector<std::string>& sets, const std::vector<std::string>& targets,
             int threads, const std::string& profile_path, bool quiet, const std::string& frames,
-            const CacheSettings& cache) {
+            const CacheSettings& cache, bool allow_outside) {
   auto start = std::chrono::steady_clock::now();
   loom::Registry registry;
   loom::PluginLoader loader(registry);
@@ -77,7 +77,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   try {
     graph = loom::load_graph_file(graph_path);
     for (const auto& s : sets) loom::set_input(graph, s);
-  } catch (const loom::GraphError& e) {
+  } catch (const std::exception& e) {  // GraphError, or anything from reading the file
     std::cerr << "error: " << e.what() << "\n";
     return kInvalid;
   }
@@ -92,7 +92,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   }
   try {
     loom::validate_graph(graph, registry, loader.searched_description(), loader.known_node_types());
-  } catch (const loom::GraphError& e) {
+  } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kInvalid;
   }
@@ -115,6 +115,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   for (const auto& t : targets) options.targets.push_back(loom::parse_target(t));
   options.threads = threads;
   options.output_dir = std::filesystem::absolute(out_dir);
+  options.allow_outside_output = allow_outside;
   options.cancel = &g_cancel;
   loom::runner::ConsoleObserver observer(quiet);
   options.observer = &observer;
@@ -131,7 +132,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   loom::EvalResult result;
   try {
     result = loom::Session(registry).evaluate(graph, options);
-  } catch (const loom::Error& e) {
+  } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kInvalid;
   }
@@ -220,6 +221,9 @@ int cmd_validate(const std::string& graph_path) {
   } catch (const loom::Error& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kPluginError;
+  } catch (const std::exception& e) {  // e.g. a JSON library error
+    std::cerr << "error: " << e.what() << "\n";
+    return kInvalid;
   }
 }
 
@@ -295,7 +299,7 @@ int main(int argc, char** argv) {
   std::string graph_path, out_dir = "out", profile_path, type, manifest_lib, manifest_out;
   std::vector<std::string> sets, targets;
   int threads = 0;
-  bool quiet = false, as_json = false, as_markdown = false;
+  bool quiet = false, as_json = false, as_markdown = false, allow_outside = false;
 
   auto* run = app.add_subcommand("run", "Run a graph: evaluate its sinks (or --target outputs).");
   run->add_option("graph", graph_path, "graph file (JSON)")->required();
@@ -325,6 +329,8 @@ int main(int argc, char** argv) {
   std::string cache_action;
   cache_cmd->add_option("action", cache_action, "info or clear")->required()->check(CLI::IsMember({"info", "clear"}));
   cache_options(cache_cmd);
+  run->add_flag("--allow-outside-out", allow_outside,
+                "let output paths be absolute or climb out of --out with \"..\" (refused otherwise)");
 
   auto* validate = app.add_subcommand("validate", "Check a graph without running it.");
   validate->add_option("graph", graph_path, "graph file (JSON)")->required();
@@ -350,7 +356,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kOk : kInvalid;
   }
-  if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache);
+  if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside);
   if (*cache_cmd) return cmd_cache(cache_action, cache);
   if (*validate) return cmd_validate(graph_path);
   if (*nodes) return cmd_nodes(type, as_json, as_markdown);

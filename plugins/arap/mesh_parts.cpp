@@ -1,38 +1,15 @@
 #include "mesh_parts.hpp"
 
-#include <numeric>
+#include "loom/numerics/mesh_topology.hpp"
 
 namespace loom::arap {
 
-namespace {
-int find_root(std::vector<int>& parent, int v) {
-  while (parent[v] != v) v = parent[v] = parent[parent[v]];
-  return v;
-}
-}  // namespace
-
 MeshParts mesh_parts(const Eigen::MatrixX3i& F, int n) {
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  std::vector<bool> used(n, false);
-  for (Eigen::Index t = 0; t < F.rows(); ++t)
-    for (int i = 0; i < 3; ++i) {
-      used[F(t, i)] = true;
-      const int a = find_root(parent, F(t, i)), b = find_root(parent, F(t, (i + 1) % 3));
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
   MeshParts p;
-  p.part.assign(n, -1);
-  std::vector<int> root_part(n, -1);
-  for (int v = 0; v < n; ++v) {
-    if (!used[v]) continue;
-    const int r = find_root(parent, v);
-    if (root_part[r] < 0) {
-      root_part[r] = p.count++;
-      p.first_vertex.push_back(v);
-    }
-    p.part[v] = root_part[r];
-  }
+  p.part = numerics::connected_components(F, n, &p.count);
+  p.first_vertex.assign(static_cast<std::size_t>(p.count), -1);
+  for (int v = n - 1; v >= 0; --v)
+    if (p.part[static_cast<std::size_t>(v)] >= 0) p.first_vertex[static_cast<std::size_t>(p.part[static_cast<std::size_t>(v)])] = v;
   return p;
 }
 

@@ -7,6 +7,13 @@ namespace loom::generate {
 void require_polar_counts(int rings, int segments) {
   if (rings < 1) throw Error("rings must be at least 1");
   if (segments < 3) throw Error("segments must be at least 3");
+  // Each declared range alone is reasonable; their product may not be (4096
+  // rings of 65536 segments is 268M vertices, 6 GB of faces).
+  constexpr long long kMaxVertices = 1LL << 24;
+  const long long n = static_cast<long long>(rings) * segments;
+  if (n > kMaxVertices)
+    throw Error("rings × segments = " + std::to_string(n) + " vertices: more than the " +
+                std::to_string(kMaxVertices) + " a generated mesh may have");
 }
 
 Mesh polar_mesh(int rings, int segments, const std::function<Eigen::Vector3d(double, double)>& position) {

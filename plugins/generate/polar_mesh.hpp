@@ -12,7 +12,8 @@ namespace loom::generate {
 
 Mesh polar_mesh(int rings, int segments, const std::function<Eigen::Vector3d(double, double)>& position);
 
-// Validates ring and segment counts with a message naming the input.
+// Validates ring and segment counts with a message naming the input, and
+// their product (at most 2^24 vertices).
 void require_polar_counts(int rings, int segments);
 
 }  // namespace loom::generate

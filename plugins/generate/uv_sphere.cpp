@@ -3,6 +3,7 @@
 
 #include "loom/mesh.hpp"
 #include "loom/plugin.hpp"
+#include "polar_mesh.hpp"
 
 namespace {
 
@@ -18,6 +19,7 @@ struct UVSphere {
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
     const double R = in.get<double>("radius");
     const int rings = in.get<int>("rings"), segs = in.get<int>("segments");
+    loom::generate::require_polar_counts(rings, segs);
     loom::Mesh mesh;
     const int n = 2 + (rings - 1) * segs;
     mesh.V.resize(n, 3);

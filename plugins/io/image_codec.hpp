@@ -1,6 +1,7 @@
 // Image files <-> loom::Image, through OpenCV's codecs.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -11,10 +12,17 @@ namespace loom::io {
 enum class Decode { linear, keep };
 enum class Depth { u8, u16, f32 };
 
+// Images whose header declares more pixels than this are refused before
+// decoding (a decompression bomb): 2^28, e.g. 16384 × 16384.
+constexpr std::uint64_t kDefaultMaxImagePixels = std::uint64_t(1) << 28;
+
 // 8- and 16-bit files hold sRGB-encoded values: `linear` decodes them and tags
 // the image linear; `keep` keeps the encoded values and tags it sRGB. Float
 // files (EXR, HDR) are linear already and tagged so.
-Image read_image(const std::filesystem::path& path, Decode decode);
+// Refuses, before decoding, a file whose header declares more than
+// `max_pixels` pixels (or a zero size).
+Image read_image(const std::filesystem::path& path, Decode decode,
+                 std::uint64_t max_pixels = kDefaultMaxImagePixels);
 
 // Encodes by the image's tag (8/16-bit files get sRGB values, float files
 // linear ones), clamps integer formats to [0, 1], writes atomically. JPEG is

@@ -1,37 +1,48 @@
 #include "mesh_codec.hpp"
 
+#include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <memory>
-#include <random>
 
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
 
 namespace loom::io {
 
 namespace fs = std::filesystem;
 
-Mesh read_mesh(const fs::path& path, int* dropped) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw Error("cannot read mesh " + path.string() + ": no such file");
+namespace {
+
+std::string lower_extension(const fs::path& path) {
+  std::string e = path.extension().string();
+  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+// Formats without indices of their own (STL) or with several meshes (glTF,
+// FBX, ...) through assimp, each primitive's vertex list as it is.
+Mesh read_with_assimp(const fs::path& path, MeshNotes& notes) {
   Assimp::Importer importer;
-  // Keep lines and points out of the triangles; count what was dropped.
+  // No JoinIdenticalVertices: it welds the two sides of a cut. The data
+  // structure is validated before anything else reads it.
   const aiScene* scene = importer.ReadFile(
-      path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+      path.string(), aiProcess_ValidateDataStructure | aiProcess_Triangulate |
                          aiProcess_PreTransformVertices | aiProcess_SortByPType);
   if (!scene || !scene->mRootNode)
     throw Error("cannot read mesh " + path.string() + ": " + importer.GetErrorString());
 
   Eigen::Index nv = 0, nf = 0;
   bool uv = true, normals = true, colors = true;
-  int skipped = 0;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* a = scene->mMeshes[m];
     if (!(a->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) {
-      skipped += static_cast<int>(a->mNumFaces);
+      notes.dropped_primitives += static_cast<int>(a->mNumFaces);
       continue;
     }
     nv += a->mNumVertices;
@@ -61,26 +72,61 @@ Mesh read_mesh(const fs::path& path, int* dropped) {
     for (unsigned f = 0; f < a->mNumFaces; ++f) {
       const aiFace& face = a->mFaces[f];
       if (face.mNumIndices != 3) throw Error(path.string() + ": a face is not a triangle after triangulation");
-      for (int k = 0; k < 3; ++k) mesh.F(f0 + f, k) = static_cast<int>(v0 + face.mIndices[k]);
+      for (int k = 0; k < 3; ++k) {
+        if (face.mIndices[k] >= a->mNumVertices) throw Error(path.string() + ": a face index is out of range");
+        mesh.F(f0 + f, k) = static_cast<int>(v0 + face.mIndices[k]);
+      }
     }
     v0 += a->mNumVertices;
     f0 += a->mNumFaces;
   }
-  if (dropped) *dropped = skipped;
-  require_valid(mesh, path.filename().string().c_str());
+  return mesh;
+}
+
+// Whole file in memory; a mesh file beyond this is refused, not read.
+constexpr std::uintmax_t kMaxMeshFileBytes = std::uintmax_t(4) << 30;
+
+std::string file_bytes(const fs::path& path) {
+  std::error_code ec;
+  const auto size = fs::file_size(path, ec);
+  if (ec) throw Error("cannot read mesh " + path.string() + ": " + ec.message());
+  if (size > kMaxMeshFileBytes) throw Error("cannot read mesh " + path.string() + ": larger than 4 GiB");
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  if (!in.read(bytes.data(), static_cast<std::streamsize>(size)))
+    throw Error("cannot read mesh " + path.string() + ": read failed");
+  return bytes;
+}
+
+void require_finite_attributes(const Mesh& mesh, const std::string& what) {
+  if (!mesh.UV.allFinite() || !mesh.N.allFinite() || !mesh.C.allFinite())
+    throw Error(what + " has NaN or infinite texture coordinates, normals or colors");
+}
+
+}  // namespace
+
+Mesh read_mesh(const fs::path& path, MeshNotes* notes) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) throw Error("cannot read mesh " + path.string() + ": no such file");
+  MeshNotes local;
+  MeshNotes& n = notes ? *notes : local;
+  const std::string ext = lower_extension(path), name = path.string();
+  Mesh mesh;
+  if (ext == ".obj") mesh = to_mesh(read_obj_file(file_bytes(path), name), name, &n);
+  else if (ext == ".ply") mesh = to_mesh(read_ply_file(file_bytes(path), name), name, &n);
+  else if (ext == ".off") mesh = to_mesh(read_off_file(file_bytes(path), name), name, &n);
+  else mesh = read_with_assimp(path, n);
+  require_valid(mesh, name.c_str());
+  require_finite_attributes(mesh, name);
   return mesh;
 }
 
 namespace {
 
-std::string assimp_format(const fs::path& path) {
-  std::string e = path.extension().string();
-  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (e == ".obj") return "obj";
-  if (e == ".ply") return "plyb";
-  if (e == ".gltf") return "gltf2";
-  if (e == ".glb") return "glb2";
-  if (e == ".stl") return "stlb";
+std::string assimp_format(const std::string& ext, const fs::path& path) {
+  if (ext == ".gltf") return "gltf2";
+  if (ext == ".glb") return "glb2";
+  if (ext == ".stl") return "stlb";
   throw Error("cannot save " + path.string() + ": unknown extension (use .obj, .ply, .gltf, .glb or .stl)");
 }
 
@@ -144,32 +190,127 @@ std::unique_ptr<aiScene> make_scene(const Mesh& mesh, const std::string& texture
   return scene;
 }
 
+// "%.17g": doubles survive the text round trip exactly.
+void append_numbers(std::string& out, const char* tag, const double* x, int n) {
+  char buffer[40];
+  out += tag;
+  for (int i = 0; i < n; ++i) {
+    std::snprintf(buffer, sizeof buffer, " %.17g", x[i]);
+    out += buffer;
+  }
+  out += '\n';
+}
+
+// OBJ keeps the vertex list as it is: one v (and vt, vn) per vertex, faces
+// indexing them all with the same number. (assimp's exporter joins vertices
+// by position, which would weld a cut shut.)
+std::string obj_text(const Mesh& mesh, const std::string& mtl_name) {
+  std::string out = "# written by Loom\n";
+  if (!mtl_name.empty()) out += "mtllib " + mtl_name + "\nusemtl loom\n";
+  for (int v = 0; v < mesh.vertices(); ++v) {
+    double x[6] = {mesh.V(v, 0), mesh.V(v, 1), mesh.V(v, 2), 0, 0, 0};
+    if (mesh.has_colors())
+      for (int k = 0; k < 3; ++k) x[3 + k] = mesh.C(v, k);
+    append_numbers(out, "v", x, mesh.has_colors() ? 6 : 3);
+  }
+  for (int v = 0; mesh.has_uv() && v < mesh.vertices(); ++v) {
+    const double x[2] = {mesh.UV(v, 0), mesh.UV(v, 1)};
+    append_numbers(out, "vt", x, 2);
+  }
+  for (int v = 0; mesh.has_normals() && v < mesh.vertices(); ++v) {
+    const double x[3] = {mesh.N(v, 0), mesh.N(v, 1), mesh.N(v, 2)};
+    append_numbers(out, "vn", x, 3);
+  }
+  for (int f = 0; f < mesh.faces(); ++f) {
+    out += 'f';
+    for (int k = 0; k < 3; ++k) {
+      const std::string i = std::to_string(mesh.F(f, k) + 1);
+      out += ' ' + i;
+      if (mesh.has_uv() || mesh.has_normals()) out += '/' + (mesh.has_uv() ? i : std::string());
+      if (mesh.has_normals()) out += '/' + i;
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+// Binary little-endian PLY with double positions, float normals, UVs and
+// colors, and int face indices.
+std::string ply_bytes(const Mesh& mesh) {
+  std::string out = "ply\nformat binary_little_endian 1.0\ncomment written by Loom\nelement vertex " +
+                    std::to_string(mesh.vertices()) + "\nproperty double x\nproperty double y\nproperty double z\n";
+  if (mesh.has_normals()) out += "property float nx\nproperty float ny\nproperty float nz\n";
+  if (mesh.has_uv()) out += "property float u\nproperty float v\n";
+  if (mesh.has_colors()) out += "property float red\nproperty float green\nproperty float blue\n";
+  out += "element face " + std::to_string(mesh.faces()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  auto put = [&out](auto value) {  // the host is little-endian (x86-64, aarch64)
+    char b[sizeof value];
+    std::memcpy(b, &value, sizeof value);
+    out.append(b, sizeof value);
+  };
+  for (int v = 0; v < mesh.vertices(); ++v) {
+    for (int k = 0; k < 3; ++k) put(mesh.V(v, k));
+    for (int k = 0; mesh.has_normals() && k < 3; ++k) put(static_cast<float>(mesh.N(v, k)));
+    for (int k = 0; mesh.has_uv() && k < 2; ++k) put(static_cast<float>(mesh.UV(v, k)));
+    for (int k = 0; mesh.has_colors() && k < 3; ++k) put(static_cast<float>(mesh.C(v, k)));
+  }
+  for (int f = 0; f < mesh.faces(); ++f) {
+    put(static_cast<unsigned char>(3));
+    for (int k = 0; k < 3; ++k) put(static_cast<std::int32_t>(mesh.F(f, k)));
+  }
+  return out;
+}
+
+// A texture file name goes into a line of the .mtl or a JSON string: no
+// line breaks or other control characters.
+void require_plain_name(const std::string& texture) {
+  for (unsigned char c : texture)
+    if (c < 0x20 || c == 0x7f)
+      throw Error("texture \"" + texture.substr(0, 60) + "\": control characters (line breaks) are not allowed in a file name");
+}
+
 }  // namespace
 
-void write_mesh(const Mesh& mesh, const fs::path& path, const std::string& texture) {
+void write_mesh(const Mesh& mesh, const fs::path& path, const std::string& texture,
+                const std::function<void()>& check_cancelled) {
   require_valid(mesh, "the mesh");
+  require_finite_attributes(mesh, "the mesh");
   if (mesh.faces() == 0) throw Error("the mesh has no faces: nothing to save");
-  const std::string format = assimp_format(path);
-  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  const fs::path staging = dir / (".loom-mesh-" + std::to_string(std::random_device{}()));
-  fs::create_directories(staging, ec);
-  if (ec) throw Error("cannot write " + path.string() + ": " + ec.message());
-  auto scene = make_scene(mesh, texture);
-  Assimp::Exporter exporter;
-  const fs::path staged = staging / path.filename();
-  if (exporter.Export(scene.get(), format, staged.string()) != AI_SUCCESS) {
-    fs::remove_all(staging, ec);
-    throw Error("cannot write " + path.string() + ": " + exporter.GetErrorString());
+  require_plain_name(texture);
+  const std::string ext = lower_extension(path);
+  // Every file's bytes are made in memory first: nothing on disk changes
+  // until the whole write is known to succeed.
+  std::vector<std::pair<fs::path, std::string>> files;  // the main file last
+  if (ext == ".obj") {
+    const std::string mtl = path.stem().string() + ".mtl";
+    std::string material = "# written by Loom\nnewmtl loom\nKd 1 1 1\n";
+    if (!texture.empty()) material += "map_Kd " + texture + "\n";
+    files.emplace_back(path.parent_path() / mtl, material);
+    files.emplace_back(path, obj_text(mesh, mtl));
+  } else if (ext == ".ply") {
+    files.emplace_back(path, ply_bytes(mesh));
+  } else {
+    const std::string format = assimp_format(ext, path);
+    auto scene = make_scene(mesh, texture);
+    Assimp::Exporter exporter;
+    const aiExportDataBlob* blob = exporter.ExportToBlob(scene.get(), format);
+    if (!blob) throw Error("cannot write " + path.string() + ": " + exporter.GetErrorString());
+    // The first blob is the main file; the others (a glTF's .bin) are named
+    // after it with their own extension.
+    std::string main_bytes(static_cast<const char*>(blob->data), blob->size);
+    for (const aiExportDataBlob* b = blob->next; b; b = b->next) {
+      std::string name = path.stem().string() + "." + std::string(b->name.C_Str());
+      // In memory assimp calls the main file "$blobfile"; point the glTF's
+      // buffer reference at the real name.
+      const std::string placeholder = "$blobfile." + std::string(b->name.C_Str());
+      for (auto at = main_bytes.find(placeholder); at != std::string::npos; at = main_bytes.find(placeholder, at))
+        main_bytes.replace(at, placeholder.size(), name);
+      files.emplace_back(path.parent_path() / name, std::string(static_cast<const char*>(b->data), b->size));
+    }
+    files.emplace_back(path, std::move(main_bytes));
   }
-  // The main file last, so that a reader who sees it finds its .mtl too.
-  for (const auto& e : fs::directory_iterator(staging))
-    if (e.path().filename() != path.filename()) fs::rename(e.path(), dir / e.path().filename(), ec);
-  fs::rename(staged, path, ec);
-  std::error_code ignore;
-  fs::remove_all(staging, ignore);
-  if (ec) throw Error("cannot write " + path.string() + ": " + ec.message());
+  if (check_cancelled) check_cancelled();
+  for (const auto& [file, bytes] : files) write_file_atomic(file, bytes);
 }
 
 }  // namespace loom::io

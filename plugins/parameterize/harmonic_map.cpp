@@ -9,12 +9,15 @@
 
 namespace loom::parameterize {
 
-const std::vector<std::string> weight_names = {"uniform",           "cotangent",  "cotangent_clamped",
+const std::vector<std::string>& weight_names() {
+  static const std::vector<std::string> names = {"uniform",           "cotangent",  "cotangent_clamped",
                                                "intrinsic_delaunay", "mean_value", "shape_preserving"};
+  return names;
+}
 
 Weights parse_weights(const std::string& name) {
-  for (size_t k = 0; k < weight_names.size(); ++k)
-    if (weight_names[k] == name) return static_cast<Weights>(k);
+  for (size_t k = 0; k < weight_names().size(); ++k)
+    if (weight_names()[k] == name) return static_cast<Weights>(k);
   throw Error("unknown weights \"" + name + "\"");
 }
 

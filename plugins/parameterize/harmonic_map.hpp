@@ -31,7 +31,9 @@ enum class Weights {
   mean_value,          // Floater 2003
   shape_preserving,    // Floater 1997
 };
-extern const std::vector<std::string> weight_names;  // in enum order, as the nodes spell them
+// In enum order, as the nodes spell them. A function, not a global: a node's
+// declare() in another file may run during static initialization.
+const std::vector<std::string>& weight_names();
 Weights parse_weights(const std::string& name);
 
 // W #V by #V, W(i,j) = w_ij; row i holds the weights of vertex i (symmetric

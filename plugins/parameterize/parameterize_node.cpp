@@ -16,7 +16,7 @@ struct Parameterize {
                "factorization, two right-hand sides). Other holes are filled for the solve.")
         .input<loom::Mesh>("mesh", "a mesh with disk topology (extra holes are filled)")
         .enum_input("boundary", "circle", {"circle", "square"}, "where the boundary loop goes")
-        .enum_input("weights", "mean_value", loom::parameterize::weight_names,
+        .enum_input("weights", "mean_value", loom::parameterize::weight_names(),
                     "uniform (Tutte), cotangent (harmonic; may fold on obtuse triangles), cotangent_clamped "
                     "and intrinsic_delaunay (robust harmonic), mean_value (Floater 2003), shape_preserving "
                     "(Floater 1997)")

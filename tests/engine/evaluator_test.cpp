@@ -239,3 +239,44 @@ TEST(Evaluator, ALongChainDoesNotRecurse) {
 
 }  // namespace
 }  // namespace loom
+
+namespace loom {
+namespace {
+
+// Progress reported from worker threads reaches the observer in order:
+// monotone per label, never more than ~100 reports plus the final one.
+struct RecordingObserver : Observer {
+  std::mutex mutex;
+  std::vector<double> fractions;
+  int warnings = 0;
+  void node_progress(const std::string&, double fraction, const std::string&) override {
+    std::lock_guard lock(mutex);
+    fractions.push_back(fraction);
+  }
+  void node_message(const std::string&, bool warning, const std::string&) override {
+    std::lock_guard lock(mutex);
+    warnings += warning;
+  }
+};
+
+TEST(Evaluator, ProgressFromWorkerThreadsIsMonotone) {
+  test::Engine engine;
+  auto g = engine.graph({{"loom", 1}, {"nodes", {{"p", {{"type", "ParallelProgress"}}}}}});
+  RecordingObserver observer;
+  EvalOptions options;
+  options.targets = {parse_target("p")};
+  options.observer = &observer;
+  options.threads = 4;
+  auto r = engine.session.evaluate(g, options);
+  ASSERT_EQ(r.nodes.at("p").status, NodeStatus::ran) << r.nodes.at("p").error;
+  ASSERT_FALSE(observer.fractions.empty());
+  for (std::size_t i = 1; i < observer.fractions.size(); ++i)
+    EXPECT_GT(observer.fractions[i], observer.fractions[i - 1]);
+  EXPECT_LE(observer.fractions.size(), 102u);
+  EXPECT_EQ(observer.fractions.back(), 1.0);
+  EXPECT_EQ(observer.warnings, 4);
+  EXPECT_EQ(r.nodes.at("p").warnings.size(), 4u);
+}
+
+}  // namespace
+}  // namespace loom

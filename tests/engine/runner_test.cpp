@@ -83,7 +83,9 @@ TEST(Runner, ExitCodeThreeAndANamedRefusalForAPluginOfAnotherAbi) {
   auto dir = test::temp_dir();
   auto g = write_graph(dir, graph({{"x", {{"type", "BadAbiNode"}}}}));
   std::string out;
-  std::string cmd = "LOOM_PLUGIN_PATH=" LOOM_BINARY_DIR "/tests/badabi " LOOM_RUNNER " run " + g.string() + " 2>&1";
+  // The bad library has no manifest: it is loaded only when asked.
+  std::string cmd = "LOOM_LOAD_UNLISTED=1 LOOM_PLUGIN_PATH=" LOOM_BINARY_DIR "/tests/badabi " LOOM_RUNNER " run " +
+                    g.string() + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   char buf[4096];
   std::size_t n;
@@ -94,6 +96,30 @@ TEST(Runner, ExitCodeThreeAndANamedRefusalForAPluginOfAnotherAbi) {
   EXPECT_NE(out.find("built for Loom plugin ABI 999, but this Loom has ABI " + std::to_string(engine_abi_version())),
             std::string::npos) << out;
   EXPECT_NE(out.find("rebuild the plugin"), std::string::npos) << out;
+}
+
+TEST(Runner, UnlistedLibrariesAndRelativePluginFoldersNeedConsent) {
+  auto dir = test::temp_dir();
+  auto g = write_graph(dir, graph({{"x", {{"type", "BadAbiNode"}}}}));
+  std::string out;
+  // Without LOOM_LOAD_UNLISTED the manifest-less library is never opened.
+  std::string cmd = "LOOM_PLUGIN_PATH=" LOOM_BINARY_DIR "/tests/badabi " LOOM_RUNNER " run " + g.string() + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
+  int status = ::pclose(pipe);
+  EXPECT_EQ(WEXITSTATUS(status), 2) << out;
+  EXPECT_NE(out.find("without a manifest, not loaded"), std::string::npos) << out;
+  // A relative entry is ignored with a warning.
+  out.clear();
+  cmd = "cd " LOOM_BINARY_DIR "/tests/badabi && LOOM_LOAD_UNLISTED=1 LOOM_PLUGIN_PATH=. " LOOM_RUNNER " run " +
+        g.string() + " 2>&1";
+  pipe = ::popen(cmd.c_str(), "r");
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
+  status = ::pclose(pipe);
+  EXPECT_EQ(WEXITSTATUS(status), 2) << out;
+  EXPECT_NE(out.find("LOOM_PLUGIN_PATH entry \".\" ignored"), std::string::npos) << out;
 }
 
 TEST(Runner, TheLoaderRefusesAnotherAbiInProcessToo) {

@@ -97,5 +97,17 @@ TEST(MeshTopology, AdjacencyAndReferencedVertices) {
   EXPECT_EQ(referenced_vertices(F, 5), (std::vector<bool>{true, true, true, true, false}));
 }
 
+TEST(MeshTopology, ConnectedComponentsThroughSharedVertices) {
+  // Two pieces: {0,1,2,5} (two triangles sharing vertex 2... and 5) and {3,4,6};
+  // vertex 7 is in no face. Numbered by each piece's lowest vertex.
+  Eigen::MatrixX3i F(3, 3);
+  F << 3, 4, 6, 0, 1, 2, 2, 5, 0;
+  int count = 0;
+  const auto c = connected_components(F, 8, &count);
+  EXPECT_EQ(count, 2);
+  EXPECT_EQ(c, (std::vector<int>{0, 0, 0, 1, 1, 0, 1, -1}));
+  EXPECT_EQ(connected_components(Eigen::MatrixX3i(0, 3), 2), (std::vector<int>{-1, -1}));
+}
+
 }  // namespace
 }  // namespace loom::numerics

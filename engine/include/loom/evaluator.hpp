@@ -76,6 +76,9 @@ struct EvalOptions {
   std::vector<Target> targets;  // empty: every sink in the graph
   int threads = 0;              // 0: all cores
   std::filesystem::path output_dir = ".";
+  // Output paths (literal or linked) must resolve under output_dir unless
+  // this is set: absolute paths and ".." that climb out are refused.
+  bool allow_outside_output = false;
   Observer* observer = nullptr;
   const std::atomic<bool>* cancel = nullptr;  // set it to cancel cooperatively
   // The frames to evaluate, in order; unset: the graph's start frame only (1

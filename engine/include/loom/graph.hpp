@@ -12,6 +12,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "loom/registry.hpp"
@@ -19,11 +20,18 @@
 namespace loom {
 
 constexpr int kGraphFormatVersion = 1;
+// Graph files and --set values nested deeper than this are refused when
+// parsed (a deeper document would exhaust the stack of any recursive walk).
+constexpr std::size_t kMaxJsonDepth = 256;
 
 struct Link {
   std::string node;
   std::string output;
 };
+
+// The one parser of links written "ID.OUTPUT": the node id before the first
+// '.', the output name after it; nullopt when either is empty or there is no '.'.
+LOOM_API std::optional<Link> parse_link(std::string_view text);
 
 struct InputBinding {
   std::optional<Link> link;  // set: linked; unset: literal
@@ -75,6 +83,10 @@ class LOOM_API GraphError : public Error {
 // links written as "ID.OUTPUT". Throws GraphError.
 LOOM_API Graph parse_graph(const json& document, const std::filesystem::path& file);
 LOOM_API Graph load_graph_file(const std::filesystem::path& file);
+// The same for JSON text in memory (the fuzzer, the editor's paste): any
+// failure of the JSON itself (syntax, a number beyond double, nesting deeper
+// than kMaxJsonDepth) is a GraphError too.
+LOOM_API Graph parse_graph_text(std::string_view text, const std::filesystem::path& file);
 
 // Against the registry: unknown types, unknown inputs, links to unknown nodes
 // or outputs, type mismatches, missing required inputs, bad enum values,

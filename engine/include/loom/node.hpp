@@ -220,6 +220,16 @@ class LOOM_API Outputs {
   std::vector<Value> values_;
 };
 
+// Threads: a node body runs on one engine thread and may use
+// tbb::parallel_for inside. From worker threads (inside parallel_for bodies)
+// these calls are safe: progress(), cancelled(), check_cancelled() (it
+// throws: catch nothing, TBB carries it out of the loop), warn(), log(),
+// seed(), time(), node_id(), graph_dir(), output_dir(), and Inputs::get of
+// inputs already fetched on the calling thread. Not safe: rng() (one
+// generator; draw on the calling thread or seed per item from seed()),
+// scratch(), Outputs::set, and the first get of a lazy input. Prefer reporting
+// progress from the calling thread between chunks of rows (plugins/example);
+// progress from workers is serialized, throttled and kept monotone per label.
 class LOOM_API Context {
  public:
   // The strings and paths are the engine's and outlive the run.

@@ -39,7 +39,8 @@ class LOOM_API PluginLoader {
   PluginLoader(Registry& registry, std::vector<std::filesystem::path> search_path);
 
   // The default search path: the folder next to the running executable, then
-  // LOOM_PLUGIN_PATH.
+  // the absolute folders of LOOM_PLUGIN_PATH (relative entries are ignored
+  // with a warning on stderr).
   static std::vector<std::filesystem::path> default_search_path();
 
   const std::vector<std::filesystem::path>& search_path() const { return search_path_; }
@@ -52,8 +53,9 @@ class LOOM_API PluginLoader {
   std::vector<std::string> search_path_warnings() const;
 
   // Loads the plugins that provide these node types. Types no manifest names
-  // are left for validation to report (after loading any plugin that has no
-  // manifest, which may provide them). Throws PluginLoadError.
+  // are left for validation to report; libraries without a manifest, which
+  // may provide them, are loaded only when LOOM_LOAD_UNLISTED=1 (loading runs
+  // a library's constructors before any check). Throws PluginLoadError.
   void load_for(const std::vector<std::string>& node_types);
   void load_all();
   // Loads one library by path (manifest or not).

@@ -68,7 +68,7 @@ TEST(HarmonicMap, PlanarMeshIsReproducedFromItsOwnBoundary) {
   const Eigen::MatrixXd X0 = m.V.leftCols<2>();
   for (Weights w : {Weights::cotangent, Weights::intrinsic_delaunay, Weights::mean_value, Weights::shape_preserving}) {
     const auto s = solve_fixed_boundary(weight_matrix(m.V, m.F, w), m.F, boundary_of(m.F), X0);
-    EXPECT_LT((s.X - X0).cwiseAbs().maxCoeff(), 1e-10) << weight_names[static_cast<int>(w)];
+    EXPECT_LT((s.X - X0).cwiseAbs().maxCoeff(), 1e-10) << weight_names()[static_cast<int>(w)];
   }
 }
 
@@ -146,7 +146,7 @@ TEST(HarmonicMap, ConvexCombinationsNeverFold) {
         const Parameterization p = parameterize(m.V, m.F, w, shape);
         EXPECT_TRUE(p.UV.allFinite());
         EXPECT_EQ(numerics::distortion(m.V, m.F, p.UV).flipped, 0)
-            << weight_names[static_cast<int>(w)] << (shape == BoundaryShape::circle ? " circle" : " square");
+            << weight_names()[static_cast<int>(w)] << (shape == BoundaryShape::circle ? " circle" : " square");
       }
 }
 
@@ -172,7 +172,7 @@ TEST(HarmonicMap, MinimalSurfaceOfAPlanarBoundaryIsFlat) {
   for (int v : boundary_of(m.F)) m.V(v, 2) = 0;  // the equator: a planar boundary
   for (Weights w : {Weights::uniform, Weights::cotangent}) {
     const Eigen::MatrixX3d X = minimal_surface(m.V, m.F, w, 3);
-    EXPECT_LT(X.col(2).cwiseAbs().maxCoeff(), 1e-10) << weight_names[static_cast<int>(w)];
+    EXPECT_LT(X.col(2).cwiseAbs().maxCoeff(), 1e-10) << weight_names()[static_cast<int>(w)];
     for (int v : boundary_of(m.F)) EXPECT_EQ(X.row(v), m.V.row(v));
   }
 }
@@ -215,7 +215,7 @@ TEST(HarmonicMap, DegenerateInputGivesFiniteUVs) {
   for (Weights w : {Weights::uniform, Weights::cotangent, Weights::cotangent_clamped, Weights::intrinsic_delaunay,
                     Weights::mean_value, Weights::shape_preserving}) {
     const Parameterization p = parameterize(V, F, w, BoundaryShape::circle);
-    EXPECT_TRUE(p.UV.allFinite()) << weight_names[static_cast<int>(w)];
+    EXPECT_TRUE(p.UV.allFinite()) << weight_names()[static_cast<int>(w)];
     EXPECT_EQ(p.unreferenced, 1);
     const auto r = numerics::distortion(V, F, p.UV);
     EXPECT_TRUE(std::isfinite(r.angle_mean) && std::isfinite(r.arap_energy));

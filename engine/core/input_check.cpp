@@ -1,0 +1,117 @@
+#include "input_check.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace loom::detail {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string range_text(const InputSpec& spec) {
+  std::ostringstream s;
+  if (spec.min && spec.max) s << "between " << *spec.min << " and " << *spec.max;
+  else if (spec.min) s << "at least " << *spec.min;
+  else s << "at most " << *spec.max;
+  return s.str();
+}
+
+void check_number(const InputSpec& spec, double v, const std::string& shown) {
+  const bool ok = std::isfinite(v) ? !((spec.min && v < *spec.min) || (spec.max && v > *spec.max))
+                                   : (!spec.min && !spec.max && !std::isnan(v));
+  if (!ok)
+    throw Error("input \"" + spec.name + "\": value " + shown + " is out of range: expected " + range_text(spec));
+}
+
+void check_json_numbers(const InputSpec& spec, const json& j, const json& whole) {
+  if (j.is_number()) {
+    check_number(spec, j.get<double>(), whole.dump(-1, ' ', false, json::error_handler_t::replace).substr(0, 80));
+  } else if (j.is_array()) {
+    for (const json& e : j) check_json_numbers(spec, e, whole);
+  }
+}
+
+void refuse_control_characters(const InputSpec& spec, const std::string& path) {
+  if (path.empty()) throw Error("input \"" + spec.name + "\": the path is empty");
+  for (unsigned char c : path)
+    if (c < 0x20 || c == 0x7f)
+      throw Error("input \"" + spec.name + "\": the path contains a NUL or control character (byte " +
+                  std::to_string(static_cast<int>(c)) + ")");
+}
+
+}  // namespace
+
+void check_input_value(const InputSpec& spec, const Value& value) {
+  if (!value || (!spec.min && !spec.max && spec.choices.empty())) return;
+  const TypeInfo* type = value.type();
+  if (!spec.choices.empty() && type->storage == enum_type().storage) {
+    const auto& s = value.as<std::string>();
+    for (const auto& c : spec.choices)
+      if (c == s) return;
+    std::string list;
+    for (const auto& c : spec.choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+    throw Error("input \"" + spec.name + "\": \"" + s.substr(0, 80) + "\" is not one of the choices: " + list);
+  }
+  if (!spec.min && !spec.max) return;
+  if (type->storage == type_of<double>().storage) {
+    const double v = value.as<double>();
+    std::ostringstream shown;
+    shown << v;
+    return check_number(spec, v, shown.str());
+  }
+  if (type->storage == type_of<int>().storage) {
+    const int v = value.as<int>();
+    return check_number(spec, v, std::to_string(v));
+  }
+  // Vectors and lists of numbers: per component, through their JSON form.
+  if (type->literal()) {
+    const json j = value.to_json();
+    check_json_numbers(spec, j, j);
+  }
+}
+
+std::string resolve_output_path(const std::string& path, const fs::path& output_dir, bool allow_outside) {
+  InputSpec spec;
+  spec.name = "path";
+  refuse_control_characters(spec, path);
+  fs::path p = path;
+  if (p.is_absolute()) {
+    if (!allow_outside)
+      throw Error("output path \"" + path + "\" is absolute: output files go under the output folder (--out); "
+                  "run with --allow-outside-out to write elsewhere");
+    return p.lexically_normal().string();
+  }
+  const fs::path resolved = (output_dir / p).lexically_normal();
+  const fs::path rel = resolved.lexically_relative(output_dir.lexically_normal());
+  if (!allow_outside && (rel.empty() || *rel.begin() == ".."))
+    throw Error("output path \"" + path + "\" leaves the output folder: \"..\" may not climb out of --out; "
+                "run with --allow-outside-out to write elsewhere");
+  return resolved.string();
+}
+
+std::string resolve_input_path(const std::string& path, const fs::path& graph_dir) {
+  InputSpec spec;
+  spec.name = "path";
+  refuse_control_characters(spec, path);
+  fs::path p = path;
+  if (p.is_relative()) p = graph_dir / p;
+  return p.lexically_normal().string();
+}
+
+Value resolve_path_value(const InputSpec& spec, const Value& value, const fs::path& graph_dir,
+                         const fs::path& output_dir, bool allow_outside) {
+  if (spec.role == InputRole::value || !value) return value;
+  const std::string& path = value.as<std::string>();
+  try {
+    return Value::make<std::string>(spec.role == InputRole::input_file
+                                        ? resolve_input_path(path, graph_dir)
+                                        : resolve_output_path(path, output_dir, allow_outside));
+  } catch (const Error& e) {
+    std::string what = e.what();
+    if (what.rfind("input \"", 0) == 0) what = what.substr(what.find(':') + 2);
+    throw Error("input \"" + spec.name + "\": " + what);
+  }
+}
+
+}  // namespace loom::detail
