@@ -31,6 +31,8 @@ class Canvas {
   // Pans and zooms so every node is visible.
   void frame_all(const EditorState& state);
   float zoom() const { return zoom_; }
+  // The node drawn at a screen point (the topmost), or empty.
+  std::string hit_node(const EditorState& state, ImVec2 screen) const;
   const std::string& refusal() const { return refusal_; }  // the last refused link's reason
 
  private:
@@ -43,7 +45,6 @@ class Canvas {
   void handle_mouse(EditorState& state);
   void handle_keys(EditorState& state);
   void add_node_menu(EditorState& state);
-  std::string hit_node(const EditorState& state, ImVec2 screen) const;
   struct SocketHit {
     std::string node, name;
     bool output = false;
