@@ -17,6 +17,11 @@
 
 namespace loom::bench {
 
+// CPU seconds (user + system) of this whole process, every thread included.
+double process_cpu_seconds();
+// The 1-minute load average, to report beside every figure (0 if unknown).
+double load_average();
+
 struct Timing {
   double median = 0, min = 0, max = 0;  // seconds
   int runs = 0;

@@ -28,19 +28,6 @@ namespace {
 using namespace loom::mpm;
 using Clock = std::chrono::steady_clock;
 
-double cpu_seconds() {
-  timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-double load_average() {
-  std::ifstream f("/proc/loadavg");
-  double load = 0;
-  f >> load;
-  return load;
-}
-
 template <int D>
 Particles<D> cube(Material m, double E, int count, std::uint64_t seed = 1) {
   EmitOptions o;
@@ -67,9 +54,9 @@ Throughput throughput(Particles<D> ps, int resolution, int threads, int substeps
   double cpu_total = 0;
   const auto t = loom::bench::time_median(
       [&] {
-        const double c0 = cpu_seconds();
+        const double c0 = loom::bench::process_cpu_seconds();
         for (int k = 0; k < substeps; ++k) solver.substep(ps, 2e-5);
-        cpu_total += cpu_seconds() - c0;
+        cpu_total += loom::bench::process_cpu_seconds() - c0;
       },
       runs);
   const double work = static_cast<double>(ps.size()) * substeps / 1e6;
@@ -105,7 +92,7 @@ void run_throughput(int max_threads, bool quick) {
       csv.row({scene.name, static_cast<long long>(threads), static_cast<long long>(n),
                scene.dim == 2 ? std::string("512^2") : std::string("128^3"), t.wall, t.cpu,
                static_cast<long long>(scene.dim == 2 ? bytes_per_particle<2>() : bytes_per_particle<3>()),
-               load_average()});
+               loom::bench::load_average()});
     }
   }
   csv.save();
@@ -161,7 +148,7 @@ void run_error(bool quick) {
     const double t = std::chrono::duration<double>(Clock::now() - t0).count();
     const auto fine = simulate(64, dt / 16, 1.0, seconds);
     csv.row({dt, t, (centre_of_mass(coarse) - centre_of_mass(fine)).norm(), rms_distance(coarse, fine),
-             load_average()});
+             loom::bench::load_average()});
   }
   csv.save();
   loom::bench::plot(csv, {"dt", "rms_position_error", "", "Positions after 1 s vs 16x smaller dt (64^2)",
@@ -176,7 +163,7 @@ void run_error(bool quick) {
     const auto ps = simulate(res, 1e-4, 0.4, seconds);
     const double t = std::chrono::duration<double>(Clock::now() - t0).count();
     grid.row({static_cast<long long>(res), t, (centre_of_mass(ps) - centre_of_mass(finest)).norm(),
-              rms_distance(ps, finest), load_average()});
+              rms_distance(ps, finest), loom::bench::load_average()});
   }
   grid.save();
   loom::bench::plot(grid, {"resolution", "rms_position_error", "",

@@ -37,13 +37,6 @@ namespace {
 bool quick = false;
 int ref_spp(int spp) { return quick ? spp / 4 : spp; }
 
-double load1() {
-  std::ifstream f("/proc/loadavg");
-  double l = 0;
-  f >> l;
-  return l;
-}
-
 // CPU seconds (user + system, all threads) of this process or of its finished children.
 double cpu_seconds(int who) {
   rusage u{};
@@ -175,14 +168,14 @@ void bench_embree() {
     csv.row({"loom", (long long)threads, (long long)size, (long long)spp, median(wall_ours),
              median(cpu_ours), paths / median(wall_ours), paths / median(cpu_ours),
              rays_per_path * paths / median(wall_ours), m[0], m[1], m[2], std::string(""),
-             std::string(""), load1()});
+             std::string(""), loom::bench::load_average()});
     run_embree(size, spp, depth, threads, tmp);
     const cv::Mat e = read_pfm(tmp);
     const cv::Scalar me = e.empty() ? cv::Scalar() : cv::mean(e);
     csv.row({"embree-pathtracer", (long long)threads, (long long)size, (long long)spp,
              median(wall_embree), median(cpu_embree), paths / median(wall_embree),
              paths / median(cpu_embree), std::string("n/a"), me[0], me[1], me[2], std::string(""),
-             std::string(""), load1()});
+             std::string(""), loom::bench::load_average()});
   }
   // Error and efficiency at 256², 16 spp, 2 threads, against Loom's 1024-spp
   // image (clamped and 8-bit as Embree writes its output).
@@ -206,7 +199,7 @@ void bench_embree() {
     cv::Scalar m = cv::mean(oq);
     csv.row({"loom", 2LL, (long long)n, (long long)spp, ours.seconds, cpu_ours, n * n * spp / ours.seconds,
              n * n * spp / cpu_ours, double(ours.result.rays) / ours.seconds, m[0], m[1], m[2], e_ours,
-             1 / (e_ours * cpu_ours), load1()});
+             1 / (e_ours * cpu_ours), loom::bench::load_average()});
     double c_full = 0, c_one = 0;
     const double t_full = run_embree(n, spp, depth, 2, tmp, &c_full);
     const double t_one = run_embree(n, 1, depth, 2, tmp, &c_one);
@@ -225,7 +218,7 @@ void bench_embree() {
     m = cv::mean(matched);
     csv.row({"embree-pathtracer", 2LL, (long long)n, (long long)spp, t_embree, c_embree,
              n * n * spp / t_embree, n * n * spp / c_embree, std::string("n/a"), m[0], m[1], m[2],
-             e_embree, 1 / (e_embree * c_embree), load1()});
+             e_embree, 1 / (e_embree * c_embree), loom::bench::load_average()});
     std::cout << "embree image matched " << (err_flipped < err_direct ? "mirrored" : "as is") << "\n";
   }
   csv.save();
@@ -255,7 +248,7 @@ void bench_convergence() {
     s.seed = 7;
     const Timed t = timed_render(scene, traced, s);
     const double e = rel_mse(t.result.image, reference);
-    csv.row({(long long)spp, t.seconds, t.cpu_seconds, e, e - ref_noise, load1()});
+    csv.row({(long long)spp, t.seconds, t.cpu_seconds, e, e - ref_noise, loom::bench::load_average()});
     lx.push_back(std::log(double(spp)));
     ly.push_back(std::log(e - ref_noise));
   }
@@ -270,7 +263,7 @@ void bench_convergence() {
   const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
   std::cout << "convergence: fitted slope of log relMSE against log spp = " << slope
             << " (reference noise " << ref_noise << ")\n";
-  csv.row({std::string("slope"), slope, std::string(""), std::string(""), std::string(""), load1()});
+  csv.row({std::string("slope"), slope, std::string(""), std::string(""), std::string(""), loom::bench::load_average()});
   csv.save();
   loom::bench::plot(csv, {"spp", "relmse_corrected", "", "Cornell box: relMSE against spp (MIS)", true, true, ""});
 }
@@ -294,7 +287,7 @@ void strategies(const std::string& name, const loom::Scene& scene, int size) {
       s.strategy = strategy;
       const Timed t = timed_render(scene, traced, s);
       csv.row({std::string(label), (long long)spp, t.seconds, t.cpu_seconds,
-               rel_mse(t.result.image, reference), load1()});
+               rel_mse(t.result.image, reference), loom::bench::load_average()});
       if (spp == 2) save_png(t.result.image, name + "-2spp-" + label + ".png");
     }
   save_png(reference, name + "-reference.png");
@@ -332,7 +325,7 @@ void bench_environment() {
     const Timed t = timed_render(scene, traced, s);
     const double e = rel_mse(t.result.image, reference);
     if (base == 0) base = e;
-    csv.row({std::string(m.name), 16LL, t.seconds, t.cpu_seconds, e, e / base, load1()});
+    csv.row({std::string(m.name), 16LL, t.seconds, t.cpu_seconds, e, e / base, loom::bench::load_average()});
     save_png(t.result.image, std::string("bright-pixel-16spp-") + m.name + ".png");
   }
   csv.save();
@@ -358,7 +351,7 @@ void bench_adaptive() {
     s.adaptive_threshold = 0;
     const Timed t = timed_render(scene, traced, s);
     csv.row({std::string("uniform"), double(spp), t.result.mean_spp, t.seconds, t.cpu_seconds,
-             rel_mse(t.result.image, reference), load1()});
+             rel_mse(t.result.image, reference), loom::bench::load_average()});
   }
   for (double threshold : {0.4, 0.2, 0.1, 0.05, 0.03}) {
     s.spp = 512;
@@ -367,7 +360,7 @@ void bench_adaptive() {
     s.seed = 8;
     const Timed t = timed_render(scene, traced, s);
     csv.row({std::string("adaptive"), threshold, t.result.mean_spp, t.seconds, t.cpu_seconds,
-             rel_mse(t.result.image, reference), load1()});
+             rel_mse(t.result.image, reference), loom::bench::load_average()});
   }
   csv.save();
   loom::bench::plot(csv, {"cpu_seconds", "relmse", "method", "Cornell balls: adaptive vs uniform", true, true, ""});
@@ -392,7 +385,7 @@ void bench_bvh() {
         },
         3);
     std::sort(cpu.begin(), cpu.end());
-    csv.row({(long long)tris, t.median, cpu[cpu.size() / 2], load1()});
+    csv.row({(long long)tris, t.median, cpu[cpu.size() / 2], loom::bench::load_average()});
   }
   csv.save();
 }
@@ -413,7 +406,7 @@ int main(int argc, char** argv) {
       want.insert(a);
   }
   auto on = [&](const char* s) { return want.empty() || want.count(s); };
-  std::cout << "load at start: " << load1() << "\n";
+  std::cout << "load at start: " << loom::bench::load_average() << "\n";
   if (on("bvh")) bench_bvh();
   if (on("embree")) bench_embree();
   if (on("convergence")) bench_convergence();

@@ -32,20 +32,6 @@ using namespace loom::shading;
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Process CPU time: the calling thread and llvmpipe's rasterizer threads.
-double cpu_seconds() {
-  timespec t;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-double load1() {
-  std::ifstream f("/proc/loadavg");
-  double l = 0;
-  f >> l;
-  return l;
-}
-
 // A sphere of about `triangles` faces on a floor, one shadowed sun.
 Scene speed_scene(int triangles) {
   const int rings = std::max(4, static_cast<int>(std::sqrt(triangles / 4.0)));
@@ -74,10 +60,10 @@ void speed(bool quick) {
   bench::Csv csv("shading_speed", {"case", "triangles", "width", "height", "seconds", "cpu_seconds", "shadow_s",
                                    "draw_s", "readback_s", "load1"});
   const auto t0 = Clock::now();
-  const double c0 = cpu_seconds();
+  const double c0 = loom::bench::process_cpu_seconds();
   Rasterizer r;
   const double create = since(t0);
-  csv.row({"context+programs", 0LL, 0LL, 0LL, create, cpu_seconds() - c0, 0.0, 0.0, 0.0, load1()});
+  csv.row({"context+programs", 0LL, 0LL, 0LL, create, loom::bench::process_cpu_seconds() - c0, 0.0, 0.0, 0.0, loom::bench::load_average()});
   RenderOptions o;
   o.width = 1920;
   o.height = 1080;
@@ -89,25 +75,25 @@ void speed(bool quick) {
   const long long tris = target.objects[0].mesh->faces() + target.objects[1].mesh->faces();
   RenderTimings first;
   const auto t1 = Clock::now();
-  const double c1 = cpu_seconds();
+  const double c1 = loom::bench::process_cpu_seconds();
   r.render(target, o, &first);
-  csv.row({"first frame", tris, 1920LL, 1080LL, since(t1), cpu_seconds() - c1, first.shadows, first.draw,
-           first.readback, load1()});
+  csv.row({"first frame", tris, 1920LL, 1080LL, since(t1), loom::bench::process_cpu_seconds() - c1, first.shadows, first.draw,
+           first.readback, loom::bench::load_average()});
   auto steady = [&](const Scene& s, const RenderOptions& opt, const char* label, int runs) {
     RenderTimings t;
     std::vector<double> cpu;
     const auto m = bench::time_median(
         [&] {
-          const double c = cpu_seconds();
+          const double c = loom::bench::process_cpu_seconds();
           r.render(s, opt, &t);
-          cpu.push_back(cpu_seconds() - c);
+          cpu.push_back(loom::bench::process_cpu_seconds() - c);
         },
         runs);
     std::sort(cpu.begin(), cpu.end());
     long long n = 0;
     for (const auto& ob : s.objects) n += ob.mesh->faces();
     csv.row({label, n, static_cast<long long>(opt.width), static_cast<long long>(opt.height), m.median,
-             cpu[cpu.size() / 2], t.shadows, t.draw, t.readback, load1()});
+             cpu[cpu.size() / 2], t.shadows, t.draw, t.readback, loom::bench::load_average()});
   };
   steady(target, o, "steady 1080p", 5);
   for (int n : quick ? std::vector<int>{10000, 100000} : std::vector<int>{10000, 30000, 100000, 300000, 1000000})
@@ -174,7 +160,7 @@ void shadow_resolution(bool quick) {
         o.shadow_resolution = n;
         const auto c = shadow_error(r, k, o);
         res.row({std::string(kind_name(k)) + " " + filter_name(f), static_cast<long long>(n), 100 * c.rate(),
-                 100 * c.rate_of_shadow(), static_cast<long long>(c.compared), load1()});
+                 100 * c.rate_of_shadow(), static_cast<long long>(c.compared), loom::bench::load_average()});
       }
   res.save();
   bench::plot(res, {"resolution", "misclassified_percent", "light_filter",
@@ -193,7 +179,7 @@ void shadow_bias(bool quick) {
       o.shadow_slope_bias = slope;
       const auto c = shadow_error(r, Light::Kind::directional, o);
       bias.row({slope == 0 ? std::string("slope 0") : std::string("slope 1"), b, 100 * c.rate(),
-                100 * c.rate_of_shadow(), load1()});
+                100 * c.rate_of_shadow(), loom::bench::load_average()});
     }
   bias.save();
   bench::plot(bias, {"bias_texels", "misclassified_percent", "slope_bias",
@@ -210,7 +196,7 @@ void shadow_pcf() {
       o.pcf_size = size;
       const auto c = shadow_error(r, k, o);
       pcf.row({std::string(kind_name(k)), static_cast<long long>(size), 100 * c.rate(), 100 * c.rate_of_shadow(),
-               load1()});
+               loom::bench::load_average()});
     }
   pcf.save();
   bench::plot(pcf, {"pcf_size", "misclassified_percent", "light", "Misclassified pixels vs PCF kernel (2048)", false, false, ""});
@@ -269,9 +255,9 @@ void normal_mapping() {
       const cv::Scalar m = cv::mean(d);
       return (m[0] + m[1] + m[2]) / 3;
     };
-    csv.row({"flat", elevation, diff(view(flat)), load1()});
-    csv.row({"normal map", elevation, diff(view(mapped)), load1()});
-    csv.row({"tessellated displacement", elevation, diff(view(tess)), load1()});
+    csv.row({"flat", elevation, diff(view(flat)), loom::bench::load_average()});
+    csv.row({"normal map", elevation, diff(view(mapped)), loom::bench::load_average()});
+    csv.row({"tessellated displacement", elevation, diff(view(tess)), loom::bench::load_average()});
   }
   csv.save();
 }
