@@ -85,6 +85,19 @@ Svd<D> svd(const Eigen::Matrix<double, D, D>& F) {
   }
 }
 
+// The SVD of F with its singular values kept at least kMinSingularValue (a
+// non-finite one becomes 1); `clamped` says whether any was moved, in which case
+// F must be rebuilt from the result.
+template <int D>
+Svd<D> svd_clamped(const Eigen::Matrix<double, D, D>& F, bool& clamped) {
+  Svd<D> f = svd<D>(F);
+  clamped = f.sigma.minCoeff() < kMinSingularValue || !std::isfinite(f.sigma.sum());
+  if (clamped)
+    for (int d = 0; d < D; ++d)
+      f.sigma[d] = std::isfinite(f.sigma[d]) ? std::max(f.sigma[d], kMinSingularValue) : 1.0;
+  return f;
+}
+
 // Kirchhoff stress of particle p. May rewrite F[p] (and J[p]) when it has to be
 // clamped away from a singular value near zero; returns true then.
 template <int D>
@@ -98,16 +111,11 @@ bool kirchhoff_stress(Particles<D>& ps, int p, Eigen::Matrix<double, D, D>& tau)
     return false;
   }
   Mat& F = ps.F[p];
-  const Svd<D> f = svd<D>(F);
-  const Mat &U = f.U, &V = f.V;
-  Vec sigma = f.sigma;
   bool clamped = false;
-  if (sigma.minCoeff() < kMinSingularValue || !std::isfinite(sigma.sum())) {
-    for (int d = 0; d < D; ++d)
-      sigma[d] = std::isfinite(sigma[d]) ? std::max(sigma[d], kMinSingularValue) : 1.0;
-    F = U * sigma.asDiagonal() * V.transpose();
-    clamped = true;
-  }
+  const Svd<D> f = svd_clamped<D>(F, clamped);
+  const Mat &U = f.U, &V = f.V;
+  const Vec& sigma = f.sigma;
+  if (clamped) F = U * sigma.asDiagonal() * V.transpose();
   double mu = ps.mu[p], lambda = ps.lambda[p];
   if (m == Material::sand) {
     // St. Venant–Kirchhoff on Hencky strain ε = log Σ (Klár 2016, eq. 26):
@@ -136,15 +144,10 @@ bool plastic_projection(Particles<D>& ps, int p) {
   const Material m = ps.material[p];
   if (m == Material::elastic || m == Material::fluid) return false;
   Mat& F = ps.F[p];
-  const Svd<D> f = svd<D>(F);
+  bool clamped = false;
+  const Svd<D> f = svd_clamped<D>(F, clamped);
   const Mat &U = f.U, &V = f.V;
   Vec sigma = f.sigma;
-  bool clamped = false;
-  if (sigma.minCoeff() < kMinSingularValue || !std::isfinite(sigma.sum())) {
-    for (int d = 0; d < D; ++d)
-      sigma[d] = std::isfinite(sigma[d]) ? std::max(sigma[d], kMinSingularValue) : 1.0;
-    clamped = true;
-  }
   if (m == Material::snow) {
     // Stomakhin 2013 §7: clamp Σ to [1 − θc, 1 + θs]; the plastic part goes to Jp.
     for (int d = 0; d < D; ++d) {
