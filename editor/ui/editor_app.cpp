@@ -361,12 +361,18 @@ void EditorApp::draw(Window& window) {
   const bool timed = doc_.time_range().has_value();
   if (timed) size.y -= Timeline::kHeight;
   const float left = std::floor(size.x * 0.58f);
+  // The panes' backgrounds are cleared by the window, not drawn by ImGui
+  // (see Backdrop): llvmpipe then shades only what is on them.
   const ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
-                                 ImGuiWindowFlags_NoBringToFrontOnFocus;
+                                 ImGuiWindowFlags_NoBringToFrontOnFocus | ImGuiWindowFlags_NoBackground;
+  const float panel = 0.062f;  // ImGui's dark WindowBg (0.06 at 94%) over the clear colour
+  window.set_backdrops({{at.x, at.y, left, size.y, 30 / 255.0f, 30 / 255.0f, 34 / 255.0f},
+                        {at.x + left, at.y, size.x - left, size.y + (timed ? Timeline::kHeight : 0), panel, panel,
+                         panel},
+                        {at.x, at.y + size.y, left, timed ? Timeline::kHeight : 0, panel, panel, panel}});
 
   ImGui::SetNextWindowPos(at);
   ImGui::SetNextWindowSize(ImVec2(left, size.y));
-  ImGui::PushStyleColor(ImGuiCol_WindowBg, IM_COL32(30, 30, 34, 255));
   ImGui::Begin(doc_.file().empty() ? "untitled###canvas" : (doc_.file().filename().string() + "###canvas").c_str(),
                nullptr, fixed | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
   if (!message_.empty()) {
@@ -376,7 +382,6 @@ void EditorApp::draw(Window& window) {
   }
   canvas_.draw(state_);
   ImGui::End();
-  ImGui::PopStyleColor();
 
   const float props = std::floor(size.y * 0.38f);
   ImGui::SetNextWindowPos(ImVec2(at.x + left, at.y));
