@@ -70,20 +70,31 @@ double thread_cpu_ms() {
   return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
 }
 
+struct Phase {
+  std::string name;
+  std::vector<double> ms;
+  double updates_per_s = -1;
+  std::vector<double> cpu_ms;  // the UI thread's CPU time per frame
+  std::vector<FrameCost> costs;  // and where it went
+};
+
 struct Runner {
   Window window{"loom-editor bench", 1600, 900, false};
   EditorApp app;
   ScriptedInput input;
-  explicit Runner(EditorOptions o) : app(std::move(o)) {}
-  // Wall time of one frame; adds the UI thread's CPU time to `cpu_ms`.
-  double frame(std::vector<double>* cpu_ms = nullptr) {
+  explicit Runner(EditorOptions o) : app(std::move(o)) { window.set_profiling(true); }
+  // Wall time of one frame; adds the UI thread's CPU time and its split to the phase.
+  double frame(Phase* phase = nullptr) {
     const auto start = Clock::now();
     const double cpu_start = thread_cpu_ms();
     window.begin_frame(&input);
     app.draw(window);
     window.end_frame();
     glFinish();
-    if (cpu_ms) cpu_ms->push_back(thread_cpu_ms() - cpu_start);
+    if (phase) {
+      phase->cpu_ms.push_back(thread_cpu_ms() - cpu_start);
+      phase->costs.push_back(window.last_cost());
+    }
     return std::chrono::duration<double>(Clock::now() - start).count() * 1e3;
   }
   void settle() {
@@ -92,12 +103,6 @@ struct Runner {
   }
 };
 
-struct Phase {
-  std::string name;
-  std::vector<double> ms;
-  double updates_per_s = -1;
-  std::vector<double> cpu_ms;  // the UI thread's CPU time per frame
-};
 
 double percentile(std::vector<double> v, double p) {
   std::sort(v.begin(), v.end());
@@ -126,8 +131,8 @@ int main(int argc, char** argv) {
     Runner r(options);
     r.input.mouse_x = 900;
     r.input.mouse_y = 880;
-    Phase empty{"empty graph", {}, -1, {}};
-    for (int i = 0; i < frames; ++i) empty.ms.push_back(r.frame(&empty.cpu_ms));
+    Phase empty{"empty graph", {}, -1, {}, {}};
+    for (int i = 0; i < frames; ++i) empty.ms.push_back(r.frame(&empty));
     phases.push_back(empty);
   }
   {
@@ -139,8 +144,8 @@ int main(int argc, char** argv) {
     r.input.mouse_x = 900;  // over the canvas, no node under it
     r.input.mouse_y = 880;
 
-    Phase idle{"idle, 200 nodes", {}, -1, {}};
-    for (int i = 0; i < frames; ++i) idle.ms.push_back(r.frame(&idle.cpu_ms));
+    Phase idle{"idle, 200 nodes", {}, -1, {}, {}};
+    for (int i = 0; i < frames; ++i) idle.ms.push_back(r.frame(&idle));
     phases.push_back(idle);
 
     // Keep the long node running: restart it with a new power when it ends.
@@ -148,14 +153,14 @@ int main(int argc, char** argv) {
     auto keep_running = [&] {
       if (!r.app.controller().busy()) doc.set_input("warp", "idw_power", 2.0 + 0.01 * ++restarts);
     };
-    Phase running{"long node running", {}, -1, {}};
+    Phase running{"long node running", {}, -1, {}, {}};
     for (int i = 0; i < frames; ++i) {
       keep_running();
-      running.ms.push_back(r.frame(&running.cpu_ms));
+      running.ms.push_back(r.frame(&running));
     }
     phases.push_back(running);
 
-    Phase dragging{"dragging a node, long node running", {}, -1, {}};
+    Phase dragging{"dragging a node, long node running", {}, -1, {}, {}};
     const auto& state = r.app.state();
     const ImVec2 header = r.app.canvas().node_header(state, "m0_0");
     r.input.mouse_x = header.x;
@@ -166,7 +171,7 @@ int main(int argc, char** argv) {
       keep_running();
       r.input.mouse_x = header.x + 100 * std::sin(i * 0.05f);
       r.input.mouse_y = header.y + 60 * std::sin(i * 0.031f);
-      dragging.ms.push_back(r.frame(&dragging.cpu_ms));
+      dragging.ms.push_back(r.frame(&dragging));
     }
     r.input.mouse_down[0] = false;
     r.frame();
@@ -191,7 +196,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "bench_editor: the Poisson result is not shown\n");
       return 1;
     }
-    Phase drag{"Poisson region 256x256 dragged", {}, -1, {}};
+    Phase drag{"Poisson region 256x256 dragged", {}, -1, {}, {}};
     const ImVec2 start = view.to_screen(148, 148);
     r.input.mouse_x = start.x;
     r.input.mouse_y = start.y;
@@ -204,7 +209,7 @@ int main(int argc, char** argv) {
       const float t = float(i) / float(frames);
       r.input.mouse_x = start.x + 300 * view.scale * t;
       r.input.mouse_y = start.y + 160 * view.scale * std::sin(6.28f * t);
-      drag.ms.push_back(r.frame(&drag.cpu_ms));
+      drag.ms.push_back(r.frame(&drag));
       if (const auto& e = r.app.state().eval; e && e->result.ok() && shown.insert(e->revision).second &&
                                               e->result.nodes.at("blend").status == loom::NodeStatus::ran)
         solve_ms.push_back(e->result.nodes.at("blend").seconds * 1e3);
@@ -222,12 +227,28 @@ int main(int argc, char** argv) {
   const double load_end = load_average();
 
   loom::bench::Csv summary("editor", {"phase", "frames", "median_ms", "p95_ms", "max_ms", "cpu_median_ms", "cpu_p95_ms",
-                                      "blend_updates_per_s", "load_start", "load_end"});
+                                      "blend_updates_per_s", "load_start", "load_end", "build_cpu_ms",
+                                      "raster_cpu_ms", "swap_cpu_ms", "vertices", "draw_calls"});
   loom::bench::Csv per_frame("editor_frames", {"phase", "frame", "ms", "cpu_ms"});
+  std::printf("%-40s %8s %8s | %8s %8s %8s | %8s %6s\n", "phase (medians)", "wall ms", "cpu ms", "build", "raster",
+              "swap", "vertices", "draws");
   for (const Phase& p : phases) {
+    auto median_of = [&](auto field) {
+      std::vector<double> v;
+      for (const FrameCost& c : p.costs) v.push_back(double(field(c)));
+      return percentile(v, 0.5);
+    };
+    const double build = median_of([](const FrameCost& c) { return c.build_ms; });
+    const double raster = median_of([](const FrameCost& c) { return c.raster_ms; });
+    const double swap = median_of([](const FrameCost& c) { return c.swap_ms; });
+    const double vertices = median_of([](const FrameCost& c) { return c.vertices; });
+    const double draws = median_of([](const FrameCost& c) { return c.draw_calls; });
+    std::printf("%-40s %8.1f %8.1f | %8.1f %8.1f %8.1f | %8.0f %6.0f\n", p.name.c_str(), percentile(p.ms, 0.5),
+                percentile(p.cpu_ms, 0.5), build, raster, swap, vertices, draws);
     summary.row({p.name, (long long)p.ms.size(), percentile(p.ms, 0.5), percentile(p.ms, 0.95),
                  *std::max_element(p.ms.begin(), p.ms.end()), percentile(p.cpu_ms, 0.5),
-                 percentile(p.cpu_ms, 0.95), p.updates_per_s, load_start, load_end});
+                 percentile(p.cpu_ms, 0.95), p.updates_per_s, load_start, load_end, build, raster, swap,
+                 (long long)vertices, (long long)draws});
     for (std::size_t i = 0; i < p.ms.size(); ++i) per_frame.row({p.name, (long long)i, p.ms[i], p.cpu_ms[i]});
   }
   summary.save();

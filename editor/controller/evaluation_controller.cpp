@@ -125,7 +125,14 @@ std::shared_ptr<Evaluation> EvaluationController::run(const EvalRequest& request
     options.output_dir = request.output_dir.empty() ? graph.dir() : request.output_dir;
     options.observer = progress_.get();
     options.cancel = &cancel_;
+    options.frames = request.frames;
+    if (request.frames) eval->frame = request.frames->last;
     eval->result = session_.evaluate(graph, options);
+    // Also after a cancelled run: what it stepped is kept.
+    eval->frames_of = request.frames_of;
+    if (graph.time && graph.nodes.count(request.frames_of))
+      eval->cached_frames =
+          session_.cached_frames(graph, request.frames_of, {graph.time->start, graph.time->end}, options);
   } catch (const GraphError& e) {
     eval->issues = e.issues();
   } catch (const std::exception& e) {

@@ -31,6 +31,10 @@ struct EvalRequest {
   std::vector<Target> targets;       // empty: every sink
   std::filesystem::path output_dir;  // where sinks write
   std::uint64_t revision = 0;        // the model's revision this came from
+  std::optional<FrameRange> frames;  // unset: the graph's start frame
+  // Whose cached frames (over the graph's time range) to report afterwards:
+  // the time slider's marks. Empty: none.
+  std::string frames_of;
 };
 
 // A finished (or cancelled, or invalid) evaluation.
@@ -41,6 +45,9 @@ struct Evaluation {
   std::vector<GraphIssue> issues;  // validation: the graph did not run
   std::string error;               // anything else that stopped the run
   double seconds = 0;              // wall time from start to finish
+  int frame = 0;                   // the (last) frame evaluated; 0: no frames asked for
+  std::string frames_of;           // the request's
+  std::vector<int> cached_frames;  // frames of `frames_of` the session keeps, after this run
 };
 
 // What a node is doing right now, for the canvas while a run is under way.

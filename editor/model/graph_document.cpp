@@ -249,6 +249,7 @@ void GraphDocument::set_inputs(const std::string& id, const json& values, const 
 
 json GraphDocument::evaluated_part() const {
   json doc = doc_;
+  doc.erase("ui");
   for (auto& [id, node] : doc["nodes"].items())
     if (node.is_object()) node.erase("ui");
   return doc;
@@ -334,14 +335,49 @@ std::vector<std::string> GraphDocument::duplicate(const std::vector<std::string>
   return paste(copy(ids), 40, 40);
 }
 
+std::optional<TimeRange> GraphDocument::time_range() const {
+  if (!doc_.contains("time")) return std::nullopt;
+  try {
+    return parse_graph({{"loom", kGraphFormatVersion}, {"time", doc_["time"]}, {"nodes", json::object()}}, {}).time;
+  } catch (const GraphError&) {
+    return std::nullopt;  // validation reports it
+  }
+}
+
+int GraphDocument::frame() const {
+  const auto range = time_range();
+  if (!range) return 1;
+  int f = range->start;
+  if (doc_.contains("ui") && doc_["ui"].is_object() && doc_["ui"].contains("frame") &&
+      doc_["ui"]["frame"].is_number_integer())
+    f = static_cast<int>(std::clamp<long long>(doc_["ui"]["frame"].get<long long>(), range->start, range->end));
+  return f;
+}
+
+void GraphDocument::set_frame(int frame) {
+  if (!doc_.contains("ui") || !doc_["ui"].is_object()) doc_["ui"] = json::object();
+  doc_["ui"]["frame"] = frame;
+}
+
+// The frame is not part of the history: undo and redo keep the current one.
 bool GraphDocument::undo() {
+  const json ui = doc_.value("ui", json());
   if (!history_.undo(doc_)) return false;
+  if (ui.is_null())
+    doc_.erase("ui");
+  else
+    doc_["ui"] = ui;
   ++revision_;
   return true;
 }
 
 bool GraphDocument::redo() {
+  const json ui = doc_.value("ui", json());
   if (!history_.redo(doc_)) return false;
+  if (ui.is_null())
+    doc_.erase("ui");
+  else
+    doc_["ui"] = ui;
   ++revision_;
   return true;
 }

@@ -97,6 +97,14 @@ class GraphDocument {
   // The document without layout ("ui" fields): what evaluation depends on.
   json evaluated_part() const;
 
+  // The graph's "time" range, or none (no "time", or an invalid one).
+  std::optional<TimeRange> time_range() const;
+  // The time slider's frame, kept in the graph's "ui" field ({"frame": 12})
+  // so the file reopens there: within the time range (its start when unset).
+  // Not an edit: no undo step, the document stays clean, undo keeps it.
+  int frame() const;
+  void set_frame(int frame);
+
   // A fresh id for a node of this type: "image_warp", "image_warp2", ...
   std::string unique_id(const std::string& type) const;
 

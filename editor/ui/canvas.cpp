@@ -152,8 +152,8 @@ void Canvas::draw(EditorState& state) {
     frame_all(state);
     framed_once_ = true;
   }
-  // The window's own background is the canvas colour (EditorApp sets it): a
-  // second full-size rectangle would cost llvmpipe a layer of fill per frame.
+  // The canvas colour is cleared by the window (EditorApp's backdrops): a
+  // full-size rectangle would cost llvmpipe a layer of shading per frame.
   ImDrawList* draw = ImGui::GetWindowDrawList();
   // A grid that pans and zooms with the canvas.
   float step = 40 * zoom_;
@@ -168,10 +168,17 @@ void Canvas::draw(EditorState& state) {
                              ImGuiButtonFlags_MouseButtonMiddle);
   draw->PushClipRect(origin_, origin_ + size_, true);
   draw_links(state, draw);
+  // Nodes outside the view emit no geometry at all.
+  auto visible = [&](const std::string& id) {
+    const ImVec2 a = to_screen(state.doc.position(id));
+    const Box b = box(state, id);
+    return a.x <= origin_.x + size_.x && a.y <= origin_.y + size_.y && a.x + b.width * zoom_ >= origin_.x &&
+           a.y + b.height * zoom_ >= origin_.y;
+  };
   for (const auto& id : state.doc.node_ids())
-    if (!state.selection.count(id)) draw_node(state, draw, id);
+    if (!state.selection.count(id) && visible(id)) draw_node(state, draw, id);
   for (const auto& id : state.selection)
-    if (state.doc.has_node(id)) draw_node(state, draw, id);
+    if (state.doc.has_node(id) && visible(id)) draw_node(state, draw, id);
   handle_mouse(state);
   draw->PopClipRect();
   handle_keys(state);
@@ -179,9 +186,18 @@ void Canvas::draw(EditorState& state) {
 }
 
 void Canvas::draw_links(EditorState& state, ImDrawList* draw) {
+  const ImVec2 lo = origin_, hi = origin_ + size_;
   auto curve = [&](ImVec2 a, ImVec2 b, ImU32 color, float thickness) {
     const float dx = std::max(40.0f * zoom_, std::abs(b.x - a.x) * 0.5f);
-    draw->AddBezierCubic(a, a + ImVec2(dx, 0), b - ImVec2(dx, 0), b, color, thickness * zoom_);
+    // The curve lies in the hull of its control points: cull by that box.
+    if (std::max(a.x + dx, b.x) < lo.x || std::min(a.x, b.x - dx) > hi.x || std::max(a.y, b.y) < lo.y ||
+        std::min(a.y, b.y) > hi.y)
+      return;
+    // Segments by screen length (a segment every ~10 px, 2..24), not a
+    // fixed tessellation: a short link zoomed out is a few triangles.
+    const float length = std::abs(b.x - a.x) + std::abs(b.y - a.y) + dx;
+    const int segments = std::clamp(int(length / 10), 2, 24);
+    draw->AddBezierCubic(a, a + ImVec2(dx, 0), b - ImVec2(dx, 0), b, color, thickness * zoom_, segments);
   };
   for (const auto& id : state.doc.node_ids()) {
     const NodeType* t = state.doc.node_type(id);
@@ -218,7 +234,9 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
   const bool selected = state.selection.count(id) > 0;
   const float font = ImGui::GetFontSize() * zoom_;
   ImFont* face = ImGui::GetFont();
-  const float rounding = 5 * zoom_;
+  // Rounded corners below a pixel or two are invisible but cost a fan of
+  // triangles and an anti-aliased fringe per box.
+  const float rounding = zoom_ >= 0.4f ? 5 * zoom_ : 0.0f;
   // Zoomed far out, labels are unreadable: leave them out (and their
   // triangles, which llvmpipe pays for per frame) and draw plain sockets.
   const bool detail = zoom_ >= 0.5f;

@@ -106,28 +106,40 @@ std::vector<Target> EditorApp::preview_targets() const {
 }
 
 void EditorApp::sync_evaluation() {
-  if (doc_.revision() == submitted_revision_ && !write_outputs_) return;
+  const auto range = doc_.time_range();
+  const int frame = range ? doc_.frame() : 0;
+  if (doc_.revision() == submitted_revision_ && frame == submitted_frame_ && state_.viewed == submitted_viewed_ &&
+      !write_outputs_)
+    return;
   submitted_revision_ = doc_.revision();
   // Layout edits (moving, collapsing) change nothing evaluated: the running
   // evaluation goes on, and its result stays current.
   json evaluated = doc_.evaluated_part();
-  if (evaluated == submitted_document_ && !write_outputs_) return;
+  const bool changed = evaluated != submitted_document_ || frame != submitted_frame_;
+  if (!changed && state_.viewed == submitted_viewed_ && !write_outputs_) return;
   submitted_document_ = evaluated;
   evaluated_revision_ = doc_.revision();
+  submitted_frame_ = frame;
+  submitted_viewed_ = state_.viewed;
   EvalRequest r;
   r.document = std::move(evaluated);
   r.file = doc_.file().empty() ? fs::current_path() / "untitled.json" : doc_.file();
   r.output_dir = options_.output_dir;
   r.revision = doc_.revision();
+  if (range) r.frames = write_outputs_ ? FrameRange{range->start, range->end} : FrameRange{frame, frame};
+  r.frames_of = state_.viewed;
   if (!write_outputs_) r.targets = preview_targets();
+  // Viewing another node changes nothing evaluated (every non-sink node is
+  // already), only whose cached frames are marked: it waits for the run.
   if (write_outputs_ || !r.targets.empty() || doc_.node_ids().empty())
-    controller_->submit(std::move(r), /*cancel_running=*/!doc_.merging());
+    controller_->submit(std::move(r), /*cancel_running=*/changed && !doc_.merging());
   write_outputs_ = false;
 }
 
 bool EditorApp::evaluation_current() const {
   const auto& e = state_.eval;
-  return !controller_->busy() && e && e->revision == evaluated_revision_ && submitted_revision_ == doc_.revision();
+  return !controller_->busy() && e && e->revision == evaluated_revision_ && submitted_revision_ == doc_.revision() &&
+         submitted_frame_ == (doc_.time_range() ? doc_.frame() : 0) && e->frame == submitted_frame_;
 }
 
 void EditorApp::take_results() {
@@ -135,6 +147,12 @@ void EditorApp::take_results() {
   auto finished = controller_->take_finished();
   if (!finished) return;
   state_.eval = *finished;
+  // A run of the sinks ("Write outputs") has no preview values (and, with
+  // frames, ends at the last frame): preview the current frame again.
+  if (state_.eval->targets.empty() && !doc_.node_ids().empty()) {
+    submitted_document_ = json();
+    submitted_revision_ = ~0ull;
+  }
   state_.issues.clear();
   for (const GraphIssue& issue : state_.eval->issues) {
     // "/nodes/ID/inputs/NAME[/...]" or "/nodes/ID[/...]"
@@ -305,7 +323,12 @@ void EditorApp::viewer() {
   ImGui::SameLine();
   const Value value = state_.viewed_output(viewed_output_);
   const bool stale = !evaluation_current();
-  ImGui::TextDisabled("%s%s", value ? value.summary().c_str() : "not evaluated", stale ? " (updating)" : "");
+  const auto& eval = state_.eval;
+  if (value && eval && eval->frame > 0) {
+    ImGui::TextDisabled("frame %d: %s%s", eval->frame, value.summary().c_str(), stale ? " (updating)" : "");
+  } else {
+    ImGui::TextDisabled("%s%s", value ? value.summary().c_str() : "not evaluated", stale ? " (updating)" : "");
+  }
   // The interactive tools draw on the viewed image and write node inputs.
   const bool poisson = PoissonTool::applies(state_, id), drawing = DrawTool::applies(state_, id);
   Value shown = value;
@@ -332,14 +355,24 @@ void EditorApp::draw(Window& window) {
   shortcuts();
   menu_bar(window);
   const ImGuiViewport* vp = ImGui::GetMainViewport();
-  const ImVec2 at = vp->WorkPos, size = vp->WorkSize;
+  const ImVec2 at = vp->WorkPos;
+  ImVec2 size = vp->WorkSize;
+  // The time slider: a pane across the bottom, for graphs with frames.
+  const bool timed = doc_.time_range().has_value();
+  if (timed) size.y -= Timeline::kHeight;
   const float left = std::floor(size.x * 0.58f);
+  // The panes' backgrounds are cleared by the window, not drawn by ImGui
+  // (see Backdrop): llvmpipe then shades only what is on them.
   const ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
-                                 ImGuiWindowFlags_NoBringToFrontOnFocus;
+                                 ImGuiWindowFlags_NoBringToFrontOnFocus | ImGuiWindowFlags_NoBackground;
+  const float panel = 0.062f;  // ImGui's dark WindowBg (0.06 at 94%) over the clear colour
+  window.set_backdrops({{at.x, at.y, left, size.y, 30 / 255.0f, 30 / 255.0f, 34 / 255.0f},
+                        {at.x + left, at.y, size.x - left, size.y + (timed ? Timeline::kHeight : 0), panel, panel,
+                         panel},
+                        {at.x, at.y + size.y, left, timed ? Timeline::kHeight : 0, panel, panel, panel}});
 
   ImGui::SetNextWindowPos(at);
   ImGui::SetNextWindowSize(ImVec2(left, size.y));
-  ImGui::PushStyleColor(ImGuiCol_WindowBg, IM_COL32(30, 30, 34, 255));
   ImGui::Begin(doc_.file().empty() ? "untitled###canvas" : (doc_.file().filename().string() + "###canvas").c_str(),
                nullptr, fixed | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
   if (!message_.empty()) {
@@ -349,7 +382,6 @@ void EditorApp::draw(Window& window) {
   }
   canvas_.draw(state_);
   ImGui::End();
-  ImGui::PopStyleColor();
 
   const float props = std::floor(size.y * 0.38f);
   ImGui::SetNextWindowPos(ImVec2(at.x + left, at.y));
@@ -364,6 +396,14 @@ void EditorApp::draw(Window& window) {
   viewer();
   ImGui::End();
 
+  if (timed) {
+    ImGui::SetNextWindowPos(ImVec2(at.x, at.y + size.y));
+    ImGui::SetNextWindowSize(ImVec2(size.x, Timeline::kHeight));
+    ImGui::Begin("Time", nullptr, fixed | ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoScrollbar);
+    timeline_.draw(state_, evaluation_current());
+    ImGui::End();
+  }
+
   files_.draw();
   if (auto file = files_.take("open")) perform("open", *file);
   if (auto file = files_.take("save")) {
@@ -376,6 +416,7 @@ void EditorApp::draw(Window& window) {
     pending_action_.clear();
   }
   unsaved_prompt();
+  timeline_.tick(state_, evaluation_current());
   sync_evaluation();
 }
 

@@ -22,6 +22,7 @@
 #include "loom/plugin_loader.hpp"
 #include "model/graph_document.hpp"
 #include "property_panel.hpp"
+#include "timeline.hpp"
 #include "draw_tool.hpp"
 #include "poisson_tool.hpp"
 #include "warp_tool.hpp"
@@ -52,6 +53,7 @@ class EditorApp {
   EditorState& state() { return state_; }
   Canvas& canvas() { return canvas_; }
   PropertyPanel& properties() { return properties_; }
+  Timeline& timeline() { return timeline_; }
   PoissonTool& poisson_tool() { return poisson_tool_; }
   DrawTool& draw_tool() { return draw_tool_; }
   // Where the viewer drew the image last frame (scale 0: no image shown).
@@ -63,7 +65,8 @@ class EditorApp {
   const std::string& message() const { return message_; }
   // Submits the current document now if it changed (draw() does this too).
   void sync_evaluation();
-  // Whether the shown evaluation is of the current document and none is running.
+  // Whether the shown evaluation is of the current document (and frame, and
+  // viewed node) and none is running.
   bool evaluation_current() const;
   // Evaluates the sinks (writes files) on the next submission.
   void write_outputs() { write_outputs_ = true; }
@@ -88,6 +91,7 @@ class EditorApp {
   std::unique_ptr<EvaluationController> controller_;
   Canvas canvas_;
   PropertyPanel properties_;
+  Timeline timeline_;
   ImageViewer image_viewer_;
   MeshViewer mesh_viewer_;
   WarpTool warp_tool_;
@@ -97,6 +101,8 @@ class EditorApp {
   std::uint64_t submitted_revision_ = ~0ull;
   json submitted_document_;
   std::uint64_t evaluated_revision_ = ~0ull;  // the revision submitted_document_ came from
+  int submitted_frame_ = 0;                   // 0: the graph has no time range
+  std::string submitted_viewed_;              // whose cached frames were asked for
   bool write_outputs_ = false, quit_ = false;
   std::string pending_action_;
   std::filesystem::path pending_file_;

@@ -7,6 +7,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <time.h>
 
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
@@ -19,6 +20,11 @@ std::string& last_glfw_error() {
   return text;
 }
 void glfw_error(int code, const char* text) { last_glfw_error() = std::to_string(code) + ": " + text; }
+double thread_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
 }  // namespace
 
 Window::Window(const std::string& title, int width, int height, bool visible) {
@@ -68,6 +74,7 @@ int Window::height() const {
 }
 
 void Window::begin_frame(const ScriptedInput* scripted) {
+  if (profiling_) frame_start_ms_ = thread_cpu_ms();
   glfwPollEvents();
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
@@ -93,12 +100,41 @@ void Window::begin_frame(const ScriptedInput* scripted) {
 
 void Window::end_frame(Rgba8Image* capture) {
   ImGui::Render();
+  const double built = profiling_ ? thread_cpu_ms() : 0;
   glViewport(0, 0, width(), height());
   glClearColor(0.10f, 0.10f, 0.11f, 1.0f);
   glClear(GL_COLOR_BUFFER_BIT);
+  if (!backdrops_.empty()) {
+    const ImVec2 scale = ImGui::GetIO().DisplayFramebufferScale;
+    const int h = height();
+    glEnable(GL_SCISSOR_TEST);
+    for (const Backdrop& b : backdrops_) {
+      const int x0 = int(b.x * scale.x), y0 = int(b.y * scale.y);
+      const int x1 = int((b.x + b.width) * scale.x), y1 = int((b.y + b.height) * scale.y);
+      glScissor(x0, h - y1, x1 - x0, y1 - y0);
+      glClearColor(b.r, b.g, b.b, 1.0f);
+      glClear(GL_COLOR_BUFFER_BIT);
+    }
+    glDisable(GL_SCISSOR_TEST);
+  }
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  double drawn = 0;
+  if (profiling_) {
+    glFinish();
+    drawn = thread_cpu_ms();
+  }
   if (capture) *capture = read_back();
   glfwSwapBuffers(window_);
+  if (profiling_) {
+    const ImDrawData* data = ImGui::GetDrawData();
+    cost_.build_ms = built - frame_start_ms_;
+    cost_.raster_ms = drawn - built;
+    cost_.swap_ms = thread_cpu_ms() - drawn;
+    cost_.vertices = data->TotalVtxCount;
+    cost_.indices = data->TotalIdxCount;
+    cost_.draw_calls = 0;
+    for (int i = 0; i < data->CmdListsCount; ++i) cost_.draw_calls += data->CmdLists[i]->CmdBuffer.Size;
+  }
 }
 
 Rgba8Image Window::read_back() const {

@@ -31,6 +31,25 @@ struct Rgba8Image {
   const std::uint8_t* at(int x, int y) const { return &pixels[(std::size_t(y) * width + x) * 4]; }
 };
 
+// Where the UI thread's CPU time of the last frame went (when profiling):
+// ImGui building the draw lists, OpenGL drawing them (with llvmpipe on this
+// thread, LP_NUM_THREADS=0, that is the rasterization, finished by glFinish),
+// and the swap (under Xvfb: copying the frame to the X server).
+struct FrameCost {
+  double build_ms = 0, raster_ms = 0, swap_ms = 0;
+  int vertices = 0, indices = 0, draw_calls = 0;
+};
+
+// A rectangle of the window filled by glClear before ImGui draws (window
+// pixels, origin top-left): the fixed panes' backgrounds. llvmpipe clears
+// without running a shader, while a window background drawn by ImGui shades
+// (texture lookup and blend) every pixel it covers: the whole screen, per
+// frame, was most of an idle frame's cost.
+struct Backdrop {
+  float x = 0, y = 0, width = 0, height = 0;
+  float r = 0, g = 0, b = 0;  // 0..1
+};
+
 class Window {
  public:
   // Throws loom::Error if GLFW or the OpenGL context cannot be created (no
@@ -50,10 +69,19 @@ class Window {
   int width() const;
   int height() const;
   GLFWwindow* handle() const { return window_; }
+  // Cleared regions for the next frames (the rest: the default background).
+  void set_backdrops(std::vector<Backdrop> backdrops) { backdrops_ = std::move(backdrops); }
+  // Measures each frame's FrameCost (adds a glFinish per frame).
+  void set_profiling(bool on) { profiling_ = on; }
+  const FrameCost& last_cost() const { return cost_; }
 
  private:
   Rgba8Image read_back() const;
   GLFWwindow* window_ = nullptr;
+  std::vector<Backdrop> backdrops_;
+  bool profiling_ = false;
+  double frame_start_ms_ = 0;
+  FrameCost cost_;
 };
 
 // Writes a capture as PNG (atomically).

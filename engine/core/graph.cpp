@@ -219,9 +219,10 @@ Graph parse_graph(const json& doc, const std::filesystem::path& file) {
 
   if (!doc.is_object()) throw GraphError(name, {{"", "expected a JSON object, got " + describe_json(doc)}});
   for (const auto& [key, value] : doc.items())
-    if (key != "loom" && key != "seed" && key != "nodes" && key != "description" && key != "time")
+    if (key != "loom" && key != "seed" && key != "nodes" && key != "description" && key != "time" && key != "ui")
       fail("/" + detail::pointer_escape(key),
-           "unknown key (expected \"loom\", \"seed\", \"time\", \"nodes\" or \"description\")");
+           "unknown key (expected \"loom\", \"seed\", \"time\", \"nodes\", \"description\" or \"ui\")");
+  if (doc.contains("ui")) g.ui = doc["ui"];
   if (doc.contains("time")) {
     try {
       g.time = parse_time(doc["time"]);
@@ -497,6 +498,7 @@ json graph_to_json(const Graph& g) {
   }
   json doc = {{"loom", kGraphFormatVersion}, {"seed", g.seed}, {"nodes", nodes}};
   if (g.time) doc["time"] = time_to_json(*g.time);
+  if (!g.ui.is_null()) doc["ui"] = g.ui;
   return doc;
 }
 

@@ -144,3 +144,52 @@ void evict(Session::State& st, std::size_t state_budget) {
 }
 
 }  // namespace loom::detail
+
+namespace loom {
+
+std::vector<int> Session::cached_frames(const Graph& graph, const std::string& node, FrameRange frames,
+                                        const EvalOptions& options) {
+  if (!graph.nodes.count(node)) throw Error("cached_frames: unknown node \"" + node + "\"");
+  State& st = *state_;
+  FrameTime time;
+  if (graph.time) {
+    time.start = graph.time->start;
+    time.fps = graph.time->fps;
+  }
+  frames.first = std::max(frames.first, time.start);
+  std::vector<int> kept;
+  EvalOptions hashing = options;
+  hashing.allow_outside_output = true;  // only hashed, nothing is written
+  // Kept at `frame`? The plan at that frame gives the node's hash (a
+  // simulation's: H(chain, frame)), looked up as evaluate() would.
+  auto kept_at = [&](int frame, bool* time_dependent) {
+    time.frame = frame;
+    detail::Evaluation e(st, graph, hashing, time);
+    e.build();
+    const detail::NodeState& s = e.at(e.index.at(node));
+    *time_dependent = s.time_dependent;
+    if (!s.cacheable) return false;
+    {
+      std::lock_guard lock(st.cache_mutex);
+      if (st.cache.count(s.hash)) return true;
+      if (s.type->spec.simulation()) {
+        auto latest = st.latest_states.find(s.chain);
+        if (latest != st.latest_states.end() && latest->second.frame == frame) return true;
+      }
+    }
+    return options.disk_cache && options.disk_cache->contains(options.disk_cache->key(s.hash, s.type->spec.build));
+  };
+  for (int frame = frames.first; frame <= frames.last; ++frame) {
+    bool time_dependent = true;
+    const bool here = kept_at(frame, &time_dependent);
+    if (!time_dependent) {  // one result shared by every frame
+      if (here)
+        for (int f = frames.first; f <= frames.last; ++f) kept.push_back(f);
+      return kept;
+    }
+    if (here) kept.push_back(frame);
+  }
+  return kept;
+}
+
+}  // namespace loom

@@ -21,15 +21,18 @@ struct Harness {
   ScriptedInput input;
   Rgba8Image last;
 
-  static EditorOptions options() {
+  // `test_plugins`: also the test fixtures' node types (Integrate, ...).
+  static EditorOptions options(bool test_plugins = false) {
     EditorOptions o;
     o.plugin_path = {LOOM_PLUGIN_DIR};
+    if (test_plugins) o.plugin_path.push_back(LOOM_TEST_PLUGIN_DIR);
     o.output_dir = loom::test::temp_dir();
     o.config_dir = loom::test::temp_dir();
     o.threads = 2;
     return o;
   }
-  Harness(int width = 1400, int height = 820) : window("loom-editor test", width, height, false), app(options()) {
+  Harness(int width = 1400, int height = 820, bool test_plugins = false)
+      : window("loom-editor test", width, height, false), app(options(test_plugins)) {
     frame(2);
   }
 

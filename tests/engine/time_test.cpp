@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "loom/disk_cache.hpp"
 #include "loom/frame_pattern.hpp"
 #include "loom_test.hpp"
 
@@ -253,6 +254,76 @@ TEST(Time, TheGraphTimeFieldIsValidatedAndSetByDashDashSet) {
   EXPECT_EQ(g.time->fps, 30);
   EXPECT_THROW(set_input(g, "time.end=-5"), GraphError);
   EXPECT_EQ(graph_to_json(g)["time"], (json{{"start", 1}, {"end", 48}, {"fps", 30.0}}));
+}
+
+std::vector<int> span(int first, int last) {
+  std::vector<int> v;
+  for (int f = first; f <= last; ++f) v.push_back(f);
+  return v;
+}
+
+// What a time slider marks: the frames whose result the session keeps.
+TEST(Time, CachedFramesAreTheSimulationFramesStepped) {
+  test::Engine e;
+  json nodes = {{"sim", {{"type", "Integrate"}, {"inputs", {{"v", 2.0}}}}},
+                {"after", {{"type", "Math"}, {"inputs", {{"a", from("sim.x")}, {"b", 1}}}}},
+                {"still", {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}}}}}};
+  Graph g = e.graph(graph(nodes, 1, 10));
+  EXPECT_TRUE(e.session.cached_frames(g, "sim", {1, 10}).empty());
+  EXPECT_TRUE(e.session.cached_frames(g, "still", {1, 10}).empty());
+  ASSERT_TRUE(at_frames(e, g, 5, 5, {"sim", "still"}, nullptr).ok());  // steps 1..5 to get there
+  EXPECT_EQ(e.session.cached_frames(g, "sim", {1, 10}), span(1, 5));
+  EXPECT_EQ(e.session.cached_frames(g, "sim", {3, 4}), span(3, 4));
+  // A node that does not read time has one result for every frame.
+  EXPECT_EQ(e.session.cached_frames(g, "still", {1, 10}), span(1, 10));
+  // Scrubbing on steps from the latest state: 6..8 join.
+  ASSERT_TRUE(at_frames(e, g, 8, 8, {"sim"}, nullptr).ok());
+  EXPECT_EQ(e.session.cached_frames(g, "sim", {1, 10}), span(1, 8));
+
+  // A downstream setting keeps the simulation's frames...
+  json downstream = nodes;
+  downstream["after"]["inputs"]["b"] = 5;
+  EXPECT_EQ(e.session.cached_frames(e.graph(graph(downstream, 1, 10)), "sim", {1, 10}), span(1, 8));
+  // ...a parameter of the simulation drops them all, until stepped again.
+  json edited = nodes;
+  edited["sim"]["inputs"]["v"] = 3.0;
+  Graph g2 = e.graph(graph(edited, 1, 10));
+  EXPECT_TRUE(e.session.cached_frames(g2, "sim", {1, 10}).empty());
+  ASSERT_TRUE(at_frames(e, g2, 2, 2, {"sim"}, nullptr).ok());
+  EXPECT_EQ(e.session.cached_frames(g2, "sim", {1, 10}), span(1, 2));
+
+  EXPECT_THROW(e.session.cached_frames(g, "nope", {1, 10}), Error);
+}
+
+TEST(Time, CachedFramesIncludeTheDiskCacheAndNeverASink) {
+  DiskCache::Options o;
+  o.dir = test::temp_dir() / "frames-cache";
+  o.min_seconds = 0;
+  DiskCache disk(o);
+  json nodes = {{"sim", {{"type", "Integrate"}, {"inputs", {{"ms", 60}}}}},
+                {"print", {{"type", "Print"}, {"inputs", {{"value", from("sim.x")}}}}}};
+  {
+    test::Engine e;
+    Graph g = e.graph(graph(nodes, 1, 6));
+    EvalOptions opt;
+    opt.targets = {parse_target("sim")};
+    opt.frames = FrameRange{1, 3};
+    opt.disk_cache = &disk;
+    ASSERT_TRUE(e.session.evaluate(g, opt).ok());
+    EXPECT_TRUE(e.session.cached_frames(g, "print", {1, 6}, opt).empty());
+  }
+  test::Engine fresh;  // nothing in memory: what the disk keeps
+  Graph g = fresh.graph(graph(nodes, 1, 6));
+  EXPECT_TRUE(fresh.session.cached_frames(g, "sim", {1, 6}).empty());
+  EvalOptions with_disk;
+  with_disk.disk_cache = &disk;
+  EXPECT_EQ(fresh.session.cached_frames(g, "sim", {1, 6}, with_disk), span(1, 3));
+}
+
+TEST(Time, TheGraphUiFieldIsKeptAndIgnored) {
+  Graph g = parse_graph({{"loom", 1}, {"ui", {{"frame", 12}}}, {"nodes", json::object()}}, "t.json");
+  EXPECT_EQ(g.ui, (json{{"frame", 12}}));
+  EXPECT_EQ(graph_to_json(g)["ui"], (json{{"frame", 12}}));
 }
 
 }  // namespace

@@ -111,6 +111,14 @@ class LOOM_API Session {
   // The graph must have passed validate_graph with the same registry.
   EvalResult evaluate(const Graph& graph, const EvalOptions& options = {});
 
+  // The frames of `frames` at which the outputs of `node` are kept in this
+  // session's memory cache or in options.disk_cache (hashed as evaluate()
+  // would, with options' output folder): what a time slider marks. A sink or
+  // nondeterministic node has none. Call it from the thread that calls
+  // evaluate(), never during one. Throws Error for an unknown node.
+  std::vector<int> cached_frames(const Graph& graph, const std::string& node, FrameRange frames,
+                                 const EvalOptions& options = {});
+
   std::size_t cache_entries() const;
   void clear_cache();
 

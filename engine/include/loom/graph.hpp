@@ -58,6 +58,7 @@ struct Graph {
   std::uint64_t seed = 0;
   std::optional<TimeRange> time;
   std::map<std::string, GraphNode> nodes;  // by id, sorted
+  json ui;  // editor state (e.g. the current frame), kept as is
 
   std::filesystem::path dir() const { return file.empty() ? std::filesystem::current_path()
                                                             : file.parent_path(); }
