@@ -27,8 +27,11 @@ std::vector<ShadowMap> render_shadow_maps(const GlApi& gl, const DepthPrograms& 
     gl.CreateTextures(m.view.cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, 1, &m.color);
     gl.TextureStorage2D(m.color, 1, GL_R32F, R, R);
     for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) gl.TextureParameteri(m.color, p, GL_NEAREST);
+    // Past a 2D map's edge nothing casts a shadow: the border is "infinitely far".
+    const float far_border[4] = {1e30f, 1e30f, 1e30f, 1e30f};
+    gl.TextureParameterfv(m.color, GL_TEXTURE_BORDER_COLOR, far_border);
     for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-      gl.TextureParameteri(m.color, p, GL_CLAMP_TO_EDGE);
+      gl.TextureParameteri(m.color, p, m.view.cube ? GL_CLAMP_TO_EDGE : GL_CLAMP_TO_BORDER);
     gl.CreateTextures(GL_TEXTURE_2D, 1, &m.depth);
     gl.TextureStorage2D(m.depth, 1, GL_DEPTH_COMPONENT32F, R, R);
     gl.CreateFramebuffers(1, &m.fbo);
@@ -64,7 +67,6 @@ std::vector<ShadowMap> render_shadow_maps(const GlApi& gl, const DepthPrograms& 
           p.set("u_ortho", m.view.ortho);
           p.set("u_inverse_view_proj", Eigen::Matrix4d(lvp.inverse()));
           p.set("u_viewport", Eigen::Vector2d(R, R));
-          p.set("u_depth_pass", true);
           p.set("u_depth_origin", m.view.origin);
           p.set("u_depth_axis", m.view.axis);
           p.set("u_depth_radial", !m.view.ortho);
