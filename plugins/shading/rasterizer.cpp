@@ -13,6 +13,7 @@
 #include "gl_context.hpp"
 #include "gl_program.hpp"
 #include "gpu_scene.hpp"
+#include "irradiance_sh.hpp"
 #include "loom/error.hpp"
 #include "shader_sources.hpp"
 #include "shadow_pass.hpp"
@@ -78,6 +79,17 @@ struct Rasterizer::State {
   } targets;
   void release_targets();
   Targets& image_targets(int width, int height, int samples, int attachments);
+  // The environment map on the GPU and its SH irradiance, computed once per
+  // map and rotation (the map is held, so its address stays a valid key).
+  struct EnvironmentMap {
+    std::shared_ptr<const Image> map;
+    double rotation = 0;
+    GLuint texture = 0;
+    int levels = 0;
+    Sh9 irradiance;
+  } environment;
+  // The cached map for this environment, or null if it has none.
+  const EnvironmentMap* environment_map(const Environment& env);
   // Lighting programs by kind and #defines, compiled when first needed.
   std::map<std::string, std::unique_ptr<GlProgram>> lit;
 
@@ -85,6 +97,37 @@ struct Rasterizer::State {
   enum class Lit { mesh, mesh_tess, sphere };
   GlProgram& lit_program(Lit kind, const std::string& defines);
 };
+
+const Rasterizer::State::EnvironmentMap* Rasterizer::State::environment_map(const Environment& env) {
+  if (!env.map || env.map->empty()) return nullptr;
+  EnvironmentMap& e = environment;
+  if (e.texture && e.map == env.map && e.rotation == env.rotation) return &e;
+  if (e.texture) gl().DeleteTextures(1, &e.texture);
+  e = EnvironmentMap{};
+  cv::Mat px;
+  env.map->pixels.convertTo(px, CV_32F);
+  if (px.channels() == 1) cv::cvtColor(px, px, cv::COLOR_GRAY2RGB);
+  if (px.channels() == 4) cv::cvtColor(px, px, cv::COLOR_RGBA2RGB);
+  if (px.channels() != 3) throw Error("environment map needs 1, 3 or 4 channels");
+  if (!px.isContinuous()) px = px.clone();
+  const GlApi& gl = this->gl();
+  e.levels = 1;
+  for (int n = std::max(px.cols, px.rows); n > 1; n /= 2) ++e.levels;
+  gl.CreateTextures(GL_TEXTURE_2D, 1, &e.texture);
+  gl.TextureStorage2D(e.texture, e.levels, GL_RGB32F, px.cols, px.rows);
+  gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  gl.TextureSubImage2D(e.texture, 0, 0, 0, px.cols, px.rows, GL_RGB, GL_FLOAT, px.data);
+  gl.GenerateTextureMipmap(e.texture);
+  gl.TextureParameteri(e.texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  gl.TextureParameteri(e.texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  gl.TextureParameteri(e.texture, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  gl.TextureParameteri(e.texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  gl.check("uploading the environment map");
+  e.map = env.map;
+  e.rotation = env.rotation;
+  e.irradiance = sh9_irradiance_coefficients(sh9_project(*env.map, env.rotation));
+  return &e;
+}
 
 void Rasterizer::State::release_targets() {
   if (!targets.msaa) return;
@@ -188,6 +231,7 @@ Rasterizer::~Rasterizer() {
   if (!state_) return;
   GlContext::Current current(state_->context);
   state_->release_targets();
+  if (state_->environment.texture) state_->gl().DeleteTextures(1, &state_->environment.texture);
   state_->lit.clear();
   state_->depth.reset();
   state_->depth_tess.reset();
@@ -202,11 +246,29 @@ const std::string& Rasterizer::renderer() const { return state_->context.rendere
 
 namespace {
 
+// Light a surface of this material reflects from the environment map, mirror-like
+// (the coat of plastic, F0 = base_color of a conductor); none for the others.
+Eigen::Vector3d environment_reflectance(const Material& m) {
+  if (m.model == Material::Model::plastic) return Eigen::Vector3d::Constant(m.specular);
+  if (m.model == Material::Model::conductor) return m.specular * m.base_color;
+  return Eigen::Vector3d::Zero();
+}
+
+template <class EnvironmentMap>
 void set_lighting(GlProgram& p, const Scene& scene, const std::vector<ShadowMap>& maps,
-                  const RenderOptions& o, const Eigen::Vector3d& eye, const Eigen::Vector3d& ambient) {
+                  const RenderOptions& o, const Eigen::Vector3d& eye, const Eigen::Vector3d& ambient,
+                  const EnvironmentMap* env) {
   bind_sampler_units(p);
   p.set("u_eye", eye);
   p.set("u_ambient", ambient);
+  if (env) {
+    for (int k = 0; k < 9; ++k)
+      p.set(("u_env_sh[" + std::to_string(k) + "]").c_str(), Eigen::Vector3d(env->irradiance[k] * scene.environment.intensity));
+    p.set("u_env_rotation", env->rotation);
+    p.set("u_env_intensity", scene.environment.intensity);
+    p.set("u_env_height", static_cast<double>(env->map->height()));
+    p.set("u_env_max_level", static_cast<double>(env->levels - 1));
+  }
   const int n = std::min<int>(static_cast<int>(scene.lights.size()), max_lights);
   for (int i = 0; i < n; ++i) {
     const Light& l = scene.lights[i];
@@ -233,8 +295,10 @@ void set_lighting(GlProgram& p, const Scene& scene, const std::vector<ShadowMap>
 
 // What the lighting programs are compiled for: each light's kind and shadow
 // slot, the shadow filter, the environment.
-LightingVariant lighting_variant(const Scene& scene, const std::vector<ShadowMap>& maps, const RenderOptions& o) {
+LightingVariant lighting_variant(const Scene& scene, const std::vector<ShadowMap>& maps, const RenderOptions& o,
+                                 bool environment_map) {
   LightingVariant v;
+  v.environment_map = environment_map;
   const int n = std::min<int>(static_cast<int>(scene.lights.size()), max_lights);
   for (int i = 0; i < n; ++i) {
     const Light& l = scene.lights[i];
@@ -324,7 +388,9 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   gl.ClearBufferfv(GL_DEPTH, 0, &one);
   const Eigen::Matrix4d vp = proj * view;
   const bool ortho = camera.projection == Camera::Projection::orthographic;
-  const std::string lighting = lighting_defines(lighting_variant(scene, maps, options));
+  const State::EnvironmentMap* env = s.environment_map(scene.environment);
+  if (env) gl.BindTextureUnit(unit_environment, env->texture);
+  const std::string lighting = lighting_defines(lighting_variant(scene, maps, options, env != nullptr));
   if (options.wireframe) {
     gl.Enable(GL_POLYGON_OFFSET_FILL);
     gl.PolygonOffset(1, 1);
@@ -336,7 +402,8 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
     if (o.kind == GpuObject::Kind::points) {
       GlProgram& p = s.lit_program(State::Lit::sphere, lighting + "#define DEPTH_PASS 0\n");
       p.use();
-      set_lighting(p, scene, maps, options, camera.eye, ambient);
+      set_lighting(p, scene, maps, options, camera.eye, ambient, env);
+      p.set("u_env_reflectance", environment_reflectance(mat));
       p.set("u_model", o.source->transform);
       p.set("u_radius_scale", o.source->points->has_radius() ? 1.0 : options.point_radius);
       p.set("u_view", view);
@@ -363,7 +430,8 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
                                   "\n#define HAS_DISPLACEMENT " + (tess ? "1" : "0") + "\n";
       GlProgram& p = s.lit_program(tess ? State::Lit::mesh_tess : State::Lit::mesh, defines);
       p.use();
-      set_lighting(p, scene, maps, options, camera.eye, ambient);
+      set_lighting(p, scene, maps, options, camera.eye, ambient, env);
+      p.set("u_env_reflectance", environment_reflectance(mat));
       p.set("u_model", o.source->transform);
       p.set("u_normal_matrix", normal_matrix(o.source->transform));
       p.set("u_view_proj", vp);

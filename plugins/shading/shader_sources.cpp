@@ -18,6 +18,7 @@ void bind_sampler_units(GlProgram& p) {
   p.set("u_base_map", static_cast<int>(unit_base));
   p.set("u_normal_map", static_cast<int>(unit_normal));
   p.set("u_displacement_map", static_cast<int>(unit_displacement));
+  p.set("u_env_map", static_cast<int>(unit_environment));
   for (int i = 0; i < max_shadows; ++i) {
     p.set(("u_shadow_map[" + std::to_string(i) + "]").c_str(), static_cast<int>(unit_shadow + i));
     p.set(("u_shadow_cube[" + std::to_string(i) + "]").c_str(), static_cast<int>(unit_cube + i));
@@ -277,6 +278,42 @@ vec3 blinn_phong(vec3 N, vec3 L, vec3 V, vec3 albedo, float specular, float shin
   return (albedo / PI + vec3(spec)) * cos_theta;
 }
 
+#if ENV_MAP
+// A lat-long environment: diffuse light from its 9 SH irradiance
+// coefficients (R&H 2001 eq. 7, intensity included), glossy reflection from
+// its mip chain at the level whose box filter is as wide as the lobe.
+uniform vec3 u_env_sh[9];
+uniform sampler2D u_env_map;
+uniform float u_env_rotation, u_env_intensity, u_env_height, u_env_max_level;
+uniform vec3 u_env_reflectance;               // per material: 0 for diffuse surfaces
+
+vec3 env_irradiance(vec3 n) {
+  return u_env_sh[0] * 0.282095
+       + u_env_sh[1] * (0.488603 * n.y) + u_env_sh[2] * (0.488603 * n.z) + u_env_sh[3] * (0.488603 * n.x)
+       + u_env_sh[4] * (1.092548 * n.x * n.y) + u_env_sh[5] * (1.092548 * n.y * n.z)
+       + u_env_sh[6] * (0.315392 * (3.0 * n.z * n.z - 1.0)) + u_env_sh[7] * (1.092548 * n.x * n.z)
+       + u_env_sh[8] * (0.546274 * (n.x * n.x - n.y * n.y));
+}
+
+// loom::latlong_uv: u from atan2(x, -z) less the rotation, v = theta / pi
+// (the map's top row is uploaded first: t = v).
+vec3 env_radiance(vec3 d, float level) {
+  float u = (atan(d.x, -d.z) - u_env_rotation) / (2.0 * PI) + 0.5;
+  float v = acos(clamp(d.y, -1.0, 1.0)) / PI;
+  return u_env_intensity * textureLod(u_env_map, vec2(u, v), level).rgb;
+}
+
+// Blinn-Phong with exponent s is about a Phong lobe cos^(s/4) about the
+// mirror direction, a Gaussian of sigma = 2 / sqrt(s) radians; a box of width
+// w has sigma w / sqrt(12), and level k's texels are 2^k pi / H wide.
+vec3 env_reflection(vec3 N, vec3 V, float shininess) {
+  vec3 R = reflect(-V, N);
+  float sigma = 2.0 / sqrt(max(shininess, 1.0));
+  float level = clamp(log2(sigma * sqrt(12.0) * u_env_height / PI), 0.0, u_env_max_level);
+  return u_env_reflectance * env_radiance(R, level);
+}
+#endif
+
 #define LIT(i, kind) { vec3 E; vec3 L = incidence(i, kind, P, E); \
   radiance += blinn_phong(N, L, V, albedo, specular, shininess) * E; }
 #define SHADOWED(i, kind, slot) { vec3 E; vec3 L = incidence(i, kind, P, E); \
@@ -288,7 +325,11 @@ vec3 blinn_phong(vec3 N, vec3 L, vec3 V, vec3 albedo, float specular, float shin
 // the visibility of the first shadowed light (for the shadow image).
 vec3 shade(vec3 P, vec3 N, vec3 G, vec3 albedo, float specular, float shininess, out float shadow_out) {
   vec3 V = safe_normalize(u_eye - P, N);
+#if ENV_MAP
+  vec3 radiance = albedo / PI * env_irradiance(N) + env_reflection(N, V, shininess);
+#else
   vec3 radiance = albedo * u_ambient;
+#endif
   shadow_out = 1.0;
   LIGHTS
   return radiance;

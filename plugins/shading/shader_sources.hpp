@@ -12,7 +12,8 @@ namespace loom::shading {
 // What the programs assume: at most 8 lights, 4 of them with shadow maps, and
 // these texture units (samplers of different types never share a unit).
 constexpr int max_lights = 8, max_shadows = 4;
-constexpr GLuint unit_base = 0, unit_normal = 1, unit_displacement = 2, unit_shadow = 4, unit_cube = 8;
+constexpr GLuint unit_base = 0, unit_normal = 1, unit_displacement = 2, unit_environment = 3, unit_shadow = 4,
+                 unit_cube = 8;
 constexpr GLuint texture_units_used = 12;
 // Points every sampler uniform of `p` at its unit.
 void bind_sampler_units(GlProgram& p);
