@@ -69,7 +69,8 @@ struct Rasterizer::State {
   double context_seconds = 0, compile_seconds = 0;
   int max_samples = 1;
   float line_width_range[2] = {1, 1};
-  std::unique_ptr<GlProgram> depth, depth_tess, sphere_depth, line;
+  GLuint empty_vao = 0;  // core profile: a draw needs a vertex array, even one without attributes
+  std::unique_ptr<GlProgram> depth, depth_tess, sphere_depth, line, background;
   // The image's framebuffers, kept while the size, samples and attachments
   // stay the same: llvmpipe allocates (and the kernel zeroes) every sample in
   // host memory, ~100 MB at 1080p with 4x MSAA, a cost worth paying once.
@@ -218,6 +219,7 @@ Rasterizer::Rasterizer() {
       {GL_FRAGMENT_SHADER, sphere_depth_fragment.c_str()}});
   s.line = std::make_unique<GlProgram>(gl, "lines", std::vector<std::pair<GLenum, const char*>>{
       {GL_VERTEX_SHADER, line_vertex}, {GL_FRAGMENT_SHADER, line_fragment}});
+  gl.CreateVertexArrays(1, &s.empty_vao);
   gl.GetIntegerv(GL_MAX_SAMPLES, &s.max_samples);
   GLint range[2] = {1, 1};
   gl.GetIntegerv(GL_ALIASED_LINE_WIDTH_RANGE, range);
@@ -236,6 +238,8 @@ Rasterizer::~Rasterizer() {
   state_->depth.reset();
   state_->depth_tess.reset();
   state_->sphere_depth.reset();
+  state_->background.reset();
+  state_->gl().DeleteVertexArrays(1, &state_->empty_vao);
   state_->line.reset();
 }
 
@@ -391,6 +395,25 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   const State::EnvironmentMap* env = s.environment_map(scene.environment);
   if (env) gl.BindTextureUnit(unit_environment, env->texture);
   const std::string lighting = lighting_defines(lighting_variant(scene, maps, options, env != nullptr));
+  if (env) {
+    // The map behind the scene, at the far plane, no depth written.
+    if (!s.background) {
+      const std::string fragment = glsl::background_fragment();
+      s.background = std::make_unique<GlProgram>(gl, "environment background", std::vector<std::pair<GLenum, const char*>>{
+          {GL_VERTEX_SHADER, glsl::background_vertex}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
+    }
+    GlProgram& p = *s.background;
+    p.use();
+    set_lighting(p, scene, {}, options, camera.eye, ambient, env);
+    p.set("u_inverse_view_proj", Eigen::Matrix4d(vp.inverse()));
+    p.set("u_far", camera.far_plane);
+    gl.DepthMask(GL_FALSE);
+    gl.Disable(GL_DEPTH_TEST);
+    gl.BindVertexArray(s.empty_vao);
+    gl.DrawArrays(GL_TRIANGLES, 0, 3);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthMask(GL_TRUE);
+  }
   if (options.wireframe) {
     gl.Enable(GL_POLYGON_OFFSET_FILL);
     gl.PolygonOffset(1, 1);

@@ -515,6 +515,39 @@ void main() {
 
 
 
+const char* const background_vertex = R"(#version 450 core
+out vec2 v_ndc;
+void main() {
+  // One triangle covering the viewport, at the far plane.
+  vec2 p = vec2((gl_VertexID & 1) * 4 - 1, (gl_VertexID & 2) * 2 - 1);
+  v_ndc = p;
+  gl_Position = vec4(p, 1.0, 1.0);
+}
+)";
+
+std::string background_fragment() {
+  LightingVariant v;
+  v.environment_map = true;
+  return "#version 450 core\n" + lighting_defines(v) + lighting + R"(
+in vec2 v_ndc;
+layout(location = 0) out vec4 o_color;
+layout(location = 1) out vec4 o_normal;
+layout(location = 2) out vec4 o_position;
+layout(location = 3) out vec4 o_shadow;
+uniform mat4 u_inverse_view_proj;
+uniform float u_far;
+void main() {
+  vec4 a = u_inverse_view_proj * vec4(v_ndc, -1.0, 1.0);
+  vec4 b = u_inverse_view_proj * vec4(v_ndc, 1.0, 1.0);
+  vec3 d = normalize(b.xyz / b.w - a.xyz / a.w);
+  o_color = vec4(env_radiance(d, 0.0), 0.0);  // alpha: coverage, none
+  o_normal = vec4(0.0);
+  o_position = vec4(0.0, 0.0, 0.0, u_far);
+  o_shadow = vec4(1.0, 0.0, 0.0, 0.0);
+}
+)";
+}
+
 const char* const line_vertex = R"(#version 450 core
 layout(location = 0) in vec3 a_position;
 layout(location = 5) in vec3 a_color;

@@ -45,6 +45,9 @@ extern const char* const sphere_vertex;       // point sets as sphere impostors
 extern const char* const sphere_geometry;
 // lighting_defines plus DEPTH_PASS (1: the shadow pass's depth metric only).
 std::string sphere_fragment(const std::string& defines);
+// The environment map behind everything (a full-viewport triangle).
+extern const char* const background_vertex;
+std::string background_fragment();
 extern const char* const line_vertex;         // polylines and the wireframe overlay
 extern const char* const line_fragment;
 
