@@ -69,7 +69,8 @@ struct Rasterizer::State {
   double context_seconds = 0, compile_seconds = 0;
   int max_samples = 1;
   float line_width_range[2] = {1, 1};
-  GLuint empty_vao = 0;  // core profile: a draw needs a vertex array, even one without attributes
+  GLuint empty_vao = 0;
+  std::unique_ptr<GpuCache> gpu_cache;  // core profile: a draw needs a vertex array, even one without attributes
   std::unique_ptr<GlProgram> depth, depth_tess, sphere_depth, line, background;
   // The image's framebuffers, kept while the size, samples and attachments
   // stay the same: llvmpipe allocates (and the kernel zeroes) every sample in
@@ -220,6 +221,7 @@ Rasterizer::Rasterizer() {
   s.line = std::make_unique<GlProgram>(gl, "lines", std::vector<std::pair<GLenum, const char*>>{
       {GL_VERTEX_SHADER, line_vertex}, {GL_FRAGMENT_SHADER, line_fragment}});
   gl.CreateVertexArrays(1, &s.empty_vao);
+  s.gpu_cache = std::make_unique<GpuCache>(gl);
   gl.GetIntegerv(GL_MAX_SAMPLES, &s.max_samples);
   GLint range[2] = {1, 1};
   gl.GetIntegerv(GL_ALIASED_LINE_WIDTH_RANGE, range);
@@ -233,6 +235,7 @@ Rasterizer::~Rasterizer() {
   if (!state_) return;
   GlContext::Current current(state_->context);
   state_->release_targets();
+  state_->gpu_cache.reset();
   if (state_->environment.texture) state_->gl().DeleteTextures(1, &state_->environment.texture);
   state_->lit.clear();
   state_->depth.reset();
@@ -339,7 +342,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   const GlApi& gl = s.gl();
   auto t = Clock::now();
 
-  GpuScene gpu(gl, scene);
+  GpuScene gpu(gl, scene, *s.gpu_cache);
   const double aspect = static_cast<double>(options.width) / options.height;
   const Camera camera = scene.camera ? *scene.camera : framing_camera(scene, aspect);
   Eigen::Matrix4d view, proj;
@@ -523,6 +526,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   gl.BindVertexArray(0);
   gl.UseProgram(0);
   delete_shadow_maps(gl, maps);
+  s.gpu_cache->release_unused();
   for (GLuint u = 0; u < texture_units_used; ++u) gl.BindTextureUnit(u, 0);
   time.readback = since(t);
   return images;
