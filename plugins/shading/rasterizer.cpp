@@ -43,18 +43,19 @@ Eigen::Vector3d ambient_of(const Environment& env) {
 }
 
 
-// GL's rows go bottom-up: the image top row first, with no NaN or infinity
-// (a degenerate frame could make one), in one parallel pass.
+// GL's rows go bottom-up: the image top row first, as float, with no NaN or
+// infinity (a degenerate frame could make one), in one parallel pass.
+template <class Texel>
 cv::Mat flipped_finite(const cv::Mat& raw) {
   cv::Mat out(raw.size(), CV_32FC4);
   const int H = raw.rows;
   const std::size_t n = static_cast<std::size_t>(raw.cols) * 4;
   tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y < rows.end(); ++y) {
-      const float* src = raw.ptr<float>(H - 1 - y);
+      const Texel* src = raw.ptr<Texel>(H - 1 - y);
       float* dst = out.ptr<float>(y);
       for (std::size_t i = 0; i < n; ++i) {
-        const float v = src[i];
+        const float v = static_cast<float>(src[i]);
         dst[i] = std::isnan(v) ? 0.0f : std::clamp(v, -1e30f, 1e30f);
       }
     }
@@ -63,6 +64,10 @@ cv::Mat flipped_finite(const cv::Mat& raw) {
 }
 
 }  // namespace
+
+// The image's attachments: color, normal, position (+ depth), shadow. Color
+// is half float: 11 significant bits, 1/2048 relative, far below 1/255.
+constexpr GLenum formats[4] = {GL_RGBA16F, GL_RGBA16F, GL_RGBA32F, GL_RGBA16F};
 
 struct Rasterizer::State {
   GlContext context;
@@ -149,7 +154,6 @@ Rasterizer::State::Targets& Rasterizer::State::image_targets(int W, int H, int s
   t.height = H;
   t.samples = samples;
   t.attachments = attachments;
-  const GLenum formats[4] = {GL_RGBA16F, GL_RGBA16F, GL_RGBA32F, GL_RGBA16F};
   gl.CreateFramebuffers(1, &t.msaa);
   gl.CreateFramebuffers(1, &t.resolve);
   GLenum draw_buffers[4];
@@ -158,7 +162,7 @@ Rasterizer::State::Targets& Rasterizer::State::image_targets(int W, int H, int s
     gl.TextureStorage2DMultisample(t.ms_tex[a], samples, formats[a], W, H, GL_TRUE);
     gl.NamedFramebufferTexture(t.msaa, GL_COLOR_ATTACHMENT0 + a, t.ms_tex[a], 0);
     gl.CreateTextures(GL_TEXTURE_2D, 1, &t.rs_tex[a]);
-    gl.TextureStorage2D(t.rs_tex[a], 1, a == 0 ? GL_RGBA32F : formats[a], W, H);
+    gl.TextureStorage2D(t.rs_tex[a], 1, formats[a], W, H);
     gl.NamedFramebufferTexture(t.resolve, GL_COLOR_ATTACHMENT0 + a, t.rs_tex[a], 0);
     draw_buffers[a] = GL_COLOR_ATTACHMENT0 + a;
   }
@@ -513,10 +517,13 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
     gl.BlitNamedFramebuffer(msaa, resolve, 0, 0, W, H, 0, 0, W, H, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     gl.BindFramebuffer(GL_READ_FRAMEBUFFER, resolve);
     gl.NamedFramebufferReadBuffer(resolve, attachment);
-    cv::Mat raw(H, W, CV_32FC4);
+    // Half-float attachments are read as stored (half the bytes, no
+    // conversion on this thread) and widened in the parallel flip.
+    const bool half = formats[a] == GL_RGBA16F;
+    cv::Mat raw(H, W, half ? CV_16FC4 : CV_32FC4);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl.ReadPixels(0, 0, W, H, GL_RGBA, GL_FLOAT, raw.data);
-    cv::Mat rgba = flipped_finite(raw);
+    gl.ReadPixels(0, 0, W, H, GL_RGBA, half ? GL_HALF_FLOAT : GL_FLOAT, raw.data);
+    cv::Mat rgba = half ? flipped_finite<cv::float16_t>(raw) : flipped_finite<float>(raw);
     if (a == 1) cv::cvtColor(rgba, rgba, cv::COLOR_RGBA2RGB);
     if (a == 3) cv::extractChannel(rgba, rgba, 0);
     *targets[a] = rgba;
