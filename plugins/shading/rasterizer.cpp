@@ -76,7 +76,7 @@ struct Rasterizer::State {
   float line_width_range[2] = {1, 1};
   GLuint empty_vao = 0;
   std::unique_ptr<GpuCache> gpu_cache;  // core profile: a draw needs a vertex array, even one without attributes
-  std::unique_ptr<GlProgram> depth, depth_tess, sphere_depth, line, background;
+  std::unique_ptr<GlProgram> depth, depth_only, depth_tess, sphere_depth, line, background;
   // The image's framebuffers, kept while the size, samples and attachments
   // stay the same: llvmpipe allocates (and the kernel zeroes) every sample in
   // host memory, ~100 MB at 1080p with 4x MSAA, a cost worth paying once.
@@ -213,6 +213,8 @@ Rasterizer::Rasterizer() {
   const GlApi& gl = state_->gl();
   using namespace glsl;
   auto& s = *state_;
+  s.depth_only = std::make_unique<GlProgram>(gl, "depth only", std::vector<std::pair<GLenum, const char*>>{
+      {GL_VERTEX_SHADER, mesh_vertex}, {GL_FRAGMENT_SHADER, empty_fragment}});
   s.depth = std::make_unique<GlProgram>(gl, "shadow depth", std::vector<std::pair<GLenum, const char*>>{
       {GL_VERTEX_SHADER, mesh_vertex}, {GL_FRAGMENT_SHADER, depth_fragment}});
   s.depth_tess = std::make_unique<GlProgram>(gl, "displaced shadow depth", std::vector<std::pair<GLenum, const char*>>{
@@ -243,6 +245,7 @@ Rasterizer::~Rasterizer() {
   if (state_->environment.texture) state_->gl().DeleteTextures(1, &state_->environment.texture);
   state_->lit.clear();
   state_->depth.reset();
+  state_->depth_only.reset();
   state_->depth_tess.reset();
   state_->sphere_depth.reset();
   state_->background.reset();
@@ -301,6 +304,8 @@ void set_lighting(GlProgram& p, const Scene& scene, const std::vector<ShadowMap>
     p.set(("u_shadow_axis" + k).c_str(), v.axis);
     p.set(("u_shadow_texel" + k).c_str(), v.texel);
     p.set(("u_shadow_resolution" + k).c_str(), o.shadow_resolution);
+    p.set(("u_shadow_depth_range" + k).c_str(),
+          v.ortho ? Eigen::Vector2d(v.near_plane, v.far_plane - v.near_plane) : Eigen::Vector2d(0, 1));
   }
 }
 
@@ -368,7 +373,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   // Shadow maps.
   t = Clock::now();
   std::vector<ShadowMap> maps =
-      render_shadow_maps(gl, {*s.depth, *s.depth_tess, *s.sphere_depth}, gpu, scene, box, options);
+      render_shadow_maps(gl, {*s.depth, *s.depth_only, *s.depth_tess, *s.sphere_depth}, gpu, scene, box, options);
   gl.Finish();
   time.shadows = since(t);
 

@@ -135,6 +135,7 @@ uniform vec3 u_shadow_origin[MAX_SHADOWS];
 uniform vec3 u_shadow_axis[MAX_SHADOWS];
 uniform float u_shadow_texel[MAX_SHADOWS];     // texel size in scene units (at unit depth if perspective)
 uniform int u_shadow_resolution[MAX_SHADOWS];
+uniform vec2 u_shadow_depth_range[MAX_SHADOWS];  // stored -> metric: x + y * stored (ortho maps hold depth01)
 uniform sampler2D u_shadow_map[MAX_SHADOWS];
 uniform samplerCube u_shadow_cube[MAX_SHADOWS];
 
@@ -156,7 +157,7 @@ float stored_depth(int s, bool cube, vec2 uv, vec3 dir, vec3 t, vec3 b, vec2 off
   int n = u_shadow_resolution[s];
   ivec2 texel = ivec2(floor(uv * float(n) + off));
   if (any(lessThan(texel, ivec2(0))) || any(greaterThanEqual(texel, ivec2(n)))) return 1e30;
-  return texelFetch(u_shadow_map[s], texel, 0).r;
+  return u_shadow_depth_range[s].x + u_shadow_depth_range[s].y * texelFetch(u_shadow_map[s], texel, 0).r;
 }
 
 // Fraction of the light seen from P: shadow-map test with a constant plus
@@ -223,14 +224,15 @@ float visibility(int s, int kind, vec3 P, vec3 N, vec3 L) {
 #if SHADOW_FILTER == 2
   if (!cube) {
     // The same n x n texels as one texelFetch each, 2 x 2 per textureGather
-    // (a quarter of the lookups). Texels past the edge read the border, 1e30:
-    // nothing there, lit. Gather order: (x0,y1) (x1,y1) (x1,y0) (x0,y0).
+    // (a quarter of the lookups). Texels past the edge read the border (1e30,
+    // or depth 1 = the far plane for ortho maps): nothing there, lit. Gather order: (x0,y1) (x1,y1) (x1,y0) (x0,y0).
     int res = u_shadow_resolution[s];
     ivec2 t0 = ivec2(floor(uv * float(res) - 0.5 * float(n - 1)));
     float lit = 0.0;
     for (int gy = 0; gy < n; gy += 2)
       for (int gx = 0; gx < n; gx += 2) {
-        vec4 z = textureGather(u_shadow_map[s], vec2(t0 + ivec2(gx + 1, gy + 1)) / float(res), 0);
+        vec4 z = u_shadow_depth_range[s].x +
+                 u_shadow_depth_range[s].y * textureGather(u_shadow_map[s], vec2(t0 + ivec2(gx + 1, gy + 1)) / float(res), 0);
         float wx = gx + 1 < n ? 1.0 : 0.0, wy = gy + 1 < n ? 1.0 : 0.0;
         lit += dot(vec4(greaterThanEqual(z, vec4(d - bias))), vec4(wy, wx * wy, wx, 1.0));
       }
@@ -396,6 +398,10 @@ void main() {
 }
 )";
 }
+
+const char* const empty_fragment = R"(#version 450 core
+void main() {}
+)";
 
 const char* const depth_fragment = R"(#version 450 core
 in Surface )" LOOM_SURFACE_BLOCK R"( v;

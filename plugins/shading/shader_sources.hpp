@@ -40,6 +40,7 @@ extern const char* const mesh_tess_eval;      // displacement along the interpol
 // Blinn-Phong, normal and displacement maps, shadows. `defines`: lighting_defines
 // plus HAS_BASE_MAP, HAS_NORMAL_MAP, HAS_DISPLACEMENT (0 or 1).
 std::string mesh_fragment(const std::string& defines);
+extern const char* const empty_fragment;      // depth only
 extern const char* const depth_fragment;      // shadow maps: the light's depth metric
 extern const char* const sphere_vertex;       // point sets as sphere impostors
 extern const char* const sphere_geometry;
