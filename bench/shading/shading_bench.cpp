@@ -56,14 +56,15 @@ Scene speed_scene(int triangles) {
   return s;
 }
 
-void speed(bool quick) {
-  bench::Csv csv("shading_speed", {"case", "triangles", "width", "height", "seconds", "cpu_seconds", "shadow_s",
+// only_target: context, first frame and the steady target row, nothing else.
+void speed(bool quick, bool only_target = false) {
+  bench::Csv csv("shading_speed", {"case", "triangles", "width", "height", "seconds", "cpu_seconds", "upload_s", "shadow_s",
                                    "draw_s", "readback_s", "load1"});
   const auto t0 = Clock::now();
   const double c0 = loom::bench::process_cpu_seconds();
   Rasterizer r;
   const double create = since(t0);
-  csv.row({"context+programs", 0LL, 0LL, 0LL, create, loom::bench::process_cpu_seconds() - c0, 0.0, 0.0, 0.0, loom::bench::load_average()});
+  csv.row({"context+programs", 0LL, 0LL, 0LL, create, loom::bench::process_cpu_seconds() - c0, 0.0, 0.0, 0.0, 0.0, loom::bench::load_average()});
   RenderOptions o;
   o.width = 1920;
   o.height = 1080;
@@ -77,7 +78,7 @@ void speed(bool quick) {
   const auto t1 = Clock::now();
   const double c1 = loom::bench::process_cpu_seconds();
   r.render(target, o, &first);
-  csv.row({"first frame", tris, 1920LL, 1080LL, since(t1), loom::bench::process_cpu_seconds() - c1, first.shadows, first.draw,
+  csv.row({"first frame", tris, 1920LL, 1080LL, since(t1), loom::bench::process_cpu_seconds() - c1, first.upload, first.shadows, first.draw,
            first.readback, loom::bench::load_average()});
   auto steady = [&](const Scene& s, const RenderOptions& opt, const char* label, int runs) {
     RenderTimings t;
@@ -93,9 +94,19 @@ void speed(bool quick) {
     long long n = 0;
     for (const auto& ob : s.objects) n += ob.mesh->faces();
     csv.row({label, n, static_cast<long long>(opt.width), static_cast<long long>(opt.height), m.median,
-             cpu[cpu.size() / 2], t.shadows, t.draw, t.readback, loom::bench::load_average()});
+             cpu[cpu.size() / 2], t.upload, t.shadows, t.draw, t.readback, loom::bench::load_average()});
   };
   steady(target, o, "steady 1080p", 5);
+  RenderOptions no_shadow = o;
+  no_shadow.shadows = ShadowFilter::off;
+  steady(target, no_shadow, "no shadows 1080p", 3);
+  RenderOptions no_msaa = o;
+  no_msaa.samples = 1;
+  steady(target, no_msaa, "no MSAA 1080p", 3);
+  if (only_target) {
+    csv.save();
+    return;
+  }
   for (int n : quick ? std::vector<int>{10000, 100000} : std::vector<int>{10000, 30000, 100000, 300000, 1000000})
     steady(speed_scene(n), o, "triangles", 3);
   for (auto [w, h] : std::vector<std::pair<int, int>>{{640, 360}, {1280, 720}, {1920, 1080}, {2560, 1440}}) {
@@ -104,12 +115,6 @@ void speed(bool quick) {
     ro.height = h;
     steady(target, ro, "resolution", 3);
   }
-  RenderOptions no_shadow = o;
-  no_shadow.shadows = ShadowFilter::off;
-  steady(target, no_shadow, "no shadows 1080p", 3);
-  RenderOptions no_msaa = o;
-  no_msaa.samples = 1;
-  steady(target, no_msaa, "no MSAA 1080p", 3);
   csv.save();
   bench::Csv tri("shading_triangles", {"time", "triangles", "seconds"});
   bench::Csv res("shading_resolution", {"time", "megapixels", "seconds"});
@@ -313,7 +318,7 @@ void denoising() {
 
 int main(int argc, char** argv) {
   loom::bench::handle_help(argc, argv,
-                           "bench_shading [--quick] [speed|shadows|bias|pcf|normals|denoise ...]\n"
+                           "bench_shading [--quick] [speed|target|shadows|bias|pcf|normals|denoise ...]\n"
                            "Writes shading_*.csv, shadow_*.csv, normal_mapping.csv, denoising*.csv and plots\n"
                            "to bench/results (or $LOOM_BENCH_OUT). Without a part name runs all.");
   bool quick = false;
@@ -327,6 +332,7 @@ int main(int argc, char** argv) {
   }
   auto want = [&](const char* p) { return parts.empty() || std::find(parts.begin(), parts.end(), p) != parts.end(); };
   if (want("speed")) speed(quick);
+  if (!parts.empty() && want("target")) speed(quick, true);
   if (want("shadows")) shadow_resolution(quick);
   if (want("bias") || want("shadows")) shadow_bias(quick);
   if (want("pcf") || want("shadows")) shadow_pcf();

@@ -18,29 +18,82 @@ std::vector<unsigned> indices(const Eigen::MatrixXi& m) {
   const Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> r = m;
   return std::vector<unsigned>(r.data(), r.data() + r.size());
 }
-}  // namespace
 
-GLuint GpuScene::buffer(const void* data, std::size_t bytes) {
+GLuint buffer(const GlApi& gl, GpuCache::Geometry& g, const void* data, std::size_t bytes) {
   GLuint b = 0;
-  gl_.CreateBuffers(1, &b);
-  gl_.NamedBufferData(b, static_cast<GLsizeiptr>(bytes), data, GL_STATIC_DRAW);
-  buffers_.push_back(b);
+  gl.CreateBuffers(1, &b);
+  gl.NamedBufferData(b, static_cast<GLsizeiptr>(bytes), data, GL_STATIC_DRAW);
+  g.buffers.push_back(b);
   return b;
 }
 
-void GpuScene::attribute(GpuObject& o, GLuint location, GLuint b, int components) {
-  gl_.VertexArrayVertexBuffer(o.vao, location, b, 0, static_cast<GLsizei>(components * sizeof(float)));
-  gl_.VertexArrayAttribFormat(o.vao, location, components, GL_FLOAT, GL_FALSE, 0);
-  gl_.VertexArrayAttribBinding(o.vao, location, location);
-  gl_.EnableVertexArrayAttrib(o.vao, location);
+void attribute(const GlApi& gl, GpuCache::Geometry& g, GLuint location, const Eigen::MatrixXd& values) {
+  const auto f = floats(values);
+  const int components = static_cast<int>(values.cols());
+  const GLuint b = buffer(gl, g, f.data(), f.size() * sizeof(float));
+  gl.VertexArrayVertexBuffer(g.vao, location, b, 0, static_cast<GLsizei>(components * sizeof(float)));
+  gl.VertexArrayAttribFormat(g.vao, location, components, GL_FLOAT, GL_FALSE, 0);
+  gl.VertexArrayAttribBinding(g.vao, location, location);
+  gl.EnableVertexArrayAttrib(g.vao, location);
 }
+
+void elements(const GlApi& gl, GpuCache::Geometry& g, const Eigen::MatrixXi& m) {
+  const auto idx = indices(m);
+  gl.VertexArrayElementBuffer(g.vao, buffer(gl, g, idx.data(), idx.size() * sizeof(unsigned)));
+  g.count = static_cast<GLsizei>(idx.size());
+}
+
+GpuCache::Geometry mesh_geometry(const GlApi& gl, const Mesh& m) {
+  GpuCache::Geometry g;
+  gl.CreateVertexArrays(1, &g.vao);
+  const Eigen::MatrixX3d N = m.has_normals() ? Eigen::MatrixX3d(m.N) : vertex_normals(m.V, m.F);
+  const Eigen::MatrixX2d UV = m.has_uv() ? Eigen::MatrixX2d(m.UV) : Eigen::MatrixX2d::Zero(m.V.rows(), 2);
+  Eigen::MatrixX3d dPdu, dPdv;
+  if (m.has_uv()) {
+    uv_tangents(m.V, m.F, m.UV, dPdu, dPdv);
+  } else {
+    dPdu = dPdv = Eigen::MatrixX3d::Zero(m.V.rows(), 3);
+  }
+  attribute(gl, g, 0, m.V);
+  attribute(gl, g, 1, N);
+  attribute(gl, g, 2, UV);
+  attribute(gl, g, 3, dPdu);
+  attribute(gl, g, 4, dPdv);
+  attribute(gl, g, 5, m.has_colors() ? Eigen::MatrixX3d(m.C) : Eigen::MatrixX3d::Ones(m.V.rows(), 3));
+  elements(gl, g, m.F);
+  return g;
+}
+
+GpuCache::Geometry point_geometry(const GlApi& gl, const PointSet& p) {
+  GpuCache::Geometry g;
+  gl.CreateVertexArrays(1, &g.vao);
+  attribute(gl, g, 0, p.P);
+  attribute(gl, g, 1, p.has_radius() ? Eigen::VectorXd(p.radius) : Eigen::VectorXd::Ones(p.P.rows()));
+  attribute(gl, g, 2, p.has_colors() ? Eigen::MatrixX3d(p.C) : Eigen::MatrixX3d::Ones(p.P.rows(), 3));
+  g.count = static_cast<GLsizei>(p.P.rows());
+  return g;
+}
+
+GpuCache::Geometry line_geometry(const GlApi& gl, const Polylines& l) {
+  GpuCache::Geometry g;
+  gl.CreateVertexArrays(1, &g.vao);
+  attribute(gl, g, 0, l.P);
+  attribute(gl, g, 5, l.has_colors() ? Eigen::MatrixX3d(l.C) : Eigen::MatrixX3d::Ones(l.P.rows(), 3));
+  elements(gl, g, l.E);
+  return g;
+}
+
+}  // namespace
 
 // Images are stored top row first; GL's t = 0 is the first row uploaded, so
 // the shaders look up (u, 1 - v). Gray maps are read as gray in every channel.
-GLuint GpuScene::texture(const std::shared_ptr<const Image>& image, bool color) {
+GLuint GpuCache::texture(const std::shared_ptr<const Image>& image, bool color) {
   if (!image || image->empty()) return 0;
-  auto it = textures_.find(image.get());
-  if (it != textures_.end()) return it->second;
+  auto it = textures_.find({image.get(), color});
+  if (it != textures_.end()) {
+    it->second.used = true;
+    return it->second.texture;
+  }
   const Image linear = color && image->encoding == Encoding::srgb ? with_encoding(*image, Encoding::linear) : *image;
   cv::Mat px = linear.pixels.isContinuous() ? linear.pixels : linear.pixels.clone();
   const int ch = px.channels();
@@ -62,75 +115,65 @@ GLuint GpuScene::texture(const std::shared_ptr<const Image>& image, bool color) 
     const GLint swizzle[] = {GL_RED, GL_RED, GL_RED, ch == 2 ? GL_GREEN : GL_ONE};
     gl_.TextureParameteriv(t, GL_TEXTURE_SWIZZLE_RGBA, swizzle);
   }
-  textures_.emplace(image.get(), t);
+  textures_.emplace(std::make_pair(image.get(), color), TextureEntry{image, t, true});
   return t;
 }
 
-GpuScene::GpuScene(const GlApi& gl, const Scene& scene) : gl_(gl) {
-  for (const SceneObject& object : scene.objects) {
-    GpuObject o;
-    o.source = &object;
-    gl_.CreateVertexArrays(1, &o.vao);
-    if (object.mesh) {
-      const Mesh& m = *object.mesh;
-      o.kind = GpuObject::Kind::mesh;
-      const Eigen::MatrixX3d N = m.has_normals() ? Eigen::MatrixX3d(m.N) : vertex_normals(m.V, m.F);
-      const Eigen::MatrixX2d UV = m.has_uv() ? Eigen::MatrixX2d(m.UV) : Eigen::MatrixX2d::Zero(m.V.rows(), 2);
-      Eigen::MatrixX3d dPdu, dPdv;
-      if (m.has_uv()) {
-        uv_tangents(m.V, m.F, m.UV, dPdu, dPdv);
-      } else {
-        dPdu = dPdv = Eigen::MatrixX3d::Zero(m.V.rows(), 3);
-      }
-      const Eigen::MatrixX3d C = m.has_colors() ? Eigen::MatrixX3d(m.C) : Eigen::MatrixX3d::Ones(m.V.rows(), 3);
-      const auto upload = [&](GLuint location, const Eigen::MatrixXd& values) {
-        const auto f = floats(values);
-        attribute(o, location, buffer(f.data(), f.size() * sizeof(float)), static_cast<int>(values.cols()));
-      };
-      upload(0, m.V);
-      upload(1, N);
-      upload(2, UV);
-      upload(3, dPdu);
-      upload(4, dPdv);
-      upload(5, C);
-      const auto idx = indices(m.F);
-      gl_.VertexArrayElementBuffer(o.vao, buffer(idx.data(), idx.size() * sizeof(unsigned)));
-      o.count = static_cast<GLsizei>(idx.size());
-      o.base_map = texture(object.material.base_color_map, true);
-      o.normal_map = texture(object.material.normal_map, false);
-      o.displacement_map = texture(object.material.displacement_map, false);
-    } else if (object.points) {
-      const PointSet& p = *object.points;
-      o.kind = GpuObject::Kind::points;
-      const auto fp = floats(p.P);
-      attribute(o, 0, buffer(fp.data(), fp.size() * sizeof(float)), 3);
-      const Eigen::VectorXd r = p.has_radius() ? Eigen::VectorXd(p.radius) : Eigen::VectorXd::Ones(p.P.rows());
-      const auto fr = floats(r);
-      attribute(o, 1, buffer(fr.data(), fr.size() * sizeof(float)), 1);
-      const Eigen::MatrixX3d C = p.has_colors() ? Eigen::MatrixX3d(p.C) : Eigen::MatrixX3d::Ones(p.P.rows(), 3);
-      const auto fc = floats(C);
-      attribute(o, 2, buffer(fc.data(), fc.size() * sizeof(float)), 3);
-      o.count = static_cast<GLsizei>(p.P.rows());
-    } else if (object.lines) {
-      const Polylines& l = *object.lines;
-      o.kind = GpuObject::Kind::lines;
-      const auto fp = floats(l.P);
-      attribute(o, 0, buffer(fp.data(), fp.size() * sizeof(float)), 3);
-      const Eigen::MatrixX3d C = l.has_colors() ? Eigen::MatrixX3d(l.C) : Eigen::MatrixX3d::Ones(l.P.rows(), 3);
-      const auto fc = floats(C);
-      attribute(o, 5, buffer(fc.data(), fc.size() * sizeof(float)), 3);
-      const auto idx = indices(l.E);
-      gl_.VertexArrayElementBuffer(o.vao, buffer(idx.data(), idx.size() * sizeof(unsigned)));
-      o.count = static_cast<GLsizei>(idx.size());
+void GpuCache::release(Geometry& g) {
+  gl_.DeleteVertexArrays(1, &g.vao);
+  if (!g.buffers.empty()) gl_.DeleteBuffers(static_cast<GLsizei>(g.buffers.size()), g.buffers.data());
+}
+
+void GpuCache::release_unused() {
+  for (auto it = geometry_.begin(); it != geometry_.end();) {
+    if (it->second.used) {
+      it->second.used = false;
+      ++it;
+    } else {
+      release(it->second.geometry);
+      it = geometry_.erase(it);
     }
-    objects_.push_back(o);
+  }
+  for (auto it = textures_.begin(); it != textures_.end();) {
+    if (it->second.used) {
+      it->second.used = false;
+      ++it;
+    } else {
+      gl_.DeleteTextures(1, &it->second.texture);
+      it = textures_.erase(it);
+    }
   }
 }
 
-GpuScene::~GpuScene() {
-  for (const GpuObject& o : objects_) gl_.DeleteVertexArrays(1, &o.vao);
-  if (!buffers_.empty()) gl_.DeleteBuffers(static_cast<GLsizei>(buffers_.size()), buffers_.data());
-  for (const auto& [image, t] : textures_) gl_.DeleteTextures(1, &t);
+GpuCache::~GpuCache() {
+  for (auto& [key, e] : geometry_) release(e.geometry);
+  for (auto& [key, e] : textures_) gl_.DeleteTextures(1, &e.texture);
+}
+
+GpuScene::GpuScene(const GlApi& gl, const Scene& scene, GpuCache& cache) {
+  for (const SceneObject& object : scene.objects) {
+    GpuObject o;
+    o.source = &object;
+    const GpuCache::Geometry* g = nullptr;
+    if (object.mesh) {
+      o.kind = GpuObject::Kind::mesh;
+      g = &cache.geometry(object.mesh, [&] { return mesh_geometry(gl, *object.mesh); });
+      o.base_map = cache.texture(object.material.base_color_map, true);
+      o.normal_map = cache.texture(object.material.normal_map, false);
+      o.displacement_map = cache.texture(object.material.displacement_map, false);
+    } else if (object.points) {
+      o.kind = GpuObject::Kind::points;
+      g = &cache.geometry(object.points, [&] { return point_geometry(gl, *object.points); });
+    } else if (object.lines) {
+      o.kind = GpuObject::Kind::lines;
+      g = &cache.geometry(object.lines, [&] { return line_geometry(gl, *object.lines); });
+    }
+    if (g) {
+      o.vao = g->vao;
+      o.count = g->count;
+    }
+    objects_.push_back(o);
+  }
 }
 
 Eigen::Matrix3d normal_matrix(const Eigen::Matrix4d& model) {

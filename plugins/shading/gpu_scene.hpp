@@ -1,9 +1,14 @@
-// A Scene's geometry and textures on the GPU for one render: vertex arrays
-// (meshes with normals, UVs, tangents and colors; point sets; line sets) and
-// the materials' maps. Created and destroyed with the context current.
+// A Scene's geometry and textures on the GPU: vertex arrays (meshes with
+// normals, UVs, tangents and colors; point sets; line sets) and the
+// materials' maps. They stay in a GpuCache between renders, keyed by the
+// address of the immutable value they were made from (held, so the address
+// stays valid): a static mesh is uploaded once, not every frame. Created and
+// destroyed with the context current.
 #pragma once
 
 #include <map>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "gl_api.hpp"
@@ -15,9 +20,50 @@ struct GpuObject {
   enum class Kind { mesh, points, lines } kind = Kind::mesh;
   const SceneObject* source = nullptr;
   GLuint vao = 0;
-  std::vector<GLuint> buffers;
   GLsizei count = 0;  // indices (mesh, lines) or points
   GLuint base_map = 0, normal_map = 0, displacement_map = 0;
+};
+
+class GpuCache {
+ public:
+  explicit GpuCache(const GlApi& gl) : gl_(gl) {}
+  ~GpuCache();
+  GpuCache(const GpuCache&) = delete;
+  GpuCache& operator=(const GpuCache&) = delete;
+
+  struct Geometry {
+    GLuint vao = 0;
+    std::vector<GLuint> buffers;
+    GLsizei count = 0;
+  };
+  // The geometry made from `owner`, made by `make` the first time.
+  template <class Make>
+  const Geometry& geometry(const std::shared_ptr<const void>& owner, Make make) {
+    auto it = geometry_.find(owner.get());
+    if (it == geometry_.end()) it = geometry_.emplace(owner.get(), GeometryEntry{owner, make(), false}).first;
+    it->second.used = true;
+    return it->second.geometry;
+  }
+  // The texture of an image (0 for none), uploaded the first time.
+  GLuint texture(const std::shared_ptr<const Image>& image, bool color);
+  // Releases what no render used since the last call.
+  void release_unused();
+
+ private:
+  struct GeometryEntry {
+    std::shared_ptr<const void> owner;
+    Geometry geometry;
+    bool used = false;
+  };
+  struct TextureEntry {
+    std::shared_ptr<const Image> owner;
+    GLuint texture = 0;
+    bool used = false;
+  };
+  void release(Geometry& g);
+  const GlApi& gl_;
+  std::map<const void*, GeometryEntry> geometry_;
+  std::map<std::pair<const Image*, bool>, TextureEntry> textures_;
 };
 
 // (M^-1)^T of the model matrix's linear part: how normals transform.
@@ -30,22 +76,12 @@ void draw_patches(const GlApi& gl, GLsizei count, int level);
 
 class GpuScene {
  public:
-  GpuScene(const GlApi& gl, const Scene& scene);
-  ~GpuScene();
-  GpuScene(const GpuScene&) = delete;
-  GpuScene& operator=(const GpuScene&) = delete;
+  GpuScene(const GlApi& gl, const Scene& scene, GpuCache& cache);
 
   const std::vector<GpuObject>& objects() const { return objects_; }
 
  private:
-  GLuint buffer(const void* data, std::size_t bytes);
-  GLuint texture(const std::shared_ptr<const Image>& image, bool color);
-  void attribute(GpuObject& o, GLuint location, GLuint buffer, int components);
-
-  const GlApi& gl_;
   std::vector<GpuObject> objects_;
-  std::vector<GLuint> buffers_;
-  std::map<const Image*, GLuint> textures_;
 };
 
 }  // namespace loom::shading

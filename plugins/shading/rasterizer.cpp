@@ -3,13 +3,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <string>
 
 #include <opencv2/imgproc.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "gl_context.hpp"
 #include "gl_program.hpp"
 #include "gpu_scene.hpp"
+#include "irradiance_sh.hpp"
 #include "loom/error.hpp"
 #include "shader_sources.hpp"
 #include "shadow_pass.hpp"
@@ -39,17 +43,166 @@ Eigen::Vector3d ambient_of(const Environment& env) {
 }
 
 
+// GL's rows go bottom-up: the image top row first, as float, with no NaN or
+// infinity (a degenerate frame could make one), in one parallel pass.
+template <class Texel>
+cv::Mat flipped_finite(const cv::Mat& raw) {
+  cv::Mat out(raw.size(), CV_32FC4);
+  const int H = raw.rows;
+  const std::size_t n = static_cast<std::size_t>(raw.cols) * 4;
+  tbb::parallel_for(tbb::blocked_range<int>(0, H, 16), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      const Texel* src = raw.ptr<Texel>(H - 1 - y);
+      float* dst = out.ptr<float>(y);
+      for (std::size_t i = 0; i < n; ++i) {
+        const float v = static_cast<float>(src[i]);
+        dst[i] = std::isnan(v) ? 0.0f : std::clamp(v, -1e30f, 1e30f);
+      }
+    }
+  });
+  return out;
+}
+
 }  // namespace
+
+// The image's attachments: color, normal, position (+ depth), shadow. Color
+// is half float: 11 significant bits, 1/2048 relative, far below 1/255.
+constexpr GLenum formats[4] = {GL_RGBA16F, GL_RGBA16F, GL_RGBA32F, GL_RGBA16F};
 
 struct Rasterizer::State {
   GlContext context;
   double context_seconds = 0, compile_seconds = 0;
   int max_samples = 1;
   float line_width_range[2] = {1, 1};
-  std::unique_ptr<GlProgram> mesh, mesh_tess, depth, depth_tess, sphere, line;
+  GLuint empty_vao = 0;
+  std::unique_ptr<GpuCache> gpu_cache;  // core profile: a draw needs a vertex array, even one without attributes
+  std::unique_ptr<GlProgram> depth, depth_only, depth_tess, sphere_depth, line, background;
+  // The image's framebuffers, kept while the size, samples and attachments
+  // stay the same: llvmpipe allocates (and the kernel zeroes) every sample in
+  // host memory, ~100 MB at 1080p with 4x MSAA, a cost worth paying once.
+  struct Targets {
+    int width = 0, height = 0, samples = 0, attachments = 0;
+    GLuint msaa = 0, resolve = 0, ms_tex[5] = {}, rs_tex[4] = {};
+  } targets;
+  void release_targets();
+  Targets& image_targets(int width, int height, int samples, int attachments);
+  // The environment map on the GPU and its SH irradiance, computed once per
+  // map and rotation (the map is held, so its address stays a valid key).
+  struct EnvironmentMap {
+    std::shared_ptr<const Image> map;
+    double rotation = 0;
+    GLuint texture = 0;
+    int levels = 0;
+    Sh9 irradiance;
+  } environment;
+  // The cached map for this environment, or null if it has none.
+  const EnvironmentMap* environment_map(const Environment& env);
+  // Lighting programs by kind and #defines, compiled when first needed.
+  std::map<std::string, std::unique_ptr<GlProgram>> lit;
 
   const GlApi& gl() const { return context.gl(); }
+  enum class Lit { mesh, mesh_tess, sphere };
+  GlProgram& lit_program(Lit kind, const std::string& defines);
 };
+
+const Rasterizer::State::EnvironmentMap* Rasterizer::State::environment_map(const Environment& env) {
+  if (!env.map || env.map->empty()) return nullptr;
+  EnvironmentMap& e = environment;
+  if (e.texture && e.map == env.map && e.rotation == env.rotation) return &e;
+  if (e.texture) gl().DeleteTextures(1, &e.texture);
+  e = EnvironmentMap{};
+  cv::Mat px;
+  env.map->pixels.convertTo(px, CV_32F);
+  if (px.channels() == 1) cv::cvtColor(px, px, cv::COLOR_GRAY2RGB);
+  if (px.channels() == 4) cv::cvtColor(px, px, cv::COLOR_RGBA2RGB);
+  if (px.channels() != 3) throw Error("environment map needs 1, 3 or 4 channels");
+  if (!px.isContinuous()) px = px.clone();
+  const GlApi& gl = this->gl();
+  e.levels = 1;
+  for (int n = std::max(px.cols, px.rows); n > 1; n /= 2) ++e.levels;
+  gl.CreateTextures(GL_TEXTURE_2D, 1, &e.texture);
+  gl.TextureStorage2D(e.texture, e.levels, GL_RGB32F, px.cols, px.rows);
+  gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  gl.TextureSubImage2D(e.texture, 0, 0, 0, px.cols, px.rows, GL_RGB, GL_FLOAT, px.data);
+  gl.GenerateTextureMipmap(e.texture);
+  gl.TextureParameteri(e.texture, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  gl.TextureParameteri(e.texture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  gl.TextureParameteri(e.texture, GL_TEXTURE_WRAP_S, GL_REPEAT);
+  gl.TextureParameteri(e.texture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  gl.check("uploading the environment map");
+  e.map = env.map;
+  e.rotation = env.rotation;
+  e.irradiance = sh9_irradiance_coefficients(sh9_project(*env.map, env.rotation));
+  return &e;
+}
+
+void Rasterizer::State::release_targets() {
+  if (!targets.msaa) return;
+  gl().DeleteFramebuffers(1, &targets.msaa);
+  gl().DeleteFramebuffers(1, &targets.resolve);
+  gl().DeleteTextures(5, targets.ms_tex);
+  gl().DeleteTextures(4, targets.rs_tex);
+  targets = Targets{};
+}
+
+Rasterizer::State::Targets& Rasterizer::State::image_targets(int W, int H, int samples, int attachments) {
+  Targets& t = targets;
+  if (t.msaa && t.width == W && t.height == H && t.samples == samples && t.attachments == attachments) return t;
+  release_targets();
+  const GlApi& gl = this->gl();
+  t.width = W;
+  t.height = H;
+  t.samples = samples;
+  t.attachments = attachments;
+  gl.CreateFramebuffers(1, &t.msaa);
+  gl.CreateFramebuffers(1, &t.resolve);
+  GLenum draw_buffers[4];
+  for (int a = 0; a < attachments; ++a) {
+    gl.CreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &t.ms_tex[a]);
+    gl.TextureStorage2DMultisample(t.ms_tex[a], samples, formats[a], W, H, GL_TRUE);
+    gl.NamedFramebufferTexture(t.msaa, GL_COLOR_ATTACHMENT0 + a, t.ms_tex[a], 0);
+    gl.CreateTextures(GL_TEXTURE_2D, 1, &t.rs_tex[a]);
+    gl.TextureStorage2D(t.rs_tex[a], 1, formats[a], W, H);
+    gl.NamedFramebufferTexture(t.resolve, GL_COLOR_ATTACHMENT0 + a, t.rs_tex[a], 0);
+    draw_buffers[a] = GL_COLOR_ATTACHMENT0 + a;
+  }
+  gl.CreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &t.ms_tex[4]);
+  gl.TextureStorage2DMultisample(t.ms_tex[4], samples, GL_DEPTH_COMPONENT32F, W, H, GL_TRUE);
+  gl.NamedFramebufferTexture(t.msaa, GL_DEPTH_ATTACHMENT, t.ms_tex[4], 0);
+  gl.NamedFramebufferDrawBuffers(t.msaa, attachments, draw_buffers);
+  if (gl.CheckNamedFramebufferStatus(t.msaa, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    release_targets();
+    throw Error("the render framebuffer is incomplete (" + std::to_string(W) + "x" + std::to_string(H) + ", " +
+                std::to_string(samples) + " samples)");
+  }
+  return t;
+}
+
+GlProgram& Rasterizer::State::lit_program(Lit kind, const std::string& defines) {
+  const std::string key = std::to_string(static_cast<int>(kind)) + defines;
+  auto it = lit.find(key);
+  if (it != lit.end()) return *it->second;
+  // A scene that keeps changing its lights could compile without end: start over.
+  if (lit.size() >= 64) lit.clear();
+  using namespace glsl;
+  std::unique_ptr<GlProgram> p;
+  if (kind == Lit::sphere) {
+    const std::string fragment = sphere_fragment(defines);
+    p = std::make_unique<GlProgram>(gl(), "sphere impostors", std::vector<std::pair<GLenum, const char*>>{
+        {GL_VERTEX_SHADER, sphere_vertex}, {GL_GEOMETRY_SHADER, sphere_geometry},
+        {GL_FRAGMENT_SHADER, fragment.c_str()}});
+  } else {
+    const std::string fragment = mesh_fragment(defines);
+    if (kind == Lit::mesh)
+      p = std::make_unique<GlProgram>(gl(), "mesh", std::vector<std::pair<GLenum, const char*>>{
+          {GL_VERTEX_SHADER, mesh_vertex}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
+    else
+      p = std::make_unique<GlProgram>(gl(), "displaced mesh", std::vector<std::pair<GLenum, const char*>>{
+          {GL_VERTEX_SHADER, mesh_vertex}, {GL_TESS_CONTROL_SHADER, mesh_tess_control},
+          {GL_TESS_EVALUATION_SHADER, mesh_tess_eval}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
+  }
+  return *lit.emplace(key, std::move(p)).first->second;
+}
 
 Rasterizer::Rasterizer() {
   const auto t0 = Clock::now();
@@ -60,21 +213,21 @@ Rasterizer::Rasterizer() {
   const GlApi& gl = state_->gl();
   using namespace glsl;
   auto& s = *state_;
-  s.mesh = std::make_unique<GlProgram>(gl, "mesh", std::vector<std::pair<GLenum, const char*>>{
-      {GL_VERTEX_SHADER, mesh_vertex}, {GL_FRAGMENT_SHADER, mesh_fragment}});
-  s.mesh_tess = std::make_unique<GlProgram>(gl, "displaced mesh", std::vector<std::pair<GLenum, const char*>>{
-      {GL_VERTEX_SHADER, mesh_vertex}, {GL_TESS_CONTROL_SHADER, mesh_tess_control},
-      {GL_TESS_EVALUATION_SHADER, mesh_tess_eval}, {GL_FRAGMENT_SHADER, mesh_fragment}});
+  s.depth_only = std::make_unique<GlProgram>(gl, "depth only", std::vector<std::pair<GLenum, const char*>>{
+      {GL_VERTEX_SHADER, mesh_vertex}, {GL_FRAGMENT_SHADER, empty_fragment}});
   s.depth = std::make_unique<GlProgram>(gl, "shadow depth", std::vector<std::pair<GLenum, const char*>>{
       {GL_VERTEX_SHADER, mesh_vertex}, {GL_FRAGMENT_SHADER, depth_fragment}});
   s.depth_tess = std::make_unique<GlProgram>(gl, "displaced shadow depth", std::vector<std::pair<GLenum, const char*>>{
       {GL_VERTEX_SHADER, mesh_vertex}, {GL_TESS_CONTROL_SHADER, mesh_tess_control},
       {GL_TESS_EVALUATION_SHADER, mesh_tess_eval}, {GL_FRAGMENT_SHADER, depth_fragment}});
-  s.sphere = std::make_unique<GlProgram>(gl, "sphere impostors", std::vector<std::pair<GLenum, const char*>>{
+  const std::string sphere_depth_fragment = sphere_fragment(lighting_defines({}) + "#define DEPTH_PASS 1\n");
+  s.sphere_depth = std::make_unique<GlProgram>(gl, "sphere impostor depth", std::vector<std::pair<GLenum, const char*>>{
       {GL_VERTEX_SHADER, sphere_vertex}, {GL_GEOMETRY_SHADER, sphere_geometry},
-      {GL_FRAGMENT_SHADER, sphere_fragment}});
+      {GL_FRAGMENT_SHADER, sphere_depth_fragment.c_str()}});
   s.line = std::make_unique<GlProgram>(gl, "lines", std::vector<std::pair<GLenum, const char*>>{
       {GL_VERTEX_SHADER, line_vertex}, {GL_FRAGMENT_SHADER, line_fragment}});
+  gl.CreateVertexArrays(1, &s.empty_vao);
+  s.gpu_cache = std::make_unique<GpuCache>(gl);
   gl.GetIntegerv(GL_MAX_SAMPLES, &s.max_samples);
   GLint range[2] = {1, 1};
   gl.GetIntegerv(GL_ALIASED_LINE_WIDTH_RANGE, range);
@@ -87,11 +240,16 @@ Rasterizer::Rasterizer() {
 Rasterizer::~Rasterizer() {
   if (!state_) return;
   GlContext::Current current(state_->context);
-  state_->mesh.reset();
-  state_->mesh_tess.reset();
+  state_->release_targets();
+  state_->gpu_cache.reset();
+  if (state_->environment.texture) state_->gl().DeleteTextures(1, &state_->environment.texture);
+  state_->lit.clear();
   state_->depth.reset();
+  state_->depth_only.reset();
   state_->depth_tess.reset();
-  state_->sphere.reset();
+  state_->sphere_depth.reset();
+  state_->background.reset();
+  state_->gl().DeleteVertexArrays(1, &state_->empty_vao);
   state_->line.reset();
 }
 
@@ -102,29 +260,39 @@ const std::string& Rasterizer::renderer() const { return state_->context.rendere
 
 namespace {
 
+// Light a surface of this material reflects from the environment map, mirror-like
+// (the coat of plastic, F0 = base_color of a conductor); none for the others.
+Eigen::Vector3d environment_reflectance(const Material& m) {
+  if (m.model == Material::Model::plastic) return Eigen::Vector3d::Constant(m.specular);
+  if (m.model == Material::Model::conductor) return m.specular * m.base_color;
+  return Eigen::Vector3d::Zero();
+}
+
+template <class EnvironmentMap>
 void set_lighting(GlProgram& p, const Scene& scene, const std::vector<ShadowMap>& maps,
-                  const RenderOptions& o, const Eigen::Vector3d& eye, const Eigen::Vector3d& ambient) {
+                  const RenderOptions& o, const Eigen::Vector3d& eye, const Eigen::Vector3d& ambient,
+                  const EnvironmentMap* env) {
   bind_sampler_units(p);
   p.set("u_eye", eye);
   p.set("u_ambient", ambient);
+  if (env) {
+    for (int k = 0; k < 9; ++k)
+      p.set(("u_env_sh[" + std::to_string(k) + "]").c_str(), Eigen::Vector3d(env->irradiance[k] * scene.environment.intensity));
+    p.set("u_env_rotation", env->rotation);
+    p.set("u_env_intensity", scene.environment.intensity);
+    p.set("u_env_height", static_cast<double>(env->map->height()));
+    p.set("u_env_max_level", static_cast<double>(env->levels - 1));
+  }
   const int n = std::min<int>(static_cast<int>(scene.lights.size()), max_lights);
-  p.set("u_light_count", n);
   for (int i = 0; i < n; ++i) {
     const Light& l = scene.lights[i];
     const std::string k = "[" + std::to_string(i) + "]";
-    p.set(("u_light_kind" + k).c_str(), l.kind == Light::Kind::point ? 0 : l.kind == Light::Kind::spot ? 1 : 2);
     p.set(("u_light_position" + k).c_str(), l.position);
     p.set(("u_light_direction" + k).c_str(), Eigen::Vector3d(l.direction.normalized()));
     p.set(("u_light_radiance" + k).c_str(), Eigen::Vector3d(l.color * l.intensity));
     p.set(("u_spot_cos_inner" + k).c_str(), std::cos(l.spot_inner));
     p.set(("u_spot_cos_outer" + k).c_str(), std::cos(std::max(l.spot_outer, l.spot_inner + 1e-4)));
-    int slot = -1;
-    for (std::size_t m = 0; m < maps.size(); ++m)
-      if (maps[m].light == i) slot = static_cast<int>(m);
-    p.set(("u_light_shadow" + k).c_str(), slot);
   }
-  p.set("u_shadow_filter", o.shadows == ShadowFilter::pcss ? 2 : o.shadows == ShadowFilter::pcf ? 1 : 0);
-  p.set("u_pcf_size", o.pcf_size);
   p.set("u_bias", o.shadow_bias);
   p.set("u_slope_bias", o.shadow_slope_bias);
   p.set("u_light_size", o.light_size);
@@ -136,7 +304,29 @@ void set_lighting(GlProgram& p, const Scene& scene, const std::vector<ShadowMap>
     p.set(("u_shadow_axis" + k).c_str(), v.axis);
     p.set(("u_shadow_texel" + k).c_str(), v.texel);
     p.set(("u_shadow_resolution" + k).c_str(), o.shadow_resolution);
+    p.set(("u_shadow_depth_range" + k).c_str(),
+          v.ortho ? Eigen::Vector2d(v.near_plane, v.far_plane - v.near_plane) : Eigen::Vector2d(0, 1));
   }
+}
+
+// What the lighting programs are compiled for: each light's kind and shadow
+// slot, the shadow filter, the environment.
+LightingVariant lighting_variant(const Scene& scene, const std::vector<ShadowMap>& maps, const RenderOptions& o,
+                                 bool environment_map) {
+  LightingVariant v;
+  v.environment_map = environment_map;
+  const int n = std::min<int>(static_cast<int>(scene.lights.size()), max_lights);
+  for (int i = 0; i < n; ++i) {
+    const Light& l = scene.lights[i];
+    int slot = -1;
+    for (std::size_t m = 0; m < maps.size(); ++m)
+      if (maps[m].light == i) slot = static_cast<int>(m);
+    v.lights.emplace_back(l.kind == Light::Kind::point ? 0 : l.kind == Light::Kind::spot ? 1 : 2, slot);
+  }
+  if (!maps.empty())
+    v.shadow_filter = o.shadows == ShadowFilter::pcss ? 3 : o.shadows == ShadowFilter::pcf ? 2 : 1;
+  v.pcf_size = o.pcf_size;
+  return v;
 }
 
 }  // namespace
@@ -161,7 +351,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   const GlApi& gl = s.gl();
   auto t = Clock::now();
 
-  GpuScene gpu(gl, scene);
+  GpuScene gpu(gl, scene, *s.gpu_cache);
   const double aspect = static_cast<double>(options.width) / options.height;
   const Camera camera = scene.camera ? *scene.camera : framing_camera(scene, aspect);
   Eigen::Matrix4d view, proj;
@@ -183,7 +373,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   // Shadow maps.
   t = Clock::now();
   std::vector<ShadowMap> maps =
-      render_shadow_maps(gl, {*s.depth, *s.depth_tess, *s.sphere}, gpu, scene, box, options);
+      render_shadow_maps(gl, {*s.depth, *s.depth_only, *s.depth_tess, *s.sphere_depth}, gpu, scene, box, options);
   gl.Finish();
   time.shadows = since(t);
 
@@ -192,27 +382,11 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   const int W = options.width, H = options.height;
   const int samples = std::clamp(options.samples, 1, s.max_samples);
   const int attachments = options.aux ? 4 : 1;
-  const GLenum formats[4] = {GL_RGBA16F, GL_RGBA16F, GL_RGBA32F, GL_RGBA16F};
-  GLuint msaa = 0, resolve = 0, ms_tex[5] = {}, rs_tex[4] = {};
-  gl.CreateFramebuffers(1, &msaa);
-  gl.CreateFramebuffers(1, &resolve);
+  const State::Targets& fb = s.image_targets(W, H, samples, attachments);
+  const GLuint msaa = fb.msaa, resolve = fb.resolve;
   GLenum draw_buffers[4];
-  for (int a = 0; a < attachments; ++a) {
-    gl.CreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &ms_tex[a]);
-    gl.TextureStorage2DMultisample(ms_tex[a], samples, formats[a], W, H, GL_TRUE);
-    gl.NamedFramebufferTexture(msaa, GL_COLOR_ATTACHMENT0 + a, ms_tex[a], 0);
-    gl.CreateTextures(GL_TEXTURE_2D, 1, &rs_tex[a]);
-    gl.TextureStorage2D(rs_tex[a], 1, a == 0 ? GL_RGBA32F : formats[a], W, H);
-    gl.NamedFramebufferTexture(resolve, GL_COLOR_ATTACHMENT0 + a, rs_tex[a], 0);
-    draw_buffers[a] = GL_COLOR_ATTACHMENT0 + a;
-  }
-  gl.CreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &ms_tex[4]);
-  gl.TextureStorage2DMultisample(ms_tex[4], samples, GL_DEPTH_COMPONENT32F, W, H, GL_TRUE);
-  gl.NamedFramebufferTexture(msaa, GL_DEPTH_ATTACHMENT, ms_tex[4], 0);
+  for (int a = 0; a < attachments; ++a) draw_buffers[a] = GL_COLOR_ATTACHMENT0 + a;
   gl.NamedFramebufferDrawBuffers(msaa, attachments, draw_buffers);
-  if (gl.CheckNamedFramebufferStatus(msaa, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw Error("the render framebuffer is incomplete (" + std::to_string(W) + "x" + std::to_string(H) + ", " +
-                std::to_string(samples) + " samples)");
   gl.BindFramebuffer(GL_FRAMEBUFFER, msaa);
   gl.Viewport(0, 0, W, H);
   const Eigen::Vector3d bg = ambient;
@@ -230,6 +404,28 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   gl.ClearBufferfv(GL_DEPTH, 0, &one);
   const Eigen::Matrix4d vp = proj * view;
   const bool ortho = camera.projection == Camera::Projection::orthographic;
+  const State::EnvironmentMap* env = s.environment_map(scene.environment);
+  if (env) gl.BindTextureUnit(unit_environment, env->texture);
+  const std::string lighting = lighting_defines(lighting_variant(scene, maps, options, env != nullptr));
+  if (env) {
+    // The map behind the scene, at the far plane, no depth written.
+    if (!s.background) {
+      const std::string fragment = glsl::background_fragment();
+      s.background = std::make_unique<GlProgram>(gl, "environment background", std::vector<std::pair<GLenum, const char*>>{
+          {GL_VERTEX_SHADER, glsl::background_vertex}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
+    }
+    GlProgram& p = *s.background;
+    p.use();
+    set_lighting(p, scene, {}, options, camera.eye, ambient, env);
+    p.set("u_inverse_view_proj", Eigen::Matrix4d(vp.inverse()));
+    p.set("u_far", camera.far_plane);
+    gl.DepthMask(GL_FALSE);
+    gl.Disable(GL_DEPTH_TEST);
+    gl.BindVertexArray(s.empty_vao);
+    gl.DrawArrays(GL_TRIANGLES, 0, 3);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthMask(GL_TRUE);
+  }
   if (options.wireframe) {
     gl.Enable(GL_POLYGON_OFFSET_FILL);
     gl.PolygonOffset(1, 1);
@@ -239,9 +435,10 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
     const Material& mat = o.source->material;
     gl.BindVertexArray(o.vao);
     if (o.kind == GpuObject::Kind::points) {
-      GlProgram& p = *s.sphere;
+      GlProgram& p = s.lit_program(State::Lit::sphere, lighting + "#define DEPTH_PASS 0\n");
       p.use();
-      set_lighting(p, scene, maps, options, camera.eye, ambient);
+      set_lighting(p, scene, maps, options, camera.eye, ambient, env);
+      p.set("u_env_reflectance", environment_reflectance(mat));
       p.set("u_model", o.source->transform);
       p.set("u_radius_scale", o.source->points->has_radius() ? 1.0 : options.point_radius);
       p.set("u_view", view);
@@ -249,7 +446,6 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
       p.set("u_ortho", ortho);
       p.set("u_inverse_view_proj", Eigen::Matrix4d(vp.inverse()));
       p.set("u_viewport", Eigen::Vector2d(W, H));
-      p.set("u_depth_pass", false);
       p.set("u_specular", mat.specular);
       p.set("u_shininess", shininess(mat.roughness));
       gl.DrawArrays(GL_POINTS, 0, o.count);
@@ -264,9 +460,13 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
       gl.DrawElements(GL_LINES, o.count, GL_UNSIGNED_INT, nullptr);
     } else {
       const bool tess = displaced(o, options.tessellation);
-      GlProgram& p = tess ? *s.mesh_tess : *s.mesh;
+      const std::string defines = lighting + "#define HAS_BASE_MAP " + (o.base_map ? "1" : "0") +
+                                  "\n#define HAS_NORMAL_MAP " + (o.normal_map ? "1" : "0") +
+                                  "\n#define HAS_DISPLACEMENT " + (tess ? "1" : "0") + "\n";
+      GlProgram& p = s.lit_program(tess ? State::Lit::mesh_tess : State::Lit::mesh, defines);
       p.use();
-      set_lighting(p, scene, maps, options, camera.eye, ambient);
+      set_lighting(p, scene, maps, options, camera.eye, ambient, env);
+      p.set("u_env_reflectance", environment_reflectance(mat));
       p.set("u_model", o.source->transform);
       p.set("u_normal_matrix", normal_matrix(o.source->transform));
       p.set("u_view_proj", vp);
@@ -275,9 +475,6 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
       p.set("u_emission", mat.emission);
       p.set("u_specular", mat.specular);
       p.set("u_shininess", shininess(mat.roughness));
-      p.set("u_has_base_map", o.base_map != 0);
-      p.set("u_has_normal_map", o.normal_map != 0);
-      p.set("u_has_displacement", tess);
       p.set("u_displacement_scale", mat.displacement_scale);
       if (o.base_map) gl.BindTextureUnit(unit_base, o.base_map);
       if (o.normal_map) gl.BindTextureUnit(unit_normal, o.normal_map);
@@ -325,27 +522,23 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
     gl.BlitNamedFramebuffer(msaa, resolve, 0, 0, W, H, 0, 0, W, H, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     gl.BindFramebuffer(GL_READ_FRAMEBUFFER, resolve);
     gl.NamedFramebufferReadBuffer(resolve, attachment);
-    cv::Mat rgba(H, W, CV_32FC4);
+    // Half-float attachments are read as stored (half the bytes, no
+    // conversion on this thread) and widened in the parallel flip.
+    const bool half = formats[a] == GL_RGBA16F;
+    cv::Mat raw(H, W, half ? CV_16FC4 : CV_32FC4);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl.ReadPixels(0, 0, W, H, GL_RGBA, GL_FLOAT, rgba.data);
-    cv::flip(rgba, rgba, 0);
+    gl.ReadPixels(0, 0, W, H, GL_RGBA, half ? GL_HALF_FLOAT : GL_FLOAT, raw.data);
+    cv::Mat rgba = half ? flipped_finite<cv::float16_t>(raw) : flipped_finite<float>(raw);
     if (a == 1) cv::cvtColor(rgba, rgba, cv::COLOR_RGBA2RGB);
     if (a == 3) cv::extractChannel(rgba, rgba, 0);
-    // No NaN or infinity leaves the renderer (a degenerate frame could make one).
-    cv::patchNaNs(rgba, 0);
-    cv::min(rgba, 1e30, rgba);
-    cv::max(rgba, -1e30, rgba);
     *targets[a] = rgba;
   }
   gl.check("reading the image back");
   gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
   gl.BindVertexArray(0);
   gl.UseProgram(0);
-  gl.DeleteFramebuffers(1, &msaa);
-  gl.DeleteFramebuffers(1, &resolve);
-  gl.DeleteTextures(5, ms_tex);
-  gl.DeleteTextures(4, rs_tex);
   delete_shadow_maps(gl, maps);
+  s.gpu_cache->release_unused();
   for (GLuint u = 0; u < texture_units_used; ++u) gl.BindTextureUnit(u, 0);
   time.readback = since(t);
   return images;

@@ -1,6 +1,7 @@
 // Render: the scene through OpenGL 4.5 core on OSMesa's llvmpipe (headless):
 // Blinn-Phong, normal and displacement maps, shadow maps (hard, PCF, PCSS),
-// MSAA, points as sphere impostors, polylines, wireframe overlay.
+// environment lighting (SH irradiance, prefiltered reflections), MSAA, points
+// as sphere impostors, polylines, wireframe overlay.
 #include <opencv2/imgproc.hpp>
 
 #include "loom/image.hpp"
@@ -25,7 +26,9 @@ struct Render {
     s.describe("Rasterizes a scene with OpenGL 4.5 (OSMesa llvmpipe, no display or GPU needed): "
                "Blinn-Phong with the material's maps, normal mapping, displacement mapping by "
                "tessellation, shadow maps (constant + slope bias, PCF, PCSS), MSAA; point sets as "
-               "shaded spheres, polylines as lines. Linear HDR output.")
+               "shaded spheres, polylines as lines. A lat-long environment map lights the scene "
+               "(diffuse by 9 SH irradiance coefficients, glossy reflection on plastic and conductor "
+               "materials) and shows behind it. Linear HDR output.")
         .input<loom::Scene>("scene", "what to draw (its camera, or one framing the scene)")
         .input<int>("width", 960, "image width in pixels").range(1, 16384)
         .input<int>("height", 540, "image height in pixels").range(1, 16384)

@@ -24,30 +24,47 @@ std::vector<ShadowMap> render_shadow_maps(const GlApi& gl, const DepthPrograms& 
   const int R = options.shadow_resolution;
   for (std::size_t mi = 0; mi < maps.size(); ++mi) {
     ShadowMap& m = maps[mi];
-    gl.CreateTextures(m.view.cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, 1, &m.color);
-    gl.TextureStorage2D(m.color, 1, GL_R32F, R, R);
-    for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) gl.TextureParameteri(m.color, p, GL_NEAREST);
-    for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-      gl.TextureParameteri(m.color, p, GL_CLAMP_TO_EDGE);
-    gl.CreateTextures(GL_TEXTURE_2D, 1, &m.depth);
-    gl.TextureStorage2D(m.depth, 1, GL_DEPTH_COMPONENT32F, R, R);
     gl.CreateFramebuffers(1, &m.fbo);
-    gl.NamedFramebufferTexture(m.fbo, GL_DEPTH_ATTACHMENT, m.depth, 0);
+    if (m.view.ortho) {
+      // Orthographic: the depth buffer is already linear along the light,
+      // depth01 = (d - near) / (far - near); it is the map (no color pass).
+      // Past its edge the border, depth 1, is the far plane: beyond every
+      // receiver, lit.
+      gl.CreateTextures(GL_TEXTURE_2D, 1, &m.color);
+      gl.TextureStorage2D(m.color, 1, GL_DEPTH_COMPONENT32F, R, R);
+      const float far_border[4] = {1, 1, 1, 1};
+      gl.TextureParameterfv(m.color, GL_TEXTURE_BORDER_COLOR, far_border);
+      for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T}) gl.TextureParameteri(m.color, p, GL_CLAMP_TO_BORDER);
+      for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) gl.TextureParameteri(m.color, p, GL_NEAREST);
+      gl.NamedFramebufferTexture(m.fbo, GL_DEPTH_ATTACHMENT, m.color, 0);
+    } else {
+      gl.CreateTextures(m.view.cube ? GL_TEXTURE_CUBE_MAP : GL_TEXTURE_2D, 1, &m.color);
+      gl.TextureStorage2D(m.color, 1, GL_R32F, R, R);
+      for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) gl.TextureParameteri(m.color, p, GL_NEAREST);
+      // Past a 2D map's edge nothing casts a shadow: the border is "infinitely far".
+      const float far_border[4] = {1e30f, 1e30f, 1e30f, 1e30f};
+      gl.TextureParameterfv(m.color, GL_TEXTURE_BORDER_COLOR, far_border);
+      for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        gl.TextureParameteri(m.color, p, m.view.cube ? GL_CLAMP_TO_EDGE : GL_CLAMP_TO_BORDER);
+      gl.CreateTextures(GL_TEXTURE_2D, 1, &m.depth);
+      gl.TextureStorage2D(m.depth, 1, GL_DEPTH_COMPONENT32F, R, R);
+      gl.NamedFramebufferTexture(m.fbo, GL_DEPTH_ATTACHMENT, m.depth, 0);
+    }
     gl.BindFramebuffer(GL_FRAMEBUFFER, m.fbo);
     gl.Viewport(0, 0, R, R);
     const int faces = m.view.cube ? 6 : 1;
     for (int f = 0; f < faces; ++f) {
       if (m.view.cube)
         gl.NamedFramebufferTextureLayer(m.fbo, GL_COLOR_ATTACHMENT0, m.color, 0, f);
-      else
+      else if (!m.view.ortho)
         gl.NamedFramebufferTexture(m.fbo, GL_COLOR_ATTACHMENT0, m.color, 0);
-      const GLenum attachment = GL_COLOR_ATTACHMENT0;
+      const GLenum attachment = m.view.ortho ? GL_NONE : GL_COLOR_ATTACHMENT0;
       gl.NamedFramebufferDrawBuffers(m.fbo, 1, &attachment);
       if (gl.CheckNamedFramebufferStatus(m.fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         throw Error("the shadow map framebuffer is incomplete (resolution " + std::to_string(R) + ")");
       const float far_value[4] = {1e30f, 1e30f, 1e30f, 1e30f};
       const float one = 1;
-      gl.ClearBufferfv(GL_COLOR, 0, far_value);
+      if (!m.view.ortho) gl.ClearBufferfv(GL_COLOR, 0, far_value);
       gl.ClearBufferfv(GL_DEPTH, 0, &one);
       const Eigen::Matrix4d lview = m.view.cube ? m.view.faces[f] : m.view.view;
       const Eigen::Matrix4d lvp = m.view.projection * lview;
@@ -64,7 +81,6 @@ std::vector<ShadowMap> render_shadow_maps(const GlApi& gl, const DepthPrograms& 
           p.set("u_ortho", m.view.ortho);
           p.set("u_inverse_view_proj", Eigen::Matrix4d(lvp.inverse()));
           p.set("u_viewport", Eigen::Vector2d(R, R));
-          p.set("u_depth_pass", true);
           p.set("u_depth_origin", m.view.origin);
           p.set("u_depth_axis", m.view.axis);
           p.set("u_depth_radial", !m.view.ortho);
@@ -73,7 +89,7 @@ std::vector<ShadowMap> render_shadow_maps(const GlApi& gl, const DepthPrograms& 
           continue;
         }
         const bool tess = displaced(o, options.tessellation);
-        GlProgram& p = tess ? programs.tessellated : programs.mesh;
+        GlProgram& p = tess ? programs.tessellated : m.view.ortho ? programs.depth_only : programs.mesh;
         p.use();
         bind_sampler_units(p);
         p.set("u_model", o.source->transform);

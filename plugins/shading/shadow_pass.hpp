@@ -1,6 +1,8 @@
 // The shadow-map pass: one map per shadow-casting light (up to max_shadows),
-// each storing a linear depth metric in scene units in an R32F texture (2D,
-// or a cube for point lights), bound to its texture unit for the image pass.
+// each storing a linear depth metric in scene units in an R32F texture (2D
+// for spot lights, a cube for point lights), or for directional lights the
+// depth buffer itself (linear along the light: metric = near + depth01 (far -
+// near)), bound to its texture unit for the image pass.
 #pragma once
 
 #include <vector>
@@ -15,11 +17,12 @@ namespace loom::shading {
 struct ShadowMap {
   int light = -1;  // index in scene.lights
   ShadowView view;
-  GLuint color = 0, depth = 0, fbo = 0;
+  GLuint color = 0, depth = 0, fbo = 0;  // color: the sampled map (the depth texture if ortho)
 };
 
 struct DepthPrograms {
   GlProgram& mesh;
+  GlProgram& depth_only;  // no fragment output: orthographic maps keep the depth buffer
   GlProgram& tessellated;
   GlProgram& spheres;
 };

@@ -80,7 +80,9 @@ ShadowView shadow_view(const Light& light, const Eigen::AlignedBox3d& bounds, in
       half = std::max({half, std::abs(q.x()), std::abs(q.y())});
     }
     half = std::max(half, 1e-6) * (1 + 2.0 / resolution);
-    s.projection = orthographic(-half, half, -half, half, radius * 0.5, radius * 3.5);
+    s.near_plane = radius * 0.5;
+    s.far_plane = radius * 3.5;
+    s.projection = orthographic(-half, half, -half, half, s.near_plane, s.far_plane);
     s.texel = 2 * half / resolution;
     return s;
   }

@@ -30,6 +30,7 @@ struct ShadowView {
   Eigen::Matrix4d view, projection;        // 2D maps
   std::array<Eigen::Matrix4d, 6> faces;    // cube: view of each face (projection: 90 degrees)
   double texel = 0;  // texel size in scene units: absolute (ortho) or at unit depth
+  double near_plane = 0, far_plane = 0;  // ortho: the depth range along `axis` from `origin`
 };
 
 // Fits the light's map to the scene's bounds: orthographic around the bounds
