@@ -11,6 +11,8 @@
 //                 frames against the converged-Newton trajectory, and that
 //                 trajectory's own error against one with 10× smaller h (the
 //                 time-discretization error both share).
+//  cloth_convergence: local/global residual per iteration (plain, Chebyshev)
+//                 on the 81² curtain at 0.1, 10 and 1000 kg/m².
 //  cloth_scaling: 41², 81², 161², 321²: factorization time, local/global
 //                 frame time (10 iterations), resident memory the factored
 //                 solver adds; Newton iteration CPU time up to 81².
@@ -260,6 +262,43 @@ void scaling_study(const std::vector<int>& sizes, int runs) {
                           "_frame"});
 }
 
+// Residual ‖∇E(x_k)‖/‖∇E(x_0)‖ per local/global iteration, plain and with
+// Chebyshev (ρ = 0.99, 0.999), on the swinging 81² curtain at three
+// densities: h² k / m sets how quasi-static a step is, and with it how close
+// to 1 the plain iteration's convergence factor gets. The factor over
+// iterations 100..200 is printed.
+void convergence_study(int n) {
+  const double h = 1.0 / 30;
+  loom::bench::Csv csv("cloth_convergence", {"curve", "iteration", "residual", "load"});
+  const double saved = g_density;
+  for (double density : {0.1, 10.0, 1000.0}) {
+    g_density = density;
+    auto system = std::make_shared<const SpringSystem>(curtain(n));
+    const LocalGlobalSolver lg(*system, h);
+    ClothState state = rest_state(system);
+    for (int f = 0; f < 20; ++f) state = step(state, h, windy(Solver::local_global, 100), &lg).state;
+    const double ratio = h * h * 1e5 / system->mass.maxCoeff();
+    for (double rho : {0.0, 0.99, 0.999}) {
+      StepSettings st = windy(Solver::local_global, 200, 0, rho > 0);
+      st.solve.record_residuals = true;
+      if (rho > 0) st.solve.chebyshev_rho = rho;
+      const StepResult r = step(state, h, st, &lg);
+      char name[96];
+      std::snprintf(name, sizeof name, "%g kg/m2 (h2k/m %.2g) %s", density, ratio,
+                    rho > 0 ? (rho == 0.99 ? "chebyshev 0.99" : "chebyshev 0.999") : "plain");
+      for (std::size_t k = 0; k < r.report.residuals.size(); ++k)
+        csv.row({std::string(name), static_cast<long long>(k + 1), r.report.residuals[k], load()});
+      const auto& res = r.report.residuals;
+      std::printf("%-40s residual after 10: %.3g, 30: %.3g, 200: %.3g; factor per iteration (100..200) %.5f\n", name,
+                  res[9], res[29], res[199], std::pow(res[199] / res[99], 1.0 / 100));
+    }
+  }
+  g_density = saved;
+  csv.save();
+  loom::bench::plot(csv, {"iteration", "residual", "curve", "81x81 curtain: local/global residual per iteration", false,
+                          true, ""});
+}
+
 void cuboid_study() {
   const double h = 1.0 / 120;
   loom::bench::Csv csv("cloth_cuboid", {"k", "seconds", "height_ratio", "load"});
@@ -288,7 +327,7 @@ void cuboid_study() {
 
 int main(int argc, char** argv) {
   loom::bench::handle_help(argc, argv,
-                           "bench_cloth [--quick] [--cuboid | --only frame|frames100|scaling] [--density KG_PER_M2]: the cuboid drop (not with --density or --only), then Newton vs local/global (plain, Chebyshev) on pinned "
+                           "bench_cloth [--quick] [--cuboid | --only frame|frames100|convergence|scaling] [--density KG_PER_M2]: the cuboid drop (not with --density or --only), then Newton vs local/global (plain, Chebyshev) on pinned "
                            "curtains; writes cloth_frame, cloth_frames100, cloth_scaling CSV and plots");
   bool quick = false, cuboid_only = false;
   std::string only;
@@ -307,6 +346,7 @@ int main(int argc, char** argv) {
   if (cuboid_only) return 0;
   if (only.empty() || only == "frame") frame_study(quick ? 41 : 81, quick ? 3 : 7);
   if (only.empty() || only == "frames100") trajectory_study(quick ? 15 : 25, 100);
+  if (only.empty() || only == "convergence") convergence_study(quick ? 41 : 81);
   if (only.empty() || only == "scaling") scaling_study(quick ? std::vector<int>{41, 81} : std::vector<int>{41, 81, 161, 321}, quick ? 3 : 5);
   std::printf("load at end: %s\n", load().c_str());
   return 0;
