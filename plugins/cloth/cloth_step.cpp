@@ -123,11 +123,13 @@ struct ClothStep {
                  std::to_string(static_cast<long long>(std::ceil(frame_step / bound))) +
                  " substeps or an implicit solver");
     }
+    // Newton: one symbolic analysis per frame, shared by its substeps.
+    loom::numerics::SparseCholesky newton_factor;
     loom::cloth::StepResult result{*previous, {}};
     for (int k = 0; k < substeps; ++k) {
       ctx.progress(k, substeps, "substeps");
       ctx.check_cancelled();
-      result = loom::cloth::step(result.state, h, settings, lg.get());
+      result = loom::cloth::step(result.state, h, settings, lg.get(), &newton_factor);
     }
     out.set("mesh", loom::cloth::state_mesh(result.state));
     out.set("residuals", result.report.residuals);

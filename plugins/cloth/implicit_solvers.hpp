@@ -6,8 +6,11 @@
 //     H_s = k [ r̂r̂ᵀ + max(0, 1 − l/‖r‖)(I − r̂r̂ᵀ) ],
 //   i.e. the l/‖r‖ − 1 term clamped where a spring is compressed (‖r‖ < l),
 //   which makes every block, hence M + h² Σ H_s, positive definite. Each
-//   direction is a CHOLMOD solve (same pattern: numeric refactor only), then a
-//   backtracking (Armijo) line search on E.
+//   direction is a CHOLMOD solve, then a backtracking (Armijo) line search on
+//   E. The Hessian's pattern never changes (contact blocks fall on the
+//   diagonal blocks every vertex has), so a caller that passes the same
+//   `factor` for every step pays the symbolic analysis (ordering, supernodes)
+//   once; each iteration is then assembly and a numeric refactorization.
 // LocalGlobalSolver: Liu, Bargteil, O'Brien, Kavan 2013. Local step (eq. 12):
 //   d_s = l_s r_s/‖r_s‖ per spring; global step (eq. 10/14):
 //   (M + h² L) x = h² J d + M y, M + h² L factored once per (springs, k, h,
@@ -59,9 +62,12 @@ struct SolveReport {
   bool converged = false;
 };
 
+// `factor`: a workspace kept across calls for one system (nullptr: a fresh
+// one, analysed on the first iteration).
 Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, double h,
                               Eigen::MatrixX3d x0, const SolveOptions& options,
-                              SolveReport* report = nullptr);
+                              SolveReport* report = nullptr,
+                              loom::numerics::SparseCholesky* factor = nullptr);
 
 class LocalGlobalSolver {
  public:

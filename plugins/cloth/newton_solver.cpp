@@ -92,7 +92,8 @@ Eigen::MatrixX3d gradient(const SpringSystem& s, const Eigen::MatrixX3d& x, cons
 }  // namespace
 
 Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, double h,
-                              Eigen::MatrixX3d x, const SolveOptions& options, SolveReport* report) {
+                              Eigen::MatrixX3d x, const SolveOptions& options, SolveReport* report,
+                              loom::numerics::SparseCholesky* factor) {
   const std::vector<int> row = dof_rows(s);
   const int dofs = 3 * (s.vertices() - s.fixed_count());
   SolveReport local;
@@ -102,7 +103,8 @@ Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, 
     rep.converged = true;
     return x;
   }
-  loom::numerics::SparseCholesky cholesky;
+  loom::numerics::SparseCholesky fresh;
+  loom::numerics::SparseCholesky& cholesky = factor ? *factor : fresh;
   double energy = potential(s, x, y, h, options);
   Eigen::VectorXd g = gather(gradient(s, x, y, h, options), row, dofs);
   const double g0 = g.norm();

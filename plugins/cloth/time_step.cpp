@@ -161,7 +161,7 @@ double contact_penalty(const SpringSystem& s, const StepSettings& settings, cons
 }  // namespace
 
 StepResult step(const ClothState& state, double h, const StepSettings& settings,
-                const LocalGlobalSolver* lg) {
+                const LocalGlobalSolver* lg, loom::numerics::SparseCholesky* newton_factor) {
   const SpringSystem& s = *state.system;
   StepResult result;
   result.state.system = state.system;
@@ -199,7 +199,7 @@ StepResult step(const ClothState& state, double h, const StepSettings& settings,
     else if (settings.ground || !settings.spheres.empty())
       options.project = [&](Eigen::MatrixX3d& iterate) { resolve_collisions(s, state.x, iterate, settings); };
     if (settings.solver == Solver::newton) {
-      x = newton_solve(s, y, h, y, options, &result.report);
+      x = newton_solve(s, y, h, y, options, &result.report, newton_factor);
     } else {
       if (!lg || lg->h() != h || lg->free_vertices() != s.vertices() - s.fixed_count())
         throw Error("internal: the local/global solver was not factored for this system and h");

@@ -68,9 +68,12 @@ struct StepResult {
 
 // Advances by h. `lg` is the local/global solver factored for this system and
 // h (required for Solver::local_global, see cached_solver in the node).
+// `newton_factor`: Newton's factorization workspace, kept across the steps of
+// one system so its symbolic analysis is done once (nullptr: per step).
 // Throws loom::Error if explicit integration diverges (non-finite positions).
 StepResult step(const ClothState& state, double h, const StepSettings& settings,
-                const LocalGlobalSolver* lg);
+                const LocalGlobalSolver* lg,
+                loom::numerics::SparseCholesky* newton_factor = nullptr);
 
 // External forces at (x, v, t): gravity m g plus wind; #V by 3.
 Eigen::MatrixX3d external_forces(const SpringSystem& s, const Eigen::MatrixX3d& x,

@@ -24,11 +24,25 @@ constexpr double kMinJ = 0.1;
 // Snow (Stomakhin et al. 2013): critical compression/stretch θc, θs and hardening ξ,
 // the values of the paper and of Taichi's mpm99.
 constexpr double kSnowCompression = 2.5e-2, kSnowStretch = 4.5e-3, kSnowHardening = 10.0;
-// Sand (Klár et al. 2016): friction angle 30°, α = √(2/3)·2 sin φ / (3 − sin φ) (eq. 27).
-inline double sand_alpha() {
-  const double s = std::sin(30.0 * M_PI / 180.0);
-  return std::sqrt(2.0 / 3.0) * 2 * s / (3 - s);
-}
+// Sand (Klár et al. 2016): the Drucker–Prager cone's α from the friction angle
+// φ_F, α = √(2/3)·2 sin φ_F / (3 − sin φ_F) (eq. 27). Without hardening φ_F is
+// fixed; with it (§7.3) it grows with the particle's accumulated plastic
+// strain q: φ_F = h0 + (h1 q − h3) e^{−h2 q} (degrees), from h0 − h3 for fresh
+// sand towards h0. The defaults are the paper's (h0 = 35°, h1 = 9°, h2 = 0.2,
+// h3 = 10°).
+struct SandModel {
+  double friction_degrees = 30;  // φ_F without hardening
+  bool hardening = false;
+  double h0 = 35, h1 = 9, h2 = 0.2, h3 = 10;
+
+  double friction_angle(double q) const {  // degrees
+    return hardening ? h0 + (h1 * q - h3) * std::exp(-h2 * q) : friction_degrees;
+  }
+  double alpha(double q) const {
+    const double s = std::sin(friction_angle(q) * M_PI / 180.0);
+    return std::sqrt(2.0 / 3.0) * 2 * s / (3 - s);
+  }
+};
 
 // Snow hardening factor h = exp(ξ (1 − Jp)) (Stomakhin 2013, eq. 8), bounded so a
 // fully crushed particle cannot stiffen without limit.
@@ -136,9 +150,11 @@ bool kirchhoff_stress(Particles<D>& ps, int p, Eigen::Matrix<double, D, D>& tau)
   return clamped;
 }
 
-// Plastic projection of particle p after F was advanced; true when J had to be clamped.
+// Plastic projection of particle p after F was advanced; true when J had to be
+// clamped. Sand returns to the cone of its current α, then adds the plastic
+// strain it removed, δq = ‖ε_trial − ε‖_F, to q (Klár 2016, §7.3).
 template <int D>
-bool plastic_projection(Particles<D>& ps, int p) {
+bool plastic_projection(Particles<D>& ps, int p, const SandModel& sand = {}) {
   using Mat = Eigen::Matrix<double, D, D>;
   using Vec = Eigen::Matrix<double, D, 1>;
   const Material m = ps.material[p];
@@ -162,13 +178,15 @@ bool plastic_projection(Particles<D>& ps, int p) {
     const Vec dev = eps - Vec::Constant(tr / D);
     const double dev_norm = dev.norm();
     const double mu = ps.mu[p], lambda = ps.lambda[p];
-    const double dgamma = dev_norm + (D * lambda + 2 * mu) / (2 * mu) * tr * sand_alpha();
+    const double dgamma = dev_norm + (D * lambda + 2 * mu) / (2 * mu) * tr * sand.alpha(ps.q[p]);
     if (dgamma <= 0) {
       // inside the cone: elastic, unchanged
     } else if (tr > 0 || dev_norm == 0) {
       sigma.setOnes();  // expansion: the tip of the cone, stress free
+      ps.q[p] += eps.norm();
     } else {
       sigma = (eps - dgamma / dev_norm * dev).array().exp().matrix();
+      ps.q[p] += dgamma;  // ‖ε_trial − ε‖ = δγ ‖dev ε‖ / ‖dev ε‖
     }
   }
   F = U * sigma.asDiagonal() * V.transpose();

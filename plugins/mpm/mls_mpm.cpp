@@ -273,7 +273,7 @@ double Solver<D>::g2p(Particles<D>& ps, double dt) {
             ps.J[p] = J;
           } else {
             ps.F[p] = (Mat::Identity() + dt * C) * ps.F[p];
-            clamped += plastic_projection(ps, p);
+            clamped += plastic_projection(ps, p, s_.sand);
           }
           const double c2 = sound_speed_squared(ps.material[p], ps.mu[p], ps.lambda[p], ps.J[p],
                                                 ps.mass[p] / ps.volume[p]);

@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 
+#include "constitutive.hpp"
 #include "particles.hpp"
 
 namespace loom::mpm {
@@ -45,6 +46,7 @@ struct Settings {
   double cfl = 0.4;                   // Δt ≤ cfl Δx / (max |v| + sound speed)
   double dt_max = 1e-3;               // the user's cap on Δt
   int max_substeps = 100000;          // per advance(): beyond it, an error instead of a hang
+  SandModel sand;                     // friction angle, hardening (Klár 2016 §7.3)
 };
 
 struct AdvanceReport {

@@ -32,7 +32,7 @@ struct loom::TypeTraits<loom::mpm::MpmState> {
   static constexpr const char* name = "MPMState";
   static constexpr const char* description =
       "MPM particles (2D or 3D): positions, velocities, affine C, F, J, material, colour";
-  static constexpr int version = 1;
+  static constexpr int version = 2;  // 2: sand's hardening state q
   static std::string summary(const loom::mpm::MpmState& s);
   static void write(const loom::mpm::MpmState& s, loom::ByteWriter& w);
   static loom::mpm::MpmState read(loom::ByteReader& r);

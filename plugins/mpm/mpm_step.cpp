@@ -98,6 +98,15 @@ struct MPMStep {
         .input<int>("max_substeps", 100000, "per frame; more is an error, not a hang")
         .at_least(1)
         .input<double>("point_radius", 0.002, "radius of each point in `points`").at_least(0)
+        .input<double>("sand_friction_degrees", 30.0, "sand's friction angle φ_F without hardening")
+        .range(0, 89)
+        .input<bool>("sand_hardening", false,
+                     "sand: φ_F = h0 + (h1 q − h3) e^{−h2 q} grows with the accumulated plastic strain q "
+                     "(Klár 2016 §7.3) instead of the fixed angle")
+        .input<double>("sand_h0", 35.0, "hardening: the limit angle h0 (degrees)").range(0, 89)
+        .input<double>("sand_h1", 9.0, "hardening: h1 (degrees)")
+        .input<double>("sand_h2", 0.2, "hardening: rate h2").at_least(0)
+        .input<double>("sand_h3", 10.0, "hardening: h3 (degrees); fresh sand starts at h0 − h3")
         .output<MpmState>("state", "the particles at this frame")
         .output<loom::PointSet>("points", "positions (z = 0 in 2D), radius and colour")
         .output<int>("substeps", "substeps taken in this frame")
@@ -118,6 +127,15 @@ struct MPMStep {
     settings.cfl = in.get<double>("cfl");
     settings.dt_max = in.get<double>("dt_max");
     settings.max_substeps = in.get<int>("max_substeps");
+    settings.sand.friction_degrees = in.get<double>("sand_friction_degrees");
+    settings.sand.hardening = in.get<bool>("sand_hardening");
+    settings.sand.h0 = in.get<double>("sand_h0");
+    settings.sand.h1 = in.get<double>("sand_h1");
+    settings.sand.h2 = in.get<double>("sand_h2");
+    settings.sand.h3 = in.get<double>("sand_h3");
+    if (settings.sand.hardening && !(settings.sand.h0 - settings.sand.h3 > 0))
+      throw loom::Error("sand_h0 − sand_h3 is the friction angle of fresh sand: it must be positive (h0 = " +
+                        std::to_string(settings.sand.h0) + ", h3 = " + std::to_string(settings.sand.h3) + ")");
 
     MpmState state = in.get<MpmState>("state");
     const double seconds = ctx.time().step;

@@ -9,7 +9,7 @@ Lame lame_parameters(Material material, double E, double nu) {
 
 template <int D>
 void Particles<D>::reserve(std::size_t n) {
-  x.reserve(n), v.reserve(n), C.reserve(n), F.reserve(n), J.reserve(n);
+  x.reserve(n), v.reserve(n), C.reserve(n), F.reserve(n), J.reserve(n), q.reserve(n);
   material.reserve(n), mu.reserve(n), lambda.reserve(n), mass.reserve(n), volume.reserve(n);
   color.reserve(n);
 }
@@ -22,6 +22,7 @@ void Particles<D>::add(const Vec& position, const Vec& velocity, Material m, con
   C.push_back(Mat::Zero());
   F.push_back(Mat::Identity());
   J.push_back(1.0);
+  q.push_back(0.0);
   material.push_back(m);
   mu.push_back(lame.mu);
   lambda.push_back(lame.lambda);
@@ -33,7 +34,7 @@ void Particles<D>::add(const Vec& position, const Vec& velocity, Material m, con
 template <int D>
 void Particles<D>::append(const Particles& o) {
   auto cat = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
-  cat(x, o.x), cat(v, o.v), cat(C, o.C), cat(F, o.F), cat(J, o.J), cat(material, o.material);
+  cat(x, o.x), cat(v, o.v), cat(C, o.C), cat(F, o.F), cat(J, o.J), cat(q, o.q), cat(material, o.material);
   cat(mu, o.mu), cat(lambda, o.lambda), cat(mass, o.mass), cat(volume, o.volume);
   cat(color, o.color);
 }

@@ -3,6 +3,8 @@
 //   C       #P APIC/MLS affine velocity matrices (Jiang et al. 2015)
 //   F       #P deformation gradients (solids, snow, sand)
 //   J       #P volume ratio: fluid's det F; snow's plastic Jp (hardening)
+//   q       #P sand's accumulated plastic (Hencky) strain, the hardening
+//           state of Klár et al. 2016 §7.3; 0 at the start, unused otherwise
 //   material, mu, lambda, mass, volume: per-particle constants
 //   color   #P linear RGB
 #pragma once
@@ -30,14 +32,14 @@ struct Particles {
 
   std::vector<Vec> x, v;
   std::vector<Mat> C, F;
-  std::vector<double> J;
+  std::vector<double> J, q;
   std::vector<Material> material;
   std::vector<double> mu, lambda, mass, volume;
   std::vector<Eigen::Vector3f> color;
 
   int size() const { return static_cast<int>(x.size()); }
   void reserve(std::size_t n);
-  // Appends one particle at rest state (F = I, C = 0, J = 1).
+  // Appends one particle at rest state (F = I, C = 0, J = 1, q = 0).
   void add(const Vec& position, const Vec& velocity, Material m, const Lame& lame, double mass,
            double volume, const Eigen::Vector3f& color);
   void append(const Particles& other);

@@ -2,8 +2,8 @@
 //   P  #P by 3  positions (2D simulations write z = 0)
 //   radius  #P  per-point radius, or empty (the consumer's default radius)
 //   C  #P by 3  per-point linear RGB colors, or empty
-// Render draws a PointSet as shaded spheres; SaveMesh writes it as a PLY
-// point cloud. A simulation keeps its own state type and outputs a PointSet
+// Render draws a PointSet as shaded spheres; SavePoints (plugin io) writes it
+// as a PLY point cloud. A simulation keeps its own state type and outputs a PointSet
 // to be drawn or saved.
 #pragma once
 

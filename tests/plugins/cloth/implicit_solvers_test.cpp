@@ -39,7 +39,9 @@ TEST(ImplicitSolvers, NewtonAndLocalGlobalConvergeToTheSameStep) {
   SolveReport newton_report;
   const Eigen::MatrixX3d xn = newton_solve(s, y, h, y, tight, &newton_report);
   EXPECT_TRUE(newton_report.converged);
-  EXPECT_LT(newton_report.residuals.back(), 1e-12);
+  // The floor is rounding: 1e-12 with multithreaded BLAS, 3.7e-12 with
+  // OPENBLAS_NUM_THREADS=1 (another summation order).
+  EXPECT_LT(newton_report.residuals.back(), 1e-11);
 
   SolveOptions lg_options;
   lg_options.iterations = 200000;

@@ -80,5 +80,83 @@ TEST(Constitutive, SnowAndSandProjections) {
   EXPECT_LT((ps.F[1] - Eigen::Vector3d(0.99, 0.99, 0.99).asDiagonal().toDenseMatrix()).norm(), 1e-12);
 }
 
+TEST(Constitutive, SandHardeningCurveIsThePapers) {
+  // Klár 2016 §7.3 with its defaults: fresh sand at h0 − h3 = 25°, the angle
+  // rising to a peak, then back to h0 = 35° as q grows.
+  SandModel sand;
+  sand.hardening = true;
+  EXPECT_DOUBLE_EQ(sand.friction_angle(0), 25);
+  EXPECT_NEAR(sand.friction_angle(1), 35 + (9 - 10) * std::exp(-0.2), 1e-12);
+  EXPECT_NEAR(sand.friction_angle(200), 35, 1e-9);
+  EXPECT_GT(sand.friction_angle(0.5), sand.friction_angle(0));
+  const double s = std::sin(25 * M_PI / 180);
+  EXPECT_NEAR(sand.alpha(0), std::sqrt(2.0 / 3.0) * 2 * s / (3 - s), 1e-15);
+  sand.hardening = false;
+  EXPECT_DOUBLE_EQ(sand.friction_angle(7), 30);
+}
+
+// Drucker–Prager: after the return mapping the Kirchhoff stress lies in the
+// cone ‖dev τ‖_F + α tr τ ≤ 0 of the α the particle had (Klár 2016, eq. 25:
+// St. Venant–Kirchhoff on Hencky strain, so dev τ = 2μ dev ε and
+// tr τ = (Dλ + 2μ) tr ε), checked on random deformations; a state already
+// inside is left alone; q grows by the plastic strain removed.
+template <int D>
+void check_return_mapping(std::uint64_t seed) {
+  using Mat = Eigen::Matrix<double, D, D>;
+  using Vec = Eigen::Matrix<double, D, 1>;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> stretch(0.75, 1.25), angle(-M_PI, M_PI), hardness(0, 8);
+  SandModel sand;
+  sand.hardening = true;
+  int projected = 0, inside = 0, tip = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    Particles<D> ps;
+    ps.add(Vec::Constant(0.5), Vec::Zero(), Material::sand, lame_parameters(Material::sand, 1e4, 0.3), 1, 1,
+           Eigen::Vector3f::Ones());
+    ps.q[0] = hardness(rng);
+    const double alpha = sand.alpha(ps.q[0]);
+    Mat R1, R2;
+    if constexpr (D == 2) {
+      R1 = Eigen::Rotation2Dd(angle(rng)).toRotationMatrix();
+      R2 = Eigen::Rotation2Dd(angle(rng)).toRotationMatrix();
+    } else {
+      R1 = Eigen::AngleAxisd(angle(rng), Eigen::Vector3d::Random().normalized()).toRotationMatrix();
+      R2 = Eigen::AngleAxisd(angle(rng), Eigen::Vector3d::Random().normalized()).toRotationMatrix();
+    }
+    Vec sigma;
+    for (int d = 0; d < D; ++d) sigma[d] = stretch(rng);
+    const Mat F = R1 * sigma.asDiagonal() * R2;
+    ps.F[0] = F;
+    const double q0 = ps.q[0];
+    plastic_projection(ps, 0, sand);
+    // Hencky strains before and after, from Eigen's SVD (not the code's).
+    const Vec eps0 = Eigen::JacobiSVD<Mat>(F).singularValues().array().log().matrix();
+    const Vec eps1 = Eigen::JacobiSVD<Mat>(ps.F[0]).singularValues().array().log().matrix();
+    Mat tau;
+    kirchhoff_stress(ps, 0, tau);
+    const double trace = tau.trace();
+    const double dev = (tau - Mat::Identity() * trace / D).norm();
+    const double scale = 1e-9 * std::max(1.0, tau.norm());
+    EXPECT_LE(dev + alpha * trace, scale) << "trial " << trial << ": outside the cone";
+    // Inside: F rebuilt from its own SVD, equal to rounding.
+    const double moved = (ps.F[0] - F).norm();
+    if (moved < 1e-12) {
+      ++inside;
+      EXPECT_EQ(ps.q[0], q0);
+    } else {
+      // Both strain lists sorted descending: the projection keeps the order.
+      EXPECT_NEAR(ps.q[0] - q0, (eps0 - eps1).norm(), 1e-9) << "trial " << trial;
+      if (tau.norm() < 1e-9) ++tip; else ++projected;
+    }
+  }
+  // The sample covers all three cases.
+  EXPECT_GT(inside, 50);
+  EXPECT_GT(projected, 50);
+  EXPECT_GT(tip, 50);
+}
+
+TEST(Constitutive, SandReturnMappingStaysInTheCone2D) { check_return_mapping<2>(11); }
+TEST(Constitutive, SandReturnMappingStaysInTheCone3D) { check_return_mapping<3>(12); }
+
 }  // namespace
 }  // namespace loom::mpm
