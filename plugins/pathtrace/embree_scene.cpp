@@ -85,7 +85,14 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
         for (int v = 0; v < m.vertices(); ++v) t.C[v] = m.C.row(v).transpose().cast<float>();
       }
       t.F.resize(m.faces());
-      for (int f = 0; f < m.faces(); ++f) t.F[f] = m.F.row(f).transpose();
+      t.face_normal.resize(m.faces());
+      for (int f = 0; f < m.faces(); ++f) {
+        const Eigen::Vector3i tri = m.F.row(f).transpose();
+        t.F[f] = tri;
+        const Vec3f n = (t.P[tri[1]] - t.P[tri[0]]).cross(t.P[tri[2]] - t.P[tri[0]]);
+        const float n2 = n.squaredNorm();
+        t.face_normal[f] = n2 > 0 && std::isfinite(n2) ? Vec3f(n / std::sqrt(n2)) : Vec3f(Vec3f::Zero());
+      }
       g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
       auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
           g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), t.P.size()));
@@ -146,9 +153,11 @@ EmbreeScene::~EmbreeScene() {
   if (device_) rtcReleaseDevice(device_);
 }
 
-bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceHit* hit) const {
+bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceHit* hit,
+                            bool coherent) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
+  context.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
   RTCRayHit rh;
   rh.ray.org_x = o.x();
   rh.ray.org_y = o.y();
@@ -170,29 +179,30 @@ bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceH
   SurfaceHit& h = *hit;
   h.t = rh.ray.tfar;
   h.p = o + h.t * d;
+  h.eps = offset_distance(h.p);
   h.object = index;
   h.prim = int(rh.hit.primID);
   h.uv = Vec2f::Zero();
   h.color = Vec3f::Ones();
-  const Vec3f backward = -d.normalized();
   if (obj.spheres) {
     const Eigen::Vector4f& s = obj.points[h.prim];
-    Vec3f n = h.p - s.head<3>();
-    h.ng = n.norm() > 0 ? n.normalized() : backward;
+    const Vec3f n = h.p - s.head<3>();
+    h.ng = n.squaredNorm() > 0 ? Vec3f(n.normalized()) : Vec3f(-d);
     h.ns = h.ng;
     if (!obj.point_colors.empty()) h.color = obj.point_colors[h.prim];
     return true;
   }
   const Eigen::Vector3i& f = obj.F[h.prim];
   const float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1 - b1 - b2;
-  const Vec3f n = (obj.P[f[1]] - obj.P[f[0]]).cross(obj.P[f[2]] - obj.P[f[0]]);
+  h.ng = obj.face_normal[h.prim];
   // A degenerate triangle has no normal of its own: it faces the ray.
-  h.ng = n.squaredNorm() > 0 && std::isfinite(n.squaredNorm()) ? n.normalized() : backward;
+  if (h.ng.x() == 0 && h.ng.y() == 0 && h.ng.z() == 0) h.ng = -d;
   h.ns = h.ng;
   if (!obj.N.empty()) {
     const Vec3f ns = b0 * obj.N[f[0]] + b1 * obj.N[f[1]] + b2 * obj.N[f[2]];
-    if (ns.squaredNorm() > 1e-12f) {
-      h.ns = ns.normalized();
+    const float n2 = ns.squaredNorm();
+    if (n2 > 1e-12f) {
+      h.ns = ns / std::sqrt(n2);
       if (h.ns.dot(h.ng) < 0) h.ns = -h.ns;
     }
   }
@@ -231,7 +241,7 @@ bool EmbreeScene::occluded_to(const SurfaceHit& hit, const Vec3f& light_point) c
 }
 
 Vec3f EmbreeScene::offset(const SurfaceHit& hit, const Vec3f& direction) const {
-  const float eps = offset_distance(hit.p);
+  const float eps = hit.eps > 0 ? hit.eps : offset_distance(hit.p);
   return hit.p + (hit.ng.dot(direction) >= 0 ? eps : -eps) * hit.ng;
 }
 

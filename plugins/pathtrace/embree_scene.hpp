@@ -27,6 +27,9 @@ struct TracedObject {
   std::vector<Vec3f> P, N, C;
   std::vector<Vec2f> UV;
   std::vector<Eigen::Vector3i> F;
+  // Per triangle, precomputed for the hit: unit geometric normal by the
+  // winding (zero for a degenerate triangle).
+  std::vector<Vec3f> face_normal;
   // Sphere points (world space): x, y, z, radius; per-point color or empty.
   std::vector<Eigen::Vector4f> points;
   std::vector<Vec3f> point_colors;
@@ -40,6 +43,7 @@ struct SurfaceHit {
   Vec2f uv{0, 0};
   Vec3f color{1, 1, 1};  // per-vertex / per-point color, multiplies base color
   float t = 0;
+  float eps = 0;  // offset_distance(p), computed once per hit
   int object = -1;  // into EmbreeScene::objects
   int prim = -1;
 };
@@ -58,7 +62,9 @@ class EmbreeScene {
   std::size_t triangles() const { return triangles_; }
   float extent() const { return extent_; }  // bounding-box diagonal
 
-  bool intersect(const Vec3f& origin, const Vec3f& direction, float tmax, SurfaceHit* hit) const;
+  // `direction` is unit. `coherent`: a camera ray (neighbouring rays alike).
+  bool intersect(const Vec3f& origin, const Vec3f& direction, float tmax, SurfaceHit* hit,
+                 bool coherent = false) const;
   // Any shadow-casting surface between origin and origin + tmax * direction.
   bool occluded(const Vec3f& origin, const Vec3f& direction, float tmax) const;
   // A ray origin moved off the surface to the side `direction` leaves by.

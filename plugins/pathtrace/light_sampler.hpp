@@ -53,7 +53,13 @@ class LightSampler {
   };
   const EmbreeScene& traced_;
   const EnvironmentLight& environment_;
-  std::vector<Light> lights_;
+  // Lights in single precision, as sample() uses them.
+  struct PointLike {
+    Light::Kind kind;
+    Vec3f position, direction, radiance;  // direction unit (zero if none); radiance = color intensity
+    float cos_inner, cos_outer;
+  };
+  std::vector<PointLike> lights_;
   std::vector<Vec3f> emission_;
   std::vector<Entry> entries_;
   std::vector<int> first_entry_;  // per traced object: its first triangle entry, or -1

@@ -25,9 +25,8 @@ class Rng {
   Rng(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample)
       : state_(mix(seed ^ mix(pixel * 0x9e3779b97f4a7c15ull + mix(sample + 1)))) {}
   std::uint64_t next_u64() { return mix(state_ += 0x9e3779b97f4a7c15ull); }  // splitmix64
-  float uniform() {
-    return std::fmin(float(next_u64() >> 40) * 0x1p-24f, kOneMinusEpsilon);
-  }
+  // 24 random bits: at most 1 - 2^-24, so always below 1 (no clamp needed).
+  float uniform() { return float(next_u64() >> 40) * 0x1p-24f; }
   Vec2f uniform2() {
     const float a = uniform();
     return {a, uniform()};
