@@ -232,12 +232,12 @@ bool EmbreeScene::occluded(const Vec3f& o, const Vec3f& d, float tmax) const {
 
 bool EmbreeScene::occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const {
   const Vec3f origin = offset(hit, light_point - hit.p);
-  Vec3f d = light_point - origin;
-  const float length = d.norm();
+  const Vec3f d = light_point - origin;
+  const float length = std::sqrt(d.squaredNorm());
   // The segment stops short of the light's surface by the same margin.
   const float tmax = length - offset_distance(light_point);
   if (!(tmax > 0)) return false;
-  return occluded(origin, d / length, tmax);
+  return occluded(origin, d * (1 / length), tmax);
 }
 
 Vec3f EmbreeScene::offset(const SurfaceHit& hit, const Vec3f& direction) const {

@@ -63,7 +63,7 @@ struct CameraRays {
       *dir = forward;
     } else {
       *origin = eye;
-      *dir = (forward + tan_half * (sx * aspect * right + sy * up)).normalized();
+      *dir = unit(forward + tan_half * (sx * aspect * right + sy * up));
     }
   }
 };
@@ -152,7 +152,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
       beta = beta.cwiseProduct(base);
       prev_pdf = wi.z() * kInvPi;
       prev_delta = false;
-      dir = Frame(n).to_world(wi).normalized();
+      dir = unit(Frame(n).to_world(wi));
     } else {
       SurfaceMaterial m = sh.material;
       m.base = base;
@@ -186,7 +186,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
       beta = beta.cwiseProduct(bs->weight);
       prev_pdf = bs->pdf;
       prev_delta = bs->delta;
-      dir = frame.to_world(bs->wi).normalized();
+      dir = unit(frame.to_world(bs->wi));
     }
     prev_point = hit.p;
     // A path that can gather nothing more ends here: its throughput is zero

@@ -72,6 +72,9 @@ inline float power_heuristic(float pdf_a, float pdf_b) {
   return a / (a + b);
 }
 
+// v / |v| by one reciprocal (three divisions stall the path loop); v nonzero.
+inline Vec3f unit(const Vec3f& v) { return v * (1 / std::sqrt(v.squaredNorm())); }
+
 inline float luminance(const Vec3f& c) { return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z(); }
 
 // An orthonormal frame about a unit normal (Duff et al. 2017).
