@@ -4,8 +4,10 @@
 #include <cmath>
 #include <string>
 
+#include "displacement.hpp"
 #include "loom/error.hpp"
 #include "loom/hash.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 
 namespace loom::pathtrace {
 
@@ -21,12 +23,26 @@ void hash_matrix(Hasher& h, const M& m) {
 
 }  // namespace
 
-std::uint64_t geometry_key(const Scene& scene) {
+bool displaced(const SceneObject& o, int level) {
+  return level > 0 && o.mesh && o.mesh->has_uv() && o.material.displacement_map &&
+         !o.material.displacement_map->empty() && o.material.displacement_scale != 0;
+}
+
+std::uint64_t geometry_key(const Scene& scene, int displacement_level) {
   Hasher h(0x70617468747261ull);
   h.pod(std::uint64_t(scene.objects.size()));
   for (const SceneObject& o : scene.objects) {
     hash_matrix(h, o.transform);
     h.pod(int(o.casts_shadow));
+    h.pod(int(bool(o.material.normal_map)));
+    if (displaced(o, displacement_level)) {
+      const cv::Mat& map = o.material.displacement_map->pixels;
+      h.pod(displacement_level).pod(o.material.displacement_scale);
+      h.pod(map.rows).pod(map.cols).pod(map.type());
+      for (int y = 0; y < map.rows; ++y) h.bytes(map.ptr(y), map.cols * map.elemSize());
+    } else {
+      h.pod(0);
+    }
     if (o.mesh) {
       h.pod(1);
       hash_matrix(h, o.mesh->V);
@@ -46,7 +62,7 @@ std::uint64_t geometry_key(const Scene& scene) {
   return h.digest();
 }
 
-EmbreeScene::EmbreeScene(const Scene& scene) {
+EmbreeScene::EmbreeScene(const Scene& scene, int displacement_level) {
   const auto start = std::chrono::steady_clock::now();
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw Error("Embree could not create a device (error " +
@@ -63,7 +79,10 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     t.scene_index = int(i);
     RTCGeometry g = nullptr;
     if (o.mesh && o.mesh->faces() > 0) {
-      const Mesh& m = *o.mesh;
+      const Mesh m = displaced(o, displacement_level)
+                         ? displaced_mesh(*o.mesh, *o.material.displacement_map,
+                                          o.material.displacement_scale, displacement_level)
+                         : *o.mesh;
       t.P.resize(m.vertices());
       for (int v = 0; v < m.vertices(); ++v) {
         t.P[v] = (L * m.V.row(v).transpose() + T.block<3, 1>(0, 3)).cast<float>();
@@ -79,6 +98,17 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
       if (m.has_uv()) {
         t.UV.resize(m.vertices());
         for (int v = 0; v < m.vertices(); ++v) t.UV[v] = m.UV.row(v).transpose().cast<float>();
+      }
+      if (m.has_uv() && o.material.normal_map && !o.material.normal_map->empty()) {
+        Eigen::MatrixX3d world(m.vertices(), 3), dPdu, dPdv;
+        for (int v = 0; v < m.vertices(); ++v) world.row(v) = t.P[v].cast<double>().transpose();
+        numerics::uv_tangents(world, m.F, m.UV, dPdu, dPdv);
+        t.dPdu.resize(m.vertices());
+        t.dPdv.resize(m.vertices());
+        for (int v = 0; v < m.vertices(); ++v) {
+          t.dPdu[v] = dPdu.row(v).transpose().cast<float>();
+          t.dPdv[v] = dPdv.row(v).transpose().cast<float>();
+        }
       }
       if (m.has_colors()) {
         t.C.resize(m.vertices());
@@ -207,6 +237,10 @@ bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceH
     }
   }
   if (!obj.UV.empty()) h.uv = b0 * obj.UV[f[0]] + b1 * obj.UV[f[1]] + b2 * obj.UV[f[2]];
+  if (!obj.dPdu.empty()) {
+    h.dpdu = b0 * obj.dPdu[f[0]] + b1 * obj.dPdu[f[1]] + b2 * obj.dPdu[f[2]];
+    h.dpdv = b0 * obj.dPdv[f[0]] + b1 * obj.dPdv[f[1]] + b2 * obj.dPdv[f[2]];
+  }
   if (!obj.C.empty()) h.color = b0 * obj.C[f[0]] + b1 * obj.C[f[1]] + b2 * obj.C[f[2]];
   return true;
 }

@@ -17,8 +17,14 @@
 
 namespace loom::pathtrace {
 
-// Everything the BVH depends on: each object's geometry and transform.
-std::uint64_t geometry_key(const Scene& scene);
+// Everything the BVH depends on: each object's geometry and transform,
+// whether it is normal mapped (UV tangents are kept), its displacement map
+// and scale, and the subdivision level of displacement.
+std::uint64_t geometry_key(const Scene& scene, int displacement_level = 0);
+
+// Whether an object is displaced before the BVH build at this level: a mesh
+// with UVs, a displacement map and a nonzero scale.
+bool displaced(const SceneObject& object, int displacement_level);
 
 struct TracedObject {
   int scene_index = -1;  // into Scene::objects
@@ -26,6 +32,9 @@ struct TracedObject {
   // Triangles (world space).
   std::vector<Vec3f> P, N, C;
   std::vector<Vec2f> UV;
+  // World-space dP/du, dP/dv per vertex (loom::numerics::uv_tangents), kept
+  // only for normal-mapped meshes with UVs.
+  std::vector<Vec3f> dPdu, dPdv;
   std::vector<Eigen::Vector3i> F;
   // Per triangle, precomputed for the hit: unit geometric normal by the
   // winding (zero for a degenerate triangle).
@@ -41,6 +50,7 @@ struct SurfaceHit {
   Vec3f ng;  // unit geometric normal: outward by the triangle's winding, outward for spheres
   Vec3f ns;  // unit shading normal (interpolated vertex normals), on ng's side
   Vec2f uv{0, 0};
+  Vec3f dpdu{0, 0, 0}, dpdv{0, 0, 0};  // interpolated, when the object keeps tangents
   Vec3f color{1, 1, 1};  // per-vertex / per-point color, multiplies base color
   float t = 0;
   float eps = 0;  // offset_distance(p), computed once per hit
@@ -51,7 +61,9 @@ struct SurfaceHit {
 class EmbreeScene {
  public:
   // `skipped` counts objects that are not traced (polylines, empty geometry).
-  explicit EmbreeScene(const Scene& scene);
+  // Displaced meshes (displaced()) are subdivided `displacement_level` times
+  // and displaced (displacement.hpp) before the build.
+  explicit EmbreeScene(const Scene& scene, int displacement_level = 0);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;

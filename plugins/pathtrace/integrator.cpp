@@ -10,6 +10,8 @@
 
 #include "bsdf.hpp"
 #include "light_sampler.hpp"
+#include "normal_mapping.hpp"
+#include "texture.hpp"
 
 namespace loom::pathtrace {
 
@@ -20,23 +22,12 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 struct ObjectShading {
   SurfaceMaterial material;
   const Image* base_color_map = nullptr;
+  const Image* normal_map = nullptr;  // set only when the traced object keeps UV tangents
+  bool reflective_only = true;        // no transmission: directions stay on wo's side of ng
   Vec3f emission = Vec3f::Zero();
   bool emissive = false;
   bool lambert = false;  // diffuse: NEE and sampling in closed form, no local frame
 };
-
-Vec3f texel(const Image& image, const Vec2f& uv) {
-  // Repeat wrap, nearest texel; v = 0 is the image's bottom row (OBJ / OpenGL).
-  const cv::Mat& m = image.pixels;
-  float u = uv.x() - std::floor(uv.x()), v = uv.y() - std::floor(uv.y());
-  if (!std::isfinite(u) || !std::isfinite(v)) u = v = 0;
-  const int x = std::clamp(int(u * m.cols), 0, m.cols - 1);
-  const int y = std::clamp(int((1 - v) * m.rows), 0, m.rows - 1);
-  const float* p = m.ptr<float>(y) + std::size_t(x) * m.channels();
-  Vec3f c = m.channels() >= 3 ? Vec3f(p[0], p[1], p[2]) : Vec3f::Constant(p[0]);
-  for (int i = 0; i < 3; ++i) c[i] = std::isfinite(c[i]) ? std::max(c[i], 0.f) : 0.f;
-  return c;
-}
 
 struct CameraRays {
   Vec3f eye, forward, right, up;
@@ -86,6 +77,12 @@ struct PathResult {
   int rays = 0;
 };
 
+// The shadow ray of next-event estimation.
+bool occluded(const EmbreeScene& traced, const SurfaceHit& hit, const LightSample& ls) {
+  return std::isinf(ls.distance) ? traced.occluded(traced.offset(hit, ls.wi), ls.wi, kInf)
+                                 : traced.occluded_to(hit, ls.point);
+}
+
 PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
   PathResult r;
   const bool use_nee = c.settings.strategy != Strategy::bsdf && !c.lights.empty();
@@ -108,8 +105,16 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
       break;
     }
     const ObjectShading& sh = c.shading[hit.object];
+    // With a normal map, a direction on the other side of the geometric
+    // surface than wo is cut (reflection only: it would pass through).
+    float wo_side = 0;
+    if (sh.normal_map) {
+      hit.ns = mapped_normal(hit.ns, hit.dpdu, hit.dpdv, texel_bilinear(*sh.normal_map, hit.uv));
+      hit.ns = bend_above_horizon(hit.ns, hit.ng, -dir);
+      if (sh.reflective_only) wo_side = -dir.dot(hit.ng);
+    }
     Vec3f base = sh.material.base.cwiseProduct(hit.color);
-    if (sh.base_color_map) base = base.cwiseProduct(texel(*sh.base_color_map, hit.uv));
+    if (sh.base_color_map) base = base.cwiseProduct(texel_color(*sh.base_color_map, hit.uv));
     if (depth == 0) {
       r.albedo = base;
       r.normal = hit.ns;
@@ -134,11 +139,8 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
         const float ue = rng.uniform();
         if (const auto ls = c.lights.sample(hit.p, uc, u, ue)) {
           const float cos_i = n.dot(ls->wi);
-          if (cos_i > 0) {
-            ++r.rays;
-            const bool blocked = std::isinf(ls->distance)
-                                     ? c.traced.occluded(c.traced.offset(hit, ls->wi), ls->wi, kInf)
-                                     : c.traced.occluded_to(hit, ls->point);
+          if (cos_i > 0 && wo_side * ls->wi.dot(hit.ng) >= 0) {
+            const bool blocked = ls->shadowed && (++r.rays, occluded(c.traced, hit, *ls));
             if (!blocked) {
               const float bsdf_pdf = cos_i * kInvPi;
               const float w = ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf_pdf);
@@ -153,6 +155,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
       prev_pdf = wi.z() * kInvPi;
       prev_delta = false;
       dir = unit(Frame(n).to_world(wi));
+      if (wo_side * dir.dot(hit.ng) < 0) break;
     } else {
       SurfaceMaterial m = sh.material;
       m.base = base;
@@ -166,11 +169,8 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
         if (const auto ls = c.lights.sample(hit.p, uc, u, ue)) {
           const Vec3f wi = frame.to_local(ls->wi);
           const Vec3f f = bsdf_eval(m, wo, wi);
-          if ((f.array() > 0).any()) {
-            ++r.rays;
-            const bool blocked = std::isinf(ls->distance)
-                                     ? c.traced.occluded(c.traced.offset(hit, ls->wi), ls->wi, kInf)
-                                     : c.traced.occluded_to(hit, ls->point);
+          if ((f.array() > 0).any() && wo_side * ls->wi.dot(hit.ng) >= 0) {
+            const bool blocked = ls->shadowed && (++r.rays, occluded(c.traced, hit, *ls));
             if (!blocked) {
               const float w =
                   ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf_pdf(m, wo, wi));
@@ -187,6 +187,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
       prev_pdf = bs->pdf;
       prev_delta = bs->delta;
       dir = unit(frame.to_world(bs->wi));
+      if (wo_side * dir.dot(hit.ng) < 0) break;
     }
     prev_point = hit.p;
     // A path that can gather nothing more ends here: its throughput is zero
@@ -230,6 +231,9 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
     sh.material.ggx.alpha = rough * rough;
     sh.material.ior = float(std::max(mat.ior, 1.0));
     if (mat.base_color_map && !mat.base_color_map->empty()) sh.base_color_map = mat.base_color_map.get();
+    if (mat.normal_map && !mat.normal_map->empty() && !traced.objects()[i].dPdu.empty())
+      sh.normal_map = mat.normal_map.get();
+    sh.reflective_only = mat.model != Material::Model::dielectric;
     sh.emission = mat.emission.cast<float>();
     sh.emissive = (sh.emission.array() > 0).any();
     sh.lambert = mat.model == Material::Model::diffuse;

@@ -28,7 +28,7 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& traced,
     lights_.push_back({l.kind, l.position.cast<float>(),
                        d.squaredNorm() > 0 ? Vec3f(d.normalized()) : Vec3f(Vec3f::Zero()),
                        l.color.cast<float>() * float(l.intensity), std::cos(float(l.spot_inner)),
-                       std::cos(float(l.spot_outer))});
+                       std::cos(float(l.spot_outer)), l.casts_shadow});
   }
   std::vector<double> power;
   const auto& objects = traced.objects();
@@ -95,13 +95,13 @@ std::optional<LightSample> LightSampler::sample(const Vec3f& p, float uc, const 
       if (!(cos_light > 0)) return std::nullopt;  // the back of a one-sided emitter
       const float pdf = select * dist2 / (e.area * cos_light);
       if (!std::isfinite(pdf)) return std::nullopt;
-      return LightSample{d, dist, q, emission_[e.object], pdf, false};
+      return LightSample{d, dist, q, emission_[e.object], pdf, false, true};
     }
     case Entry::Kind::light: {
       const PointLike& l = lights_[e.light];
       if (l.kind == Light::Kind::directional) {
         if (l.direction.x() == 0 && l.direction.y() == 0 && l.direction.z() == 0) return std::nullopt;
-        return LightSample{-l.direction, inf, Vec3f::Zero(), l.radiance, select, true};
+        return LightSample{-l.direction, inf, Vec3f::Zero(), l.radiance, select, true, l.casts_shadow};
       }
       Vec3f d = l.position - p;
       const float dist2 = d.squaredNorm();
@@ -111,12 +111,12 @@ std::optional<LightSample> LightSampler::sample(const Vec3f& p, float uc, const 
       float k = 1 / dist2;
       if (l.kind == Light::Kind::spot) k *= spot_falloff(l, -d);
       if (!(k > 0)) return std::nullopt;
-      return LightSample{d, dist, l.position, l.radiance * k, select, true};
+      return LightSample{d, dist, l.position, l.radiance * k, select, true, l.casts_shadow};
     }
     case Entry::Kind::environment: {
       const auto s = environment_.sample(u_env, u);
       if (!(s.pdf > 0)) return std::nullopt;
-      return LightSample{s.direction, inf, Vec3f::Zero(), environment_.radiance(s.direction), select * s.pdf, false};
+      return LightSample{s.direction, inf, Vec3f::Zero(), environment_.radiance(s.direction), select * s.pdf, false, true};
     }
   }
   return std::nullopt;
