@@ -89,6 +89,25 @@ void save_png(const cv::Mat& image, const std::string& name) {
   loom::io::write_image(loom::Image(image, loom::Encoding::linear), dir / name, loom::io::Depth::u8);
 }
 
+// Loom alone on the embree comparison scene, 1 thread: paths per CPU second
+// and rays per path (for profiling: `perf record build/bin/bench_pathtrace throughput`).
+void bench_throughput() {
+  const loom::Scene scene = bench::embree_cornell_box(EMBREE_MODELS);
+  const EmbreeScene traced(scene);
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+  RenderSettings s;
+  s.width = s.height = 512;
+  s.spp = quick ? 4 : 16;
+  s.max_depth = 8;
+  s.russian_roulette = false;
+  const Timed t = timed_render(scene, traced, s);
+  const double paths = double(t.result.paths);
+  std::cout << "throughput (1 thread, 512^2, " << s.spp << " spp, depth 8): "
+            << paths / t.cpu_seconds / 1e6 << " M paths per CPU s, "
+            << double(t.result.rays) / paths << " rays per path, load "
+            << loom::bench::load_average() << "\n";
+}
+
 // ---- Embree's tutorial path tracer --------------------------------------------------
 
 cv::Mat read_pfm(const fs::path& path) {
@@ -395,7 +414,7 @@ void bench_bvh() {
 int main(int argc, char** argv) {
   loom::bench::handle_help(argc, argv,
                            "bench_pathtrace [--quick] [embree] [convergence] [strategies] [environment] "
-                           "[adaptive] [bvh]   (no section: all)\n"
+                           "[adaptive] [bvh] [throughput]   (no section: all but throughput)\n"
                            "Writes bench/results/pathtrace_*.csv, plots and bench/results/pathtrace/*.png.");
   std::set<std::string> want;
   for (int i = 1; i < argc; ++i) {
@@ -408,6 +427,7 @@ int main(int argc, char** argv) {
   auto on = [&](const char* s) { return want.empty() || want.count(s); };
   std::cout << "load at start: " << loom::bench::load_average() << "\n";
   if (on("bvh")) bench_bvh();
+  if (want.count("throughput")) bench_throughput();
   if (on("embree")) bench_embree();
   if (on("convergence")) bench_convergence();
   if (on("strategies")) {

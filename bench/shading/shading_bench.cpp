@@ -23,7 +23,7 @@
 #include "mesh_denoising.hpp"
 #include "rasterizer.hpp"
 #include "shading_scenes.hpp"
-#include "surface_frames.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 
 namespace {
 
@@ -223,7 +223,7 @@ void normal_mapping() {
     displaced.V(i, 1) += scale * ((1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x0 + 1, y0)) +
                                   ay * ((1 - ax) * at(x0, y0 + 1) + ax * at(x0 + 1, y0 + 1)));
   }
-  displaced.N = vertex_normals(displaced.V, displaced.F);
+  displaced.N = loom::numerics::vertex_normals(displaced.V, displaced.F);
   for (double elevation : {10.0, 20.0, 45.0}) {
     auto view = [&](SceneObject o) {
       Scene s;
@@ -273,7 +273,7 @@ void denoising() {
   Mesh clean = scenes::plane(n, 1);
   for (Eigen::Index i = 0; i < clean.V.rows(); ++i)
     clean.V(i, 1) = 0.15 * std::sin(M_PI * clean.V(i, 0)) * std::sin(M_PI * clean.V(i, 2));
-  const Eigen::MatrixX3d N = vertex_normals(clean.V, clean.F);
+  const Eigen::MatrixX3d N = loom::numerics::vertex_normals(clean.V, clean.F);
   for (double sigma : {0.002, 0.005, 0.01}) {
     std::mt19937_64 rng(7);
     std::normal_distribution<double> gauss(0, sigma);
@@ -289,7 +289,7 @@ void denoising() {
       auto t = Clock::now();
       Eigen::MatrixX3d V = noisy;
       for (int s = 0; s < steps; ++s) {
-        const Eigen::MatrixX3d Nn = vertex_normals(V, clean.F);
+        const Eigen::MatrixX3d Nn = loom::numerics::vertex_normals(V, clean.F);
         const DisplacementMap map = bake_displacement(clean.UV, normal_displacements(V, clean.F, Nn), 512, 4);
         V = remove_displacement(V, Nn, sample_displacement(map, clean.UV));
       }

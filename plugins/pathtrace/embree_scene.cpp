@@ -4,8 +4,10 @@
 #include <cmath>
 #include <string>
 
+#include "displacement.hpp"
 #include "loom/error.hpp"
 #include "loom/hash.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 
 namespace loom::pathtrace {
 
@@ -21,12 +23,26 @@ void hash_matrix(Hasher& h, const M& m) {
 
 }  // namespace
 
-std::uint64_t geometry_key(const Scene& scene) {
+bool displaced(const SceneObject& o, int level) {
+  return level > 0 && o.mesh && o.mesh->has_uv() && o.material.displacement_map &&
+         !o.material.displacement_map->empty() && o.material.displacement_scale != 0;
+}
+
+std::uint64_t geometry_key(const Scene& scene, int displacement_level) {
   Hasher h(0x70617468747261ull);
   h.pod(std::uint64_t(scene.objects.size()));
   for (const SceneObject& o : scene.objects) {
     hash_matrix(h, o.transform);
     h.pod(int(o.casts_shadow));
+    h.pod(int(bool(o.material.normal_map)));
+    if (displaced(o, displacement_level)) {
+      const cv::Mat& map = o.material.displacement_map->pixels;
+      h.pod(displacement_level).pod(o.material.displacement_scale);
+      h.pod(map.rows).pod(map.cols).pod(map.type());
+      for (int y = 0; y < map.rows; ++y) h.bytes(map.ptr(y), map.cols * map.elemSize());
+    } else {
+      h.pod(0);
+    }
     if (o.mesh) {
       h.pod(1);
       hash_matrix(h, o.mesh->V);
@@ -46,7 +62,7 @@ std::uint64_t geometry_key(const Scene& scene) {
   return h.digest();
 }
 
-EmbreeScene::EmbreeScene(const Scene& scene) {
+EmbreeScene::EmbreeScene(const Scene& scene, int displacement_level) {
   const auto start = std::chrono::steady_clock::now();
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw Error("Embree could not create a device (error " +
@@ -63,7 +79,10 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
     t.scene_index = int(i);
     RTCGeometry g = nullptr;
     if (o.mesh && o.mesh->faces() > 0) {
-      const Mesh& m = *o.mesh;
+      const Mesh m = displaced(o, displacement_level)
+                         ? displaced_mesh(*o.mesh, *o.material.displacement_map,
+                                          o.material.displacement_scale, displacement_level)
+                         : *o.mesh;
       t.P.resize(m.vertices());
       for (int v = 0; v < m.vertices(); ++v) {
         t.P[v] = (L * m.V.row(v).transpose() + T.block<3, 1>(0, 3)).cast<float>();
@@ -80,12 +99,30 @@ EmbreeScene::EmbreeScene(const Scene& scene) {
         t.UV.resize(m.vertices());
         for (int v = 0; v < m.vertices(); ++v) t.UV[v] = m.UV.row(v).transpose().cast<float>();
       }
+      if (m.has_uv() && o.material.normal_map && !o.material.normal_map->empty()) {
+        Eigen::MatrixX3d world(m.vertices(), 3), dPdu, dPdv;
+        for (int v = 0; v < m.vertices(); ++v) world.row(v) = t.P[v].cast<double>().transpose();
+        numerics::uv_tangents(world, m.F, m.UV, dPdu, dPdv);
+        t.dPdu.resize(m.vertices());
+        t.dPdv.resize(m.vertices());
+        for (int v = 0; v < m.vertices(); ++v) {
+          t.dPdu[v] = dPdu.row(v).transpose().cast<float>();
+          t.dPdv[v] = dPdv.row(v).transpose().cast<float>();
+        }
+      }
       if (m.has_colors()) {
         t.C.resize(m.vertices());
         for (int v = 0; v < m.vertices(); ++v) t.C[v] = m.C.row(v).transpose().cast<float>();
       }
       t.F.resize(m.faces());
-      for (int f = 0; f < m.faces(); ++f) t.F[f] = m.F.row(f).transpose();
+      t.face_normal.resize(m.faces());
+      for (int f = 0; f < m.faces(); ++f) {
+        const Eigen::Vector3i tri = m.F.row(f).transpose();
+        t.F[f] = tri;
+        const Vec3f n = (t.P[tri[1]] - t.P[tri[0]]).cross(t.P[tri[2]] - t.P[tri[0]]);
+        const float n2 = n.squaredNorm();
+        t.face_normal[f] = n2 > 0 && std::isfinite(n2) ? Vec3f(n / std::sqrt(n2)) : Vec3f(Vec3f::Zero());
+      }
       g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
       auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
           g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), t.P.size()));
@@ -146,9 +183,11 @@ EmbreeScene::~EmbreeScene() {
   if (device_) rtcReleaseDevice(device_);
 }
 
-bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceHit* hit) const {
+bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceHit* hit,
+                            bool coherent) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
+  context.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
   RTCRayHit rh;
   rh.ray.org_x = o.x();
   rh.ray.org_y = o.y();
@@ -170,33 +209,38 @@ bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceH
   SurfaceHit& h = *hit;
   h.t = rh.ray.tfar;
   h.p = o + h.t * d;
+  h.eps = offset_distance(h.p);
   h.object = index;
   h.prim = int(rh.hit.primID);
   h.uv = Vec2f::Zero();
   h.color = Vec3f::Ones();
-  const Vec3f backward = -d.normalized();
   if (obj.spheres) {
     const Eigen::Vector4f& s = obj.points[h.prim];
-    Vec3f n = h.p - s.head<3>();
-    h.ng = n.norm() > 0 ? n.normalized() : backward;
+    const Vec3f n = h.p - s.head<3>();
+    h.ng = n.squaredNorm() > 0 ? Vec3f(n.normalized()) : Vec3f(-d);
     h.ns = h.ng;
     if (!obj.point_colors.empty()) h.color = obj.point_colors[h.prim];
     return true;
   }
   const Eigen::Vector3i& f = obj.F[h.prim];
   const float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1 - b1 - b2;
-  const Vec3f n = (obj.P[f[1]] - obj.P[f[0]]).cross(obj.P[f[2]] - obj.P[f[0]]);
+  h.ng = obj.face_normal[h.prim];
   // A degenerate triangle has no normal of its own: it faces the ray.
-  h.ng = n.squaredNorm() > 0 && std::isfinite(n.squaredNorm()) ? n.normalized() : backward;
+  if (h.ng.x() == 0 && h.ng.y() == 0 && h.ng.z() == 0) h.ng = -d;
   h.ns = h.ng;
   if (!obj.N.empty()) {
     const Vec3f ns = b0 * obj.N[f[0]] + b1 * obj.N[f[1]] + b2 * obj.N[f[2]];
-    if (ns.squaredNorm() > 1e-12f) {
-      h.ns = ns.normalized();
+    const float n2 = ns.squaredNorm();
+    if (n2 > 1e-12f) {
+      h.ns = ns / std::sqrt(n2);
       if (h.ns.dot(h.ng) < 0) h.ns = -h.ns;
     }
   }
   if (!obj.UV.empty()) h.uv = b0 * obj.UV[f[0]] + b1 * obj.UV[f[1]] + b2 * obj.UV[f[2]];
+  if (!obj.dPdu.empty()) {
+    h.dpdu = b0 * obj.dPdu[f[0]] + b1 * obj.dPdu[f[1]] + b2 * obj.dPdu[f[2]];
+    h.dpdv = b0 * obj.dPdv[f[0]] + b1 * obj.dPdv[f[1]] + b2 * obj.dPdv[f[2]];
+  }
   if (!obj.C.empty()) h.color = b0 * obj.C[f[0]] + b1 * obj.C[f[1]] + b2 * obj.C[f[2]];
   return true;
 }
@@ -222,16 +266,16 @@ bool EmbreeScene::occluded(const Vec3f& o, const Vec3f& d, float tmax) const {
 
 bool EmbreeScene::occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const {
   const Vec3f origin = offset(hit, light_point - hit.p);
-  Vec3f d = light_point - origin;
-  const float length = d.norm();
+  const Vec3f d = light_point - origin;
+  const float length = std::sqrt(d.squaredNorm());
   // The segment stops short of the light's surface by the same margin.
   const float tmax = length - offset_distance(light_point);
   if (!(tmax > 0)) return false;
-  return occluded(origin, d / length, tmax);
+  return occluded(origin, d * (1 / length), tmax);
 }
 
 Vec3f EmbreeScene::offset(const SurfaceHit& hit, const Vec3f& direction) const {
-  const float eps = offset_distance(hit.p);
+  const float eps = hit.eps > 0 ? hit.eps : offset_distance(hit.p);
   return hit.p + (hit.ng.dot(direction) >= 0 ? eps : -eps) * hit.ng;
 }
 

@@ -17,8 +17,14 @@
 
 namespace loom::pathtrace {
 
-// Everything the BVH depends on: each object's geometry and transform.
-std::uint64_t geometry_key(const Scene& scene);
+// Everything the BVH depends on: each object's geometry and transform,
+// whether it is normal mapped (UV tangents are kept), its displacement map
+// and scale, and the subdivision level of displacement.
+std::uint64_t geometry_key(const Scene& scene, int displacement_level = 0);
+
+// Whether an object is displaced before the BVH build at this level: a mesh
+// with UVs, a displacement map and a nonzero scale.
+bool displaced(const SceneObject& object, int displacement_level);
 
 struct TracedObject {
   int scene_index = -1;  // into Scene::objects
@@ -26,7 +32,13 @@ struct TracedObject {
   // Triangles (world space).
   std::vector<Vec3f> P, N, C;
   std::vector<Vec2f> UV;
+  // World-space dP/du, dP/dv per vertex (loom::numerics::uv_tangents), kept
+  // only for normal-mapped meshes with UVs.
+  std::vector<Vec3f> dPdu, dPdv;
   std::vector<Eigen::Vector3i> F;
+  // Per triangle, precomputed for the hit: unit geometric normal by the
+  // winding (zero for a degenerate triangle).
+  std::vector<Vec3f> face_normal;
   // Sphere points (world space): x, y, z, radius; per-point color or empty.
   std::vector<Eigen::Vector4f> points;
   std::vector<Vec3f> point_colors;
@@ -38,8 +50,10 @@ struct SurfaceHit {
   Vec3f ng;  // unit geometric normal: outward by the triangle's winding, outward for spheres
   Vec3f ns;  // unit shading normal (interpolated vertex normals), on ng's side
   Vec2f uv{0, 0};
+  Vec3f dpdu{0, 0, 0}, dpdv{0, 0, 0};  // interpolated, when the object keeps tangents
   Vec3f color{1, 1, 1};  // per-vertex / per-point color, multiplies base color
   float t = 0;
+  float eps = 0;  // offset_distance(p), computed once per hit
   int object = -1;  // into EmbreeScene::objects
   int prim = -1;
 };
@@ -47,7 +61,9 @@ struct SurfaceHit {
 class EmbreeScene {
  public:
   // `skipped` counts objects that are not traced (polylines, empty geometry).
-  explicit EmbreeScene(const Scene& scene);
+  // Displaced meshes (displaced()) are subdivided `displacement_level` times
+  // and displaced (displacement.hpp) before the build.
+  explicit EmbreeScene(const Scene& scene, int displacement_level = 0);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -58,7 +74,9 @@ class EmbreeScene {
   std::size_t triangles() const { return triangles_; }
   float extent() const { return extent_; }  // bounding-box diagonal
 
-  bool intersect(const Vec3f& origin, const Vec3f& direction, float tmax, SurfaceHit* hit) const;
+  // `direction` is unit. `coherent`: a camera ray (neighbouring rays alike).
+  bool intersect(const Vec3f& origin, const Vec3f& direction, float tmax, SurfaceHit* hit,
+                 bool coherent = false) const;
   // Any shadow-casting surface between origin and origin + tmax * direction.
   bool occluded(const Vec3f& origin, const Vec3f& direction, float tmax) const;
   // A ray origin moved off the surface to the side `direction` leaves by.

@@ -10,6 +10,8 @@
 
 #include "bsdf.hpp"
 #include "light_sampler.hpp"
+#include "normal_mapping.hpp"
+#include "texture.hpp"
 
 namespace loom::pathtrace {
 
@@ -20,21 +22,12 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 struct ObjectShading {
   SurfaceMaterial material;
   const Image* base_color_map = nullptr;
+  const Image* normal_map = nullptr;  // set only when the traced object keeps UV tangents
+  bool reflective_only = true;        // no transmission: directions stay on wo's side of ng
   Vec3f emission = Vec3f::Zero();
+  bool emissive = false;
+  bool lambert = false;  // diffuse: NEE and sampling in closed form, no local frame
 };
-
-Vec3f texel(const Image& image, const Vec2f& uv) {
-  // Repeat wrap, nearest texel; v = 0 is the image's bottom row (OBJ / OpenGL).
-  const cv::Mat& m = image.pixels;
-  float u = uv.x() - std::floor(uv.x()), v = uv.y() - std::floor(uv.y());
-  if (!std::isfinite(u) || !std::isfinite(v)) u = v = 0;
-  const int x = std::clamp(int(u * m.cols), 0, m.cols - 1);
-  const int y = std::clamp(int((1 - v) * m.rows), 0, m.rows - 1);
-  const float* p = m.ptr<float>(y) + std::size_t(x) * m.channels();
-  Vec3f c = m.channels() >= 3 ? Vec3f(p[0], p[1], p[2]) : Vec3f::Constant(p[0]);
-  for (int i = 0; i < 3; ++i) c[i] = std::isfinite(c[i]) ? std::max(c[i], 0.f) : 0.f;
-  return c;
-}
 
 struct CameraRays {
   Vec3f eye, forward, right, up;
@@ -61,7 +54,7 @@ struct CameraRays {
       *dir = forward;
     } else {
       *origin = eye;
-      *dir = (forward + tan_half * (sx * aspect * right + sy * up)).normalized();
+      *dir = unit(forward + tan_half * (sx * aspect * right + sy * up));
     }
   }
 };
@@ -72,6 +65,9 @@ struct PathContext {
   const LightSampler& lights;
   const EnvironmentLight& environment;
   const RenderSettings& settings;
+  // Whether a BSDF-sampled ray can find light at all (an emissive object or
+  // the environment): if not, the ray after the last bounce is not traced.
+  bool emitters_hittable;
 };
 
 struct PathResult {
@@ -80,6 +76,12 @@ struct PathResult {
   float depth = 0;
   int rays = 0;
 };
+
+// The shadow ray of next-event estimation.
+bool occluded(const EmbreeScene& traced, const SurfaceHit& hit, const LightSample& ls) {
+  return std::isinf(ls.distance) ? traced.occluded(traced.offset(hit, ls.wi), ls.wi, kInf)
+                                 : traced.occluded_to(hit, ls.point);
+}
 
 PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
   PathResult r;
@@ -92,7 +94,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
   SurfaceHit hit;
   for (int depth = 0;; ++depth) {
     ++r.rays;
-    if (!c.traced.intersect(origin, dir, kInf, &hit)) {
+    if (!c.traced.intersect(origin, dir, kInf, &hit, depth == 0)) {
       if (!c.environment.black()) {
         float w = 1;
         if (!prev_delta && use_nee && c.lights.samples_environment())
@@ -103,16 +105,23 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
       break;
     }
     const ObjectShading& sh = c.shading[hit.object];
-    SurfaceMaterial m = sh.material;
-    m.base = m.base.cwiseProduct(hit.color);
-    if (sh.base_color_map) m.base = m.base.cwiseProduct(texel(*sh.base_color_map, hit.uv));
+    // With a normal map, a direction on the other side of the geometric
+    // surface than wo is cut (reflection only: it would pass through).
+    float wo_side = 0;
+    if (sh.normal_map) {
+      hit.ns = mapped_normal(hit.ns, hit.dpdu, hit.dpdv, texel_bilinear(*sh.normal_map, hit.uv));
+      hit.ns = bend_above_horizon(hit.ns, hit.ng, -dir);
+      if (sh.reflective_only) wo_side = -dir.dot(hit.ng);
+    }
+    Vec3f base = sh.material.base.cwiseProduct(hit.color);
+    if (sh.base_color_map) base = base.cwiseProduct(texel_color(*sh.base_color_map, hit.uv));
     if (depth == 0) {
-      r.albedo = m.base;
+      r.albedo = base;
       r.normal = hit.ns;
       r.depth = hit.t;
     }
     // Emission (one-sided, on the winding's front).
-    if ((sh.emission.array() > 0).any() && hit.ng.dot(dir) < 0) {
+    if (sh.emissive && hit.ng.dot(dir) < 0) {
       float w = 1;
       if (!prev_delta && use_nee && !c.traced.objects()[hit.object].spheres)
         w = use_mis ? power_heuristic(prev_pdf, c.lights.triangle_pdf(hit, prev_point)) : 0.f;
@@ -120,38 +129,72 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
     }
     if (depth >= c.settings.max_depth) break;
 
-    const Frame frame(hit.ns);
-    const Vec3f wo = frame.to_local(-dir);
-    // Next-event estimation.
-    if (use_nee && !m.purely_specular()) {
-      const float uc = rng.uniform();
-      const Vec2f u = rng.uniform2();
-      const float ue = rng.uniform();
-      if (const auto ls = c.lights.sample(hit.p, uc, u, ue)) {
-        const Vec3f wi = frame.to_local(ls->wi);
-        const Vec3f f = bsdf_eval(m, wo, wi);
-        if ((f.array() > 0).any()) {
-          ++r.rays;
-          const bool blocked = std::isinf(ls->distance)
-                                   ? c.traced.occluded(c.traced.offset(hit, ls->wi), ls->wi, kInf)
-                                   : c.traced.occluded_to(hit, ls->point);
-          if (!blocked) {
-            const float w =
-                ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf_pdf(m, wo, wi));
-            r.L += beta.cwiseProduct(f).cwiseProduct(ls->radiance) * (w / ls->pdf);
+    if (sh.lambert) {
+      // Lambert, two-sided: f cos = base cos θi / π on wo's side of the
+      // shading normal, pdf = cos θi / π (cosine sampling), weight = base.
+      const Vec3f n = hit.ns.dot(dir) > 0 ? Vec3f(-hit.ns) : hit.ns;
+      if (use_nee) {
+        const float uc = rng.uniform();
+        const Vec2f u = rng.uniform2();
+        const float ue = rng.uniform();
+        if (const auto ls = c.lights.sample(hit.p, uc, u, ue)) {
+          const float cos_i = n.dot(ls->wi);
+          if (cos_i > 0 && wo_side * ls->wi.dot(hit.ng) >= 0) {
+            const bool blocked = ls->shadowed && (++r.rays, occluded(c.traced, hit, *ls));
+            if (!blocked) {
+              const float bsdf_pdf = cos_i * kInvPi;
+              const float w = ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf_pdf);
+              r.L += beta.cwiseProduct(base).cwiseProduct(ls->radiance) * (bsdf_pdf * w / ls->pdf);
+            }
           }
         }
       }
+      const Vec3f wi = sample_cosine_hemisphere(rng.uniform2());
+      if (!(wi.z() > 0)) break;
+      beta = beta.cwiseProduct(base);
+      prev_pdf = wi.z() * kInvPi;
+      prev_delta = false;
+      dir = unit(Frame(n).to_world(wi));
+      if (wo_side * dir.dot(hit.ng) < 0) break;
+    } else {
+      SurfaceMaterial m = sh.material;
+      m.base = base;
+      const Frame frame(hit.ns);
+      const Vec3f wo = frame.to_local(-dir);
+      // Next-event estimation.
+      if (use_nee && !m.purely_specular()) {
+        const float uc = rng.uniform();
+        const Vec2f u = rng.uniform2();
+        const float ue = rng.uniform();
+        if (const auto ls = c.lights.sample(hit.p, uc, u, ue)) {
+          const Vec3f wi = frame.to_local(ls->wi);
+          const Vec3f f = bsdf_eval(m, wo, wi);
+          if ((f.array() > 0).any() && wo_side * ls->wi.dot(hit.ng) >= 0) {
+            const bool blocked = ls->shadowed && (++r.rays, occluded(c.traced, hit, *ls));
+            if (!blocked) {
+              const float w =
+                  ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf_pdf(m, wo, wi));
+              r.L += beta.cwiseProduct(f).cwiseProduct(ls->radiance) * (w / ls->pdf);
+            }
+          }
+        }
+      }
+      // BSDF sampling.
+      const float uc = rng.uniform();
+      const auto bs = bsdf_sample(m, wo, uc, rng.uniform2());
+      if (!bs || !(bs->weight.array() > 0).any()) break;
+      beta = beta.cwiseProduct(bs->weight);
+      prev_pdf = bs->pdf;
+      prev_delta = bs->delta;
+      dir = unit(frame.to_world(bs->wi));
+      if (wo_side * dir.dot(hit.ng) < 0) break;
     }
-    // BSDF sampling.
-    const float uc = rng.uniform();
-    const auto bs = bsdf_sample(m, wo, uc, rng.uniform2());
-    if (!bs || !(bs->weight.array() > 0).any()) break;
-    beta = beta.cwiseProduct(bs->weight);
-    prev_pdf = bs->pdf;
-    prev_delta = bs->delta;
     prev_point = hit.p;
-    dir = frame.to_world(bs->wi).normalized();
+    // A path that can gather nothing more ends here: its throughput is zero
+    // (e.g. red after green), or the next hit would be past the last bounce
+    // and could only add emission the scene does not have.
+    if (!(beta.maxCoeff() > 0)) break;
+    if (depth + 1 >= c.settings.max_depth && !c.emitters_hittable) break;
     origin = c.traced.offset(hit, dir);
     if (c.settings.russian_roulette && depth + 1 >= c.settings.rr_min_depth) {
       const float survive = std::min(0.95f, beta.maxCoeff());
@@ -178,6 +221,7 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
   const int W = s.width, H = s.height;
   std::vector<ObjectShading> shading(traced.objects().size());
   std::vector<Vec3f> emission(traced.objects().size());
+  bool emitters_hittable = false;
   for (std::size_t i = 0; i < shading.size(); ++i) {
     const Material& mat = scene.objects[traced.objects()[i].scene_index].material;
     ObjectShading& sh = shading[i];
@@ -187,12 +231,19 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
     sh.material.ggx.alpha = rough * rough;
     sh.material.ior = float(std::max(mat.ior, 1.0));
     if (mat.base_color_map && !mat.base_color_map->empty()) sh.base_color_map = mat.base_color_map.get();
+    if (mat.normal_map && !mat.normal_map->empty() && !traced.objects()[i].dPdu.empty())
+      sh.normal_map = mat.normal_map.get();
+    sh.reflective_only = mat.model != Material::Model::dielectric;
     sh.emission = mat.emission.cast<float>();
+    sh.emissive = (sh.emission.array() > 0).any();
+    sh.lambert = mat.model == Material::Model::diffuse;
     emission[i] = sh.emission;
+    emitters_hittable |= sh.emissive;
   }
   const EnvironmentLight environment(scene.environment, s.environment_sampling);
   const LightSampler lights(scene, traced, emission, environment);
-  const PathContext context{traced, shading, lights, environment, s};
+  const PathContext context{traced, shading, lights, environment, s,
+                            emitters_hittable || !environment.black()};
   const CameraRays cam(camera, W, H);
 
   std::vector<PixelAccumulator> acc(std::size_t(W) * H);

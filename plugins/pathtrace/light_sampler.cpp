@@ -8,9 +8,10 @@ namespace loom::pathtrace {
 
 namespace {
 
-float spot_falloff(const Light& l, const Vec3f& from_light) {
-  const float c = from_light.dot(l.direction.cast<float>().normalized());
-  const float ci = std::cos(float(l.spot_inner)), co = std::cos(float(l.spot_outer));
+template <class L>
+float spot_falloff(const L& l, const Vec3f& from_light) {
+  const float c = from_light.dot(l.direction);
+  const float ci = l.cos_inner, co = l.cos_outer;
   if (c >= ci) return 1;
   if (c <= co || ci <= co) return 0;
   const float t = (c - co) / (ci - co);
@@ -21,7 +22,14 @@ float spot_falloff(const Light& l, const Vec3f& from_light) {
 
 LightSampler::LightSampler(const Scene& scene, const EmbreeScene& traced,
                            const std::vector<Vec3f>& emission, const EnvironmentLight& environment)
-    : traced_(traced), environment_(environment), lights_(scene.lights), emission_(emission) {
+    : traced_(traced), environment_(environment), emission_(emission) {
+  for (const Light& l : scene.lights) {
+    const Vec3f d = l.direction.cast<float>();
+    lights_.push_back({l.kind, l.position.cast<float>(),
+                       d.squaredNorm() > 0 ? Vec3f(d.normalized()) : Vec3f(Vec3f::Zero()),
+                       l.color.cast<float>() * float(l.intensity), std::cos(float(l.spot_inner)),
+                       std::cos(float(l.spot_outer)), l.casts_shadow});
+  }
   std::vector<double> power;
   const auto& objects = traced.objects();
   first_entry_.assign(objects.size(), -1);
@@ -41,8 +49,8 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& traced,
     }
   }
   const double radius = 0.5 * traced.extent();
-  for (std::size_t i = 0; i < lights_.size(); ++i) {
-    const Light& l = lights_[i];
+  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+    const Light& l = scene.lights[i];
     const double lum = std::max(0.f, luminance(l.color.cast<float>())) * l.intensity;
     double p = 0;
     switch (l.kind) {
@@ -87,17 +95,15 @@ std::optional<LightSample> LightSampler::sample(const Vec3f& p, float uc, const 
       if (!(cos_light > 0)) return std::nullopt;  // the back of a one-sided emitter
       const float pdf = select * dist2 / (e.area * cos_light);
       if (!std::isfinite(pdf)) return std::nullopt;
-      return LightSample{d, dist, q, emission_[e.object], pdf, false};
+      return LightSample{d, dist, q, emission_[e.object], pdf, false, true};
     }
     case Entry::Kind::light: {
-      const Light& l = lights_[e.light];
-      const Vec3f color = l.color.cast<float>() * float(l.intensity);
+      const PointLike& l = lights_[e.light];
       if (l.kind == Light::Kind::directional) {
-        const Vec3f dir = l.direction.cast<float>();
-        if (!(dir.squaredNorm() > 0)) return std::nullopt;
-        return LightSample{-dir.normalized(), inf, Vec3f::Zero(), color, select, true};
+        if (l.direction.x() == 0 && l.direction.y() == 0 && l.direction.z() == 0) return std::nullopt;
+        return LightSample{-l.direction, inf, Vec3f::Zero(), l.radiance, select, true, l.casts_shadow};
       }
-      Vec3f d = l.position.cast<float>() - p;
+      Vec3f d = l.position - p;
       const float dist2 = d.squaredNorm();
       if (!(dist2 > 0)) return std::nullopt;
       const float dist = std::sqrt(dist2);
@@ -105,12 +111,12 @@ std::optional<LightSample> LightSampler::sample(const Vec3f& p, float uc, const 
       float k = 1 / dist2;
       if (l.kind == Light::Kind::spot) k *= spot_falloff(l, -d);
       if (!(k > 0)) return std::nullopt;
-      return LightSample{d, dist, l.position.cast<float>(), color * k, select, true};
+      return LightSample{d, dist, l.position, l.radiance * k, select, true, l.casts_shadow};
     }
     case Entry::Kind::environment: {
       const auto s = environment_.sample(u_env, u);
       if (!(s.pdf > 0)) return std::nullopt;
-      return LightSample{s.direction, inf, Vec3f::Zero(), environment_.radiance(s.direction), select * s.pdf, false};
+      return LightSample{s.direction, inf, Vec3f::Zero(), environment_.radiance(s.direction), select * s.pdf, false, true};
     }
   }
   return std::nullopt;

@@ -26,6 +26,10 @@ struct LightSample {
   Vec3f radiance;   // arriving along -wi (for delta lights: intensity / d²)
   float pdf;        // solid angle, selection included; for delta lights the selection alone
   bool delta;
+  // Whether a shadow ray decides visibility: false for a Light with
+  // casts_shadow off (its light passes through everything). Emissive
+  // triangles and the environment always cast shadows.
+  bool shadowed;
 };
 
 class LightSampler {
@@ -53,7 +57,14 @@ class LightSampler {
   };
   const EmbreeScene& traced_;
   const EnvironmentLight& environment_;
-  std::vector<Light> lights_;
+  // Lights in single precision, as sample() uses them.
+  struct PointLike {
+    Light::Kind kind;
+    Vec3f position, direction, radiance;  // direction unit (zero if none); radiance = color intensity
+    float cos_inner, cos_outer;
+    bool casts_shadow;
+  };
+  std::vector<PointLike> lights_;
   std::vector<Vec3f> emission_;
   std::vector<Entry> entries_;
   std::vector<int> first_entry_;  // per traced object: its first triangle entry, or -1

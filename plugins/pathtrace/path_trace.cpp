@@ -16,16 +16,23 @@ Strategy strategy_of(const std::string& s) {
 }
 
 void warn_about_unused(const loom::Scene& scene, const EmbreeScene& traced, const RenderSettings& s,
-                       loom::Context& ctx) {
+                       int displacement_level, loom::Context& ctx) {
   if (traced.skipped_polylines() > 0)
     ctx.warn(std::to_string(traced.skipped_polylines()) +
              " polyline objects are not path traced (Render draws them)");
-  bool maps = false, emissive_points = false;
+  bool emissive_points = false;
   for (const auto& o : scene.objects) {
-    maps |= o.material.normal_map || o.material.displacement_map;
     emissive_points |= o.points && (o.material.emission.array() > 0).any();
+    const bool uv = o.mesh && o.mesh->has_uv();
+    if (o.material.normal_map && !uv)
+      ctx.warn("object '" + o.name + "': its normal map is ignored (only meshes with UVs are normal mapped)");
+    if (o.material.displacement_map && o.material.displacement_scale != 0) {
+      if (!uv)
+        ctx.warn("object '" + o.name + "': its displacement map is ignored (only meshes with UVs are displaced)");
+      else if (displacement_level == 0)
+        ctx.warn("object '" + o.name + "': its displacement map is ignored with displacement_subdivision 0");
+    }
   }
-  if (maps) ctx.warn("normal and displacement maps are ignored by the path tracer");
   if (emissive_points && s.strategy != Strategy::bsdf)
     ctx.warn("emissive points are found only by BSDF sampling (no light sampling on spheres)");
   if (!scene.lights.empty() && s.strategy == Strategy::bsdf)
@@ -38,8 +45,11 @@ struct PathTrace {
   static void declare(loom::NodeSpec& s) {
     s.describe("Path tracing (Embree 3 BVH) with next-event estimation on emissive triangles and "
                "lights, BSDF sampling and MIS (power heuristic), environment-map importance "
-               "sampling (alias table, eq. 64), Russian roulette and adaptive sampling; linear HDR "
-               "image plus albedo, normal and depth AOVs.")
+               "sampling (alias table, eq. 64), Russian roulette and adaptive sampling; normal maps "
+               "(Render's tangent-space convention) and displacement maps (subdivided and displaced "
+               "before the BVH build); linear HDR image plus albedo, normal and depth AOVs. A light "
+               "with casts_shadow off lights through everything (no shadow ray); emissive meshes "
+               "always cast shadows, and an object with casts_shadow off blocks no light.")
         .input<loom::Scene>("scene", "what to render; without a camera the scene is framed")
         .input<loom::Vec2i>("size", loom::Vec2i(512, 512), "image width and height").range(1, 16384)
         .input<int>("spp", 64, "samples per pixel (the most, with adaptive sampling)").range(1, 1 << 20)
@@ -55,6 +65,11 @@ struct PathTrace {
                        "stop a pixel when its relative standard error falls below this (0: off)")
         .range(0, 1)
         .input<int>("adaptive_min_spp", 16, "samples before a pixel may stop").range(2, 1 << 20)
+        .input<int>("displacement_subdivision", 0,
+                    "displacement maps: subdivide displaced meshes this many times (4 triangles "
+                    "each) and move their vertices along the normals before the BVH build (0: "
+                    "displacement off)")
+        .range(0, 8)
         .output<loom::Image>("image", "linear HDR radiance (RGB)")
         .output<loom::Image>("albedo", "first-hit base color (RGB), for denoisers")
         .output<loom::Image>("normal", "first-hit world-space shading normal (RGB = xyz)")
@@ -68,9 +83,15 @@ struct PathTrace {
     const auto scene = in.share<loom::Scene>("scene");
     loom::require_valid(*scene, "scene");
     if (scene->environment.map) loom::require_finite(*scene->environment.map, "scene environment map");
-    for (const auto& o : scene->objects)
+    for (const auto& o : scene->objects) {
       if (o.material.base_color_map)
         loom::require_finite(*o.material.base_color_map, ("base color map of " + o.name).c_str());
+      if (o.material.normal_map)
+        loom::require_finite(*o.material.normal_map, ("normal map of " + o.name).c_str());
+      if (o.material.displacement_map)
+        loom::require_finite(*o.material.displacement_map, ("displacement map of " + o.name).c_str());
+    }
+    const int displacement_level = in.get<int>("displacement_subdivision");
     RenderSettings s;
     const loom::Vec2i size = in.get<loom::Vec2i>("size");
     s.width = size.x();
@@ -88,12 +109,12 @@ struct PathTrace {
     s.seed = ctx.seed();
 
     bool built = false;
-    const auto traced = ctx.scratch<EmbreeScene>(geometry_key(*scene), [&] {
+    const auto traced = ctx.scratch<EmbreeScene>(geometry_key(*scene, displacement_level), [&] {
       ctx.progress(0, 1, "building the BVH");
       built = true;
-      return std::make_shared<EmbreeScene>(*scene);
+      return std::make_shared<EmbreeScene>(*scene, displacement_level);
     });
-    warn_about_unused(*scene, *traced, s, ctx);
+    warn_about_unused(*scene, *traced, s, displacement_level, ctx);
     const loom::Camera camera =
         scene->camera ? *scene->camera : loom::framing_camera(*scene, double(s.width) / s.height);
 

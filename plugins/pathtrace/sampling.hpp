@@ -25,9 +25,8 @@ class Rng {
   Rng(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample)
       : state_(mix(seed ^ mix(pixel * 0x9e3779b97f4a7c15ull + mix(sample + 1)))) {}
   std::uint64_t next_u64() { return mix(state_ += 0x9e3779b97f4a7c15ull); }  // splitmix64
-  float uniform() {
-    return std::fmin(float(next_u64() >> 40) * 0x1p-24f, kOneMinusEpsilon);
-  }
+  // 24 random bits: at most 1 - 2^-24, so always below 1 (no clamp needed).
+  float uniform() { return float(next_u64() >> 40) * 0x1p-24f; }
   Vec2f uniform2() {
     const float a = uniform();
     return {a, uniform()};
@@ -72,6 +71,9 @@ inline float power_heuristic(float pdf_a, float pdf_b) {
   if (std::isinf(a)) return 1;
   return a / (a + b);
 }
+
+// v / |v| by one reciprocal (three divisions stall the path loop); v nonzero.
+inline Vec3f unit(const Vec3f& v) { return v * (1 / std::sqrt(v.squaredNorm())); }
 
 inline float luminance(const Vec3f& c) { return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z(); }
 

@@ -4,7 +4,7 @@
 #include "loom/mesh.hpp"
 #include "loom/plugin.hpp"
 #include "mesh_denoising.hpp"
-#include "surface_frames.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 
 namespace {
 
@@ -37,11 +37,11 @@ struct Denoise {
       cv::extractChannel(image.pixels, map.image, 0);
     map.scale = scale;
     map.offset = offset;
-    const Eigen::MatrixX3d N = loom::shading::vertex_normals(mesh.V, mesh.F);
+    const Eigen::MatrixX3d N = loom::numerics::vertex_normals(mesh.V, mesh.F);
     const Eigen::VectorXd d = in.get<double>("strength") * loom::shading::sample_displacement(map, mesh.UV);
     loom::Mesh result = mesh;
     result.V = loom::shading::remove_displacement(mesh.V, N, d);
-    result.N = loom::shading::vertex_normals(result.V, result.F);
+    result.N = loom::numerics::vertex_normals(result.V, result.F);
     out.set("mesh", std::move(result));
   }
 };

@@ -4,7 +4,7 @@
 #include "loom/mesh.hpp"
 #include "loom/plugin.hpp"
 #include "mesh_denoising.hpp"
-#include "surface_frames.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 
 namespace {
 
@@ -27,7 +27,7 @@ struct DisplacementFromNoise {
     if (mesh.faces() == 0) throw loom::Error("mesh has no faces");
     if (!mesh.has_uv()) throw loom::Error("mesh has no UVs: parameterize it first (e.g. Parameterize)");
     if (!mesh.UV.allFinite()) throw loom::Error("mesh has non-finite UVs");
-    const Eigen::MatrixX3d N = loom::shading::vertex_normals(mesh.V, mesh.F);
+    const Eigen::MatrixX3d N = loom::numerics::vertex_normals(mesh.V, mesh.F);
     const Eigen::VectorXd d = loom::shading::normal_displacements(mesh.V, mesh.F, N);
     ctx.progress(0.3, 1, "baking");
     const auto map = loom::shading::bake_displacement(mesh.UV, d, in.get<int>("size"), in.get<int>("neighbors"));

@@ -5,7 +5,7 @@
 
 #include <opencv2/core.hpp>
 
-#include "surface_frames.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 
 namespace loom::shading {
 
@@ -46,11 +46,11 @@ void elements(const GlApi& gl, GpuCache::Geometry& g, const Eigen::MatrixXi& m) 
 GpuCache::Geometry mesh_geometry(const GlApi& gl, const Mesh& m) {
   GpuCache::Geometry g;
   gl.CreateVertexArrays(1, &g.vao);
-  const Eigen::MatrixX3d N = m.has_normals() ? Eigen::MatrixX3d(m.N) : vertex_normals(m.V, m.F);
+  const Eigen::MatrixX3d N = m.has_normals() ? Eigen::MatrixX3d(m.N) : numerics::vertex_normals(m.V, m.F);
   const Eigen::MatrixX2d UV = m.has_uv() ? Eigen::MatrixX2d(m.UV) : Eigen::MatrixX2d::Zero(m.V.rows(), 2);
   Eigen::MatrixX3d dPdu, dPdv;
   if (m.has_uv()) {
-    uv_tangents(m.V, m.F, m.UV, dPdu, dPdv);
+    numerics::uv_tangents(m.V, m.F, m.UV, dPdu, dPdv);
   } else {
     dPdu = dPdv = Eigen::MatrixX3d::Zero(m.V.rows(), 3);
   }

@@ -4,7 +4,7 @@
 
 #include "loom/mesh.hpp"
 #include "loom/plugin.hpp"
-#include "surface_frames.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 
 namespace {
 
@@ -20,12 +20,12 @@ struct MeshNoise {
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     const loom::Mesh& mesh = in.get<loom::Mesh>("mesh");
     loom::require_valid(mesh, "mesh");
-    const Eigen::MatrixX3d N = loom::shading::vertex_normals(mesh.V, mesh.F);
+    const Eigen::MatrixX3d N = loom::numerics::vertex_normals(mesh.V, mesh.F);
     std::normal_distribution<double> gauss(0, in.get<double>("sigma"));
     auto& rng = ctx.rng();
     loom::Mesh result = mesh;
     for (int i = 0; i < mesh.vertices(); ++i) result.V.row(i) += gauss(rng) * N.row(i);
-    result.N = loom::shading::vertex_normals(result.V, result.F);
+    result.N = loom::numerics::vertex_normals(result.V, result.F);
     out.set("mesh", std::move(result));
   }
 };

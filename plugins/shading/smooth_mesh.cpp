@@ -3,7 +3,7 @@
 #include "loom/mesh.hpp"
 #include "loom/plugin.hpp"
 #include "mesh_denoising.hpp"
-#include "surface_frames.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 
 namespace {
 
@@ -31,7 +31,7 @@ struct SmoothMesh {
       ctx.progress(s, steps, "smoothing");
       result.V = loom::shading::smooth(result.V, result.F, weights, 1, in.get<double>("lambda"));
     }
-    result.N = loom::shading::vertex_normals(result.V, result.F);
+    result.N = loom::numerics::vertex_normals(result.V, result.F);
     out.set("mesh", std::move(result));
   }
 };

@@ -6,7 +6,7 @@
 
 #include "mesh_denoising.hpp"
 #include "shading_scenes.hpp"
-#include "surface_frames.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 
 namespace loom::shading {
 namespace {
@@ -49,13 +49,13 @@ Mesh wavy_surface(int n) {
 TEST(MeshDenoising, RemovesMostOfTheNoiseOfAGentleSurface) {
   const Mesh clean = wavy_surface(80);
   Mesh noisy = clean;
-  const Eigen::MatrixX3d N = vertex_normals(clean.V, clean.F);
+  const Eigen::MatrixX3d N = numerics::vertex_normals(clean.V, clean.F);
   std::mt19937_64 rng(7);
   std::normal_distribution<double> gauss(0, 0.004);
   for (Eigen::Index i = 0; i < noisy.V.rows(); ++i) noisy.V.row(i) += gauss(rng) * N.row(i);
   const SurfaceError before = surface_error(noisy.V, clean.V, clean.F);
 
-  const Eigen::MatrixX3d Nn = vertex_normals(noisy.V, noisy.F);
+  const Eigen::MatrixX3d Nn = numerics::vertex_normals(noisy.V, noisy.F);
   const DisplacementMap map = bake_displacement(noisy.UV, normal_displacements(noisy.V, noisy.F, Nn), 512, 4);
   const Eigen::MatrixX3d denoised = remove_displacement(noisy.V, Nn, sample_displacement(map, noisy.UV));
   const SurfaceError after = surface_error(denoised, clean.V, clean.F);

@@ -7,7 +7,7 @@
 #include "height_maps.hpp"
 #include "rasterizer.hpp"
 #include "shading_scenes.hpp"
-#include "surface_frames.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 
 namespace loom::shading {
 namespace {
@@ -97,7 +97,7 @@ TEST(NormalMapping, MatchesTrueDisplacedGeometryUnderAGrazingLight) {
                      ay * ((1 - ax) * at(x0, y0 + 1) + ax * at(x0 + 1, y0 + 1));
     displaced.V(i, 1) += scale * h;
   }
-  displaced.N = vertex_normals(displaced.V, displaced.F);
+  displaced.N = numerics::vertex_normals(displaced.V, displaced.F);
 
   RenderOptions o;
   o.width = o.height = 256;

@@ -1,10 +1,10 @@
-#include "surface_frames.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 
 #include <cmath>
 
 #include <Eigen/Geometry>
 
-namespace loom::shading {
+namespace loom::numerics {
 
 Eigen::MatrixX3d vertex_normals(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
   Eigen::MatrixX3d N = Eigen::MatrixX3d::Zero(V.rows(), 3);
@@ -51,4 +51,4 @@ void uv_tangents(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eig
     }
 }
 
-}  // namespace loom::shading
+}  // namespace loom::numerics
