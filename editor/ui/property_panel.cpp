@@ -82,7 +82,7 @@ void PropertyPanel::draw_input(EditorState& state, FileDialog& files, const std:
 
   if (value.is_null() && (type == "Image" || type == "Mesh" || !spec.type->literal())) {
     ImGui::TextDisabled("%s: link an input (%s)%s", label.c_str(), type.c_str(),
-                        spec.optional ? ", optional" : ", required");
+                        spec.required() ? ", required" : ", optional");
     tooltip();
     return;
   }

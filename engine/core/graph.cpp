@@ -376,7 +376,7 @@ void validate_graph(const Graph& g, const Registry& registry, const std::string&
       }
     }
     for (const InputSpec& spec : t->spec.inputs)
-      if (spec.default_value.is_null() && !spec.optional && !n.inputs.count(spec.name))
+      if (spec.required() && !n.inputs.count(spec.name))
         fail(node_pointer(id) + "/inputs",
              "missing required input \"" + spec.name + "\" (" + spec.type->name + ": " +
                  spec.description + ")");
