@@ -302,7 +302,7 @@ Graph parse_graph(const json& doc, const std::filesystem::path& file) {
 }
 
 bool link_compatible(const TypeInfo& from, const TypeInfo& to) {
-  return from.storage == to.storage || from.name == "Any" || to.name == "Any";
+  return from.storage == to.storage || is_any(from) || is_any(to);
 }
 
 Graph load_graph_file(const std::filesystem::path& file) {
