@@ -211,7 +211,7 @@ int main(int argc, char** argv) {
   std::map<std::string, double> reference;  // the lowest final energy per mesh
   for (const Mesh& m : meshes) {
     const auto frames = loom::arap::triangle_frames(m.V, m.F);
-    auto energy = [&](const Eigen::MatrixX2d& UV) { return loom::arap::arap_energy(frames, m.F, UV); };
+    auto energy = [&](const Eigen::MatrixX2d& UV) { return loom::arap::local_global_energy(frames, m.F, UV); };
     auto flips = [&](const Eigen::MatrixX2d& UV) { return loom::numerics::distortion(m.V, m.F, UV).flipped; };
     const long long faces = m.F.rows();
 
@@ -244,7 +244,7 @@ int main(int argc, char** argv) {
         const Eigen::RowVector2d a = UV.row(m.F(t, 1)) - UV.row(m.F(t, 0)), b = UV.row(m.F(t, 2)) - UV.row(m.F(t, 0));
         uv_area += std::abs(a.x() * b.y() - a.y() * b.x()) / 2;
       }
-      return loom::arap::arap_energy(frames, m.F, UV, 0) * frames.area.sum() / uv_area;
+      return loom::arap::local_global_energy(frames, m.F, UV, 0) * frames.area.sum() / uv_area;
     };
     const double asap_energy = scale_free(asap_uv);
     summary.row({m.name, faces, "loom ASAP", asap_t.median, "", asap_energy, (long long)flips(asap_uv), "", ""});
@@ -289,7 +289,7 @@ int main(int argc, char** argv) {
   curve.save();
   summary.save();
   // Plots: the energy above the lowest final energy (both evaluated by
-  // arap_energy), relative, on a log scale, floored at 1e-7: CGAL's printed
+  // local_global_energy), relative, on a log scale, floored at 1e-7: CGAL's printed
   // energies use its own cotangents (CGAL::Weights::cotangent), which differ
   // from ours at about that level. CGAL's initial energy is left out: it
   // includes λ (a²+b²−1)² of its mean-value start, about 1e12 for λ = 1e8.

@@ -28,7 +28,7 @@
 
 namespace {
 
-using loom::parameterize::BoundaryShape;
+using loom::numerics::BoundaryShape;
 
 struct Input {
   std::string name;

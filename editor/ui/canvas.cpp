@@ -6,6 +6,8 @@
 #include <cmath>
 #include <functional>
 
+#include "loom/image.hpp"
+#include "loom/mesh.hpp"
 
 namespace loom::editor {
 
@@ -40,13 +42,13 @@ std::string status_text(const NodeReport* report, const LiveNode* live) {
 
 }  // namespace
 
-ImU32 type_color(const std::string& type) {
-  if (type == "Image") return IM_COL32(240, 150, 60, 255);
-  if (type == "Mesh") return IM_COL32(90, 200, 120, 255);
-  if (type == "Float" || type == "Int") return IM_COL32(170, 170, 180, 255);
-  if (type == "Bool") return IM_COL32(220, 100, 100, 255);
-  if (type == "Any") return IM_COL32(255, 255, 255, 255);
-  const std::size_t h = std::hash<std::string>{}(type);
+ImU32 type_color(const TypeInfo& type) {
+  if (&type == &type_of<Image>()) return IM_COL32(240, 150, 60, 255);
+  if (&type == &type_of<Mesh>()) return IM_COL32(90, 200, 120, 255);
+  if (&type == &type_of<double>() || &type == &type_of<int>()) return IM_COL32(170, 170, 180, 255);
+  if (&type == &type_of<bool>()) return IM_COL32(220, 100, 100, 255);
+  if (is_any(type)) return IM_COL32(255, 255, 255, 255);
+  const std::size_t h = std::hash<std::string>{}(type.name);
   float r, g, b;
   ImGui::ColorConvertHSVtoRGB(float(h % 360) / 360.0f, 0.55f, 0.9f, r, g, b);
   return ImGui::ColorConvertFloat4ToU32(ImVec4(r, g, b, 1));
@@ -207,7 +209,7 @@ void Canvas::draw_links(EditorState& state, ImDrawList* draw) {
       if (!l || !state.doc.has_node(l->node)) continue;
       auto from = output_socket(state, l->node, l->output);
       auto to = input_socket(state, id, in.name);
-      if (from && to) curve(*from, *to, type_color(in.type->name), 2.5f);
+      if (from && to) curve(*from, *to, type_color(*in.type), 2.5f);
     }
   }
   if (gesture_ == Gesture::link) {
@@ -257,14 +259,14 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
   }
   if (state.doc.collapsed(id)) {
     for (const auto& o : t->spec.outputs)
-      draw->AddCircleFilled(*output_socket(state, id, o.name), kSocket * zoom_, type_color(o.type->name), segments);
+      draw->AddCircleFilled(*output_socket(state, id, o.name), kSocket * zoom_, type_color(*o.type), segments);
     return;
   }
   auto node_issues = state.issues.find(id);
   float y = kHeader;
   for (const auto& o : t->spec.outputs) {
     const ImVec2 socket = *output_socket(state, id, o.name);
-    draw->AddCircleFilled(socket, kSocket * zoom_, type_color(o.type->name), segments);
+    draw->AddCircleFilled(socket, kSocket * zoom_, type_color(*o.type), segments);
     if (detail) {
       const ImVec2 text = face->CalcTextSizeA(font, 1e9f, 0, o.name.c_str());
       draw->AddText(face, font, a + ImVec2(kWidth * zoom_ - text.x - 12 * zoom_, (y + 3) * zoom_),
@@ -277,9 +279,9 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
     const bool linked = state.doc.link(id, in.name).has_value();
     const bool bad = node_issues != state.issues.end() && node_issues->second.count(in.name);
     if (linked || !detail)
-      draw->AddCircleFilled(socket, kSocket * zoom_, type_color(in.type->name), segments);
+      draw->AddCircleFilled(socket, kSocket * zoom_, type_color(*in.type), segments);
     else
-      draw->AddCircle(socket, kSocket * zoom_, type_color(in.type->name), 0, 1.5f * zoom_);
+      draw->AddCircle(socket, kSocket * zoom_, type_color(*in.type), 0, 1.5f * zoom_);
     if (bad) draw->AddRect(a + ImVec2(2, y) * zoom_, a + ImVec2(kWidth - 2, y + kRow) * zoom_, IM_COL32(255, 80, 80, 255));
     if (detail) {
       const bool set = !linked && !state.doc.literal(id, in.name).is_null();

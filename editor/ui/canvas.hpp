@@ -69,6 +69,6 @@ class Canvas {
 };
 
 // The colour of a type's sockets and links.
-ImU32 type_color(const std::string& type_name);
+ImU32 type_color(const TypeInfo& type);
 
 }  // namespace loom::editor

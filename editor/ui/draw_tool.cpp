@@ -19,7 +19,7 @@ bool DrawTool::applies(const EditorState& state, const std::string& id) {
   const NodeType* t = state.doc.has_node(id) ? state.doc.node_type(id) : nullptr;
   if (!t) return false;
   const InputSpec* figures = t->spec.find_input("figures");
-  return figures && figures->type->name == "Json" && !state.doc.link(id, "figures");
+  return figures && figures->type == &type_of<json>() && !state.doc.link(id, "figures");
 }
 
 void DrawTool::toolbar() {

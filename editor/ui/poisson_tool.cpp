@@ -37,7 +37,7 @@ bool PoissonTool::applies(const EditorState& state, const std::string& id) {
   const NodeType* t = state.doc.has_node(id) ? state.doc.node_type(id) : nullptr;
   if (!t) return false;
   const InputSpec* offset = t->spec.find_input("offset");
-  return offset && offset->type->name == "Vec2i" && t->spec.find_input("source") && t->spec.find_input("target") &&
+  return offset && offset->type == &type_of<Vec2i>() && t->spec.find_input("source") && t->spec.find_input("target") &&
          t->spec.find_input("polygon") && t->spec.find_input("rectangle");
 }
 

@@ -3,6 +3,9 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include "loom/image.hpp"
+#include "loom/mesh.hpp"
+
 namespace loom::editor {
 
 namespace {
@@ -75,28 +78,28 @@ void PropertyPanel::draw_input(EditorState& state, FileDialog& files, const std:
   }
   const json literal = doc.literal(id, spec.name);
   const json value = literal.is_null() ? spec.default_value : literal;
-  const std::string& type = spec.type->name;
+  const TypeInfo* type = spec.type;
   const std::string merge = "input:" + key;
   bool changed = false;
   json next;
 
-  if (value.is_null() && (type == "Image" || type == "Mesh" || !spec.type->literal())) {
-    ImGui::TextDisabled("%s: link an input (%s)%s", label.c_str(), type.c_str(),
-                        spec.optional ? ", optional" : ", required");
+  if (value.is_null() && (type == &type_of<Image>() || type == &type_of<Mesh>() || !type->literal())) {
+    ImGui::TextDisabled("%s: link an input (%s)%s", label.c_str(), type->name.c_str(),
+                        spec.required() ? ", required" : ", optional");
     tooltip();
     return;
   }
-  if (type == "Bool") {
+  if (type == &type_of<bool>()) {
     bool b = value.is_boolean() && value.get<bool>();
     if ((changed = ImGui::Checkbox(label.c_str(), &b))) next = b;
-  } else if (type == "Int") {
+  } else if (type == &type_of<int>()) {
     int v = value.is_number() ? value.get<int>() : 0;
     if (spec.min && spec.max && *spec.max - *spec.min <= 10000)
       changed = ImGui::SliderInt(label.c_str(), &v, int(*spec.min), int(*spec.max));
     else
       changed = ImGui::DragInt(label.c_str(), &v, 0.25f, spec.min ? int(*spec.min) : 0, spec.max ? int(*spec.max) : 0);
     if (changed) next = v;
-  } else if (type == "Float") {
+  } else if (type == &type_of<double>()) {
     float v = value.is_number() ? value.get<float>() : 0.0f;
     if (spec.min && spec.max && *spec.max - *spec.min <= 10000)
       changed = ImGui::SliderFloat(label.c_str(), &v, float(*spec.min), float(*spec.max), "%.4g");
@@ -104,7 +107,7 @@ void PropertyPanel::draw_input(EditorState& state, FileDialog& files, const std:
       changed = ImGui::DragFloat(label.c_str(), &v, 0.01f, spec.min ? float(*spec.min) : 0.0f,
                                  spec.max ? float(*spec.max) : 0.0f, "%.4g");
     if (changed) next = double(v);
-  } else if (type == "Enum") {
+  } else if (type == &enum_type()) {
     const std::string current = value.is_string() ? value.get<std::string>() : "";
     if (ImGui::BeginCombo(label.c_str(), current.c_str())) {
       for (const auto& choice : spec.choices)
@@ -114,7 +117,7 @@ void PropertyPanel::draw_input(EditorState& state, FileDialog& files, const std:
         }
       ImGui::EndCombo();
     }
-  } else if (type == "String") {
+  } else if (type == &type_of<std::string>()) {
     std::string s = value.is_string() ? value.get<std::string>() : "";
     if (spec.role != InputRole::value) {
       ImGui::SetNextItemWidth(-150);
@@ -128,22 +131,22 @@ void PropertyPanel::draw_input(EditorState& state, FileDialog& files, const std:
       changed = ImGui::InputText(label.c_str(), &s);
     }
     if (changed) next = s;
-  } else if (type == "Color") {
+  } else if (type == &type_of<Color>()) {
     float c[4] = {0, 0, 0, 1};
     numbers(value, c, 4);
     const bool alpha = value.is_array() && value.size() == 4;
     changed = alpha ? ImGui::ColorEdit4(label.c_str(), c, ImGuiColorEditFlags_Float)
                     : ImGui::ColorEdit3(label.c_str(), c, ImGuiColorEditFlags_Float);
     if (changed) next = alpha ? json{c[0], c[1], c[2], c[3]} : json{c[0], c[1], c[2]};
-  } else if (type == "Vec2i" || type == "Vec3i") {
+  } else if (type == &type_of<Vec2i>() || type == &type_of<Vec3i>()) {
     int v[3] = {0, 0, 0};
-    const int n = type == "Vec2i" ? 2 : 3;
+    const int n = type == &type_of<Vec2i>() ? 2 : 3;
     numbers(value, v, n);
     changed = n == 2 ? ImGui::DragInt2(label.c_str(), v, 0.5f) : ImGui::DragInt3(label.c_str(), v, 0.5f);
     if (changed) next = n == 2 ? json{v[0], v[1]} : json{v[0], v[1], v[2]};
-  } else if (type == "Vec2" || type == "Vec3") {
+  } else if (type == &type_of<Vec2>() || type == &type_of<Vec3>()) {
     float v[3] = {0, 0, 0};
-    const int n = type == "Vec2" ? 2 : 3;
+    const int n = type == &type_of<Vec2>() ? 2 : 3;
     numbers(value, v, n);
     changed = n == 2 ? ImGui::DragFloat2(label.c_str(), v, 0.01f) : ImGui::DragFloat3(label.c_str(), v, 0.01f);
     if (changed) next = n == 2 ? json{v[0], v[1]} : json{v[0], v[1], v[2]};

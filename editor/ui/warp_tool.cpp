@@ -28,7 +28,7 @@ bool WarpTool::applies(const EditorState& state, const std::string& id) {
   const NodeType* t = state.doc.has_node(id) ? state.doc.node_type(id) : nullptr;
   if (!t) return false;
   const InputSpec* pairs = t->spec.find_input("pairs");
-  return pairs && pairs->type->name == TypeTraits<PointPairs>::name && !state.doc.link(id, "pairs");
+  return pairs && pairs->type == &type_of<PointPairs>() && !state.doc.link(id, "pairs");
 }
 
 void WarpTool::draw(EditorState& state, const std::string& id, const ImageView& view) {

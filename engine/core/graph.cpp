@@ -303,7 +303,7 @@ Graph parse_graph(const json& doc, const std::filesystem::path& file) {
 }
 
 bool link_compatible(const TypeInfo& from, const TypeInfo& to) {
-  return from.storage == to.storage || from.name == "Any" || to.name == "Any";
+  return from.storage == to.storage || is_any(from) || is_any(to);
 }
 
 Graph load_graph_file(const std::filesystem::path& file) {
@@ -377,7 +377,7 @@ void validate_graph(const Graph& g, const Registry& registry, const std::string&
       }
     }
     for (const InputSpec& spec : t->spec.inputs)
-      if (spec.default_value.is_null() && !spec.optional && !n.inputs.count(spec.name))
+      if (spec.required() && !n.inputs.count(spec.name))
         fail(node_pointer(id) + "/inputs",
              "missing required input \"" + spec.name + "\" (" + spec.type->name + ": " +
                  spec.description + ")");

@@ -118,7 +118,7 @@ void Outputs::set_value(std::string_view output_name, Value value) {
   if (i < 0)
     throw Error("node type " + spec_.name + " has no output \"" + std::string(output_name) + "\"");
   const TypeInfo* want = spec_.outputs[static_cast<std::size_t>(i)].type;
-  if (!value || (want->name != "Any" && value.type()->storage != want->storage))
+  if (!value || (!is_any(*want) && value.type()->storage != want->storage))
     throw Error("output \"" + std::string(output_name) + "\" is declared " + want->name +
                 " but was set to " + (value.type() ? value.type()->name : "nothing"));
   values_[static_cast<std::size_t>(i)] = std::move(value);

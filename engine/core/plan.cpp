@@ -43,8 +43,8 @@ void Evaluation::bind_inputs() {
         continue;
       }
       const json* literal = it != s.node->inputs.end() ? &it->second.literal
-                            : spec.default_value.is_null() ? nullptr
-                                                           : &spec.default_value;
+                            : spec.has_default()                ? &spec.default_value
+                                                                : nullptr;
       if (!literal) continue;  // optional and unset
       b.kind = NodeState::Binding::literal;
       b.literal_value = literal_value(spec, *literal);

@@ -29,7 +29,7 @@ json describe_node_type(const NodeType& type) {
   for (const InputSpec& in : s.inputs) {
     json j = {{"name", in.name}, {"type", in.type->name}, {"description", in.description}};
     j["default"] = in.default_value;
-    j["required"] = in.default_value.is_null() && !in.optional;
+    j["required"] = in.required();
     if (in.optional) j["optional"] = true;
     if (in.lazy) j["lazy"] = true;
     if (in.min) j["min"] = *in.min;

@@ -65,7 +65,7 @@ std::optional<std::vector<Value>> Evaluation::cache_find(const NodeState& s, std
   const auto& outputs = s.type->spec.outputs;
   if (values->size() != outputs.size()) return std::nullopt;
   for (std::size_t o = 0; o < outputs.size(); ++o)
-    if (outputs[o].type->name != "Any" && (*values)[o].type()->storage != outputs[o].type->storage)
+    if (!is_any(*outputs[o].type) && (*values)[o].type()->storage != outputs[o].type->storage)
       return std::nullopt;
   std::lock_guard lock(session.cache_mutex);
   auto& entry = session.cache[hash];

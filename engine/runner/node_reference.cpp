@@ -20,7 +20,7 @@ std::string markdown_escape(const std::string& s) {
 }
 
 std::string default_text(const InputSpec& in) {
-  return in.default_value.is_null() ? (in.optional ? "optional" : "required") : in.default_value.dump();
+  return in.has_default() ? in.default_value.dump() : in.required() ? "required" : "optional";
 }
 
 std::string choices_text(const InputSpec& in, const char* quote, const char* separator) {
@@ -58,7 +58,7 @@ std::string node_text(const NodeType& type, bool detailed) {
   else if (s.time_dependent) text += "  time-dependent: evaluated at every frame\n";
   for (const auto& in : s.inputs) {
     text += "  in  " + in.name + ": " + in.type->name + " " +
-            (in.default_value.is_null() ? "(" + default_text(in) + ")" : "= " + default_text(in));
+            (in.has_default() ? "= " + default_text(in) : "(" + default_text(in) + ")");
     if (!in.choices.empty()) text += ", one of " + choices_text(in, "", " | ");
     if (const std::string r = range_text(in); !r.empty()) text += ", range " + r;
     if (in.lazy) text += ", lazy";
@@ -94,7 +94,7 @@ std::string nodes_markdown(const std::vector<const NodeType*>& all, bool whole_p
       if (!s.inputs.empty()) {
         md += "| input | type | default | description |\n|---|---|---|---|\n";
         for (const auto& in : s.inputs) {
-          std::string def = in.default_value.is_null() ? "*" + default_text(in) + "*" : "`" + default_text(in) + "`";
+          std::string def = in.has_default() ? "`" + default_text(in) + "`" : "*" + default_text(in) + "*";
           std::string desc = in.description;
           if (!in.choices.empty()) desc += " (one of: " + choices_text(in, "`", " ") + ")";
           if (const std::string r = range_text(in); !r.empty()) desc += " " + r;

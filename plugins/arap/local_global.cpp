@@ -195,8 +195,8 @@ ArapResult arap(const ArapSystem& sys, const Eigen::MatrixX2d& UV0, const ArapOp
   return out;
 }
 
-double arap_energy(const TriangleFrames& frames, const Eigen::MatrixX3i& F,
-                   const Eigen::MatrixX2d& UV, double lambda) {
+double local_global_energy(const TriangleFrames& frames, const Eigen::MatrixX3i& F, const Eigen::MatrixX2d& UV,
+                           double lambda) {
   double E = 0;
   for (Eigen::Index t = 0; t < F.rows(); ++t) {
     double Et;

@@ -58,8 +58,11 @@ struct ArapResult {
 ArapResult arap(const ArapSystem& system, const Eigen::MatrixX2d& UV0, const ArapOptions& options,
                 const std::function<void(int, double)>& after_iteration = {});
 
-// The energy E(u) above with the best L_t per triangle (one local step).
-double arap_energy(const TriangleFrames& frames, const Eigen::MatrixX3i& F,
-                   const Eigen::MatrixX2d& UV, double lambda = -1);
+// The objective E(u) above that the local/global iterations minimize, with the
+// best L_t per triangle (one local step): cotangent-weighted and not
+// normalized, unlike numerics::DistortionReport::arap_energy (the area-weighted
+// mean of (σ1-1)² + (σ2-1)²).
+double local_global_energy(const TriangleFrames& frames, const Eigen::MatrixX3i& F, const Eigen::MatrixX2d& UV,
+                           double lambda = -1);
 
 }  // namespace loom::arap

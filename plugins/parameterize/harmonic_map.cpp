@@ -4,45 +4,12 @@
 #include <cmath>
 
 #include "loom/error.hpp"
-#include "loom/numerics/laplacian.hpp"
 #include "loom/numerics/mesh_topology.hpp"
 
 namespace loom::parameterize {
 
-const std::vector<std::string>& weight_names() {
-  static const std::vector<std::string> names = {"uniform",           "cotangent",  "cotangent_clamped",
-                                               "intrinsic_delaunay", "mean_value", "shape_preserving"};
-  return names;
-}
-
-Weights parse_weights(const std::string& name) {
-  for (size_t k = 0; k < weight_names().size(); ++k)
-    if (weight_names()[k] == name) return static_cast<Weights>(k);
-  throw Error("unknown weights \"" + name + "\"");
-}
-
-SparseMatrix weight_matrix(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Weights weights) {
-  switch (weights) {
-    case Weights::uniform: return numerics::uniform_weights(F, static_cast<int>(V.rows()));
-    case Weights::cotangent: return numerics::cotangent_weights(V, F);
-    case Weights::cotangent_clamped: {
-      // Clamping at a small fraction of the mean magnitude keeps every weight
-      // positive (Floater 2003, Tutte's theorem: the map cannot fold) while
-      // changing only the obtuse-dominated edges.
-      SparseMatrix W = numerics::cotangent_weights(V, F);
-      const double floor = 1e-3 * W.cwiseAbs().sum() / std::max<Eigen::Index>(W.nonZeros(), 1);
-      for (Eigen::Index k = 0; k < W.nonZeros(); ++k) W.valuePtr()[k] = std::max(W.valuePtr()[k], floor);
-      return W;
-    }
-    case Weights::intrinsic_delaunay: return numerics::intrinsic_delaunay_cotangent_weights(V, F);
-    case Weights::mean_value: return numerics::mean_value_weights(V, F);
-    case Weights::shape_preserving: return shape_preserving_weights(V, F);
-  }
-  throw Error("unknown weights");
-}
-
 Parameterization parameterize(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Weights weights,
-                              BoundaryShape shape) {
+                              numerics::BoundaryShape shape) {
   if (F.rows() == 0) throw Error("the mesh has no faces");
   const int n = static_cast<int>(V.rows());
   const auto loops = numerics::boundary_loops(F);
@@ -68,10 +35,11 @@ Parameterization parameterize(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i&
     for (size_t k = 0; k < loop.size(); ++k) F2.row(f++) << loop[(k + 1) % loop.size()], loop[k], c;
   }
 
-  const Eigen::MatrixX2d boundary = map_boundary(V, F, loops[0], shape);
+  const Eigen::MatrixX2d boundary = numerics::map_boundary(V, F, loops[0], shape);
   Eigen::MatrixXd X0 = Eigen::MatrixXd::Zero(n + extra, 2);
   for (size_t k = 0; k < loops[0].size(); ++k) X0.row(loops[0][k]) = boundary.row(k);
-  const FixedBoundarySolve s = solve_fixed_boundary(weight_matrix(V2, F2, weights), F2, loops[0], X0);
+  const numerics::FixedBoundarySolve s =
+      numerics::solve_fixed_boundary(weight_matrix(V2, F2, weights), F2, loops[0], X0);
 
   Parameterization p;
   p.UV = s.X.topRows(n);
@@ -85,7 +53,7 @@ Parameterization parameterize(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i&
 }
 
 Eigen::MatrixX3d minimal_surface(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Weights weights,
-                                 int iterations, FixedBoundarySolve* last) {
+                                 int iterations, numerics::FixedBoundarySolve* last) {
   if (F.rows() == 0) throw Error("the mesh has no faces");
   const auto loops = numerics::boundary_loops(F);
   if (loops.empty()) throw Error("the mesh is closed (no boundary loop): a minimal surface needs a boundary to span");
@@ -94,7 +62,7 @@ Eigen::MatrixX3d minimal_surface(const Eigen::MatrixX3d& V, const Eigen::MatrixX
   Eigen::MatrixXd X = V;
   const int rounds = weights == Weights::uniform ? 1 : std::max(iterations, 1);
   for (int r = 0; r < rounds; ++r) {
-    FixedBoundarySolve s = solve_fixed_boundary(weight_matrix(X, F, weights), F, fixed, X);
+    numerics::FixedBoundarySolve s = numerics::solve_fixed_boundary(weight_matrix(X, F, weights), F, fixed, X);
     X = std::move(s.X);
     if (last) *last = std::move(s);
   }

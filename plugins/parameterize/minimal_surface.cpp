@@ -23,7 +23,7 @@ struct MinimalSurface {
     const auto& mesh = in.get<loom::Mesh>("mesh");
     loom::require_valid(mesh, "mesh");
     ctx.progress(0, 1, "solving");
-    loom::parameterize::FixedBoundarySolve last;
+    loom::numerics::FixedBoundarySolve last;
     loom::Mesh result = mesh;
     result.V = loom::parameterize::minimal_surface(
         mesh.V, mesh.F, loom::parameterize::parse_weights(in.get<std::string>("weights")),

@@ -27,8 +27,8 @@ struct Parameterize {
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     const auto& mesh = in.get<loom::Mesh>("mesh");
     loom::require_valid(mesh, "mesh");
-    const auto shape = in.get<std::string>("boundary") == "square" ? loom::parameterize::BoundaryShape::square
-                                                                     : loom::parameterize::BoundaryShape::circle;
+    const auto shape = in.get<std::string>("boundary") == "square" ? loom::numerics::BoundaryShape::square
+                                                                     : loom::numerics::BoundaryShape::circle;
     ctx.progress(0, 2, "solving");
     const auto p = loom::parameterize::parameterize(
         mesh.V, mesh.F, loom::parameterize::parse_weights(in.get<std::string>("weights")), shape);

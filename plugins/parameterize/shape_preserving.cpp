@@ -3,7 +3,7 @@
 
 #include <Eigen/Geometry>
 
-#include "harmonic_map.hpp"
+#include "weights.hpp"
 
 namespace loom::parameterize {
 
@@ -13,7 +13,7 @@ double cross2(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x()
 
 }  // namespace
 
-SparseMatrix shape_preserving_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
+Eigen::SparseMatrix<double> shape_preserving_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
   const int n = static_cast<int>(V.rows());
   // Around vertex a, face (a b c) leads from neighbour b to neighbour c (counter-clockwise).
   std::vector<std::vector<std::pair<int, int>>> ring(n);
@@ -84,7 +84,7 @@ SparseMatrix shape_preserving_weights(const Eigen::MatrixX3d& V, const Eigen::Ma
     for (int k = 0; k < d; ++k)
       if (mu[k] != 0) t.emplace_back(v, p[k], mu[k] / used);
   }
-  SparseMatrix W(n, n);
+  Eigen::SparseMatrix<double> W(n, n);
   W.setFromTriplets(t.begin(), t.end());
   return W;
 }

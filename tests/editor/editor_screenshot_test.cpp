@@ -75,7 +75,7 @@ TEST_P(ExampleGraph, ScreenshotShowsNodesLinksAndImage) {
     if (!t || !r || (r->status != NodeStatus::ran && r->status != NodeStatus::cached)) continue;
     const ImVec2 header = h.app.canvas().node_header(state, id);
     const bool visible = header.x > 10 && header.y > 60 && header.x < 1400 * 0.58f - 10 && header.y < 810;
-    if (visible && !t->spec.outputs.empty() && t->spec.outputs[0].type->name == "Image") {
+    if (visible && !t->spec.outputs.empty() && t->spec.outputs[0].type == &loom::type_of<loom::Image>()) {
       viewed = id;
       break;
     }
@@ -126,7 +126,7 @@ TEST_P(ExampleGraph, ScreenshotShowsNodesLinksAndImage) {
       if (mid.x < 5 || mid.y < 40 || mid.x > shot.width * 0.58f - 5 || mid.y > shot.height - 5) continue;
       if (!canvas.hit_node(state, mid).empty()) continue;  // links run under nodes
       ++links;
-      if (near_color(shot, mid, type_color(in.type->name), 3, 40)) ++links_ok;
+      if (near_color(shot, mid, type_color(*in.type), 3, 40)) ++links_ok;
     }
   }
   if (sample_canvas) {

@@ -67,6 +67,9 @@ struct TypeTraits<Any> {
   static constexpr const char* name = "Any";
   static constexpr const char* description = "a value of any type (checked at run time)";
 };
+// Types are compared by TypeInfo identity (one TypeInfo per name, see
+// register_type), never by their name strings.
+inline bool is_any(const TypeInfo& type) { return &type == &type_of<Any>(); }
 
 // The Enum type: a String whose value is one of an input's choices.
 LOOM_API const TypeInfo& enum_type();

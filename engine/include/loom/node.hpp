@@ -52,6 +52,12 @@ struct InputSpec {
   std::optional<double> min, max;  // per component, for numeric types
   std::vector<std::string> choices;  // for Enum
   InputRole role = InputRole::value;
+
+  bool has_default() const { return !default_value.is_null(); }
+  // The one rule for "must be linked or given in the graph file": no default
+  // and not optional. Validation, the planner, `loom nodes` and the editor ask
+  // this, never the fields themselves.
+  bool required() const { return !has_default() && !optional; }
 };
 
 struct OutputSpec {

@@ -33,7 +33,7 @@ TEST(LocalGlobal, EnergyNeverIncreases) {
       EXPECT_LE(r.energy[k], r.energy[k - 1] * (1 + 1e-12)) << "iteration " << k << " lambda " << lambda;
     EXPECT_LT(r.energy.back(), 0.5 * r.energy.front());
     // The reported energy is the local step's own: E(u) with the best L.
-    EXPECT_NEAR(r.energy.back(), arap_energy(triangle_frames(m.V, m.F), m.F, r.UV, lambda),
+    EXPECT_NEAR(r.energy.back(), local_global_energy(triangle_frames(m.V, m.F), m.F, r.UV, lambda),
                 1e-12 * r.energy.back());
   }
 }

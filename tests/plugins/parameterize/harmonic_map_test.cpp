@@ -67,7 +67,7 @@ TEST(HarmonicMap, PlanarMeshIsReproducedFromItsOwnBoundary) {
   const auto m = jittered_disk();
   const Eigen::MatrixXd X0 = m.V.leftCols<2>();
   for (Weights w : {Weights::cotangent, Weights::intrinsic_delaunay, Weights::mean_value, Weights::shape_preserving}) {
-    const auto s = solve_fixed_boundary(weight_matrix(m.V, m.F, w), m.F, boundary_of(m.F), X0);
+    const auto s = numerics::solve_fixed_boundary(weight_matrix(m.V, m.F, w), m.F, boundary_of(m.F), X0);
     EXPECT_LT((s.X - X0).cwiseAbs().maxCoeff(), 1e-10) << weight_names()[static_cast<int>(w)];
   }
 }
@@ -76,7 +76,7 @@ TEST(HarmonicMap, PlanarDiskStaysASimilarityUnderTheCotangentMap) {
   // A round disk with equal boundary edges: its circle boundary is a
   // similarity of its own, so the harmonic map is that similarity.
   const auto m = jittered_disk();
-  const Parameterization p = parameterize(m.V, m.F, Weights::cotangent, BoundaryShape::circle);
+  const Parameterization p = parameterize(m.V, m.F, Weights::cotangent, numerics::BoundaryShape::circle);
   const Eigen::MatrixX2d X = m.V.leftCols<2>().rowwise() - m.V.leftCols<2>().colwise().mean();
   const Eigen::MatrixX2d U = p.UV.rowwise() - p.UV.colwise().mean();
   const Eigen::Matrix2d A = X.colPivHouseholderQr().solve(U);  // U ≈ X A
@@ -92,7 +92,7 @@ TEST(HarmonicMap, UniformMapEqualsADenseSolve) {
   const auto m = noisy_hemisphere(5, 14);
   const int n = static_cast<int>(m.V.rows());
   const auto loop = numerics::boundary_loops(m.F)[0];
-  const Parameterization p = parameterize(m.V, m.F, Weights::uniform, BoundaryShape::circle);
+  const Parameterization p = parameterize(m.V, m.F, Weights::uniform, numerics::BoundaryShape::circle);
   // The dense system: L = D - A on every row, identity rows on the boundary.
   Eigen::MatrixXd L = Eigen::MatrixXd::Zero(n, n), B = Eigen::MatrixXd::Zero(n, 2);
   const auto adj = numerics::vertex_adjacency(m.F, n);
@@ -115,7 +115,7 @@ TEST(HarmonicMap, MeanValueMapEqualsADenseSolve) {
   const auto m = noisy_hemisphere(6, 17);
   const int n = static_cast<int>(m.V.rows());
   const auto loop = numerics::boundary_loops(m.F)[0];
-  const Parameterization p = parameterize(m.V, m.F, Weights::mean_value, BoundaryShape::circle);
+  const Parameterization p = parameterize(m.V, m.F, Weights::mean_value, numerics::BoundaryShape::circle);
   EXPECT_EQ(p.solver, "umfpack");
   // Floater 2003: w_ij = (tan(α/2) + tan(β/2)) / |x_j - x_i|, α and β
   // the angles at x_i of the two faces on edge ij, each from acos.
@@ -142,11 +142,12 @@ TEST(HarmonicMap, ConvexCombinationsNeverFold) {
   const std::vector<TestMesh> meshes = {jittered_disk(), bumpy_sheared_grid(), noisy_hemisphere(12, 40)};
   for (const auto& m : meshes)
     for (Weights w : {Weights::uniform, Weights::mean_value, Weights::cotangent_clamped, Weights::shape_preserving})
-      for (BoundaryShape shape : {BoundaryShape::circle, BoundaryShape::square}) {
+      for (numerics::BoundaryShape shape : {numerics::BoundaryShape::circle, numerics::BoundaryShape::square}) {
         const Parameterization p = parameterize(m.V, m.F, w, shape);
         EXPECT_TRUE(p.UV.allFinite());
         EXPECT_EQ(numerics::distortion(m.V, m.F, p.UV).flipped, 0)
-            << weight_names()[static_cast<int>(w)] << (shape == BoundaryShape::circle ? " circle" : " square");
+            << weight_names()[static_cast<int>(w)]
+            << (shape == numerics::BoundaryShape::circle ? " circle" : " square");
       }
 }
 
@@ -159,7 +160,7 @@ TEST(HarmonicMap, RobustCotangentVariantsFoldLess) {
   std::uniform_real_distribution<double> u(-0.2, 0.2);
   for (int v = 0; v < m.V.rows(); ++v) m.V.row(v) *= 1 + u(rng);
   auto flips = [&](Weights w) {
-    return numerics::distortion(m.V, m.F, parameterize(m.V, m.F, w, BoundaryShape::circle).UV).flipped;
+    return numerics::distortion(m.V, m.F, parameterize(m.V, m.F, w, numerics::BoundaryShape::circle).UV).flipped;
   };
   const int cot = flips(Weights::cotangent), idt = flips(Weights::intrinsic_delaunay);
   EXPECT_GT(cot, 0) << "the test mesh should fold under plain cotangent weights";
@@ -181,11 +182,11 @@ TEST(HarmonicMap, ClosedNonManifoldAndDisconnectedMeshesAreRefused) {
   Eigen::MatrixX3d V = Eigen::MatrixX3d::Random(5, 3);
   Eigen::MatrixX3i tetra(4, 3);
   tetra << 0, 2, 1, 0, 1, 3, 1, 2, 3, 2, 0, 3;
-  EXPECT_THROW(parameterize(V, tetra, Weights::uniform, BoundaryShape::circle), Error);
+  EXPECT_THROW(parameterize(V, tetra, Weights::uniform, numerics::BoundaryShape::circle), Error);
   EXPECT_THROW(minimal_surface(V, tetra, Weights::uniform, 1), Error);
   Eigen::MatrixX3i fin(3, 3);
   fin << 0, 1, 2, 1, 0, 3, 0, 1, 4;
-  EXPECT_THROW(parameterize(V, fin, Weights::uniform, BoundaryShape::circle), Error);
+  EXPECT_THROW(parameterize(V, fin, Weights::uniform, numerics::BoundaryShape::circle), Error);
   // A disk plus a separate closed tetrahedron.
   auto m = numerics::test::disk(3, 12);
   const int n = static_cast<int>(m.V.rows());
@@ -194,7 +195,7 @@ TEST(HarmonicMap, ClosedNonManifoldAndDisconnectedMeshesAreRefused) {
   Eigen::MatrixX3i F2(m.F.rows() + 4, 3);
   F2 << m.F, (tetra.array() + n).matrix();
   try {
-    parameterize(V2, F2, Weights::uniform, BoundaryShape::circle);
+    parameterize(V2, F2, Weights::uniform, numerics::BoundaryShape::circle);
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("connected piece"), std::string::npos) << e.what();
@@ -214,7 +215,7 @@ TEST(HarmonicMap, DegenerateInputGivesFiniteUVs) {
   F << m.F, Eigen::RowVector3i(50, 49, n + 1);
   for (Weights w : {Weights::uniform, Weights::cotangent, Weights::cotangent_clamped, Weights::intrinsic_delaunay,
                     Weights::mean_value, Weights::shape_preserving}) {
-    const Parameterization p = parameterize(V, F, w, BoundaryShape::circle);
+    const Parameterization p = parameterize(V, F, w, numerics::BoundaryShape::circle);
     EXPECT_TRUE(p.UV.allFinite()) << weight_names()[static_cast<int>(w)];
     EXPECT_EQ(p.unreferenced, 1);
     const auto r = numerics::distortion(V, F, p.UV);
