@@ -49,7 +49,9 @@ struct SolveOptions {
   // al. 2014, collision constraints): the projection of an iterate x onto the
   // collider-free set (x itself where a vertex is outside). The solver adds
   // ½ w Σ_i ‖x_i − p_i‖² to E, p_i the projection at the iteration's local
-  // step; the weight's diagonal h² w I is in the prefactored matrix.
+  // step; the weight's diagonal h² w I is in the prefactored matrix. The
+  // residual still measures the springs' E only, so with contacts it no
+  // longer reaches zero (a tolerance then rarely stops the iterations).
   std::function<void(const Eigen::MatrixX3d& x, Eigen::MatrixX3d& target)> contact_target;
   // Called after every iteration from the calling thread (the node checks
   // cancellation there); may throw to stop.
