@@ -20,18 +20,21 @@ Solver solver_of(const std::string& name) {
 }
 
 // The local/global factorization depends on the springs, their k, the masses,
-// the fixed set and h only: one per (system, h), kept across frames.
+// the fixed set, h and the contact weight (with colliders) only: one per
+// (system, h, colliders or not), kept across frames.
 std::shared_ptr<loom::cloth::LocalGlobalSolver> cached_solver(loom::Context& ctx,
                                                               const loom::cloth::SpringSystem& s,
-                                                              double h) {
+                                                              double h, double contact_weight) {
   loom::Hasher key;
   key.bytes(s.springs.data(), sizeof(int) * s.springs.size())
       .bytes(s.stiffness.data(), sizeof(double) * s.stiffness.size())
       .bytes(s.mass.data(), sizeof(double) * s.mass.size())
       .bytes(s.fixed.data(), sizeof(int) * s.fixed.size())
-      .pod(h);
-  return ctx.scratch<loom::cloth::LocalGlobalSolver>(
-      key.digest(), [&] { return std::make_shared<loom::cloth::LocalGlobalSolver>(s, h); });
+      .pod(h)
+      .pod(contact_weight);
+  return ctx.scratch<loom::cloth::LocalGlobalSolver>(key.digest(), [&] {
+    return std::make_shared<loom::cloth::LocalGlobalSolver>(s, h, contact_weight);
+  });
 }
 
 struct ClothStep {
@@ -113,7 +116,8 @@ struct ClothStep {
     std::shared_ptr<loom::cloth::LocalGlobalSolver> lg;
     if (settings.solver == Solver::local_global) {
       ctx.progress(0, substeps, "factoring");
-      lg = cached_solver(ctx, system, h);
+      const bool colliders = settings.ground || !settings.spheres.empty();
+      lg = cached_solver(ctx, system, h, colliders ? loom::cloth::contact_weight(system) : 0.0);
     }
     if (settings.solver == Solver::explicit_euler) {
       const double bound = 2 / loom::cloth::max_frequency(system);

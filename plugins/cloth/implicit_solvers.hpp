@@ -45,6 +45,14 @@ struct SolveOptions {
   // nothing. It makes the iteration a projected one, so the residual then
   // measures the unconstrained gradient and no longer reaches zero.
   std::function<void(Eigen::MatrixX3d&)> project;
+  // Local/global with a contact weight w > 0 (Projective Dynamics, Bouaziz et
+  // al. 2014, collision constraints): the projection of an iterate x onto the
+  // collider-free set (x itself where a vertex is outside). The solver adds
+  // ½ w Σ_i ‖x_i − p_i‖² to E, p_i the projection at the iteration's local
+  // step; the weight's diagonal h² w I is in the prefactored matrix. The
+  // residual still measures the springs' E only, so with contacts it no
+  // longer reaches zero (a tolerance then rarely stops the iterations).
+  std::function<void(const Eigen::MatrixX3d& x, Eigen::MatrixX3d& target)> contact_target;
   // Called after every iteration from the calling thread (the node checks
   // cancellation there); may throw to stop.
   std::function<void()> after_iteration;
@@ -73,14 +81,18 @@ class LocalGlobalSolver {
  public:
   // Factors M_ff + h² L_ff over the free vertices (throws loom::Error when
   // the system is not positive definite, which a positive mass rules out).
-  LocalGlobalSolver(const SpringSystem& s, double h);
+  // `contact_weight` w ≥ 0: h² w I joins the matrix (the contact
+  // constraints' diagonal, used with SolveOptions::contact_target).
+  LocalGlobalSolver(const SpringSystem& s, double h, double contact_weight = 0);
   Eigen::MatrixX3d solve(const SpringSystem& s, const Eigen::MatrixX3d& y, Eigen::MatrixX3d x0,
                          const SolveOptions& options, SolveReport* report = nullptr) const;
   double h() const { return h_; }
+  double contact_weight() const { return contact_weight_; }
   int free_vertices() const { return static_cast<int>(free_.size()); }
 
  private:
   double h_;
+  double contact_weight_;
   std::vector<int> free_;   // free vertex of each unknown row
   std::vector<int> row_;    // unknown row of each vertex, −1 if fixed
   loom::numerics::SparseCholesky cholesky_;

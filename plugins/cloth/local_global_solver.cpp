@@ -14,7 +14,8 @@ namespace {
 constexpr int kChebyshevDelay = 4;
 }  // namespace
 
-LocalGlobalSolver::LocalGlobalSolver(const SpringSystem& s, double h) : h_(h) {
+LocalGlobalSolver::LocalGlobalSolver(const SpringSystem& s, double h, double contact_weight)
+    : h_(h), contact_weight_(contact_weight) {
   row_.assign(s.vertices(), -1);
   for (int i = 0; i < s.vertices(); ++i)
     if (!s.fixed[i]) {
@@ -27,7 +28,7 @@ LocalGlobalSolver::LocalGlobalSolver(const SpringSystem& s, double h) : h_(h) {
   // free vertices; the same 1-D matrix serves x, y and z.
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(static_cast<size_t>(n) + 4 * static_cast<size_t>(s.spring_count()));
-  for (int r = 0; r < n; ++r) t.emplace_back(r, r, s.mass[free_[r]]);
+  for (int r = 0; r < n; ++r) t.emplace_back(r, r, s.mass[free_[r]] + h * h * contact_weight);
   for (Eigen::Index k = 0; k < s.springs.rows(); ++k) {
     const int a = row_[s.springs(k, 0)], b = row_[s.springs(k, 1)];
     const double w = h * h * s.stiffness[k];
@@ -64,6 +65,8 @@ Eigen::MatrixX3d LocalGlobalSolver::solve(const SpringSystem& s, const Eigen::Ma
   const Eigen::Index m = s.springs.rows();
   Eigen::MatrixX3d excess(m, 3);  // r_s − d_s
   Eigen::MatrixX3d previous = x;  // x_{k−1} for Chebyshev
+  const bool contacts = contact_weight_ > 0 && options.contact_target;
+  Eigen::MatrixX3d target;  // contact projections p_i (Projective Dynamics)
   double omega = 1;
   const double rho = options.chebyshev_rho;
   for (int it = 0; it < options.iterations; ++it) {
@@ -78,6 +81,7 @@ Eigen::MatrixX3d LocalGlobalSolver::solve(const SpringSystem& s, const Eigen::Ma
         excess.row(k) = len > 0 ? Eigen::RowVector3d((1 - s.rest_length[k] / len) * r) : r;
       }
     });
+    if (contacts) options.contact_target(x, target);
     // Global step (eq. 10), (M + h² L) x = M y + h² J d, solved for the
     // change Δ = x_{k+1} − x_k: (M + h² L) Δ = M (y − x_k) − h² Σ_s k_s A_s (r_s − d_s)ᵀ.
     // The right-hand side is small near convergence and computed without
@@ -85,6 +89,9 @@ Eigen::MatrixX3d LocalGlobalSolver::solve(const SpringSystem& s, const Eigen::Ma
     // (fixed neighbours enter through r_s).
     Eigen::MatrixX3d rhs(n, 3);
     for (int r = 0; r < n; ++r) rhs.row(r) = s.mass[free_[r]] * (y.row(free_[r]) - x.row(free_[r]));
+    // Contact constraints: + h² w (p_i − x_i) (zero where p_i = x_i).
+    if (contacts)
+      for (int r = 0; r < n; ++r) rhs.row(r) += h2 * contact_weight_ * (target.row(free_[r]) - x.row(free_[r]));
     for (Eigen::Index k = 0; k < m; ++k) {
       const int a = row_[s.springs(k, 0)], b = row_[s.springs(k, 1)];
       const Eigen::RowVector3d kd = h2 * s.stiffness[k] * excess.row(k);

@@ -69,6 +69,10 @@ Eigen::MatrixX3d external_forces(const SpringSystem& s, const Eigen::MatrixX3d& 
   return f;
 }
 
+double contact_weight(const SpringSystem& s) {
+  return 0.1 * std::max(1.0, s.stiffness.size() > 0 ? s.stiffness.maxCoeff() : 1.0);
+}
+
 namespace {
 
 // Projects x out of the colliders; returns the outward normal per vertex that
@@ -195,6 +199,11 @@ StepResult step(const ClothState& state, double h, const StepSettings& settings,
       options.penalty = [&](const Eigen::MatrixX3d& iterate, Eigen::MatrixX3d* gradient,
                             std::vector<std::pair<int, Eigen::Matrix3d>>* blocks) {
         return contact_penalty(s, settings, iterate, gradient, blocks);
+      };
+    else if ((settings.ground || !settings.spheres.empty()) && lg && lg->contact_weight() > 0)
+      options.contact_target = [&](const Eigen::MatrixX3d& iterate, Eigen::MatrixX3d& target) {
+        target = iterate;
+        resolve_collisions(s, state.x, target, settings);
       };
     else if (settings.ground || !settings.spheres.empty())
       options.project = [&](Eigen::MatrixX3d& iterate) { resolve_collisions(s, state.x, iterate, settings); };

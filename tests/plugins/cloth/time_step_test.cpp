@@ -25,7 +25,12 @@ struct Simulation {
     settings.solve.iterations = iterations;
     if (solver == Solver::local_global) lg = std::make_unique<LocalGlobalSolver>(*system, h);
   }
-  void advance() { state = step(state, h, settings, lg.get()).state; }
+  void advance() {
+    // With colliders, local/global's matrix holds the contact weight (as the node factors it).
+    if (lg && (settings.ground || !settings.spheres.empty()) && lg->contact_weight() == 0)
+      lg = std::make_unique<LocalGlobalSolver>(*state.system, h, contact_weight(*state.system));
+    state = step(state, h, settings, lg.get()).state;
+  }
 };
 
 // Implicit Euler free fall is v_n = v_0 + n h g, x_n = x_0 + n h v_0 + h² g n(n+1)/2
@@ -169,6 +174,54 @@ TEST(TimeStep, GroundFrictionStopsASlidingSheet) {
         EXPECT_NEAR(speed, 0, 1e-6);
       EXPECT_GE(run.state.x.col(1).minCoeff(), -1e-12);
     }
+}
+
+// Stiff cloth (k = 1e5) dropped on a sphere above the ground, as the drape
+// graph, for 1.5 s: local/global (20 iterations) with contact constraints in
+// its iterations (Projective Dynamics) against Newton with penalty contact
+// (tolerance 1e-6). Springs are measured by their stretch ‖r‖/l − 1
+// (compression is how cloth folds, and allowed). Measured: Newton 5.2 % at
+// worst (at impact), 3.4 % at rest; local/global 11 % and 2.8 %; the former
+// per-iteration projection stretched them by 72 %.
+TEST(TimeStep, StiffClothDrapedByLocalGlobalKeepsItsEdgeLengths) {
+  const SpringSystem s = grid_cloth(21, 21, Eigen::Vector3d(-0.8, 1.2, -0.8), Eigen::Vector3d(1.6, 0, 0),
+                                    Eigen::Vector3d(0, 0, 1.6), 1, 1e5, 1e5, 1e2);
+  const Eigen::RowVector3d center(0, 0.5, 0);
+  const double radius = 0.5;
+  auto stretch = [&](const Eigen::MatrixX3d& x) {
+    double worst = 0;
+    for (Eigen::Index k = 0; k < s.springs.rows(); ++k)
+      worst = std::max(worst, (x.row(s.springs(k, 0)) - x.row(s.springs(k, 1))).norm() / s.rest_length[k] - 1);
+    return worst;
+  };
+  double worst[2] = {0, 0}, last[2] = {0, 0};
+  for (Solver solver : {Solver::newton, Solver::local_global}) {
+    const int which = solver == Solver::newton ? 0 : 1;
+    Simulation run(s, solver, 1.0 / 30, solver == Solver::newton ? 30 : 20);
+    if (solver == Solver::newton) run.settings.solve.tolerance = 1e-6;
+    run.settings.ground = true;
+    run.settings.friction = 0.5;
+    run.settings.damping = 0.2;
+    run.settings.spheres.push_back({center.transpose(), radius});
+    for (int n = 0; n < 45; ++n) {
+      run.advance();
+      const Eigen::MatrixX3d& x = run.state.x;
+      ASSERT_TRUE(x.allFinite());
+      worst[which] = std::max(worst[which], stretch(x));
+      for (int i = 0; i < s.vertices(); ++i) {
+        ASSERT_GE(x(i, 1), -1e-12) << "frame " << n;
+        ASSERT_GE((x.row(i) - center).norm(), radius - 1e-12) << "frame " << n;
+      }
+    }
+    last[which] = stretch(run.state.x);
+    // It rests on the sphere's top.
+    EXPECT_NEAR(run.state.x.col(1).maxCoeff(), 1.0, 0.02);
+  }
+  EXPECT_LT(worst[0], 0.08);  // Newton
+  EXPECT_LT(last[0], 0.05);
+  EXPECT_LT(worst[1], 0.15);  // local/global: within 3x Newton's worst, as tight at rest
+  EXPECT_LT(worst[1], 3 * worst[0]);
+  EXPECT_LT(last[1], 0.05);
 }
 
 TEST(TimeStep, WindPushesTheCurtainDownwind) {
