@@ -1,5 +1,6 @@
 #include "loom/numerics/fixed_boundary.hpp"
 
+#include <functional>
 #include <numeric>
 
 #include "loom/error.hpp"
@@ -28,7 +29,11 @@ void require_fixed_in_every_piece(const Eigen::MatrixX3i& F, int n, const std::v
 }  // namespace
 
 FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::MatrixX3i& F,
-                                        const std::vector<int>& fixed, const Eigen::MatrixXd& X0) {
+                                        const std::vector<int>& fixed, const Eigen::MatrixXd& X0,
+                                        const std::function<void()>& check) {
+  auto checkpoint = [&check] {
+    if (check) check();
+  };
   const int n = static_cast<int>(W.rows()), k = static_cast<int>(X0.cols());
   std::vector<char> is_fixed(n, 0);
   for (int v : fixed) is_fixed[v] = 1;
@@ -76,19 +81,29 @@ FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::Matr
   }
   SparseMatrix A(m, m);
   A.setFromTriplets(t.begin(), t.end());
+  checkpoint();
 
   Eigen::MatrixXd Y;
   const bool symmetric = result.uniform_rows == 0 && (SparseMatrix(A.transpose()) - A).norm() <= 1e-12 * A.norm();
   bool solved = false;
   if (symmetric) {
+    // Negative cotangent weights can make A indefinite: LU still solves it.
+    // The cancellation check stays outside the try blocks (Cancelled is an Error).
+    SparseCholesky chol;
+    bool factored = false;
     try {
-      SparseCholesky chol;
       chol.compute(A);
-      Y = chol.solve(B);
-      result.solver = chol.backend();
-      solved = true;
+      factored = true;
     } catch (const Error&) {
-      // Negative cotangent weights can make A indefinite: LU still solves it.
+    }
+    checkpoint();
+    if (factored) {
+      try {
+        Y = chol.solve(B);
+        result.solver = chol.backend();
+        solved = true;
+      } catch (const Error&) {
+      }
     }
   }
   if (!solved) {
@@ -97,6 +112,7 @@ FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::Matr
     // would cost more than the triangular solves themselves.
     SparseLU lu(SparseLU::Options{positive ? 0 : 2});
     lu.compute(A);
+    checkpoint();
     Y = lu.solve(B);
     result.solver = lu.backend();
   }

@@ -204,24 +204,35 @@ void append_numbers(std::string& out, const char* tag, const double* x, int n) {
 // OBJ keeps the vertex list as it is: one v (and vt, vn) per vertex, faces
 // indexing them all with the same number. (assimp's exporter joins vertices
 // by position, which would weld a cut shut.)
-std::string obj_text(const Mesh& mesh, const std::string& mtl_name) {
+// Calls `check` (the node's cancellation check) once per chunk of rows, so
+// that Ctrl-C acts within a chunk while a large mesh is formatted.
+void every_chunk(int row, const std::function<void()>& check) {
+  constexpr int chunk = 1 << 15;
+  if (check && row % chunk == 0) check();
+}
+
+std::string obj_text(const Mesh& mesh, const std::string& mtl_name, const std::function<void()>& check) {
   std::string out = "# written by Loom\n";
   if (!mtl_name.empty()) out += "mtllib " + mtl_name + "\nusemtl loom\n";
   for (int v = 0; v < mesh.vertices(); ++v) {
+    every_chunk(v, check);
     double x[6] = {mesh.V(v, 0), mesh.V(v, 1), mesh.V(v, 2), 0, 0, 0};
     if (mesh.has_colors())
       for (int k = 0; k < 3; ++k) x[3 + k] = mesh.C(v, k);
     append_numbers(out, "v", x, mesh.has_colors() ? 6 : 3);
   }
   for (int v = 0; mesh.has_uv() && v < mesh.vertices(); ++v) {
+    every_chunk(v, check);
     const double x[2] = {mesh.UV(v, 0), mesh.UV(v, 1)};
     append_numbers(out, "vt", x, 2);
   }
   for (int v = 0; mesh.has_normals() && v < mesh.vertices(); ++v) {
+    every_chunk(v, check);
     const double x[3] = {mesh.N(v, 0), mesh.N(v, 1), mesh.N(v, 2)};
     append_numbers(out, "vn", x, 3);
   }
   for (int f = 0; f < mesh.faces(); ++f) {
+    every_chunk(f, check);
     out += 'f';
     for (int k = 0; k < 3; ++k) {
       const std::string i = std::to_string(mesh.F(f, k) + 1);
@@ -236,7 +247,7 @@ std::string obj_text(const Mesh& mesh, const std::string& mtl_name) {
 
 // Binary little-endian PLY with double positions, float normals, UVs and
 // colors, and int face indices.
-std::string ply_bytes(const Mesh& mesh) {
+std::string ply_bytes(const Mesh& mesh, const std::function<void()>& check) {
   std::string out = "ply\nformat binary_little_endian 1.0\ncomment written by Loom\nelement vertex " +
                     std::to_string(mesh.vertices()) + "\nproperty double x\nproperty double y\nproperty double z\n";
   if (mesh.has_normals()) out += "property float nx\nproperty float ny\nproperty float nz\n";
@@ -249,12 +260,14 @@ std::string ply_bytes(const Mesh& mesh) {
     out.append(b, sizeof value);
   };
   for (int v = 0; v < mesh.vertices(); ++v) {
+    every_chunk(v, check);
     for (int k = 0; k < 3; ++k) put(mesh.V(v, k));
     for (int k = 0; mesh.has_normals() && k < 3; ++k) put(static_cast<float>(mesh.N(v, k)));
     for (int k = 0; mesh.has_uv() && k < 2; ++k) put(static_cast<float>(mesh.UV(v, k)));
     for (int k = 0; mesh.has_colors() && k < 3; ++k) put(static_cast<float>(mesh.C(v, k)));
   }
   for (int f = 0; f < mesh.faces(); ++f) {
+    every_chunk(f, check);
     put(static_cast<unsigned char>(3));
     for (int k = 0; k < 3; ++k) put(static_cast<std::int32_t>(mesh.F(f, k)));
   }
@@ -286,9 +299,9 @@ void write_mesh(const Mesh& mesh, const fs::path& path, const std::string& textu
     std::string material = "# written by Loom\nnewmtl loom\nKd 1 1 1\n";
     if (!texture.empty()) material += "map_Kd " + texture + "\n";
     files.emplace_back(path.parent_path() / mtl, material);
-    files.emplace_back(path, obj_text(mesh, mtl));
+    files.emplace_back(path, obj_text(mesh, mtl, check_cancelled));
   } else if (ext == ".ply") {
-    files.emplace_back(path, ply_bytes(mesh));
+    files.emplace_back(path, ply_bytes(mesh, check_cancelled));
   } else {
     const std::string format = assimp_format(ext, path);
     auto scene = make_scene(mesh, texture);
@@ -309,6 +322,7 @@ void write_mesh(const Mesh& mesh, const fs::path& path, const std::string& textu
     }
     files.emplace_back(path, std::move(main_bytes));
   }
+  // One check between files as well; a cancelled write has written nothing.
   if (check_cancelled) check_cancelled();
   for (const auto& [file, bytes] : files) write_file_atomic(file, bytes);
 }

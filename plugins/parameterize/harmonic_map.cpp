@@ -9,7 +9,10 @@
 namespace loom::parameterize {
 
 Parameterization parameterize(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Weights weights,
-                              numerics::BoundaryShape shape) {
+                              numerics::BoundaryShape shape, const std::function<void()>& check) {
+  auto checkpoint = [&check] {
+    if (check) check();
+  };
   if (F.rows() == 0) throw Error("the mesh has no faces");
   const int n = static_cast<int>(V.rows());
   const auto loops = numerics::boundary_loops(F);
@@ -38,8 +41,10 @@ Parameterization parameterize(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i&
   const Eigen::MatrixX2d boundary = numerics::map_boundary(V, F, loops[0], shape);
   Eigen::MatrixXd X0 = Eigen::MatrixXd::Zero(n + extra, 2);
   for (size_t k = 0; k < loops[0].size(); ++k) X0.row(loops[0][k]) = boundary.row(k);
-  const numerics::FixedBoundarySolve s =
-      numerics::solve_fixed_boundary(weight_matrix(V2, F2, weights), F2, loops[0], X0);
+  checkpoint();
+  const numerics::SparseMatrix W = weight_matrix(V2, F2, weights);
+  checkpoint();
+  const numerics::FixedBoundarySolve s = numerics::solve_fixed_boundary(W, F2, loops[0], X0, check);
 
   Parameterization p;
   p.UV = s.X.topRows(n);

@@ -4,6 +4,7 @@
 // minimal surface).
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include <Eigen/Core>
@@ -29,9 +30,10 @@ struct Parameterization {
 // positive weights, and dropped afterwards.
 //   V #V by 3, F #F by 3
 // Throws loom::Error for closed meshes, non-manifold edges, several
-// connected pieces.
+// connected pieces. `check` runs between the long stages (weights,
+// assembly, factorization, solve): a node passes its cancellation check.
 Parameterization parameterize(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Weights weights,
-                              numerics::BoundaryShape shape);
+                              numerics::BoundaryShape shape, const std::function<void()>& check = {});
 
 // Interior vertices moved so that δ_i = Σ_j w_ij (x_j - x_i) = 0, all
 // boundary loops fixed. With cotangent weights, `iterations` > 1 recomputes

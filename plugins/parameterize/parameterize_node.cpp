@@ -31,7 +31,8 @@ struct Parameterize {
                                                                      : loom::numerics::BoundaryShape::circle;
     ctx.progress(0, 2, "solving");
     const auto p = loom::parameterize::parameterize(
-        mesh.V, mesh.F, loom::parameterize::parse_weights(in.get<std::string>("weights")), shape);
+        mesh.V, mesh.F, loom::parameterize::parse_weights(in.get<std::string>("weights")), shape,
+        [&ctx] { ctx.check_cancelled(); });
     ctx.check_cancelled();
     if (p.holes_filled > 0)
       ctx.warn("mapped the longest boundary loop (" + std::to_string(p.boundary_vertices) + " vertices); " +

@@ -4,6 +4,7 @@
 // (every weight and boundary) and the arap plugin (its Tutte start).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,8 +29,12 @@ struct FixedBoundarySolve {
 //   F      #F by 3 (for the fallback rows and to find referenced vertices)
 //   fixed  indices of fixed vertices
 //   X0     #V by k: the fixed rows' values (other rows are ignored)
+//   check  called between the long stages (assembly, factorization, solve);
+//          a node passes [&ctx] { ctx.check_cancelled(); } so Ctrl-C acts
+//          within one stage (its exception propagates unchanged)
 // Throws loom::Error if a connected piece of the mesh has no fixed vertex.
 LOOM_API FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::MatrixX3i& F,
-                                                 const std::vector<int>& fixed, const Eigen::MatrixXd& X0);
+                                                 const std::vector<int>& fixed, const Eigen::MatrixXd& X0,
+                                                 const std::function<void()>& check = {});
 
 }  // namespace loom::numerics
