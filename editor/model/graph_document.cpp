@@ -360,9 +360,9 @@ void GraphDocument::set_frame(int frame) {
 }
 
 // The frame is not part of the history: undo and redo keep the current one.
-bool GraphDocument::undo() {
+bool GraphDocument::step_history(bool (EditHistory::*step)(json&)) {
   const json ui = doc_.value("ui", json());
-  if (!history_.undo(doc_)) return false;
+  if (!(history_.*step)(doc_)) return false;
   if (ui.is_null())
     doc_.erase("ui");
   else
@@ -371,16 +371,8 @@ bool GraphDocument::undo() {
   return true;
 }
 
-bool GraphDocument::redo() {
-  const json ui = doc_.value("ui", json());
-  if (!history_.redo(doc_)) return false;
-  if (ui.is_null())
-    doc_.erase("ui");
-  else
-    doc_["ui"] = ui;
-  ++revision_;
-  return true;
-}
+bool GraphDocument::undo() { return step_history(&EditHistory::undo); }
+bool GraphDocument::redo() { return step_history(&EditHistory::redo); }
 
 void GraphDocument::place_unplaced_nodes() { place_unplaced_nodes_in(doc_, registry_); }
 

@@ -109,6 +109,7 @@ class GraphDocument {
   std::string unique_id(const std::string& type) const;
 
  private:
+  bool step_history(bool (EditHistory::*step)(json&));
   json& node_json(const std::string& id);
   const json& node_json(const std::string& id) const;
   void begin_edit(std::string label, const std::string& merge_key = {});
