@@ -116,6 +116,8 @@ Vec3 TypeTraits<Vec3>::from_json(const json& j) {
 json TypeTraits<Vec3>::to_json(const Vec3& v) { return vector_json(v); }
 std::string TypeTraits<Vec3>::summary(const Vec3& v) { return to_json(v).dump(); }
 
+constexpr double kColorLimit = 1e6;
+
 Color TypeTraits<Color>::from_json(const json& j) {
   const char* what = "a color: [r, g, b], [r, g, b, a] or \"#rrggbb[aa]\"";
   Color c;
@@ -130,7 +132,14 @@ Color TypeTraits<Color>::from_json(const json& j) {
     return c;
   }
   if (!j.is_array() || (j.size() != 3 && j.size() != 4)) expected(what, j);
-  for (std::size_t k = 0; k < j.size(); ++k) c.rgba[static_cast<int>(k)] = number(j[k], what);
+  for (std::size_t k = 0; k < j.size(); ++k) {
+    const double v = number(j[k], what);
+    // Colors become float pixels and are scaled by intensities up to 1e12:
+    // a bound keeps every product finite (HDR emission needs far less).
+    if (std::abs(v) > kColorLimit)
+      throw Error("expected color components between -1e6 and 1e6, got " + describe_json(j));
+    c.rgba[static_cast<int>(k)] = v;
+  }
   return c;
 }
 json TypeTraits<Color>::to_json(const Color& v) { return vector_json(v.rgba); }
@@ -338,6 +347,37 @@ PointPairs TypeTraits<PointPairs>::read(ByteReader& r) {
   v.q = read_fixed_list<Vec2>(r);
   if (v.p.size() != v.q.size()) throw Error("stored point pairs have unequal lengths");
   return v;
+}
+
+// Outputs of nodes: no NaN or infinity leaves a node (TypeTraits::check).
+namespace {
+void require_finite_numbers(bool finite, const char* what) {
+  if (!finite) throw Error(std::string(what) + " is NaN or infinite");
+}
+template <class Vec>
+bool all_finite(const std::vector<Vec>& list) {
+  return std::all_of(list.begin(), list.end(), [](const Vec& v) { return v.allFinite(); });
+}
+bool json_finite(const json& j) {
+  if (j.is_number_float()) return std::isfinite(j.get<double>());
+  if (j.is_structured())
+    return std::all_of(j.begin(), j.end(), [](const json& e) { return json_finite(e); });
+  return true;
+}
+}  // namespace
+
+void TypeTraits<double>::check(const double& v) { require_finite_numbers(std::isfinite(v), "the number"); }
+void TypeTraits<Vec2>::check(const Vec2& v) { require_finite_numbers(v.allFinite(), "a component"); }
+void TypeTraits<Vec3>::check(const Vec3& v) { require_finite_numbers(v.allFinite(), "a component"); }
+void TypeTraits<Color>::check(const Color& v) { require_finite_numbers(v.rgba.allFinite(), "a color component"); }
+void TypeTraits<std::vector<double>>::check(const std::vector<double>& v) {
+  require_finite_numbers(std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }), "a number in the list");
+}
+void TypeTraits<std::vector<Vec2>>::check(const std::vector<Vec2>& v) { require_finite_numbers(all_finite(v), "a point in the list"); }
+void TypeTraits<std::vector<Vec3>>::check(const std::vector<Vec3>& v) { require_finite_numbers(all_finite(v), "a point in the list"); }
+void TypeTraits<json>::check(const json& v) { require_finite_numbers(json_finite(v), "a number in the JSON"); }
+void TypeTraits<PointPairs>::check(const PointPairs& v) {
+  require_finite_numbers(all_finite(v.p) && all_finite(v.q), "a control point");
 }
 
 }  // namespace loom

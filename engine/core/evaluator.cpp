@@ -7,6 +7,8 @@
 #include "loom/evaluator.hpp"
 
 #include <algorithm>
+#include <new>
+#include <stdexcept>
 
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
@@ -164,15 +166,29 @@ void Evaluation::run_node(int n) {
       if (links_upstream(s, i) && !spec.inputs[i].lazy) host.fetch_input(static_cast<int>(i));
     tbb::this_task_arena::isolate([&] { s.type->run(in, out, ctx); });
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    for (std::size_t o = 0; o < spec.outputs.size(); ++o)
+    for (std::size_t o = 0; o < spec.outputs.size(); ++o) {
       if (!out.values()[o])
         throw Error("node did not set its output \"" + spec.outputs[o].name + "\" (a bug in " + spec.name + ")");
+      // No NaN, infinity or broken index leaves a node: the type's check
+      // (TypeTraits::check) names what is wrong, the engine names the output.
+      try {
+        out.values()[o].check();
+      } catch (const Error& e) {
+        throw Error("output \"" + spec.outputs[o].name + "\": " + e.what());
+      }
+    }
     s.outputs = std::move(out.values());
     s.ok = true;
     s.report.status = NodeStatus::ran;
   } catch (const UpstreamFailed& e) {
     s.report.status = NodeStatus::skipped;
     s.report.error = e.what();
+  } catch (const std::bad_alloc&) {
+    s.report.status = NodeStatus::failed;
+    s.report.error = "out of memory: the inputs ask for more memory than this machine can give";
+  } catch (const std::length_error& e) {
+    s.report.status = NodeStatus::failed;
+    s.report.error = std::string("the inputs ask for a size beyond what memory can hold (") + e.what() + ")";
   } catch (const std::exception& e) {
     s.report.status = NodeStatus::failed;
     s.report.error = e.what();

@@ -34,6 +34,8 @@ void require_finite(const Image& image, const char* what) {
     throw Error(std::string(what) + " has NaN or infinite pixels");
 }
 
+void TypeTraits<Image>::check(const Image& v) { require_finite(v, "the image"); }
+
 std::string TypeTraits<Image>::summary(const Image& image) {
   std::ostringstream s;
   s << "Image " << image.width() << "x" << image.height() << "x" << image.channels() << " "

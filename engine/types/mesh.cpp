@@ -15,6 +15,8 @@ void require_valid(const Mesh& mesh, const char* what) {
                 std::to_string(mesh.vertices()) + " vertices");
 }
 
+void TypeTraits<Mesh>::check(const Mesh& v) { require_valid(v, "the mesh"); }
+
 std::string TypeTraits<Mesh>::summary(const Mesh& mesh) {
   std::ostringstream s;
   s << "Mesh " << mesh.vertices() << " vertices, " << mesh.faces() << " faces";

@@ -17,6 +17,8 @@ void require_valid(const PointSet& points, const char* what) {
                 std::to_string(points.points()) + " points");
 }
 
+void TypeTraits<PointSet>::check(const PointSet& v) { require_valid(v, "the point set"); }
+
 std::string TypeTraits<PointSet>::summary(const PointSet& points) {
   std::ostringstream s;
   s << "PointSet " << points.points() << " points";

@@ -14,6 +14,8 @@ void require_valid(const Polylines& lines, const char* what) {
                 std::to_string(lines.vertices()) + " vertices");
 }
 
+void TypeTraits<Polylines>::check(const Polylines& v) { require_valid(v, "the polylines"); }
+
 std::string TypeTraits<Polylines>::summary(const Polylines& lines) {
   std::ostringstream s;
   s << "Polylines " << lines.vertices() << " vertices, " << lines.segments() << " segments";

@@ -15,6 +15,16 @@ void extend(Eigen::AlignedBox3d& box, const M& P, const Eigen::Matrix4d& T, doub
   }
 }
 
+void require_valid_material(const Material& m, const std::string& on) {
+  if (!m.base_color.allFinite() || (m.base_color.array() < 0).any())
+    throw Error(on + ": base color must be finite and non-negative");
+  if (!m.emission.allFinite() || (m.emission.array() < 0).any())
+    throw Error(on + ": emission must be finite and non-negative");
+  if (!(m.roughness >= 0 && m.roughness <= 1)) throw Error(on + ": roughness must be in [0, 1]");
+  if (!(m.ior >= 1 && std::isfinite(m.ior))) throw Error(on + ": ior must be at least 1");
+  if (!std::isfinite(m.displacement_scale)) throw Error(on + ": displacement scale is not finite");
+}
+
 std::string object_name(const SceneObject& o, std::size_t i) {
   return "object " + std::to_string(i) + (o.name.empty() ? "" : " (" + o.name + ")");
 }
@@ -64,14 +74,7 @@ void require_valid(const Scene& scene, const char* what) {
     if (o.lines) require_valid(*o.lines, on.c_str());
     if (!o.transform.allFinite() || std::abs(o.transform.topLeftCorner<3, 3>().determinant()) < 1e-300)
       throw Error(on + " has a non-finite or singular transform");
-    const Material& m = o.material;
-    if (!m.base_color.allFinite() || (m.base_color.array() < 0).any())
-      throw Error(on + ": base color must be finite and non-negative");
-    if (!m.emission.allFinite() || (m.emission.array() < 0).any())
-      throw Error(on + ": emission must be finite and non-negative");
-    if (!(m.roughness >= 0 && m.roughness <= 1)) throw Error(on + ": roughness must be in [0, 1]");
-    if (!(m.ior >= 1 && std::isfinite(m.ior))) throw Error(on + ": ior must be at least 1");
-    if (!std::isfinite(m.displacement_scale)) throw Error(on + ": displacement scale is not finite");
+    require_valid_material(o.material, on);
   }
   for (std::size_t i = 0; i < scene.lights.size(); ++i) {
     const Light& l = scene.lights[i];
@@ -84,11 +87,18 @@ void require_valid(const Scene& scene, const char* what) {
     if (l.kind != Light::Kind::point && l.direction.norm() < 1e-12)
       throw Error(ln + " has no direction");
   }
+  if (const auto& c = scene.camera;
+      c && (!c->eye.allFinite() || !c->target.allFinite() || !c->up.allFinite() || !std::isfinite(c->fov_y) ||
+            !std::isfinite(c->ortho_height) || !std::isfinite(c->near_plane) || !std::isfinite(c->far_plane)))
+    throw Error(name + ": the camera has NaN or infinite values");
   const Environment& env = scene.environment;
   if (!env.color.allFinite() || (env.color.array() < 0).any() || !(env.intensity >= 0) ||
       !std::isfinite(env.intensity))
     throw Error(name + ": the environment's color and intensity must be finite and non-negative");
 }
+
+void TypeTraits<Material>::check(const Material& m) { require_valid_material(m, "the material"); }
+void TypeTraits<Scene>::check(const Scene& scene) { require_valid(scene, "the scene"); }
 
 std::string TypeTraits<Material>::summary(const Material& m) {
   static const char* const models[] = {"diffuse", "plastic", "conductor", "dielectric"};

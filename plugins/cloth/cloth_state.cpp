@@ -21,6 +21,12 @@ std::string TypeTraits<cloth::ClothState>::summary(const cloth::ClothState& s) {
          std::to_string(s.system->fixed_count()) + " fixed, t = " + std::to_string(s.time) + " s";
 }
 
+void TypeTraits<cloth::ClothState>::check(const cloth::ClothState& s) {
+  if (!s.x.allFinite() || !s.v.allFinite())
+    throw Error("positions or velocities are NaN or infinite: the step diverged (use more substeps, "
+                "an implicit solver, or smaller forces)");
+}
+
 void TypeTraits<cloth::ClothState>::write(const cloth::ClothState& s, ByteWriter& w) {
   const cloth::SpringSystem& sys = *s.system;
   w.matrix(sys.X);

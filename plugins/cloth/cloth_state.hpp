@@ -26,6 +26,8 @@ struct TypeTraits<cloth::ClothState> {
       "and simulated time";
   static constexpr int version = 1;
   static std::string summary(const cloth::ClothState& s);
+  // Throws when a position or velocity is NaN or infinite: the step diverged.
+  static void check(const cloth::ClothState& s);
   static void write(const cloth::ClothState& s, ByteWriter& w);
   static cloth::ClothState read(ByteReader& r);
 };

@@ -69,7 +69,14 @@ Image read_image(const std::filesystem::path& path, Decode decode, std::uint64_t
   else if (m.depth() == CV_16U) scale = 1.0 / 65535.0;
   m.convertTo(m, CV_MAKETYPE(CV_32F, m.channels()), scale);
   swap_red_blue(m);
-  if (linear_file) return Image(m, Encoding::linear);
+  // Float files can hold NaN and infinities (a renderer's failed samples).
+  // Nodes take finite values only, so say which file, rather than let the
+  // engine's output check name nothing but "image".
+  if (linear_file) {
+    Image image(m, Encoding::linear);
+    require_finite(image, ("image " + path.string()).c_str());
+    return image;
+  }
   Image image(m, Encoding::srgb);
   return decode == Decode::linear ? with_encoding(image, Encoding::linear) : image;
 }

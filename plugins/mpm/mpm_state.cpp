@@ -1,4 +1,6 @@
 #include "mpm_state.hpp"
+#include <algorithm>
+#include <cmath>
 
 namespace loom::mpm {
 namespace {
@@ -68,6 +70,23 @@ namespace mpm = loom::mpm;
 std::string loom::TypeTraits<mpm::MpmState>::summary(const mpm::MpmState& s) {
   return std::to_string(s.size()) + " particles (" + std::to_string(s.dim) + "D) at t = " +
          std::to_string(s.time) + " s";
+}
+
+namespace {
+template <int D>
+bool finite(const mpm::Particles<D>& p) {
+  const auto all = [](const auto& list) {
+    return std::all_of(list.begin(), list.end(), [](const auto& m) { return m.allFinite(); });
+  };
+  return all(p.x) && all(p.v) && all(p.C) && all(p.F) &&
+         std::all_of(p.J.begin(), p.J.end(), [](double j) { return std::isfinite(j); });
+}
+}  // namespace
+
+void loom::TypeTraits<mpm::MpmState>::check(const mpm::MpmState& s) {
+  if (!(s.dim == 2 ? finite(s.p2) : finite(s.p3)))
+    throw loom::Error("particles have NaN or infinite positions, velocities or deformations: the simulation "
+                      "diverged (lower cfl or dt_max, or the material's stiffness)");
 }
 
 void loom::TypeTraits<mpm::MpmState>::write(const mpm::MpmState& s, loom::ByteWriter& w) {

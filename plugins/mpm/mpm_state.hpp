@@ -34,6 +34,9 @@ struct loom::TypeTraits<loom::mpm::MpmState> {
       "MPM particles (2D or 3D): positions, velocities, affine C, F, J, material, colour";
   static constexpr int version = 2;  // 2: sand's hardening state q
   static std::string summary(const loom::mpm::MpmState& s);
+  // Throws when a particle's position, velocity or deformation is NaN or
+  // infinite: the step diverged.
+  static void check(const loom::mpm::MpmState& s);
   static void write(const loom::mpm::MpmState& s, loom::ByteWriter& w);
   static loom::mpm::MpmState read(loom::ByteReader& r);
 };

@@ -170,6 +170,21 @@ TEST(Evaluator, AFailureSkipsDependentsAndIndependentSinksFinish) {
   EXPECT_FALSE(r.ok());
 }
 
+TEST(Evaluator, NoNaNOrInfinityLeavesANode) {
+  test::Engine e;
+  Graph g = e.graph(graph({{"nan", {{"type", "UncheckedRatio"}, {"inputs", {{"a", 0}, {"b", 0}}}}},
+                           {"inf", {{"type", "UncheckedRatio"}, {"inputs", {{"a", 1}, {"b", 0}}}}},
+                           {"fine", {{"type", "UncheckedRatio"}, {"inputs", {{"a", 1}, {"b", 4}}}}},
+                           {"after", {{"type", "Math"}, {"inputs", {{"a", from("nan.value")}}}}}}));
+  EvalResult r = evaluate(e, g, {"after.result", "inf.points", "fine.value"}, nullptr);
+  EXPECT_EQ(r.nodes.at("nan").status, NodeStatus::failed);
+  EXPECT_EQ(r.nodes.at("nan").error, "output \"value\": the number is NaN or infinite");
+  EXPECT_EQ(r.nodes.at("inf").status, NodeStatus::failed);
+  EXPECT_EQ(r.nodes.at("after").status, NodeStatus::skipped);
+  EXPECT_EQ(r.nodes.at("fine").status, NodeStatus::ran);
+  EXPECT_DOUBLE_EQ(number(r, "fine.value"), 0.25);
+}
+
 TEST(Evaluator, SinksAlwaysRun) {
   test::Engine e;
   auto dir = test::temp_dir();

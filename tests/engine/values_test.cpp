@@ -33,6 +33,13 @@ TEST(Values, ColorFromHex) {
   EXPECT_NEAR(c.rgba[3], 128 / 255.0, 1e-12);
 }
 
+TEST(Values, ColorComponentsStayWhereFloatPixelsCanHoldThem) {
+  // 1e300 would become an infinite float pixel; HDR emission stays far below 1e6.
+  EXPECT_THROW(TypeTraits<Color>::from_json(json::parse("[1e300, 0, 0]")), Error);
+  EXPECT_THROW(TypeTraits<Color>::from_json(json::parse("[0, -2e6, 0]")), Error);
+  EXPECT_EQ(TypeTraits<Color>::from_json(json::parse("[1e6, 50, 0.5]")).rgba[0], 1e6);
+}
+
 TEST(Values, PointPairsBothForms) {
   PointPairs a = TypeTraits<PointPairs>::from_json(json::parse("[[1, 2, 3, 4]]"));
   PointPairs b = TypeTraits<PointPairs>::from_json(json::parse(R"([{"p": [1, 2], "q": [3, 4]}])"));

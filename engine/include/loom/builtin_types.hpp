@@ -28,7 +28,7 @@ struct Color {
   Eigen::Vector4d rgba{0, 0, 0, 1};
 };
 
-#define LOOM_BUILTIN_TYPE(T, NAME, DESC)                      \
+#define LOOM_BUILTIN_TYPE(T, NAME, DESC, ...)                 \
   template <>                                                 \
   struct TypeTraits<T> {                                      \
     static constexpr const char* name = NAME;                 \
@@ -39,24 +39,28 @@ struct Color {
     static constexpr int version = 1;                         \
     LOOM_API static void write(const T& v, ByteWriter& w);    \
     LOOM_API static T read(ByteReader& r);                    \
+    __VA_ARGS__                                               \
   }
+// Types holding real numbers refuse NaN and infinities in node outputs.
+#define LOOM_REAL_VALUED(T) LOOM_API static void check(const T& v);
 
 LOOM_BUILTIN_TYPE(bool, "Bool", "true or false");
 LOOM_BUILTIN_TYPE(int, "Int", "an integer");
-LOOM_BUILTIN_TYPE(double, "Float", "a real number");
+LOOM_BUILTIN_TYPE(double, "Float", "a real number", LOOM_REAL_VALUED(double));
 LOOM_BUILTIN_TYPE(std::string, "String", "text");
 LOOM_BUILTIN_TYPE(Vec2i, "Vec2i", "two integers [x, y]");
-LOOM_BUILTIN_TYPE(Vec2, "Vec2", "two numbers [x, y]");
+LOOM_BUILTIN_TYPE(Vec2, "Vec2", "two numbers [x, y]", LOOM_REAL_VALUED(Vec2));
 LOOM_BUILTIN_TYPE(Vec3i, "Vec3i", "three integers [x, y, z]");
-LOOM_BUILTIN_TYPE(Vec3, "Vec3", "three numbers [x, y, z]");
-LOOM_BUILTIN_TYPE(Color, "Color", "[r, g, b], [r, g, b, a] or \"#rrggbb\"");
+LOOM_BUILTIN_TYPE(Vec3, "Vec3", "three numbers [x, y, z]", LOOM_REAL_VALUED(Vec3));
+LOOM_BUILTIN_TYPE(Color, "Color", "[r, g, b], [r, g, b, a] or \"#rrggbb\"", LOOM_REAL_VALUED(Color));
 LOOM_BUILTIN_TYPE(std::vector<int>, "IntList", "a list of integers");
-LOOM_BUILTIN_TYPE(std::vector<double>, "FloatList", "a list of numbers");
+LOOM_BUILTIN_TYPE(std::vector<double>, "FloatList", "a list of numbers", LOOM_REAL_VALUED(std::vector<double>));
 LOOM_BUILTIN_TYPE(std::vector<std::string>, "StringList", "a list of strings");
-LOOM_BUILTIN_TYPE(std::vector<Vec2>, "Vec2List", "a list of [x, y] points");
-LOOM_BUILTIN_TYPE(std::vector<Vec3>, "Vec3List", "a list of [x, y, z] points");
-LOOM_BUILTIN_TYPE(json, "Json", "any JSON value");
+LOOM_BUILTIN_TYPE(std::vector<Vec2>, "Vec2List", "a list of [x, y] points", LOOM_REAL_VALUED(std::vector<Vec2>));
+LOOM_BUILTIN_TYPE(std::vector<Vec3>, "Vec3List", "a list of [x, y, z] points", LOOM_REAL_VALUED(std::vector<Vec3>));
+LOOM_BUILTIN_TYPE(json, "Json", "any JSON value", LOOM_REAL_VALUED(json));
 
+#undef LOOM_REAL_VALUED
 #undef LOOM_BUILTIN_TYPE
 
 // Any: a wildcard for nodes that pass values through (Switch, Print). Links to

@@ -47,6 +47,7 @@ struct TypeTraits<Image> {
   LOOM_API static void write(const Image& v, ByteWriter& w);
   LOOM_API static Image read(ByteReader& r);
   LOOM_API static std::size_t bytes(const Image& v);
+  LOOM_API static void check(const Image& v);
 };
 
 }  // namespace loom

@@ -40,6 +40,7 @@ struct TypeTraits<Mesh> {
   LOOM_API static void write(const Mesh& v, ByteWriter& w);
   LOOM_API static Mesh read(ByteReader& r);
   LOOM_API static std::size_t bytes(const Mesh& v);
+  LOOM_API static void check(const Mesh& v);
 };
 
 }  // namespace loom

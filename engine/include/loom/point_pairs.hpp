@@ -26,6 +26,7 @@ struct TypeTraits<PointPairs> {
   static constexpr int version = 1;
   LOOM_API static void write(const PointPairs& v, ByteWriter& w);
   LOOM_API static PointPairs read(ByteReader& r);
+  LOOM_API static void check(const PointPairs& v);
 };
 
 }  // namespace loom

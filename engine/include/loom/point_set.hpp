@@ -37,6 +37,7 @@ struct TypeTraits<PointSet> {
   LOOM_API static void write(const PointSet& v, ByteWriter& w);
   LOOM_API static PointSet read(ByteReader& r);
   LOOM_API static std::size_t bytes(const PointSet& v);
+  LOOM_API static void check(const PointSet& v);
 };
 
 }  // namespace loom

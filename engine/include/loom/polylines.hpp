@@ -35,6 +35,7 @@ struct TypeTraits<Polylines> {
   LOOM_API static void write(const Polylines& v, ByteWriter& w);
   LOOM_API static Polylines read(ByteReader& r);
   LOOM_API static std::size_t bytes(const Polylines& v);
+  LOOM_API static void check(const Polylines& v);
 };
 
 }  // namespace loom

@@ -124,7 +124,8 @@ LOOM_API Eigen::AlignedBox3d bounds(const Scene& scene);
 LOOM_API Camera framing_camera(const Scene& scene, double aspect);
 // Throws loom::Error naming the object or light: an object with not exactly
 // one geometry, an invalid geometry, a non-finite or singular transform,
-// negative colors or intensities, roughness outside [0, 1], ior < 1.
+// negative colors or intensities, roughness outside [0, 1], ior < 1, a camera
+// with NaN or infinite values.
 LOOM_API void require_valid(const Scene& scene, const char* what);
 
 template <>
@@ -133,6 +134,7 @@ struct TypeTraits<Material> {
   static constexpr const char* description =
       "how a surface scatters and emits light: model, colors, maps, roughness, ior";
   LOOM_API static std::string summary(const Material& material);
+  LOOM_API static void check(const Material& material);
 };
 
 template <>
@@ -141,6 +143,7 @@ struct TypeTraits<Scene> {
   static constexpr const char* description =
       "objects (mesh, points or lines + material + transform), lights, camera, environment";
   LOOM_API static std::string summary(const Scene& scene);
+  LOOM_API static void check(const Scene& scene);
 };
 
 }  // namespace loom

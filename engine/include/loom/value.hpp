@@ -23,6 +23,10 @@
 //     // optional: memory held, for the simulation-state budget (without it a
 //     // storable value is measured by writing it)
 //     static std::size_t bytes(const MyThing& v);
+//     // optional: throws loom::Error when a value is unusable (NaN or
+//     // infinite numbers, indices out of range). The engine calls it on every
+//     // output of every node, so no NaN travels downstream: keep it one scan.
+//     static void check(const MyThing& v);
 //   };
 #pragma once
 
@@ -59,6 +63,7 @@ struct TypeInfo {
   std::function<void(const void*, ByteWriter&)> write;
   std::function<std::shared_ptr<const void>(ByteReader&)> read;
   std::function<std::size_t(const void*)> bytes;  // optional: memory held
+  std::function<void(const void*)> check;         // optional: throws on NaN, bad indices
 
   bool literal() const { return static_cast<bool>(from_json); }
   bool storable() const { return static_cast<bool>(write) && static_cast<bool>(read); }
@@ -102,6 +107,10 @@ template <class Tr, class T, class = void>
 struct has_bytes : std::false_type {};
 template <class Tr, class T>
 struct has_bytes<Tr, T, std::void_t<decltype(Tr::bytes(std::declval<const T&>()))>> : std::true_type {};
+template <class Tr, class T, class = void>
+struct has_check : std::false_type {};
+template <class Tr, class T>
+struct has_check<Tr, T, std::void_t<decltype(Tr::check(std::declval<const T&>()))>> : std::true_type {};
 template <class Tr, class = void>
 struct has_description : std::false_type {};
 template <class Tr>
@@ -134,6 +143,8 @@ TypeInfo make_type_info() {
   }
   if constexpr (has_bytes<Tr, T>::value)
     info.bytes = [](const void* p) { return Tr::bytes(*static_cast<const T*>(p)); };
+  if constexpr (has_check<Tr, T>::value)
+    info.check = [](const void* p) { Tr::check(*static_cast<const T*>(p)); };
   return info;
 }
 }  // namespace detail
@@ -183,6 +194,10 @@ class Value {
 
   json to_json() const { return type_ && type_->to_json ? type_->to_json(data_.get()) : json(); }
   std::string summary() const { return type_ ? type_->summary(data_.get()) : "empty"; }
+  // Throws loom::Error if the value is unusable (see TypeTraits::check).
+  void check() const {
+    if (type_ && type_->check && data_) type_->check(data_.get());
+  }
 
  private:
   const TypeInfo* type_ = nullptr;
