@@ -117,6 +117,10 @@ SpringSystem cuboid_lattice(int nx, int ny, int nz, const Eigen::Vector3d& lo,
                             const Eigen::Vector3d& hi, double density, double k_edge, double k_face,
                             double k_body) {
   if (nx < 2 || ny < 2 || nz < 2) throw Error("a cuboid lattice needs at least 2 points per side");
+  // About 13 springs a point: 4 million points already take gigabytes.
+  if (double(nx) * ny * nz > 4'194'304)
+    throw Error("a cuboid lattice of " + std::to_string(nx) + "×" + std::to_string(ny) + "×" + std::to_string(nz) +
+                " points is more than the 4,194,304 (2^22) this node builds");
   const Eigen::Vector3i n(nx, ny, nz);
   auto index = [&](int i, int j, int k) { return (k * ny + j) * nx + i; };
   SpringSystem s;

@@ -23,13 +23,16 @@ using Vec = Eigen::Matrix<double, D, 1>;
 template <int D>
 std::vector<Vec<D>> lattice(const Vec<D>& lo, const Vec<D>& hi, double h, bool jitter,
                             std::mt19937_64& rng) {
+  // Counted in double first: a huge shape over a fine spacing overflows long.
+  double cells = 1;
+  for (int d = 0; d < D; ++d) cells *= std::max(1.0, std::floor((hi[d] - lo[d]) / h));
+  if (!(cells <= 100'000'000)) throw Error("the shape holds more than 100 million particles at this spacing");
   Eigen::Matrix<long, D, 1> n;
   long total = 1;
   for (int d = 0; d < D; ++d) {
     n[d] = std::max(1L, static_cast<long>(std::floor((hi[d] - lo[d]) / h)));
     total *= n[d];
   }
-  if (total > 100'000'000) throw Error("the shape holds more than 100 million particles at this spacing");
   std::uniform_real_distribution<double> u(-0.5, 0.5);
   std::vector<Vec<D>> points;
   points.reserve(static_cast<std::size_t>(total));
@@ -51,13 +54,15 @@ template <int D>
 std::vector<Vec<D>> poisson_disk(const Vec<D>& lo, const Vec<D>& hi, double h,
                                  std::mt19937_64& rng) {
   const double cell = h / std::sqrt(static_cast<double>(D));
+  double cells = 1;
+  for (int d = 0; d < D; ++d) cells *= std::max(1.0, std::ceil((hi[d] - lo[d]) / cell));
+  if (!(cells <= 200'000'000)) throw Error("the shape is too large for Poisson-disk sampling at this spacing");
   Eigen::Matrix<long, D, 1> n;
   long total = 1;
   for (int d = 0; d < D; ++d) {
     n[d] = std::max(1L, static_cast<long>(std::ceil((hi[d] - lo[d]) / cell)));
     total *= n[d];
   }
-  if (total > 200'000'000) throw Error("the shape is too large for Poisson-disk sampling at this spacing");
   std::vector<int> grid(static_cast<std::size_t>(total), -1);
   auto cell_of = [&](const Vec<D>& x, Eigen::Matrix<long, D, 1>& c) {
     for (int d = 0; d < D; ++d)

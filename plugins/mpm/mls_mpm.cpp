@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -31,6 +33,12 @@ struct Weights {
     }
   }
 };
+
+std::string shortest(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
 
 constexpr int block_size(int D) { return D == 2 ? 8 : 4; }
 
@@ -262,6 +270,10 @@ double Solver<D>::g2p(Particles<D>& ps, double dt) {
           const Mat B = (Bo - v * w.fx.transpose()) * dx_;
           // APIC: C = 4/Δx² Σ w v_i (x_i − x_p)ᵀ for quadratic B-splines.
           const Mat C = (4 * inv_dx_ * inv_dx_) * B;
+          if (!v.allFinite() || !C.allFinite()) {  // the step blew up: advance() stops
+            diverged_ = true;
+            continue;
+          }
           ps.v[p] = v;
           ps.C[p] = C;
           Vec x = ps.x[p] + dt * v;
@@ -298,6 +310,7 @@ AdvanceReport Solver<D>::advance(Particles<D>& ps, double seconds,
                                  const std::function<void(double)>& between) {
   AdvanceReport report;
   clamped_ = 0;
+  diverged_ = false;
   report.clamped_positions = clamp_positions(ps);
   if (!(seconds > 0) || ps.size() == 0) return report;
   double speed = max_signal_speed(ps);
@@ -309,10 +322,12 @@ AdvanceReport Solver<D>::advance(Particles<D>& ps, double seconds,
     const double steps = std::ceil(remaining / cfl_dt(speed) - 1e-9);
     const double dt = remaining / std::max(steps, 1.0);
     if (report.substeps >= s_.max_substeps)
-      throw Error("more than " + std::to_string(s_.max_substeps) +
-                  " substeps in one frame (Δt " + std::to_string(dt) +
+      throw Error("more than " + std::to_string(s_.max_substeps) + " substeps in one frame (Δt " + shortest(dt) +
                   " s): lower the stiffness or the speeds, or raise max_substeps");
     speed = substep(ps, dt);
+    if (diverged_)
+      throw Error("the simulation diverged at " + shortest(t) + " s into the frame (NaN or infinite "
+                  "grid velocities): lower cfl or dt_max, or the stiffness");
     t += dt;
     ++report.substeps;
     report.dt_min = std::min(report.dt_min, dt);

@@ -101,6 +101,7 @@ class Solver {
   std::vector<int> block_of_, block_start_, order_;
   std::vector<int> colour_blocks_[1 << D];
   std::atomic<long> clamped_{0};
+  std::atomic<bool> diverged_{false};  // a particle's new velocity was NaN or infinite
 };
 
 }  // namespace loom::mpm

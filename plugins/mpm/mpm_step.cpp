@@ -81,7 +81,7 @@ struct MPMStep {
         .input<MpmState>("state", "the initial particles (from emitters); later frames get "
                                   "this node's previous output")
         .input<int>("resolution", 128, "grid cells per axis").range(8, 4096)
-        .input<double>("size", 1.0, "domain edge length").at_least(0)
+        .input<double>("size", 1.0, "domain edge length").range(1e-6, 1e6)
         .input<loom::Vec3>("gravity", loom::Vec3(0, -9.8, 0), "acceleration (z unused in 2D)")
         .enum_input("walls", "separate", {"sticky", "slip", "separate", "open"},
                     "domain walls: sticky (v = 0), slip (no normal velocity), separate (may "

@@ -1,5 +1,6 @@
 // OrbitPlot: trajectories drawn around the planet, in one image (the
 // assignment's "cached", "critical" and "escape" pictures side by side).
+#include <algorithm>
 #include <cmath>
 
 #include <opencv2/imgproc.hpp>
@@ -45,14 +46,16 @@ struct OrbitPlot {
     if (!(extent > 0)) throw loom::Error("extent must be positive");
     const loom::Vec3 center = in.get<loom::Vec3>("center");
     const double scale = width / (2 * extent);
+    // 4 bits of sub-pixel precision for cv's anti-aliased lines; clamped far
+    // outside the canvas, so a tiny extent or a huge radius cannot overflow int.
+    auto fixed = [](double v) { return static_cast<int>(std::lround(std::clamp(v, -1e8, 1e8))); };
     auto pixel = [&](const Eigen::Vector3d& p) {
-      // 4 bits of sub-pixel precision for cv's anti-aliased lines.
-      return cv::Point(static_cast<int>(std::lround(16 * (width / 2.0 + (p[0] - center[0]) * scale))),
-                       static_cast<int>(std::lround(16 * (width / 2.0 - (p[1] - center[1]) * scale))));
+      return cv::Point(fixed(16 * (width / 2.0 + (p[0] - center[0]) * scale)),
+                       fixed(16 * (width / 2.0 - (p[1] - center[1]) * scale)));
     };
     cv::Mat canvas(width, width, CV_8UC3, cv::Scalar(20, 14, 10));
     const loom::Vec3 planet = in.get<loom::Vec3>("planet");
-    cv::circle(canvas, pixel(planet), static_cast<int>(16 * in.get<double>("planet_radius") * scale),
+    cv::circle(canvas, pixel(planet), fixed(16 * in.get<double>("planet_radius") * scale),
                cv::Scalar(200, 140, 70), cv::FILLED, cv::LINE_AA, 4);
     const auto labels = in.get<std::vector<std::string>>("labels");
     int drawn = 0;

@@ -1,6 +1,8 @@
 // The cloth nodes through the engine (frames included), and ClothStep frame by
 // frame through a host of its own that gives ctx.time().step = 1/fps and feeds
 // the previous output back (to see its warnings).
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <string>
@@ -165,6 +167,44 @@ TEST(ClothNodes, ExplicitWarnsAboveItsStabilityBoundAndNeverWritesNaN) {
   ASSERT_NE(host, nullptr);
   ASSERT_FALSE(host->warnings.empty());
   EXPECT_NE(host->warnings.front().find("stability bound"), std::string::npos);
+}
+
+// Gravity of 1e300 overflows the first step (scripts/probe found its NaN
+// residuals printed with exit 0). Through the runner, over frames: the engine's
+// output check fails ClothStep naming the output, and the mesh writer
+// downstream writes nothing.
+TEST(ClothNodes, AnOverflowingStepFailsAtItsOwnOutput) {
+  const auto dir = loom::test::temp_dir();
+  const loom::json doc = {
+      {"loom", 1},
+      {"time", {{"start", 1}, {"end", 3}, {"fps", 24}}},
+      {"nodes",
+       {{"grid", {{"type", "MassSpringGrid"}, {"inputs", {{"vertices", {6, 6}}}}}},
+        {"step", {{"type", "ClothStep"},
+                  {"inputs", {{"state", {{"from", "grid.state"}}}, {"gravity", {0, -1e300, 0}}}}}},
+        {"save", {{"type", "SaveMesh"}, {"inputs", {{"mesh", {{"from", "step.mesh"}}}, {"path", "m{frame:04}.ply"}}}}},
+        {"residuals", {{"type", "Print"}, {"inputs", {{"value", {{"from", "step.residuals"}}}}}}}}}};
+  std::ofstream(dir / "g.json") << doc.dump();
+  std::string out;
+  const int rc = loom::test::run_loom("run " + (dir / "g.json").string() + " --out " + (dir / "out").string(), &out);
+  EXPECT_EQ(rc, 1) << out;
+  EXPECT_NE(out.find("(ClothStep) failed: output \""), std::string::npos) << out;
+  EXPECT_NE(out.find("NaN or infinite"), std::string::npos) << out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "m0002.ply"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "m0001.ply"));  // the start frame is the rest state
+}
+
+// A cuboid too large to build is refused before anything is allocated.
+TEST(ClothNodes, AnOversizedCuboidIsRefused) {
+  loom::test::Engine engine;
+  const loom::json big = {
+      {"loom", 1}, {"nodes", {{"box", {{"type", "MassSpringCuboid"}, {"inputs", {{"points", {1024, 1024, 1024}}}}}}}}};
+  try {
+    engine.output(big, "box.state");
+    FAIL() << "a 1024^3 lattice was built";
+  } catch (const loom::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("2^22"), std::string::npos) << e.what();
+  }
 }
 
 TEST(ClothNodes, StatesSurviveTheDiskFormat) {

@@ -104,6 +104,29 @@ TEST(MpmNodes, NBodyLandsASlowShipAndKeepsEnergy) {
   for (int i = 2000; i < 4000; ++i) EXPECT_NEAR(lines.P.row(i).norm(), 1, 1e-6);
 }
 
+// A huge planet or a tiny extent put pixel coordinates beyond int: they are
+// clamped far outside the canvas instead of overflowing into OpenCV's asserts
+// (found by scripts/probe). The huge planet covers the whole canvas.
+TEST(MpmNodes, OrbitPlotKeepsExtremeScalesOnTheCanvas) {
+  loom::test::Engine engine;
+  for (const auto& [radius, extent] : {std::pair{1e9, 3.0}, std::pair{1e300, 3.0}, std::pair{0.2, 1e-300}}) {
+    const loom::json doc = {
+        {"loom", 1},
+        {"nodes",
+         {{"orbit", {{"type", "NBody"}, {"inputs", {{"duration", 1.0}, {"samples", 16}}}}},
+          {"plot", {{"type", "OrbitPlot"},
+                    {"inputs", {{"a", {{"from", "orbit.trajectories"}}}, {"planet_radius", radius},
+                                {"extent", extent}, {"width", 64}}}}}}}};
+    const auto& image = engine.output(doc, "plot.image").as<loom::Image>();
+    ASSERT_EQ(image.width(), 64);
+    if (radius > 1e6) {  // the planet's colour (200, 140, 70) in BGR fills the corner pixel
+      const cv::Vec3f corner = image.pixels.at<cv::Vec3f>(0, 0);
+      EXPECT_NEAR(corner[0], 70 / 255.0, 1e-6);
+      EXPECT_NEAR(corner[2], 200 / 255.0, 1e-6);
+    }
+  }
+}
+
 TEST(MpmState, WriteReadRoundTrip) {
   MpmState s;
   s.dim = 2;
