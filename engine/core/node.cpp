@@ -1,8 +1,26 @@
 #include "loom/node.hpp"
 
+#include <cxxabi.h>
+
 #include <algorithm>
+#include <cstdlib>
+#include <memory>
+
+#include "input_check.hpp"
 
 namespace loom {
+
+namespace {
+
+// "loom::warp::RbfKernel" for typeid(RbfKernel).name(), for messages.
+std::string readable_type(const std::string& mangled) {
+  int status = 0;
+  std::unique_ptr<char, void (*)(void*)> name(abi::__cxa_demangle(mangled.c_str(), nullptr, nullptr, &status),
+                                              std::free);
+  return status == 0 && name ? std::string(name.get()) : mangled;
+}
+
+}  // namespace
 
 NodeSpec& NodeSpec::describe(std::string text) {
   description = std::move(text);
@@ -47,6 +65,24 @@ NodeSpec& NodeSpec::enum_input(std::string input_name, std::string default_choic
                                std::vector<std::string> choices, std::string text) {
   add_input(std::move(input_name), std::move(text), &enum_type(), json(default_choice));
   last_input().choices = std::move(choices);
+  return *this;
+}
+
+NodeSpec& NodeSpec::add_enum_input(std::string input_name, std::string text, std::vector<std::string> names,
+                                   std::vector<std::int64_t> values, std::int64_t default_value,
+                                   const char* cpp_type) {
+  const std::string where = "node " + name + ", enum input \"" + input_name + "\": ";
+  if (names.empty()) throw Error(where + "no choices");
+  for (std::size_t i = 0; i < names.size(); ++i)
+    for (std::size_t k = 0; k < i; ++k)
+      if (names[k] == names[i]) throw Error(where + "the choice \"" + names[i] + "\" is named twice");
+  const auto d = std::find(values.begin(), values.end(), default_value);
+  if (d == values.end()) throw Error(where + "the default value is not one of the choices");
+  add_input(std::move(input_name), std::move(text), &enum_type(), json(names[static_cast<std::size_t>(d - values.begin())]));
+  InputSpec& in = last_input();
+  in.choices = std::move(names);
+  in.choice_values = std::move(values);
+  in.enum_cpp_type = cpp_type;
   return *this;
 }
 
@@ -109,6 +145,27 @@ Value Inputs::value(std::string_view input_name) {
   if (!host_.input_set(i))
     throw Error("input \"" + std::string(input_name) + "\" is not set");
   return host_.fetch_input(i);
+}
+
+std::int64_t Inputs::enum_value(std::string_view input_name, const char* cpp_type) {
+  const InputSpec& spec = spec_.inputs[static_cast<std::size_t>(index(input_name))];
+  auto bug = [&](const std::string& what) {
+    return Error("input \"" + spec.name + "\" " + what + " (a bug in node " + spec_.name + ": get<" +
+                 readable_type(cpp_type) + ">(\"" + spec.name + "\") does not match the input's declaration)");
+  };
+  if (spec.type != &enum_type() || spec.choices.empty()) throw bug("is " + spec.type->name + ", not an enum");
+  if (spec.choice_values.empty())
+    throw bug("is an enum declared with strings only: read it with get<std::string>, or declare it with its "
+              "values, enum_input(name, E::value, {{E::value, \"name\"}, ...}, text)");
+  if (spec.enum_cpp_type != cpp_type) throw bug("is declared with values of enum " + readable_type(spec.enum_cpp_type));
+  const Value v = value(input_name);
+  // The engine checked the value against the choices when it arrived; check
+  // again so that no path maps an unknown string to some value.
+  detail::check_input_value(spec, v);
+  const std::string& choice = v.as<std::string>();
+  for (std::size_t k = 0; k < spec.choices.size(); ++k)
+    if (spec.choices[k] == choice) return spec.choice_values[k];
+  throw Error("input \"" + spec.name + "\": \"" + choice + "\" is not one of its choices");
 }
 
 bool Inputs::has(std::string_view input_name) const { return host_.input_set(index(input_name)); }

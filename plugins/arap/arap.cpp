@@ -14,6 +14,9 @@
 
 namespace {
 
+enum class Init { asap, tutte, given };
+enum class Model { arap, hybrid };
+
 struct ARAP {
   static constexpr const char* name = "ARAP";
   static void declare(loom::NodeSpec& s) {
@@ -21,7 +24,7 @@ struct ARAP {
                "local step fits a rotation per triangle (2x2 SVD, in parallel), global step "
                "back-substitutes with the once-factored cotangent system.")
         .input<loom::Mesh>("mesh", "the surface to flatten")
-        .enum_input("init", "asap", {"asap", "tutte", "given"},
+        .enum_input("init", Init::asap, {{Init::asap, "asap"}, {Init::tutte, "tutte"}, {Init::given, "given"}},
                     "initial map: ASAP, uniform Tutte (needs a boundary), or the mesh's own UVs")
         .input<int>("iterations", 100, "maximal number of local/global iterations").range(0, 100000)
         .input<double>("tolerance", 1e-6,
@@ -29,7 +32,7 @@ struct ARAP {
         .at_least(0)
         .input<int>("pin", -1, "vertex held at its initial UV; -1: the first vertex of each part")
         .at_least(-1)
-        .enum_input("model", "arap", {"arap", "hybrid"},
+        .enum_input("model", Model::arap, {{Model::arap, "arap"}, {Model::hybrid, "hybrid"}},
                     "arap: rotations; hybrid: the paper's ASAP/ARAP blend with weight lambda")
         .input<double>("lambda", 1.0,
                        "hybrid weight of (a²+b²−1)²: small is nearly ASAP, large nearly ARAP")
@@ -55,7 +58,7 @@ struct ARAP {
     loom::arap::ArapOptions options;
     options.max_iterations = in.get<int>("iterations");
     options.tolerance = in.get<double>("tolerance");
-    if (in.get<std::string>("model") == "hybrid") {
+    if (in.get<Model>("model") == Model::hybrid) {
       options.lambda = in.get<double>("lambda");
       if (options.lambda == 0)
         throw loom::Error("lambda = 0 is ASAP, which one pin cannot hold in place: use the ASAP "
@@ -77,15 +80,15 @@ struct ARAP {
       ctx.warn(std::to_string(system->frames.degenerate) +
                " degenerate triangles (near-zero area) get small uniform weights");
 
-    const std::string& init = in.get<std::string>("init");
+    const Init init = in.get<Init>("init");
     Eigen::MatrixX2d UV0;
-    if (init == "given") {
+    if (init == Init::given) {
       if (!mesh.has_uv())
         throw loom::Error("init is 'given' but the mesh has no UVs: link a parameterized mesh, "
                           "or choose asap or tutte");
       if (!mesh.UV.allFinite()) throw loom::Error("the mesh's UVs have NaN or infinite values");
       UV0 = mesh.UV;
-    } else if (init == "tutte") {
+    } else if (init == Init::tutte) {
       UV0 = loom::arap::tutte_map(mesh.V, mesh.F);
     } else {
       UV0 = loom::arap::similarity_map(system->frames, mesh.F, n,

@@ -13,12 +13,6 @@ namespace {
 
 using loom::cloth::Solver;
 
-Solver solver_of(const std::string& name) {
-  if (name == "newton") return Solver::newton;
-  if (name == "explicit") return Solver::explicit_euler;
-  return Solver::local_global;
-}
-
 // The local/global factorization depends on the springs, their k, the masses,
 // the fixed set, h and the contact weight (with colliders) only: one per
 // (system, h, colliders or not), kept across frames.
@@ -47,7 +41,10 @@ struct ClothStep {
                "sphere colliders.")
         .input<loom::cloth::ClothState>("state", "the state at the previous frame (at the start "
                                                  "frame: the initial state, returned unchanged)")
-        .enum_input("solver", "local_global", {"local_global", "newton", "explicit"},
+        .enum_input("solver", Solver::local_global,
+                    {{Solver::local_global, "local_global"},
+                     {Solver::newton, "newton"},
+                     {Solver::explicit_euler, "explicit"}},
                     "how each substep is solved")
         .input<int>("substeps", 1, "time steps per frame: h = 1/(fps·substeps)").range(1, 100000)
         .input<int>("iterations", 10, "maximal solver iterations per substep").range(1, 1000000)
@@ -78,7 +75,7 @@ struct ClothStep {
     const auto previous = in.share<loom::cloth::ClothState>("state");
     const loom::cloth::SpringSystem& system = *previous->system;
     loom::cloth::StepSettings settings;
-    settings.solver = solver_of(in.get<std::string>("solver"));
+    settings.solver = in.get<Solver>("solver");
     settings.solve.iterations = in.get<int>("iterations");
     settings.solve.tolerance = in.get<double>("tolerance");
     settings.solve.chebyshev = in.get<bool>("chebyshev");

@@ -14,7 +14,8 @@ struct PolygonMask {
         .input<std::vector<Vec2>>("points", std::vector<Vec2>{}, "polygon vertices in pixels (closed automatically)")
         .input<Image>("image", "sets the mask size").optional()
         .input<Vec2i>("size", Vec2i(512, 512), "mask width and height when no image is given").range(1, 16384)
-        .enum_input("rule", "nonzero", {"nonzero", "evenodd"}, "which self-overlapping parts are inside")
+        .enum_input("rule", FillRule::nonzero, {{FillRule::nonzero, "nonzero"}, {FillRule::evenodd, "evenodd"}},
+                    "which self-overlapping parts are inside")
         .input<bool>("antialias", true, "covered fraction per pixel (true) or pixel center inside (false)")
         .output<Image>("mask", "1 inside, 0 outside, fractions on the edge when anti-aliased");
   }
@@ -33,8 +34,8 @@ struct PolygonMask {
       const Vec2i& s = in.get<Vec2i>("size");
       size = cv::Size(s.x(), s.y());
     }
-    const FillRule rule = in.get<std::string>("rule") == "evenodd" ? FillRule::evenodd : FillRule::nonzero;
-    out.set("mask", Image(polygon_coverage(points, size, rule, in.get<bool>("antialias")), Encoding::linear));
+    out.set("mask", Image(polygon_coverage(points, size, in.get<FillRule>("rule"), in.get<bool>("antialias")),
+                          Encoding::linear));
   }
 };
 LOOM_NODE(PolygonMask);

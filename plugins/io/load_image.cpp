@@ -11,16 +11,16 @@ struct LoadImage {
                "decodes them (for rendering), `keep` keeps the encoded values (for image editing, "
                "as OpenCV and the course do).")
         .input<std::string>("path", "the image file, relative to the graph file").input_file()
-        .enum_input("decode", "linear", {"linear", "keep"}, "decode sRGB to linear, or keep encoded values")
+        .enum_input("decode", loom::io::Decode::linear,
+                    {{loom::io::Decode::linear, "linear"}, {loom::io::Decode::keep, "keep"}},
+                    "decode sRGB to linear, or keep encoded values")
         .input<double>("max_pixels", static_cast<double>(loom::io::kDefaultMaxImagePixels),
                        "refuse files whose header declares more pixels than this (checked before decoding)")
         .range(1, 4e9)
         .output<loom::Image>("image", "float32 RGB(A) or gray pixels");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
-    const auto decode = in.get<std::string>("decode") == "keep" ? loom::io::Decode::keep
-                                                                 : loom::io::Decode::linear;
-    out.set("image", loom::io::read_image(in.get<std::string>("path"), decode,
+    out.set("image", loom::io::read_image(in.get<std::string>("path"), in.get<loom::io::Decode>("decode"),
                                           static_cast<std::uint64_t>(in.get<double>("max_pixels"))));
   }
 };

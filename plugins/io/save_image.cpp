@@ -13,13 +13,13 @@ struct SaveImage {
         .set_sink()
         .input<loom::Image>("image", "the image to write")
         .input<std::string>("path", "the file to write, relative to the output folder; {frame:04} in it becomes the frame number (one file per frame)").output_file()
-        .enum_input("depth", "8", {"8", "16", "float"}, "bits per channel (EXR/HDR are always float)");
+        .enum_input("depth", loom::io::Depth::u8,
+                    {{loom::io::Depth::u8, "8"}, {loom::io::Depth::u16, "16"}, {loom::io::Depth::f32, "float"}},
+                    "bits per channel (EXR/HDR are always float)");
   }
   static void run(loom::Inputs& in, loom::Outputs&, loom::Context& ctx) {
-    const std::string& d = in.get<std::string>("depth");
-    const auto depth = d == "8" ? loom::io::Depth::u8 : d == "16" ? loom::io::Depth::u16 : loom::io::Depth::f32;
     const std::string& path = in.get<std::string>("path");
-    loom::io::write_image(in.get<loom::Image>("image"), path, depth);
+    loom::io::write_image(in.get<loom::Image>("image"), path, in.get<loom::io::Depth>("depth"));
     ctx.log("wrote " + path);
   }
 };

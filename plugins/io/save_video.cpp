@@ -15,17 +15,18 @@ struct SaveVideo {
         .input<loom::Image>("image", "this frame's image (every frame the same size)")
         .input<std::string>("path", "the .mp4 file to write, relative to the output folder").output_file()
         .input<double>("fps", 0.0, "frames per second; 0: the graph's rate").range(0, 1000)
-        .enum_input("codec", "auto", {"auto", "h264", "mp4v"}, "auto: H.264 if available, else mp4v");
+        .enum_input("codec", loom::io::VideoCodec::automatic,
+                    {{loom::io::VideoCodec::automatic, "auto"},
+                     {loom::io::VideoCodec::h264, "h264"},
+                     {loom::io::VideoCodec::mpeg4, "mp4v"}},
+                    "auto: H.264 if available, else mp4v");
   }
   static void run(loom::Inputs& in, loom::Outputs&, loom::Context& ctx) {
     const auto& t = ctx.time();
     auto video = ctx.sequence_state<loom::io::VideoSequence>([&] {
-      const std::string& c = in.get<std::string>("codec");
       const double fps = in.get<double>("fps") > 0 ? in.get<double>("fps") : t.fps;
-      return std::make_shared<loom::io::VideoSequence>(
-          in.get<std::string>("path"), fps,
-          c == "h264" ? loom::io::VideoCodec::h264 : c == "mp4v" ? loom::io::VideoCodec::mpeg4
-                                                              : loom::io::VideoCodec::automatic);
+      return std::make_shared<loom::io::VideoSequence>(in.get<std::string>("path"), fps,
+                                                       in.get<loom::io::VideoCodec>("codec"));
     });
     video->add(in.get<loom::Image>("image"));
     ctx.progress(t.frame - t.first + 1, t.last - t.first + 1, "frame " + std::to_string(t.frame));

@@ -3,28 +3,15 @@
 #include "loom/error.hpp"
 
 namespace loom::mpm {
-namespace {
-
-Material material_from(const std::string& name) {
-  if (name == "fluid") return Material::fluid;
-  if (name == "elastic") return Material::elastic;
-  if (name == "snow") return Material::snow;
-  return Material::sand;
-}
-
-Sampling sampling_from(const std::string& name) {
-  if (name == "grid") return Sampling::grid;
-  if (name == "jittered") return Sampling::jittered;
-  if (name == "poisson") return Sampling::poisson;
-  return Sampling::random;
-}
-
-}  // namespace
 
 void declare_emitter_inputs(NodeSpec& s) {
   s.input<MpmState>("particles", "particles to add these to (same dimension)").optional()
       .input<int>("dimension", 2, "2 or 3 (ignored when `particles` is linked)").range(2, 3)
-      .enum_input("material", "elastic", {"fluid", "elastic", "snow", "sand"},
+      .enum_input("material", Material::elastic,
+                  {{Material::fluid, "fluid"},
+                   {Material::elastic, "elastic"},
+                   {Material::snow, "snow"},
+                   {Material::sand, "sand"}},
                   "fluid: J-based pressure; elastic: fixed corotated; snow: Stomakhin 2013; "
                   "sand: Drucker-Prager (Klár 2016)")
       .input<double>("E", 1e4, "Young's modulus (fluid: the bulk modulus)").at_least(0)
@@ -32,7 +19,11 @@ void declare_emitter_inputs(NodeSpec& s) {
       .input<double>("density", 1.0, "mass per unit volume (per unit area in 2D)").at_least(0)
       .input<Vec3>("velocity", Vec3(0, 0, 0), "initial velocity (z unused in 2D)")
       .input<Color>("color", Color{Eigen::Vector4d(0.9, 0.9, 0.9, 1)}, "linear RGB colour")
-      .enum_input("sampling", "jittered", {"grid", "jittered", "poisson", "random"},
+      .enum_input("sampling", Sampling::jittered,
+                  {{Sampling::grid, "grid"},
+                   {Sampling::jittered, "jittered"},
+                   {Sampling::poisson, "poisson"},
+                   {Sampling::random, "random"}},
                   "particle placement: a regular or jittered lattice, Poisson-disk, or "
                   "`count` uniform random points (mpm88)")
       .input<double>("spacing", 1.0 / 256, "distance between particles (grid, jittered, poisson)")
@@ -45,13 +36,13 @@ void declare_emitter_inputs(NodeSpec& s) {
 
 EmitOptions read_emit_options(Inputs& in, Context& ctx) {
   EmitOptions o;
-  o.material = material_from(in.get<std::string>("material"));
+  o.material = in.get<Material>("material");
   o.E = in.get<double>("E");
   o.nu = in.get<double>("nu");
   o.density = in.get<double>("density");
   o.velocity = in.get<Vec3>("velocity");
   o.color = in.get<Color>("color").rgba.head<3>().cast<float>();
-  o.sampling = sampling_from(in.get<std::string>("sampling"));
+  o.sampling = in.get<Sampling>("sampling");
   o.spacing = in.get<double>("spacing");
   o.count = in.get<int>("count");
   o.particle_volume = in.get<double>("particle_volume");

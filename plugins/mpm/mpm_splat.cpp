@@ -20,7 +20,7 @@ struct MPMSplat {
         .input<double>("radius", 1.0, "disc radius in pixels").range(0.1, 64)
         .input<loom::Color>("background", loom::Color{Eigen::Vector4d(0.02, 0.02, 0.03, 1)},
                             "linear RGB")
-        .enum_input("view", "front", {"front", "top", "side"},
+        .enum_input("view", View::front, {{View::front, "front"}, {View::top, "top"}, {View::side, "side"}},
                     "3D only: look along −z (front), −y (top) or −x (side)")
         .output<loom::Image>("image", "linear RGB");
   }
@@ -32,8 +32,7 @@ struct MPMSplat {
     if (!(o.size > 0)) throw loom::Error("size must be positive");
     o.radius_px = in.get<double>("radius");
     o.background = in.get<loom::Color>("background").rgba.head<3>().cast<float>();
-    const std::string view = in.get<std::string>("view");
-    o.view = view == "top" ? View::top : view == "side" ? View::side : View::front;
+    o.view = in.get<View>("view");
     out.set("image", loom::Image(splat(in.get<MpmState>("state"), o), loom::Encoding::linear));
   }
 };

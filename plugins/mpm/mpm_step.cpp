@@ -12,6 +12,10 @@ namespace {
 
 using namespace loom::mpm;
 
+// The domain walls: a Boundary, or none.
+enum class Walls { sticky, slip, separate, open };
+
+// A collider's "boundary" field.
 Boundary boundary_from(const std::string& name) {
   if (name == "sticky") return Boundary::sticky;
   if (name == "slip") return Boundary::slip;
@@ -83,7 +87,11 @@ struct MPMStep {
         .input<int>("resolution", 128, "grid cells per axis").range(8, 4096)
         .input<double>("size", 1.0, "domain edge length").range(1e-6, 1e6)
         .input<loom::Vec3>("gravity", loom::Vec3(0, -9.8, 0), "acceleration (z unused in 2D)")
-        .enum_input("walls", "separate", {"sticky", "slip", "separate", "open"},
+        .enum_input("walls", Walls::separate,
+                    {{Walls::sticky, "sticky"},
+                     {Walls::slip, "slip"},
+                     {Walls::separate, "separate"},
+                     {Walls::open, "open"}},
                     "domain walls: sticky (v = 0), slip (no normal velocity), separate (may "
                     "leave the wall, not enter it), open (no condition; particles are still kept "
                     "inside)")
@@ -119,9 +127,12 @@ struct MPMStep {
     settings.size = in.get<double>("size");
     if (!(settings.size > 0)) throw loom::Error("size must be positive");
     settings.gravity = in.get<loom::Vec3>("gravity");
-    const std::string walls = in.get<std::string>("walls");
-    settings.walls_enabled = walls != "open";
-    if (settings.walls_enabled) settings.walls = boundary_from(walls);
+    switch (in.get<Walls>("walls")) {
+      case Walls::sticky: settings.walls = Boundary::sticky; break;
+      case Walls::slip: settings.walls = Boundary::slip; break;
+      case Walls::separate: settings.walls = Boundary::separate; break;
+      case Walls::open: settings.walls_enabled = false; break;
+    }
     settings.wall_cells = in.get<int>("wall_cells");
     settings.colliders = colliders_from(in.get<loom::json>("colliders"));
     settings.cfl = in.get<double>("cfl");

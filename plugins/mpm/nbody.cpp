@@ -30,7 +30,8 @@ struct NBody {
         .input<double>("central_radius", 0.0, "body 0's surface: bodies reaching it land (0: none)")
         .at_least(0)
         .input<double>("softening", 0.0, "Plummer softening length ε").at_least(0)
-        .enum_input("integrator", "yoshida4", {"leapfrog", "yoshida4"},
+        .enum_input("integrator", Integrator::yoshida4,
+                    {{Integrator::leapfrog, "leapfrog"}, {Integrator::yoshida4, "yoshida4"}},
                     "leapfrog: 2nd order; yoshida4: 4th order (three leapfrog sub-steps)")
         .input<double>("dt", 1e-3, "time step").range(1e-9, 1e6)
         .input<double>("duration", 10.0, "time simulated").at_least(0)
@@ -52,8 +53,7 @@ struct NBody {
     s.central_radius = in.get<double>("central_radius");
     s.softening = in.get<double>("softening");
     s.prepare();
-    const Integrator integrator =
-        in.get<std::string>("integrator") == "leapfrog" ? Integrator::leapfrog : Integrator::yoshida4;
+    const Integrator integrator = in.get<Integrator>("integrator");
     const double duration = in.get<double>("duration"), h = in.get<double>("dt");
     const long steps = static_cast<long>(std::ceil(duration / h - 1e-9));
     if (steps > 2'000'000'000L) throw loom::Error("duration / dt exceeds 2·10⁹ steps");

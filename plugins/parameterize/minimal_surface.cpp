@@ -13,7 +13,10 @@ struct MinimalSurface {
     s.describe("Moves interior vertices so that each is the weighted average of its neighbours "
                "(δ_i = 0), boundary fixed: a discrete minimal surface spanning the boundary.")
         .input<loom::Mesh>("mesh", "a mesh with at least one boundary loop")
-        .enum_input("weights", "cotangent", {"uniform", "cotangent", "intrinsic_delaunay"},
+        .enum_input("weights", loom::parameterize::Weights::cotangent,
+                    {{loom::parameterize::Weights::uniform, "uniform"},
+                     {loom::parameterize::Weights::cotangent, "cotangent"},
+                     {loom::parameterize::Weights::intrinsic_delaunay, "intrinsic_delaunay"}},
                     "uniform (membrane of the graph) or cotangent (area-minimizing)")
         .input<int>("iterations", 1, "cotangent only: recompute weights on the new surface and solve again")
         .range(1, 100)
@@ -26,7 +29,7 @@ struct MinimalSurface {
     loom::numerics::FixedBoundarySolve last;
     loom::Mesh result = mesh;
     result.V = loom::parameterize::minimal_surface(
-        mesh.V, mesh.F, loom::parameterize::parse_weights(in.get<std::string>("weights")),
+        mesh.V, mesh.F, in.get<loom::parameterize::Weights>("weights"),
         in.get<int>("iterations"), &last);
     result.N.resize(0, 3);  // the old normals no longer fit the surface
     if (last.uniform_rows > 0)

@@ -15,8 +15,11 @@ struct Parameterize {
                "square by arc length, interior vertices by convex-combination weights (one sparse "
                "factorization, two right-hand sides). Other holes are filled for the solve.")
         .input<loom::Mesh>("mesh", "a mesh with disk topology (extra holes are filled)")
-        .enum_input("boundary", "circle", {"circle", "square"}, "where the boundary loop goes")
-        .enum_input("weights", "mean_value", loom::parameterize::weight_names(),
+        .enum_input("boundary", loom::numerics::BoundaryShape::circle,
+                    {{loom::numerics::BoundaryShape::circle, "circle"},
+                     {loom::numerics::BoundaryShape::square, "square"}},
+                    "where the boundary loop goes")
+        .enum_input("weights", loom::parameterize::Weights::mean_value, loom::parameterize::weight_choices(),
                     "uniform (Tutte), cotangent (harmonic; may fold on obtuse triangles), cotangent_clamped "
                     "and intrinsic_delaunay (robust harmonic), mean_value (Floater 2003), shape_preserving "
                     "(Floater 1997)")
@@ -27,11 +30,10 @@ struct Parameterize {
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     const auto& mesh = in.get<loom::Mesh>("mesh");
     loom::require_valid(mesh, "mesh");
-    const auto shape = in.get<std::string>("boundary") == "square" ? loom::numerics::BoundaryShape::square
-                                                                     : loom::numerics::BoundaryShape::circle;
+    const auto shape = in.get<loom::numerics::BoundaryShape>("boundary");
     ctx.progress(0, 2, "solving");
     const auto p = loom::parameterize::parameterize(
-        mesh.V, mesh.F, loom::parameterize::parse_weights(in.get<std::string>("weights")), shape,
+        mesh.V, mesh.F, in.get<loom::parameterize::Weights>("weights"), shape,
         [&ctx] { ctx.check_cancelled(); });
     ctx.check_cancelled();
     if (p.holes_filled > 0)

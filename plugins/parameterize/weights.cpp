@@ -7,16 +7,24 @@
 
 namespace loom::parameterize {
 
-const std::vector<std::string>& weight_names() {
-  static const std::vector<std::string> names = {"uniform",           "cotangent",  "cotangent_clamped",
-                                               "intrinsic_delaunay", "mean_value", "shape_preserving"};
-  return names;
+const std::vector<std::pair<Weights, std::string>>& weight_choices() {
+  static const std::vector<std::pair<Weights, std::string>> choices = {
+      {Weights::uniform, "uniform"},
+      {Weights::cotangent, "cotangent"},
+      {Weights::cotangent_clamped, "cotangent_clamped"},
+      {Weights::intrinsic_delaunay, "intrinsic_delaunay"},
+      {Weights::mean_value, "mean_value"},
+      {Weights::shape_preserving, "shape_preserving"}};
+  return choices;
 }
 
-Weights parse_weights(const std::string& name) {
-  for (size_t k = 0; k < weight_names().size(); ++k)
-    if (weight_names()[k] == name) return static_cast<Weights>(k);
-  throw Error("unknown weights \"" + name + "\"");
+const std::vector<std::string>& weight_names() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> list;
+    for (const auto& choice : weight_choices()) list.push_back(choice.second);
+    return list;
+  }();
+  return names;
 }
 
 Eigen::SparseMatrix<double> weight_matrix(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Weights weights) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -18,10 +19,12 @@ enum class Weights {
   mean_value,          // Floater 2003
   shape_preserving,    // Floater 1997
 };
-// In enum order, as the nodes spell them. A function, not a global: a node's
-// declare() in another file may run during static initialization.
+// Each value with its name as the nodes spell it, in enum order (a
+// loom::EnumChoices<Weights>). A function, not a global: a node's declare() in
+// another file may run during static initialization.
+const std::vector<std::pair<Weights, std::string>>& weight_choices();
+// The names alone, in enum order.
 const std::vector<std::string>& weight_names();
-Weights parse_weights(const std::string& name);
 
 // W #V by #V, W(i,j) = w_ij; row i holds the weights of vertex i (symmetric
 // except mean_value and shape_preserving).

@@ -10,18 +10,18 @@ struct CornellBox {
     s.describe("The Cornell box from Cornell's measured data (millimetres), with its camera and a "
                "one-sided area light in the ceiling; the two white blocks, or a mirror and a glass "
                "ball, or nothing inside.")
-        .enum_input("contents", "blocks", {"blocks", "spheres", "empty"}, "what stands in the box")
+        .enum_input("contents", loom::pathtrace::CornellContents::blocks,
+                    {{loom::pathtrace::CornellContents::blocks, "blocks"},
+                     {loom::pathtrace::CornellContents::spheres, "spheres"},
+                     {loom::pathtrace::CornellContents::empty, "empty"}},
+                    "what stands in the box")
         .input<loom::Color>("light", loom::Color{{17, 12, 4, 1}},
                             "the light's emitted radiance (linear RGB)")
         .output<loom::Scene>("scene", "walls, light, contents and camera");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
-    using loom::pathtrace::CornellContents;
     loom::pathtrace::CornellBoxOptions options;
-    const std::string& contents = in.get<std::string>("contents");
-    options.contents = contents == "spheres" ? CornellContents::spheres
-                       : contents == "empty" ? CornellContents::empty
-                                             : CornellContents::blocks;
+    options.contents = in.get<loom::pathtrace::CornellContents>("contents");
     options.light_radiance = in.get<loom::Color>("light").rgba.head<3>();
     if (!options.light_radiance.allFinite() || (options.light_radiance.array() < 0).any())
       throw loom::Error("light must be a finite, non-negative color");

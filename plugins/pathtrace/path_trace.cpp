@@ -11,10 +11,6 @@ namespace {
 
 using namespace loom::pathtrace;
 
-Strategy strategy_of(const std::string& s) {
-  return s == "nee" ? Strategy::nee : s == "bsdf" ? Strategy::bsdf : Strategy::mis;
-}
-
 void warn_about_unused(const loom::Scene& scene, const EmbreeScene& traced, const RenderSettings& s,
                        int displacement_level, loom::Context& ctx) {
   if (traced.skipped_polylines() > 0)
@@ -56,10 +52,13 @@ struct PathTrace {
         .input<int>("max_depth", 8, "bounces at most; 1 is direct light only").range(1, 1024)
         .input<bool>("russian_roulette", true, "end paths at random after rr_min_depth bounces (unbiased)")
         .input<int>("rr_min_depth", 3, "bounces before Russian roulette may end a path").range(1, 1024)
-        .enum_input("strategy", "mis", {"mis", "nee", "bsdf"},
+        .enum_input("strategy", Strategy::mis,
+                    {{Strategy::mis, "mis"}, {Strategy::nee, "nee"}, {Strategy::bsdf, "bsdf"}},
                     "mis: light and BSDF sampling weighted by the power heuristic; nee: light "
                     "sampling only (BSDF rays ignore emitters they hit); bsdf: no light sampling")
-        .enum_input("environment_sampling", "importance", {"importance", "uniform"},
+        .enum_input("environment_sampling", EnvironmentLight::Sampling::importance,
+                    {{EnvironmentLight::Sampling::importance, "importance"},
+                     {EnvironmentLight::Sampling::uniform, "uniform"}},
                     "how light sampling draws directions of an environment map")
         .input<double>("adaptive_threshold", 0.0,
                        "stop a pixel when its relative standard error falls below this (0: off)")
@@ -100,10 +99,8 @@ struct PathTrace {
     s.max_depth = in.get<int>("max_depth");
     s.russian_roulette = in.get<bool>("russian_roulette");
     s.rr_min_depth = in.get<int>("rr_min_depth");
-    s.strategy = strategy_of(in.get<std::string>("strategy"));
-    s.environment_sampling = in.get<std::string>("environment_sampling") == "uniform"
-                                 ? EnvironmentLight::Sampling::uniform
-                                 : EnvironmentLight::Sampling::importance;
+    s.strategy = in.get<Strategy>("strategy");
+    s.environment_sampling = in.get<EnvironmentLight::Sampling>("environment_sampling");
     s.adaptive_threshold = in.get<double>("adaptive_threshold");
     s.adaptive_min_spp = in.get<int>("adaptive_min_spp");
     s.seed = ctx.seed();

@@ -20,6 +20,8 @@ using loom::Error;
 using loom::Image;
 using namespace loom::poisson;
 
+enum class PoissonSolver { multigrid, cholmod };
+
 // The region as a source-sized mask from whichever of mask / rectangle /
 // polygon is set (exactly one must be).
 cv::Mat1b region_mask(loom::Inputs& in, cv::Size source) {
@@ -72,9 +74,10 @@ struct PoissonBlend {
         .optional()
         .input<loom::Vec2i>("offset", loom::Vec2i(0, 0),
                             "source pixel (x, y) lands on target pixel (x, y) + offset")
-        .enum_input("mode", "normal", {"normal", "mixed"},
+        .enum_input("mode", Guidance::normal, {{Guidance::normal, "normal"}, {Guidance::mixed, "mixed"}},
                     "guidance: the source's gradient, or per edge the stronger of source and target")
-        .enum_input("solver", "multigrid", {"multigrid", "cholmod"},
+        .enum_input("solver", PoissonSolver::multigrid,
+                    {{PoissonSolver::multigrid, "multigrid"}, {PoissonSolver::cholmod, "cholmod"}},
                     "multigrid-preconditioned CG (fast), or an exact sparse Cholesky (CHOLMOD)")
         .input<double>("tolerance", 2e-3,
                        "multigrid: stop when an iteration changes no pixel by more than this")
@@ -106,12 +109,12 @@ struct PoissonBlend {
                "gradient needs pixels outside the source)");
     if (region.clipped_target) ctx.warn("part of the region lands outside the target and is clipped");
 
-    const Guidance mode = in.get<std::string>("mode") == "mixed" ? Guidance::mixed : Guidance::normal;
+    const Guidance mode = in.get<Guidance>("mode");
     const cv::Mat b = poisson_rhs(region, target.pixels, source.pixels, offset, mode);
     cv::Mat f = source_on_rect(region, source.pixels, offset);
-    const std::string solver = in.get<std::string>("solver");
-    const std::uint64_t key = loom::Hasher(region_key(region)).str(solver).digest();
-    if (solver == "cholmod") {
+    const PoissonSolver solver = in.get<PoissonSolver>("solver");
+    const std::uint64_t key = loom::Hasher(region_key(region)).pod(static_cast<int>(solver)).digest();
+    if (solver == PoissonSolver::cholmod) {
       ctx.progress(0, 1, "factoring");
       auto exact = ctx.scratch<ExactPoisson>(key, [&] { return std::make_shared<ExactPoisson>(region.unknown); });
       exact->solve(b, f);

@@ -12,7 +12,10 @@ struct CameraNode {
   static constexpr const char* name = "Camera";
   static void declare(loom::NodeSpec& s) {
     s.describe("A scene holding only a camera, looking from eye at target; merge it with objects.")
-        .enum_input("projection", "perspective", {"perspective", "orthographic"}, "the projection")
+        .enum_input("projection", loom::Camera::Projection::perspective,
+                    {{loom::Camera::Projection::perspective, "perspective"},
+                     {loom::Camera::Projection::orthographic, "orthographic"}},
+                    "the projection")
         .input<loom::Vec3>("eye", loom::Vec3(0, 0, 5), "where the camera is")
         .input<loom::Vec3>("target", loom::Vec3(0, 0, 0), "the point it looks at")
         .input<loom::Vec3>("up", loom::Vec3(0, 1, 0), "which way is up (not along the view)")
@@ -28,9 +31,7 @@ struct CameraNode {
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
     loom::Camera c;
-    c.projection = in.get<std::string>("projection") == "orthographic"
-                       ? loom::Camera::Projection::orthographic
-                       : loom::Camera::Projection::perspective;
+    c.projection = in.get<loom::Camera::Projection>("projection");
     c.eye = in.get<loom::Vec3>("eye");
     c.target = in.get<loom::Vec3>("target");
     if (!c.eye.allFinite() || !c.target.allFinite()) throw loom::Error("eye and target must be finite");

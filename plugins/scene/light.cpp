@@ -1,8 +1,5 @@
 // Light: a point, spot or directional light as a one-light scene. Area lights
 // are emissive meshes (Material emission), not this node.
-#include <map>
-#include <string>
-
 #include "loom/plugin.hpp"
 #include "loom/scene.hpp"
 #include "transform.hpp"
@@ -14,7 +11,11 @@ struct LightNode {
   static void declare(loom::NodeSpec& s) {
     s.describe("A one-light scene: a point, spot or directional light. For area lights give a "
                "mesh an emissive Material.")
-        .enum_input("kind", "point", {"point", "spot", "directional"}, "the kind of light")
+        .enum_input("kind", loom::Light::Kind::point,
+                    {{loom::Light::Kind::point, "point"},
+                     {loom::Light::Kind::spot, "spot"},
+                     {loom::Light::Kind::directional, "directional"}},
+                    "the kind of light")
         .input<loom::Vec3>("position", loom::Vec3(0, 5, 0), "point and spot: where the light is")
         .input<loom::Vec3>("direction", loom::Vec3(0, -1, 0),
                            "spot and directional: where the light shines")
@@ -31,12 +32,8 @@ struct LightNode {
         .output<loom::Scene>("scene", "a scene holding this one light");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
-    static const std::map<std::string, loom::Light::Kind> kinds = {
-        {"point", loom::Light::Kind::point},
-        {"spot", loom::Light::Kind::spot},
-        {"directional", loom::Light::Kind::directional}};
     loom::Light l;
-    l.kind = kinds.at(in.get<std::string>("kind"));
+    l.kind = in.get<loom::Light::Kind>("kind");
     l.position = in.get<loom::Vec3>("position");
     if (!l.position.allFinite()) throw loom::Error("position must be finite");
     if (l.kind != loom::Light::Kind::point)

@@ -1,7 +1,6 @@
 // Material: how a surface scatters and emits light (loom/scene.hpp). Textures
 // are linked images; color maps are used in linear values, normal maps as
 // stored.
-#include <map>
 #include <string>
 
 #include "loom/plugin.hpp"
@@ -28,7 +27,11 @@ struct MaterialNode {
     s.describe(
          "A surface material for Render and PathTrace. The rasterizer shades every model with "
          "Blinn-Phong (base color, specular, roughness); the path tracer follows the model.")
-        .enum_input("model", "diffuse", {"diffuse", "plastic", "conductor", "dielectric"},
+        .enum_input("model", loom::Material::Model::diffuse,
+                    {{loom::Material::Model::diffuse, "diffuse"},
+                     {loom::Material::Model::plastic, "plastic"},
+                     {loom::Material::Model::conductor, "conductor"},
+                     {loom::Material::Model::dielectric, "dielectric"}},
                     "diffuse (Lambert), plastic (Lambert under a coat), conductor (GGX metal), "
                     "dielectric (glass)")
         .input<Color>("base_color", Color{Eigen::Vector4d(0.8, 0.8, 0.8, 1)},
@@ -57,13 +60,8 @@ struct MaterialNode {
         .output<loom::Material>("material", "the material");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
-    static const std::map<std::string, loom::Material::Model> models = {
-        {"diffuse", loom::Material::Model::diffuse},
-        {"plastic", loom::Material::Model::plastic},
-        {"conductor", loom::Material::Model::conductor},
-        {"dielectric", loom::Material::Model::dielectric}};
     loom::Material m;
-    m.model = models.at(in.get<std::string>("model"));
+    m.model = in.get<loom::Material::Model>("model");
     m.base_color = in.get<Color>("base_color").rgba.head<3>();
     m.emission = in.get<Color>("emission").rgba.head<3>() * in.get<double>("emission_strength");
     if ((m.base_color.array() < 0).any() || (m.emission.array() < 0).any())

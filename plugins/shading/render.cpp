@@ -13,13 +13,6 @@ namespace {
 
 using loom::shading::ShadowFilter;
 
-ShadowFilter shadow_filter(const std::string& name) {
-  if (name == "off") return ShadowFilter::off;
-  if (name == "hard") return ShadowFilter::hard;
-  if (name == "pcss") return ShadowFilter::pcss;
-  return ShadowFilter::pcf;
-}
-
 struct Render {
   static constexpr const char* name = "Render";
   static void declare(loom::NodeSpec& s) {
@@ -33,7 +26,11 @@ struct Render {
         .input<int>("width", 960, "image width in pixels").range(1, 16384)
         .input<int>("height", 540, "image height in pixels").range(1, 16384)
         .input<int>("samples", 4, "MSAA samples per pixel (1: none)").range(1, 16)
-        .enum_input("shadows", "pcf", {"off", "hard", "pcf", "pcss"},
+        .enum_input("shadows", ShadowFilter::pcf,
+                    {{ShadowFilter::off, "off"},
+                     {ShadowFilter::hard, "hard"},
+                     {ShadowFilter::pcf, "pcf"},
+                     {ShadowFilter::pcss, "pcss"}},
                     "shadow maps: none, one comparison, k x k PCF, or PCSS soft shadows")
         .input<int>("shadow_resolution", 2048, "texels per side of each light's shadow map").range(16, 16384)
         .input<double>("shadow_bias", 1.0, "constant depth bias, in shadow-map texels").range(0, 1000)
@@ -64,7 +61,7 @@ struct Render {
     o.width = in.get<int>("width");
     o.height = in.get<int>("height");
     o.samples = in.get<int>("samples");
-    o.shadows = shadow_filter(in.get<std::string>("shadows"));
+    o.shadows = in.get<ShadowFilter>("shadows");
     o.shadow_resolution = in.get<int>("shadow_resolution");
     o.shadow_bias = in.get<double>("shadow_bias");
     o.shadow_slope_bias = in.get<double>("shadow_slope_bias");

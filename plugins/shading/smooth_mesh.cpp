@@ -14,7 +14,10 @@ struct SmoothMesh {
                "(Laplacian smoothing) or cotangent weights (mean-curvature flow, clamped at 0), "
                "boundary fixed.")
         .input<loom::Mesh>("mesh", "the mesh to smooth")
-        .enum_input("weights", "uniform", {"uniform", "cotangent"}, "edge weights")
+        .enum_input("weights", loom::shading::SmoothingWeights::uniform,
+                    {{loom::shading::SmoothingWeights::uniform, "uniform"},
+                     {loom::shading::SmoothingWeights::cotangent, "cotangent"}},
+                    "edge weights")
         .input<int>("steps", 5, "iterations").range(0, 100000)
         .input<double>("lambda", 0.5, "step size").range(0, 1)
         .output<loom::Mesh>("mesh", "the smoothed mesh (normals recomputed)");
@@ -22,8 +25,7 @@ struct SmoothMesh {
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     const loom::Mesh& mesh = in.get<loom::Mesh>("mesh");
     loom::require_valid(mesh, "mesh");
-    const auto weights = in.get<std::string>("weights") == "cotangent" ? loom::shading::SmoothingWeights::cotangent
-                                                                       : loom::shading::SmoothingWeights::uniform;
+    const auto weights = in.get<loom::shading::SmoothingWeights>("weights");
     loom::Mesh result = mesh;
     const int steps = in.get<int>("steps");
     for (int s = 0; s < steps; ++s) {

@@ -22,10 +22,12 @@ struct ImageWarp {
     s.describe("Warps an image so that control points p_i move to q_i, by IDW or RBF.")
         .input<Image>("image", "the image to warp");
     declare_map_inputs(s);
-    s.enum_input("mode", "inverse", {"inverse", "forward"},
+    s.enum_input("mode", MapDirection::inverse,
+                 {{MapDirection::inverse, "inverse"}, {MapDirection::forward, "forward"}},
                  "inverse: sample the source per output pixel; forward: splat source pixels")
         .input<bool>("fill_holes", true, "forward: fill the cracks no source pixel lands on")
-        .enum_input("outside", "background", {"background", "replicate"},
+        .enum_input("outside", Outside::background,
+                    {{Outside::background, "background"}, {Outside::replicate, "replicate"}},
                     "inverse: what pixels mapped outside the source show")
         .input<Color>("background", Color{Eigen::Vector4d(1, 1, 1, 1)},
                       "color where nothing lands, in the image's encoding")
@@ -39,8 +41,8 @@ struct ImageWarp {
     const Image& image = in.get<Image>("image");
     if (image.empty()) throw Error("image is empty: nothing to warp");
     require_finite(image, "image");
-    const bool inverse = in.get<std::string>("mode") == "inverse";
-    const RowMap map = fit_map(in, ctx, inverse);
+    const MapDirection mode = in.get<MapDirection>("mode");
+    const RowMap map = fit_map(in, ctx, mode);
     const Eigen::Vector4d bg = in.get<Color>("background").rgba;
     const cv::Scalar background(bg[0], bg[1], bg[2], bg[3]);
     const int step = in.get<int>("map_step");
@@ -50,10 +52,9 @@ struct ImageWarp {
     };
     cv::Mat holes;
     cv::Mat warped;
-    if (inverse) {
-      const Outside outside =
-          in.get<std::string>("outside") == "replicate" ? Outside::replicate : Outside::background;
-      warped = inverse_warp(image.pixels, map, image.pixels.size(), step, outside, background, progress);
+    if (mode == MapDirection::inverse) {
+      warped = inverse_warp(image.pixels, map, image.pixels.size(), step, in.get<Outside>("outside"), background,
+                            progress);
       holes = cv::Mat::zeros(image.pixels.size(), CV_32F);
     } else {
       Splat splat = forward_warp(image.pixels, map, image.pixels.size(), step, background, progress);

@@ -10,9 +10,11 @@ namespace loom::warp {
 // pairs, method, idw_power, idw_affine, rbf_kernel, rbf_exponent, lambda.
 void declare_map_inputs(NodeSpec& s);
 
-// Fits the map the inputs define: p_i → q_i, or q_i → p_i when `swapped`
-// (the inverse map, evaluated per output pixel). Dropped, merged or
+// Which way a map goes: p_i → q_i, or q_i → p_i (evaluated per output pixel).
+enum class MapDirection { forward, inverse };
+
+// Fits the map the inputs define in the given direction. Dropped, merged or
 // degenerate pairs are reported with ctx.warn.
-RowMap fit_map(Inputs& in, Context& ctx, bool swapped);
+RowMap fit_map(Inputs& in, Context& ctx, MapDirection direction);
 
 }  // namespace loom::warp

@@ -43,7 +43,8 @@ struct WarpField {
         .input<Vec2i>("size", Vec2i(512, 512), "width and height when no image is given")
         .range(1, 16384);
     declare_map_inputs(s);
-    s.enum_input("map", "forward", {"forward", "inverse"},
+    s.enum_input("map", MapDirection::forward,
+                 {{MapDirection::forward, "forward"}, {MapDirection::inverse, "inverse"}},
                  "forward: f(x) − x of p → q on the source; inverse: of q → p on the output")
         .input<Color>("arrow_color", Color{Eigen::Vector4d(1, 0.1, 0.1, 1)}, "color of the arrows p_i → q_i")
         .input<double>("arrow_width", 2.0, "arrow line width in pixels").range(1, 64)
@@ -63,7 +64,7 @@ struct WarpField {
       const Vec2i& s = in.get<Vec2i>("size");
       size = cv::Size(s.x(), s.y());
     }
-    const RowMap map = fit_map(in, ctx, in.get<std::string>("map") == "inverse");
+    const RowMap map = fit_map(in, ctx, in.get<MapDirection>("map"));
     cv::Mat d(size, CV_32FC2);
     map_rows(map, size, 1, [&](int i, const double* fx, const double* fy) {
       cv::Vec2f* row = d.ptr<cv::Vec2f>(i);

@@ -27,6 +27,9 @@
 #include <random>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <typeinfo>
+#include <utility>
 #include <vector>
 
 #include "loom/builtin_types.hpp"
@@ -50,7 +53,13 @@ struct InputSpec {
   bool optional = false;       // may stay unset: Inputs::has() is false
   bool lazy = false;           // fetched only when the node asks for it
   std::optional<double> min, max;  // per component, for numeric types
-  std::vector<std::string> choices;  // for Enum
+  std::vector<std::string> choices;  // for Enum: the strings graph files use
+  // For an enum declared with its C++ values (enum_input<E>): choice_values[i]
+  // is the value of choices[i] and enum_cpp_type identifies E, so that
+  // Inputs::get<E> maps the string once, in the engine. Empty for an enum
+  // declared with strings only.
+  std::vector<std::int64_t> choice_values;
+  std::string enum_cpp_type;
   InputRole role = InputRole::value;
 
   bool has_default() const { return !default_value.is_null(); }
@@ -84,6 +93,13 @@ struct FrameTime {
 
   double seconds() const { return (frame - start) / fps; }  // since the start frame
 };
+
+// An enum input's choices with their C++ values, each named once: the name is
+// what graph files, `loom nodes` and the editor show, the value what the node
+// reads with in.get<E>(name).
+//   const loom::EnumChoices<Method> methods = {{Method::idw, "idw"}, {Method::rbf, "rbf"}};
+template <class E>
+using EnumChoices = std::vector<std::pair<E, std::string>>;
 
 class Inputs;
 class Outputs;
@@ -136,6 +152,22 @@ class LOOM_API NodeSpec {
   NodeSpec& input(std::string input_name, T default_value, std::string text) {
     return add_input(input_name, text, &type_of<T>(), TypeTraits<T>::to_json(default_value));
   }
+  // One of a set of strings, read as a C++ enum value by in.get<E>(name):
+  //   s.enum_input("method", Method::rbf, {{Method::idw, "idw"}, {Method::rbf, "rbf"}}, "text")
+  // The choices may be a subset of E's values; the default must be one of them.
+  template <class E, class = std::enable_if_t<std::is_enum_v<E>>>
+  NodeSpec& enum_input(std::string input_name, E default_value, const EnumChoices<E>& choices,
+                       std::string text) {
+    std::vector<std::string> names;
+    std::vector<std::int64_t> values;
+    for (const auto& [value, choice_name] : choices) {
+      values.push_back(static_cast<std::int64_t>(value));
+      names.push_back(choice_name);
+    }
+    return add_enum_input(std::move(input_name), std::move(text), std::move(names), std::move(values),
+                          static_cast<std::int64_t>(default_value), typeid(E).name());
+  }
+  // One of a set of strings, read with in.get<std::string>(name).
   NodeSpec& enum_input(std::string input_name, std::string default_choice,
                        std::vector<std::string> choices, std::string text);
   template <class T>
@@ -159,6 +191,9 @@ class LOOM_API NodeSpec {
  private:
   NodeSpec& add_input(std::string input_name, std::string text, const TypeInfo* type,
                       json default_value);
+  NodeSpec& add_enum_input(std::string input_name, std::string text, std::vector<std::string> names,
+                           std::vector<std::int64_t> values, std::int64_t default_value,
+                           const char* cpp_type);
   InputSpec& last_input();
 };
 
@@ -186,9 +221,15 @@ class LOOM_API Inputs {
   Inputs(const NodeSpec& spec, NodeHost& host) : spec_(spec), host_(host) {}
 
   // The value of an input; a lazy input is computed on this first request.
+  // A const T&, except for an enum input declared with enum_input<E>: get<E>
+  // returns the E value of its choice (get<std::string> still returns the
+  // choice's name). get<E> of an input that is not an enum of E throws.
   template <class T>
-  const T& get(std::string_view input_name) {
-    return value(input_name).as<T>();
+  decltype(auto) get(std::string_view input_name) {
+    if constexpr (std::is_enum_v<T>)
+      return static_cast<T>(enum_value(input_name, typeid(T).name()));
+    else
+      return value(input_name).as<T>();
   }
   // The shared pointer, to pass a value through without copying it.
   template <class T>
@@ -201,6 +242,7 @@ class LOOM_API Inputs {
 
  private:
   int index(std::string_view input_name) const;
+  std::int64_t enum_value(std::string_view input_name, const char* cpp_type);
   const NodeSpec& spec_;
   NodeHost& host_;
 };
