@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "bench_harness.hpp"
+#include "generators.hpp"
 #include "harmonic_map.hpp"
 #include "loom/numerics/distortion.hpp"
 #include "loom/numerics/mesh_topology.hpp"
@@ -42,28 +43,11 @@ Input read_obj(const std::string& name, const std::filesystem::path& path) {
   return Input{name, mesh.V, mesh.F};
 }
 
-// A hemisphere on a polar grid (as the HemisphereMesh node builds it) with
-// 1% radial noise: segments·(2·rings - 1) faces.
+// HemisphereMesh's shape with 1% radial noise: segments·(2·rings - 1) faces.
 Input hemisphere(const std::string& name, int rings, int segments) {
   std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> u(-1, 1);
-  Input m{name, Eigen::MatrixX3d(1 + rings * segments, 3), Eigen::MatrixX3i(segments * (2 * rings - 1), 3)};
-  m.V.row(0) << 0, 0, 1;
-  auto at = [&](int r, int s) { return 1 + (r - 1) * segments + (s % segments); };
-  for (int r = 1; r <= rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      const double theta = M_PI / 2 * r / rings, phi = 2 * M_PI * s / segments, R = 1 + 0.01 * u(rng);
-      m.V.row(at(r, s)) << R * std::sin(theta) * std::cos(phi), R * std::sin(theta) * std::sin(phi),
-          R * std::cos(theta);
-    }
-  int f = 0;
-  for (int s = 0; s < segments; ++s) m.F.row(f++) << 0, at(1, s), at(1, s + 1);
-  for (int r = 1; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      m.F.row(f++) << at(r, s), at(r + 1, s), at(r + 1, s + 1);
-      m.F.row(f++) << at(r, s), at(r + 1, s + 1), at(r, s + 1);
-    }
-  return m;
+  const loom::Mesh m = loom::generate::hemisphere_mesh(1, rings, segments, 0.01, rng);
+  return Input{name, m.V, m.F};
 }
 
 constexpr const char* usage =

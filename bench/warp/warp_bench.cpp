@@ -17,6 +17,7 @@
 
 #include "bench_harness.hpp"
 #include "control_points.hpp"
+#include "generators.hpp"
 #include "idw.hpp"
 #include "rbf.hpp"
 #include "warp_image.hpp"
@@ -27,12 +28,10 @@ namespace {
 
 constexpr int kSide = 1024;  // 1 Mpx
 
+// The Checkerboard node's default colours, cells of 64 pixels.
 cv::Mat checkerboard() {
-  cv::Mat m(kSide, kSide, CV_32FC3);
-  for (int i = 0; i < kSide; ++i)
-    for (int j = 0; j < kSide; ++j)
-      m.at<cv::Vec3f>(i, j) = ((i / 64 + j / 64) % 2) ? cv::Vec3f(0.15f, 0.3f, 0.6f) : cv::Vec3f(0.95f, 0.95f, 0.95f);
-  return m;
+  return loom::generate::checkerboard(loom::Vec2i(kSide, kSide), kSide / 64, loom::Color{{0.95, 0.95, 0.95, 1}},
+                                      loom::Color{{0.15, 0.3, 0.6, 1}});
 }
 
 // Smooth, so that differences between two warps measure their maps, not edges.
