@@ -173,18 +173,15 @@ Run cgal_arap(const Mesh& m, double lambda, int iterations, double tolerance) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  loom::bench::handle_help(argc, argv,
-                           "bench_arap [--quick] [--large]\n"
-                           "ASAP and ARAP against CGAL's ARAP_parameterizer_3 (when built with\n"
-                           "-DLOOM_WITH_CGAL=ON) on the course meshes and hemispheres of 20k and 100k faces:\n"
-                           "energy against time, iterations to CGAL's energy, flips.\n"
-                           "--quick: 20k only; --large: add 1M faces (Loom only).");
+  loom::bench::Cli cli("bench_arap",
+                       "ASAP and ARAP against CGAL's ARAP_parameterizer_3 (when built with -DLOOM_WITH_CGAL=ON) "
+                       "on the course meshes and hemispheres of 20k and 100k faces: energy against time, "
+                       "iterations to CGAL's energy, flips.");
   bool quick = false, large = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick") quick = true;
-    else if (a == "--large") large = true;
-  }
+  cli.quick(quick, "the 20k-face hemisphere only")
+      .flag("--large", large, "add the 1M-face hemisphere (Loom only)")
+      .threads();
+  cli.parse(argc, argv);
   std::vector<Mesh> meshes;
   if (!quick)
     for (const char* name : {"Balls", "BunnyHead", "CatHead", "NefertitiFace", "Isis"}) {

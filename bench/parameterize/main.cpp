@@ -1,12 +1,11 @@
-// bench_parameterize [--quick] [--full] [--runs N] [--help]
+// bench_parameterize [--quick] [--large] [--runs N] [--threads N] [--out DIR] [--help]
 // Loom's fixed-boundary maps, every weight, on the course meshes and on
-// generated noisy hemispheres of ~100k (and with --full ~1M) faces: wall and
+// generated noisy hemispheres of ~100k (and with --large ~1M) faces: wall and
 // CPU time (medians), flips and distortion; side by side with CGAL 5.5 (built
 // with -DLOOM_WITH_CGAL=ON) on the same boundary UVs, with the largest UV
 // difference. CSV and plots go to bench/results.
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -50,17 +49,6 @@ Input hemisphere(const std::string& name, int rings, int segments) {
   return Input{name, m.V, m.F};
 }
 
-constexpr const char* usage =
-    "usage: bench_parameterize [--quick] [--full] [--runs N] [--help]\n"
-    "  Loom's fixed-boundary maps (every weight, circle and square) on the course meshes\n"
-    "  and a noisy hemisphere of ~100k faces; with a CGAL build (-DLOOM_WITH_CGAL=ON) also\n"
-    "  CGAL 5.5 (SparseLU and BiCGSTAB) on the same boundary UVs.\n"
-    "  --quick    one timed run per case\n"
-    "  --full     add the ~1M-face hemisphere (one run each; CGAL needs ~100 s there)\n"
-    "  --runs N   timed runs on the 100k mesh (default 3; medians reported)\n"
-    "  --help     this text\n"
-    "  Writes bench/results/parameterize.csv, parameterize_times.csv and a plot.\n";
-
 struct Time {
   double wall = 0, cpu = 0;  // seconds; cpu = process CPU time over all threads
 };
@@ -96,31 +84,26 @@ std::string label(std::string text) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, full = false;
+  loom::bench::Cli cli("bench_parameterize",
+                       "Loom's fixed-boundary maps (every weight, circle and square) on the course meshes and a "
+                       "noisy hemisphere of ~100k faces; with a CGAL build (-DLOOM_WITH_CGAL=ON) also CGAL 5.5 "
+                       "(SparseLU and BiCGSTAB) on the same boundary UVs. Writes parameterize.csv, "
+                       "parameterize_times.csv and a plot.");
+  bool quick = false, large = false;
   int big_runs = 3;  // timed runs on the 100k mesh (medians; more when the machine is loaded)
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      std::cout << usage;
-      return 0;
-    } else if (a == "--quick") {
-      quick = true;
-    } else if (a == "--full") {
-      full = true;
-    } else if (a == "--runs" && i + 1 < argc) {
-      big_runs = std::max(1, std::atoi(argv[++i]));
-    } else {
-      std::cerr << "unknown argument \"" << a << "\"\n" << usage;
-      return 2;
-    }
-  }
+  cli.quick(quick, "one timed run per case")
+      .flag("--large", large, "add the ~1M-face hemisphere (one run each; CGAL needs ~100 s there)")
+      .option("--runs", big_runs, "timed runs on the 100k mesh, medians reported (at least 1)")
+      .threads();
+  cli.parse(argc, argv);
+  big_runs = std::max(1, big_runs);
   std::vector<Input> inputs;
   for (const char* name : {"CatHead", "NefertitiFace", "Isis", "Balls", "BunnyHead", "Beetle"}) {
     const auto path = loom::bench::data_file(std::string("meshes/") + name + ".obj");
     if (!path.empty()) inputs.push_back(read_obj(name, path));
   }
   inputs.push_back(hemisphere("hemisphere_100k", 112, 448));
-  if (full) inputs.push_back(hemisphere("hemisphere_1M", 354, 1414));
+  if (large) inputs.push_back(hemisphere("hemisphere_1M", 354, 1414));
 
   loom::bench::Csv csv("parameterize", {"mesh", "faces", "boundary", "weights", "impl", "seconds", "cpu_seconds",
                                          "flipped", "angle_mean", "area_mean", "arap_energy", "max_uv_diff"});

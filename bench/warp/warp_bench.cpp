@@ -7,7 +7,6 @@
 //   build/bin/bench_warp [--quick]
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <ctime>
 #include <iostream>
 #include <random>
@@ -128,12 +127,13 @@ double map_step_error(const RowMap& f, int step) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  loom::bench::handle_help(argc, argv,
-                           "bench_warp [--quick]\n"
-                           "ImageWarp (IDW, RBF, thin-plate; inverse, forward, forward+fill) on a 1 Mpx image\n"
-                           "with 16, 64 and 256 pairs, side by side with OpenCV's thin-plate-spline shape\n"
-                           "transformer; and map_step time against map error. --quick: 64 pairs, 3 runs.");
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  loom::bench::Cli cli("bench_warp",
+                       "ImageWarp (IDW, RBF, thin-plate; inverse, forward, forward+fill) on a 1 Mpx image with 16, "
+                       "64 and 256 pairs, side by side with OpenCV's thin-plate-spline shape transformer; and "
+                       "map_step time against map error.");
+  bool quick = false;
+  cli.quick(quick, "64 pairs, 3 runs").threads();
+  cli.parse(argc, argv);
   const int runs = quick ? 3 : 7;
   const std::vector<int> counts = quick ? std::vector<int>{64} : std::vector<int>{16, 64, 256};
   const cv::Mat board = checkerboard(), smooth = smooth_image();
