@@ -334,7 +334,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> modes;
   double density = g_density;
   cli.quick(quick, "fewer sizes and runs")
-      .option("--density", density, "curtain density in kg/m² (when given: CSV names get _densityD, no cuboid by default)")
+      .option("--density", density,
+              "curtain density in kg/m² (when given: CSV names get _densityD, no cuboid by default)")
       .modes(modes,
              {{"cuboid", "the cuboid dropped on the ground, k = 1e3, 1e4, 1e5 (cloth_cuboid)"},
               {"frame", "one frame of the 81² curtain: time against error (cloth_frame)"},

@@ -70,7 +70,8 @@ void strip(const std::filesystem::path& file, MpmState state, const Settings& se
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
   loom::bench::Cli cli("bench_mpm_pictures",
-                       "The figures of docs/mpm.md: the example scenes simulated and splatted, several instants side by side.");
+                       "The figures of docs/mpm.md: the example scenes simulated and splatted, several "
+                       "instants side by side.");
   std::vector<std::string> scenes;
   cli.results(loom::bench::source_dir() / "docs/images/mpm", "The figures").modes(scenes,
             {{"mpm88", "mpm88's fluid block"},

@@ -39,7 +39,9 @@ inline Mesh sphere(int rings, int segments, double radius = 1) {
 
 // Square [-h, h]² in the xz plane at height y, facing +y, n x n quads, UV in [0,1]².
 inline Mesh plane(int n, double h, double y = 0) {
-  return generate::grid_mesh(n, n, [&](double u, double v) { return Eigen::Vector3d(-h + 2 * h * u, y, h - 2 * h * v); });
+  return generate::grid_mesh(n, n, [&](double u, double v) {
+    return Eigen::Vector3d(-h + 2 * h * u, y, h - 2 * h * v);
+  });
 }
 
 // Axis-aligned box [lo, hi]: 6 faces of 4 own vertices (flat normals), 12 triangles, outward.
