@@ -20,6 +20,7 @@
 #include <string>
 
 #include "bench_harness.hpp"
+#include "generators.hpp"
 #include "local_global.hpp"
 #include "mesh_codec.hpp"
 #include "loom/numerics/distortion.hpp"
@@ -51,32 +52,22 @@ Mesh load_obj(const std::string& name, const std::string& path) {
   return Mesh{name, mesh.V, mesh.F};
 }
 
-// A hemisphere cap (the pole to 80° latitude) with radial noise of about a
-// quarter of an edge length, about 2·rings·segments faces.
+// A hemisphere cap (the pole to 80° latitude) on the generators' polar grid,
+// odd rings turned by half a segment, with radial noise of about a quarter of
+// an edge length inside the boundary: about 2·rings·segments faces.
 Mesh hemisphere(int rings, int segments) {
-  Mesh m;
-  m.V.resize(1 + rings * segments, 3);
-  m.V.row(0) << 0, 0, 1;
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> noise(-0.02, 0.02);
-  for (int k = 1; k <= rings; ++k)
-    for (int s = 0; s < segments; ++s) {
-      const double phi = 1.4 * k / rings, th = 2 * M_PI * (s + 0.5 * (k % 2)) / segments;
-      const double r = 1 + (k < rings ? noise(rng) * 16.0 / rings : 0);
-      m.V.row(1 + (k - 1) * segments + s) << r * std::sin(phi) * std::cos(th),
-          r * std::sin(phi) * std::sin(th), r * std::cos(phi);
-    }
-  std::vector<Eigen::RowVector3i> f;
-  auto at = [&](int k, int s) { return 1 + (k - 1) * segments + ((s % segments) + segments) % segments; };
-  for (int s = 0; s < segments; ++s) f.emplace_back(0, at(1, s), at(1, s + 1));
-  for (int k = 1; k < rings; ++k)
-    for (int s = 0; s < segments; ++s) {
-      f.emplace_back(at(k, s), at(k + 1, s), at(k + 1, s + 1));
-      f.emplace_back(at(k, s), at(k + 1, s + 1), at(k, s + 1));
-    }
-  m.F.resize(f.size(), 3);
-  for (size_t i = 0; i < f.size(); ++i) m.F.row(i) = f[i];
-  m.name = "hemisphere-" + std::to_string(f.size() / 1000) + "k";
+  const loom::Mesh cap = loom::generate::polar_mesh(rings, segments, [&](double t, double phi) {
+    if (t == 0) return Eigen::Vector3d(0, 0, 1);
+    const int k = static_cast<int>(std::lround(t * rings));
+    const double polar = 1.4 * t, azimuth = phi + M_PI * (k % 2) / segments;
+    const double r = 1 + (k < rings ? noise(rng) * 16.0 / rings : 0);
+    return Eigen::Vector3d(r * std::sin(polar) * std::cos(azimuth), r * std::sin(polar) * std::sin(azimuth),
+                           r * std::cos(polar));
+  });
+  Mesh m{"", cap.V, cap.F};
+  m.name = "hemisphere-" + std::to_string(m.F.rows() / 1000) + "k";
   return m;
 }
 
@@ -182,18 +173,15 @@ Run cgal_arap(const Mesh& m, double lambda, int iterations, double tolerance) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  loom::bench::handle_help(argc, argv,
-                           "bench_arap [--quick] [--large]\n"
-                           "ASAP and ARAP against CGAL's ARAP_parameterizer_3 (when built with\n"
-                           "-DLOOM_WITH_CGAL=ON) on the course meshes and hemispheres of 20k and 100k faces:\n"
-                           "energy against time, iterations to CGAL's energy, flips.\n"
-                           "--quick: 20k only; --large: add 1M faces (Loom only).");
+  loom::bench::Cli cli("bench_arap",
+                       "ASAP and ARAP against CGAL's ARAP_parameterizer_3 (when built with -DLOOM_WITH_CGAL=ON) "
+                       "on the course meshes and hemispheres of 20k and 100k faces: energy against time, "
+                       "iterations to CGAL's energy, flips.");
   bool quick = false, large = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick") quick = true;
-    else if (a == "--large") large = true;
-  }
+  cli.quick(quick, "the 20k-face hemisphere only")
+      .flag("--large", large, "add the 1M-face hemisphere (Loom only)")
+      .threads();
+  cli.parse(argc, argv);
   std::vector<Mesh> meshes;
   if (!quick)
     for (const char* name : {"Balls", "BunnyHead", "CatHead", "NefertitiFace", "Isis"}) {

@@ -33,6 +33,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -326,28 +327,41 @@ void cuboid_study() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  loom::bench::handle_help(argc, argv,
-                           "bench_cloth [--quick] [--cuboid | --only frame|frames100|convergence|scaling] [--density KG_PER_M2]: the cuboid drop (not with --density or --only), then Newton vs local/global (plain, Chebyshev) on pinned "
-                           "curtains; writes cloth_frame, cloth_frames100, cloth_scaling CSV and plots");
-  bool quick = false, cuboid_only = false;
-  std::string only;
-  for (int a = 1; a < argc; ++a) {
-    const std::string arg = argv[a];
-    if (arg == "--quick") quick = true;
-    if (arg == "--cuboid") cuboid_only = true;
-    if (arg == "--only" && a + 1 < argc) only = argv[++a];
-    if (arg == "--density" && a + 1 < argc) {
-      g_density = std::stod(argv[++a]);
-      g_suffix = "_density" + std::string(argv[a]);
+  loom::bench::Cli cli("bench_cloth",
+                       "Newton against local/global (plain, Chebyshev) on pinned curtains, and the "
+                       "assignment's cuboid drop; writes cloth_* CSV and plots.");
+  bool quick = false;
+  std::vector<std::string> modes;
+  double density = g_density;
+  cli.quick(quick, "fewer sizes and runs")
+      .option("--density", density,
+              "curtain density in kg/m² (when given: CSV names get _densityD, no cuboid by default)")
+      .modes(modes,
+             {{"cuboid", "the cuboid dropped on the ground, k = 1e3, 1e4, 1e5 (cloth_cuboid)"},
+              {"frame", "one frame of the 81² curtain: time against error (cloth_frame)"},
+              {"frames100", "100 frames of the 25² curtain: error against time (cloth_frames100)"},
+              {"convergence", "local/global residual per iteration (cloth_convergence)"},
+              {"scaling", "factorization and frame time, memory, from 41² to 321² (cloth_scaling)"}},
+             "parts to run (default: all; the cuboid not with --density)")
+      .threads();
+  cli.parse(argc, argv);
+  if (cli.given("--density")) {
+    if (!(density > 0)) {
+      std::fprintf(stderr, "bench_cloth: --density must be positive (kg/m²), got %g\n", density);
+      return 2;
     }
+    g_density = density;
+    std::ostringstream name;
+    name << "_density" << density;
+    g_suffix = name.str();
   }
   std::printf("load at start: %s\n", load().c_str());
-  if (g_suffix.empty() && only.empty()) cuboid_study();
-  if (cuboid_only) return 0;
-  if (only.empty() || only == "frame") frame_study(quick ? 41 : 81, quick ? 3 : 7);
-  if (only.empty() || only == "frames100") trajectory_study(quick ? 15 : 25, 100);
-  if (only.empty() || only == "convergence") convergence_study(quick ? 41 : 81);
-  if (only.empty() || only == "scaling") scaling_study(quick ? std::vector<int>{41, 81} : std::vector<int>{41, 81, 161, 321}, quick ? 3 : 5);
+  if (modes.empty() ? g_suffix.empty() : loom::bench::wants(modes, "cuboid")) cuboid_study();
+  if (loom::bench::wants(modes, "frame")) frame_study(quick ? 41 : 81, quick ? 3 : 7);
+  if (loom::bench::wants(modes, "frames100")) trajectory_study(quick ? 15 : 25, 100);
+  if (loom::bench::wants(modes, "convergence")) convergence_study(quick ? 41 : 81);
+  if (loom::bench::wants(modes, "scaling"))
+    scaling_study(quick ? std::vector<int>{41, 81} : std::vector<int>{41, 81, 161, 321}, quick ? 3 : 5);
   std::printf("load at end: %s\n", load().c_str());
   return 0;
 }

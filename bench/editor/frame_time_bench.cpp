@@ -112,13 +112,15 @@ double percentile(std::vector<double> v, double p) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  loom::bench::handle_help(argc, argv,
-                           "bench_editor [--frames N]: loom-editor frame times (run under Xvfb:\n"
-                           "  tests/editor/run_under_xvfb.sh build/bin/bench_editor)");
-  setenv("LP_NUM_THREADS", "0", 0);  // before the GL context exists
+  loom::bench::Cli cli("bench_editor",
+                       "loom-editor frame times (run under Xvfb: "
+                       "tests/editor/run_under_xvfb.sh build/bin/bench_editor).");
   int frames = 300;
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::string(argv[i]) == "--frames") frames = std::max(10, std::atoi(argv[i + 1]));
+  bool quick = false;
+  cli.option("--frames", frames, "frames per phase (at least 10)").quick(quick, "60 frames per phase");
+  cli.parse(argc, argv);
+  frames = quick ? 60 : std::max(10, frames);
+  setenv("LP_NUM_THREADS", "0", 0);  // before the GL context exists
   const auto dir = std::filesystem::temp_directory_path() / "loom-bench-editor";
   std::filesystem::create_directories(dir);
   EditorOptions options;

@@ -91,12 +91,13 @@ json time_graph() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  loom::bench::handle_help(argc, argv,
-                           "bench_engine_cache [--quick]\n"
-                           "Disk cache read throughput by entry size; first against second `loom run` with the\n"
-                           "cache (2048² Poisson blend, ~100k-face ARAP); runs of the static part of a\n"
-                           "240-frame graph. --quick: smaller sizes.");
-  const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+  loom::bench::Cli cli("bench_engine_cache",
+                       "Disk cache read throughput by entry size; first against second `loom run` with the "
+                       "cache (2048² Poisson blend, ~100k-face ARAP); runs of the static part of a "
+                       "240-frame graph.");
+  bool quick = false;
+  cli.quick(quick, "smaller sizes");
+  cli.parse(argc, argv);
   const fs::path work = fs::temp_directory_path() / ("loom-bench-cache-" + std::to_string(::getpid()));
   fs::remove_all(work);
 

@@ -45,11 +45,12 @@ double seconds_of(const std::string& command, int runs) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  loom::bench::handle_help(argc, argv,
-                           "bench_engine [--quick]\n"
-                           "Engine overhead: chains of N Math nodes (cold and fully cached) and `loom run`\n"
-                           "start-up with lazy and eager plugin loading. --quick: fewer sizes and runs.");
-  const bool quick = argc > 1 && std::string(argv[1]) == "--quick";
+  loom::bench::Cli cli("bench_engine",
+                       "Engine overhead: chains of N Math nodes (cold and fully cached, 1 and 2 threads) and "
+                       "`loom run` start-up with lazy and eager plugin loading.");
+  bool quick = false;
+  cli.quick(quick, "fewer sizes and runs");
+  cli.parse(argc, argv);
   loom::Registry registry;
   loom::PluginLoader loader(registry, {LOOM_PLUGIN_DIR});
   loader.load_for({"Math", "FloatConstant"});

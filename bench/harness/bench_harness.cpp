@@ -1,5 +1,6 @@
 #include "bench_harness.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -8,6 +9,9 @@
 #include <iostream>
 #include <map>
 #include <sstream>
+
+#include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
 
 #include "loom/atomic_file.hpp"
 
@@ -123,22 +127,122 @@ bool plot(const Csv& csv, const PlotSpec& spec) {
   return ok && !ec;
 }
 
-void handle_help(int argc, char** argv, const char* usage) {
-  for (int i = 1; i < argc; ++i)
-    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
-      std::cout << usage << "\nResults (CSV, PNG) go to " << results_dir().string()
-                << " (set LOOM_BENCH_OUT to change).\n";
-      std::exit(0);
-    }
+namespace {
+std::string g_out;          // --out, when given
+fs::path g_results;         // Cli::results
+std::string g_what = "Results (CSV, PNG)";
+}  // namespace
+
+struct Cli::Impl {
+  CLI::App app;
+  std::vector<Mode> modes;
+  CLI::Option* threads = nullptr;
+  int threads_value = 0;
+  int* threads_target = nullptr;
+  std::unique_ptr<tbb::global_control> limit;
+  Impl(const std::string& program, const std::string& description) : app(description, program) {}
+};
+
+Cli::Cli(const std::string& program, const std::string& description)
+    : impl_(std::make_unique<Impl>(program, description)) {
+  impl_->app.add_option("--out", g_out, "folder for the results (default: below)")
+      ->type_name("DIR");
+}
+
+Cli::~Cli() = default;
+
+Cli& Cli::quick(bool& value, const std::string& what) { return flag("--quick", value, what); }
+
+Cli& Cli::threads(const std::string& help) {
+  impl_->threads =
+      impl_->app.add_option("--threads", impl_->threads_value, help)->check(CLI::Range(0, 1 << 16))->type_name("N");
+  return *this;
+}
+
+Cli& Cli::threads(int& value, const std::string& help) {
+  impl_->threads_target = &value;
+  impl_->threads_value = value;
+  impl_->threads = impl_->app.add_option("--threads", impl_->threads_value, help)
+                       ->check(CLI::Range(0, 1 << 16))
+                       ->type_name("N")
+                       ->capture_default_str();
+  return *this;
+}
+
+Cli& Cli::flag(const std::string& name, bool& value, const std::string& help) {
+  impl_->app.add_flag(name, value, help);
+  return *this;
+}
+
+Cli& Cli::option(const std::string& name, int& value, const std::string& help) {
+  impl_->app.add_option(name, value, help)->capture_default_str();
+  return *this;
+}
+
+Cli& Cli::option(const std::string& name, double& value, const std::string& help) {
+  impl_->app.add_option(name, value, help)->capture_default_str();
+  return *this;
+}
+
+Cli& Cli::results(const fs::path& dir, const std::string& what) {
+  g_results = dir;
+  g_what = what;
+  return *this;
+}
+
+Cli& Cli::modes(std::vector<std::string>& chosen, const std::vector<Mode>& modes, const std::string& help) {
+  impl_->modes = modes;
+  std::vector<std::string> names;
+  for (const Mode& m : modes) names.push_back(m.name);
+  impl_->app.add_option("mode", chosen, help)->check(CLI::IsMember(names));
+  return *this;
+}
+
+void Cli::parse(int argc, char** argv) {
+  std::ostringstream footer;
+  if (!impl_->modes.empty()) {
+    footer << "Modes:\n";
+    std::size_t width = 0;
+    for (const Mode& m : impl_->modes) width = std::max(width, m.name.size());
+    for (const Mode& m : impl_->modes)
+      footer << "  " << std::left << std::setw(static_cast<int>(width) + 2) << m.name << m.help << "\n";
+    footer << "\n";
+  }
+  footer << g_what << " go to " << results_dir().string() << " (--out to change).";
+  impl_->app.footer(footer.str());
+  try {
+    impl_->app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) std::exit(impl_->app.exit(e));  // --help
+    const std::string program = impl_->app.get_name();
+    std::cerr << program << ": " << e.what() << "\nRun " << program << " --help for its options and modes.\n";
+    std::exit(2);
+  }
+  if (impl_->threads && impl_->threads->count() > 0) {
+    if (impl_->threads_target) *impl_->threads_target = impl_->threads_value;
+    if (impl_->threads_value > 0)
+      impl_->limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                           static_cast<std::size_t>(impl_->threads_value));
+  }
+}
+
+bool Cli::given(const std::string& name) const { return impl_->app.count(name) > 0; }
+
+bool wants(const std::vector<std::string>& chosen, const std::string& mode) {
+  return chosen.empty() || std::find(chosen.begin(), chosen.end(), mode) != chosen.end();
 }
 
 fs::path results_dir() {
+  if (!g_out.empty()) return g_out;
+  if (!g_results.empty()) return g_results;
   if (const char* env = std::getenv("LOOM_BENCH_OUT")) return env;
-  return fs::path(LOOM_SOURCE_DIR) / "bench" / "results";
+  return source_dir() / "bench" / "results";
 }
 
+fs::path source_dir() { return fs::path(LOOM_SOURCE_DIR); }
+
 fs::path data_file(const std::string& relative) {
-  fs::path p = fs::path(LOOM_SOURCE_DIR) / ".." / "shared" / "data" / relative;
+  fs::path p = source_dir() / ".." / "shared" / "data" / relative;
   return fs::exists(p) ? p.lexically_normal() : fs::path();
 }
 

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <variant>
 #include <vector>
@@ -77,11 +78,66 @@ struct PlotSpec {
 // false (never fails the benchmark) when gnuplot is missing.
 bool plot(const Csv& csv, const PlotSpec& spec);
 
-// Prints `usage` and exits 0 when the arguments contain --help or -h.
-void handle_help(int argc, char** argv, const char* usage);
+// A part of a benchmark that its command line can ask for by name.
+struct Mode {
+  std::string name, help;
+};
 
-// bench/results in the source tree, or $LOOM_BENCH_OUT.
+// The command line of a benchmark, parsed by CLI11, so that every benchmark
+// spells the same things alike, lists them with --help and refuses what it
+// does not know (a message and exit 2):
+//   --out DIR      where CSV and plots go (every benchmark; else $LOOM_BENCH_OUT,
+//                  else bench/results)
+//   --quick        fewer sizes and runs
+//   --threads N    at most N TBB worker threads (0: all cores), in the
+//                  benchmarks whose work runs on TBB
+//   MODE ...       positional names of the parts to run (none: the default set)
+//
+//   loom::bench::Cli cli("bench_warp", "ImageWarp against OpenCV's thin-plate spline ...");
+//   bool quick = false;
+//   cli.quick(quick, "64 pairs, 3 runs").threads();
+//   cli.parse(argc, argv);
+class Cli {
+ public:
+  Cli(const std::string& program, const std::string& description);
+  ~Cli();
+  Cli(const Cli&) = delete;
+  Cli& operator=(const Cli&) = delete;
+
+  Cli& quick(bool& value, const std::string& what);
+  // --threads N: caps TBB's workers for the whole run when given. With
+  // `value`, the benchmark also reads N (its default stays when not given).
+  Cli& threads(const std::string& help = "at most N TBB worker threads (0: all cores)");
+  Cli& threads(int& value, const std::string& help);
+  Cli& flag(const std::string& name, bool& value, const std::string& help);
+  Cli& option(const std::string& name, int& value, const std::string& help);
+  Cli& option(const std::string& name, double& value, const std::string& help);
+  // Where results go without --out, for a program that writes elsewhere than
+  // bench/results (`what` names them in --help: "The figures").
+  Cli& results(const std::filesystem::path& dir, const std::string& what);
+  // Positional mode names, each checked against `modes` and listed by --help.
+  Cli& modes(std::vector<std::string>& chosen, const std::vector<Mode>& modes, const std::string& help);
+
+  // Parses the arguments: prints the help and exits 0 on --help; prints what
+  // is wrong and exits 2 on an unknown option or a bad value.
+  void parse(int argc, char** argv);
+  // Whether the option `name` ("--out", "--density") was on the command line.
+  bool given(const std::string& name) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Whether `chosen` (from Cli::modes) asks for `mode`; no mode chosen asks for all.
+bool wants(const std::vector<std::string>& chosen, const std::string& mode);
+
+// --out, else the folder given to Cli::results, else $LOOM_BENCH_OUT, else
+// bench/results in the source tree.
 std::filesystem::path results_dir();
+
+// The Loom source tree.
+std::filesystem::path source_dir();
 
 // ../shared/data/<relative>, or an empty path when absent.
 std::filesystem::path data_file(const std::string& relative);

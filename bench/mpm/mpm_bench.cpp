@@ -5,7 +5,7 @@
 //   throughput: particle-substeps per second (wall and per CPU-second) for
 //     2D: mpm88's fluid scaled to 1M particles in [0.2, 0.6]² on 512²
 //     3D: 1M fluid / elastic particles in [0.2, 0.6]³ on 128³
-//     at 1 and 2 threads (--threads-max to go further), medians of 5 runs.
+//     at 1 and 2 threads (--threads N to go further), medians of 5 runs.
 //   error: the centre of mass and the particle positions of an elastic block
 //     dropped for 1 s, against a run with 16× smaller Δt, over Δt; and over the
 //     grid resolution against the finest grid.
@@ -14,10 +14,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <string>
+#include <thread>
 
 #include "bench_harness.hpp"
 #include "emitters.hpp"
@@ -173,18 +173,18 @@ void run_error(bool quick) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  loom::bench::handle_help(argc, argv,
-                           "bench_mpm [--quick] [--throughput|--error] [--threads-max N]\n"
-                           "  MLS-MPM throughput (2D 1M @ 512^2, 3D 1M @ 128^3, 1 and 2 threads)\n"
-                           "  and time-vs-error (Δt, grid resolution). CSV + PNG in bench/results.");
-  bool quick = false, only_throughput = false, only_error = false;
+  loom::bench::Cli cli("bench_mpm", "MLS-MPM throughput and time-vs-error.");
+  bool quick = false;
   int max_threads = 2;
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--quick")) quick = true;
-    if (!std::strcmp(argv[i], "--throughput")) only_throughput = true;
-    if (!std::strcmp(argv[i], "--error")) only_error = true;
-    if (!std::strcmp(argv[i], "--threads-max") && i + 1 < argc) max_threads = std::atoi(argv[++i]);
-  }
-  if (!only_error) run_throughput(max_threads, quick);
-  if (!only_throughput) run_error(quick);
+  std::vector<std::string> modes;
+  cli.quick(quick, "200k particles and half the substeps; 0.25 s instead of 1 s of simulation")
+      .threads(max_threads, "the throughput runs at 1, 2, 4, ... up to N threads (0: all cores)")
+      .modes(modes,
+             {{"throughput", "particle-substeps per second: 2D 1M @ 512², 3D 1M @ 128³ (mpm_throughput)"},
+              {"error", "an elastic block's error over Δt and grid resolution (mpm_error_*)"}},
+             "parts to run (default: both)");
+  cli.parse(argc, argv);
+  if (max_threads == 0) max_threads = static_cast<int>(std::thread::hardware_concurrency());
+  if (loom::bench::wants(modes, "throughput")) run_throughput(max_threads, quick);
+  if (loom::bench::wants(modes, "error")) run_error(quick);
 }

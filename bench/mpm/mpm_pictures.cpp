@@ -1,7 +1,7 @@
 // The pictures of docs/mpm.md: the example scenes simulated through the solver
 // library and splatted, several instants side by side in one strip each.
 // (The graphs in graphs/ describe the same scenes for the engine's frames.)
-//   bench_mpm_pictures [folder [scene ...]]   default: docs/images/mpm, every scene
+//   bench_mpm_pictures [--out FOLDER] [scene ...]   default: docs/images/mpm, every scene
 //   (scenes: mpm88 mpm99 colliders 3d)
 #include <cstdio>
 #include <filesystem>
@@ -69,17 +69,20 @@ void strip(const std::filesystem::path& file, MpmState state, const Settings& se
 
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  loom::bench::handle_help(argc, argv, "bench_mpm_pictures [folder]: the figures of docs/mpm.md");
-  const std::filesystem::path dir =
-      argc > 1 ? std::filesystem::path(argv[1])
-               : loom::bench::results_dir().parent_path().parent_path() / "docs/images/mpm";
+  loom::bench::Cli cli("bench_mpm_pictures",
+                       "The figures of docs/mpm.md: the example scenes simulated and splatted, several "
+                       "instants side by side.");
+  std::vector<std::string> scenes;
+  cli.results(loom::bench::source_dir() / "docs/images/mpm", "The figures").modes(scenes,
+            {{"mpm88", "mpm88's fluid block"},
+             {"mpm99", "fluid, jelly, snow and sand"},
+             {"colliders", "a jelly disk, a snowball and sand onto a slanted plane and a round peg"},
+             {"3d", "an elastic ball and a sand block onto a sphere collider"}},
+            "scenes to simulate (default: all)");
+  cli.parse(argc, argv);
+  const std::filesystem::path dir = loom::bench::results_dir();
   std::filesystem::create_directories(dir);
-  auto want = [&](const std::string& scene) {
-    if (argc <= 2) return true;
-    for (int i = 2; i < argc; ++i)
-      if (scene == argv[i]) return true;
-    return false;
-  };
+  auto want = [&](const std::string& scene) { return loom::bench::wants(scenes, scene); };
   SplatOptions splat;
   splat.width = 256;
   splat.radius_px = 0.9;

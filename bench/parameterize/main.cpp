@@ -1,12 +1,11 @@
-// bench_parameterize [--quick] [--full] [--runs N] [--help]
+// bench_parameterize [--quick] [--large] [--runs N] [--threads N] [--out DIR] [--help]
 // Loom's fixed-boundary maps, every weight, on the course meshes and on
-// generated noisy hemispheres of ~100k (and with --full ~1M) faces: wall and
+// generated noisy hemispheres of ~100k (and with --large ~1M) faces: wall and
 // CPU time (medians), flips and distortion; side by side with CGAL 5.5 (built
 // with -DLOOM_WITH_CGAL=ON) on the same boundary UVs, with the largest UV
 // difference. CSV and plots go to bench/results.
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -18,6 +17,7 @@
 #include <vector>
 
 #include "bench_harness.hpp"
+#include "generators.hpp"
 #include "harmonic_map.hpp"
 #include "loom/numerics/distortion.hpp"
 #include "loom/numerics/mesh_topology.hpp"
@@ -42,40 +42,12 @@ Input read_obj(const std::string& name, const std::filesystem::path& path) {
   return Input{name, mesh.V, mesh.F};
 }
 
-// A hemisphere on a polar grid (as the HemisphereMesh node builds it) with
-// 1% radial noise: segments·(2·rings - 1) faces.
+// HemisphereMesh's shape with 1% radial noise: segments·(2·rings - 1) faces.
 Input hemisphere(const std::string& name, int rings, int segments) {
   std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> u(-1, 1);
-  Input m{name, Eigen::MatrixX3d(1 + rings * segments, 3), Eigen::MatrixX3i(segments * (2 * rings - 1), 3)};
-  m.V.row(0) << 0, 0, 1;
-  auto at = [&](int r, int s) { return 1 + (r - 1) * segments + (s % segments); };
-  for (int r = 1; r <= rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      const double theta = M_PI / 2 * r / rings, phi = 2 * M_PI * s / segments, R = 1 + 0.01 * u(rng);
-      m.V.row(at(r, s)) << R * std::sin(theta) * std::cos(phi), R * std::sin(theta) * std::sin(phi),
-          R * std::cos(theta);
-    }
-  int f = 0;
-  for (int s = 0; s < segments; ++s) m.F.row(f++) << 0, at(1, s), at(1, s + 1);
-  for (int r = 1; r < rings; ++r)
-    for (int s = 0; s < segments; ++s) {
-      m.F.row(f++) << at(r, s), at(r + 1, s), at(r + 1, s + 1);
-      m.F.row(f++) << at(r, s), at(r + 1, s + 1), at(r, s + 1);
-    }
-  return m;
+  const loom::Mesh m = loom::generate::hemisphere_mesh(1, rings, segments, 0.01, rng);
+  return Input{name, m.V, m.F};
 }
-
-constexpr const char* usage =
-    "usage: bench_parameterize [--quick] [--full] [--runs N] [--help]\n"
-    "  Loom's fixed-boundary maps (every weight, circle and square) on the course meshes\n"
-    "  and a noisy hemisphere of ~100k faces; with a CGAL build (-DLOOM_WITH_CGAL=ON) also\n"
-    "  CGAL 5.5 (SparseLU and BiCGSTAB) on the same boundary UVs.\n"
-    "  --quick    one timed run per case\n"
-    "  --full     add the ~1M-face hemisphere (one run each; CGAL needs ~100 s there)\n"
-    "  --runs N   timed runs on the 100k mesh (default 3; medians reported)\n"
-    "  --help     this text\n"
-    "  Writes bench/results/parameterize.csv, parameterize_times.csv and a plot.\n";
 
 struct Time {
   double wall = 0, cpu = 0;  // seconds; cpu = process CPU time over all threads
@@ -112,31 +84,26 @@ std::string label(std::string text) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, full = false;
+  loom::bench::Cli cli("bench_parameterize",
+                       "Loom's fixed-boundary maps (every weight, circle and square) on the course meshes and a "
+                       "noisy hemisphere of ~100k faces; with a CGAL build (-DLOOM_WITH_CGAL=ON) also CGAL 5.5 "
+                       "(SparseLU and BiCGSTAB) on the same boundary UVs. Writes parameterize.csv, "
+                       "parameterize_times.csv and a plot.");
+  bool quick = false, large = false;
   int big_runs = 3;  // timed runs on the 100k mesh (medians; more when the machine is loaded)
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      std::cout << usage;
-      return 0;
-    } else if (a == "--quick") {
-      quick = true;
-    } else if (a == "--full") {
-      full = true;
-    } else if (a == "--runs" && i + 1 < argc) {
-      big_runs = std::max(1, std::atoi(argv[++i]));
-    } else {
-      std::cerr << "unknown argument \"" << a << "\"\n" << usage;
-      return 2;
-    }
-  }
+  cli.quick(quick, "one timed run per case")
+      .flag("--large", large, "add the ~1M-face hemisphere (one run each; CGAL needs ~100 s there)")
+      .option("--runs", big_runs, "timed runs on the 100k mesh, medians reported (at least 1)")
+      .threads();
+  cli.parse(argc, argv);
+  big_runs = std::max(1, big_runs);
   std::vector<Input> inputs;
   for (const char* name : {"CatHead", "NefertitiFace", "Isis", "Balls", "BunnyHead", "Beetle"}) {
     const auto path = loom::bench::data_file(std::string("meshes/") + name + ".obj");
     if (!path.empty()) inputs.push_back(read_obj(name, path));
   }
   inputs.push_back(hemisphere("hemisphere_100k", 112, 448));
-  if (full) inputs.push_back(hemisphere("hemisphere_1M", 354, 1414));
+  if (large) inputs.push_back(hemisphere("hemisphere_1M", 354, 1414));
 
   loom::bench::Csv csv("parameterize", {"mesh", "faces", "boundary", "weights", "impl", "seconds", "cpu_seconds",
                                          "flipped", "angle_mean", "area_mean", "arap_energy", "max_uv_diff"});

@@ -412,18 +412,22 @@ void bench_bvh() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  loom::bench::handle_help(argc, argv,
-                           "bench_pathtrace [--quick] [embree] [convergence] [strategies] [environment] "
-                           "[adaptive] [bvh] [throughput]   (no section: all but throughput)\n"
-                           "Writes bench/results/pathtrace_*.csv, plots and bench/results/pathtrace/*.png.");
-  std::set<std::string> want;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick")
-      quick = true;
-    else
-      want.insert(a);
-  }
+  loom::bench::Cli cli("bench_pathtrace",
+                       "The path tracer's time-vs-error figures. Writes pathtrace_*.csv, plots and "
+                       "pathtrace/*.png.");
+  std::vector<std::string> sections;
+  cli.quick(quick, "a quarter of the reference samples and of the 512² repetitions")
+      .modes(sections,
+             {{"embree", "against Embree's tutorial path tracer on its Cornell box, 1 and 2 threads"},
+              {"convergence", "relMSE against spp 4..1024 on the Cornell box"},
+              {"strategies", "equal-time BSDF-only, NEE-only and MIS"},
+              {"environment", "a one-pixel environment map: importance against uniform sampling"},
+              {"adaptive", "adaptive thresholds against uniform spp"},
+              {"bvh", "BVH build time of a 1M-triangle mesh"},
+              {"throughput", "paths per second, 1 thread (only when asked for)"}},
+             "sections to run (default: all but throughput)");
+  cli.parse(argc, argv);
+  const std::set<std::string> want(sections.begin(), sections.end());
   auto on = [&](const char* s) { return want.empty() || want.count(s); };
   std::cout << "load at start: " << loom::bench::load_average() << "\n";
   if (on("bvh")) bench_bvh();

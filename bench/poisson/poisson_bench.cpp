@@ -3,15 +3,13 @@
 // cv::seamlessClone side by side on the same 8-bit images and region; plus the
 // drag re-solve (new offset, cached factorization or hierarchy).
 //
-//   bench_poisson [--quick] [--drag] [--size N]
-//   --quick: no 2048² exact solve, one repeat;  --drag: only the drag re-solve;
-//   --size N: only N² regions
+//   bench_poisson [--quick] [--size N] [first] [drag]
+//   --quick: no 2048² exact solve, one repeat;  drag: only the drag re-solve;
+//   first: only the first solve;  --size N: only N² regions
 #include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <memory>
 #include <string>
 #include <vector>
@@ -82,35 +80,25 @@ WallCpu time_wall_cpu(F&& f, int runs) {
   return {wall, double(std::clock() - start) / CLOCKS_PER_SEC / (runs + 1)};  // + the warm-up
 }
 
-constexpr const char* kUsage =
-    "usage: bench_poisson [--quick] [--drag] [--size N]\n"
-    "  PoissonBlend benchmark: first solve (multigrid at several tolerances, exact CHOLMOD,\n"
-    "  OpenCV seamlessClone) and the drag re-solve, errors against the exact solve.\n"
-    "  --quick   one repeat, no 2048^2 exact solve\n"
-    "  --drag    only the drag re-solve (sizes up to 1024)\n"
-    "  --size N  only N x N regions (256, 512, 1024 or 2048)\n"
-    "  results: bench/results/poisson.csv, poisson_drag.csv and a plot\n";
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, drag_only = false;
+  loom::bench::Cli cli("bench_poisson",
+                       "PoissonBlend benchmark: first solve (multigrid at several tolerances, exact CHOLMOD, "
+                       "OpenCV seamlessClone) and the drag re-solve, errors against the exact solve. Writes "
+                       "poisson.csv, poisson_drag.csv and a plot.");
+  bool quick = false;
   int only = 0;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-      std::fputs(kUsage, stdout);
-      return 0;
-    } else if (std::strcmp(argv[i], "--quick") == 0) {
-      quick = true;
-    } else if (std::strcmp(argv[i], "--drag") == 0) {
-      drag_only = true;
-    } else if (std::strcmp(argv[i], "--size") == 0 && i + 1 < argc) {
-      only = std::atoi(argv[++i]);
-    } else {
-      std::fprintf(stderr, "bench_poisson: unknown argument %s\n%s", argv[i], kUsage);
-      return 2;
-    }
-  }
+  std::vector<std::string> modes;
+  cli.quick(quick, "one repeat, no 2048² exact solve")
+      .option("--size", only, "only N×N regions: 256, 512, 1024 or 2048 (0: all)")
+      .modes(modes,
+             {{"first", "the first solve: multigrid, CHOLMOD and OpenCV, time against error"},
+              {"drag", "the drag re-solve (sizes up to 1024)"}},
+             "parts to run (default: both)")
+      .threads();
+  cli.parse(argc, argv);
+  const bool drag_only = !loom::bench::wants(modes, "first"), with_drag = loom::bench::wants(modes, "drag");
   loom::bench::Csv csv("poisson", {"size", "solver", "tolerance", "seconds", "iterations",
                                    "max_error_255", "rms_error_255", "speedup_vs_opencv"});
   loom::bench::Csv drag("poisson_drag", {"size", "solver", "start", "tolerance", "seconds_per_resolve",
@@ -182,7 +170,7 @@ int main(int argc, char** argv) {
     // Drag: the region moves by a pixel per frame (offsets cycling through
     // x − 1, x, x + 1) and each frame re-solves with the cached hierarchy or
     // factorization; errors are against the exact solve of each frame.
-    if (N <= 1024 && factor) {
+    if (with_drag && N <= 1024 && factor) {
       const cv::Point moves[3] = {{-1, 0}, {0, 0}, {1, 0}};
       cv::Mat frame_exact[3];
       for (int k = 0; k < 3; ++k) {
@@ -220,7 +208,7 @@ int main(int argc, char** argv) {
       });
     }
   }
-  drag.save();
+  if (with_drag) drag.save();
   if (!drag_only) csv.save();
   if (!drag_only) loom::bench::plot(csv, {"seconds", "max_error_255", "size", "PoissonBlend: first-solve time vs max error (1/255 levels)", true, true, ""});
   return 0;

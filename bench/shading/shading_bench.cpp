@@ -317,19 +317,22 @@ void denoising() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  loom::bench::handle_help(argc, argv,
-                           "bench_shading [--quick] [speed|target|shadows|bias|pcf|normals|denoise ...]\n"
-                           "Writes shading_*.csv, shadow_*.csv, normal_mapping.csv, denoising*.csv and plots\n"
-                           "to bench/results (or $LOOM_BENCH_OUT). Without a part name runs all.");
+  loom::bench::Cli cli("bench_shading",
+                       "The Render node's rasterizer and the denoising method. Writes shading_*.csv, "
+                       "shadow_*.csv, normal_mapping.csv, denoising*.csv and plots.");
   bool quick = false;
   std::vector<std::string> parts;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--quick")
-      quick = true;
-    else
-      parts.push_back(a);
-  }
+  cli.quick(quick, "fewer triangle counts, shadow-map sizes and biases")
+      .modes(parts,
+             {{"speed", "context, first frame and steady state against triangles and resolution"},
+              {"target", "the issue's target case alone (only when asked for)"},
+              {"shadows", "shadow-map errors against Embree ray casts: resolution, bias, PCF"},
+              {"bias", "shadow errors over the constant bias"},
+              {"pcf", "shadow errors over the PCF kernel size"},
+              {"normals", "normal mapping against true displaced geometry"},
+              {"denoise", "displacement-map denoising against smoothing"}},
+             "parts to run (default: all but target)");
+  cli.parse(argc, argv);
   auto want = [&](const char* p) { return parts.empty() || std::find(parts.begin(), parts.end(), p) != parts.end(); };
   if (want("speed")) speed(quick);
   if (!parts.empty() && want("target")) speed(quick, true);

@@ -7,7 +7,6 @@
 //   build/bin/bench_warp [--quick]
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <ctime>
 #include <iostream>
 #include <random>
@@ -17,6 +16,7 @@
 
 #include "bench_harness.hpp"
 #include "control_points.hpp"
+#include "generators.hpp"
 #include "idw.hpp"
 #include "rbf.hpp"
 #include "warp_image.hpp"
@@ -27,12 +27,10 @@ namespace {
 
 constexpr int kSide = 1024;  // 1 Mpx
 
+// The Checkerboard node's default colours, cells of 64 pixels.
 cv::Mat checkerboard() {
-  cv::Mat m(kSide, kSide, CV_32FC3);
-  for (int i = 0; i < kSide; ++i)
-    for (int j = 0; j < kSide; ++j)
-      m.at<cv::Vec3f>(i, j) = ((i / 64 + j / 64) % 2) ? cv::Vec3f(0.15f, 0.3f, 0.6f) : cv::Vec3f(0.95f, 0.95f, 0.95f);
-  return m;
+  return loom::generate::checkerboard(loom::Vec2i(kSide, kSide), kSide / 64, loom::Color{{0.95, 0.95, 0.95, 1}},
+                                      loom::Color{{0.15, 0.3, 0.6, 1}});
 }
 
 // Smooth, so that differences between two warps measure their maps, not edges.
@@ -129,12 +127,13 @@ double map_step_error(const RowMap& f, int step) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  loom::bench::handle_help(argc, argv,
-                           "bench_warp [--quick]\n"
-                           "ImageWarp (IDW, RBF, thin-plate; inverse, forward, forward+fill) on a 1 Mpx image\n"
-                           "with 16, 64 and 256 pairs, side by side with OpenCV's thin-plate-spline shape\n"
-                           "transformer; and map_step time against map error. --quick: 64 pairs, 3 runs.");
-  const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  loom::bench::Cli cli("bench_warp",
+                       "ImageWarp (IDW, RBF, thin-plate; inverse, forward, forward+fill) on a 1 Mpx image with 16, "
+                       "64 and 256 pairs, side by side with OpenCV's thin-plate-spline shape transformer; and "
+                       "map_step time against map error.");
+  bool quick = false;
+  cli.quick(quick, "64 pairs, 3 runs").threads();
+  cli.parse(argc, argv);
   const int runs = quick ? 3 : 7;
   const std::vector<int> counts = quick ? std::vector<int>{64} : std::vector<int>{16, 64, 256};
   const cv::Mat board = checkerboard(), smooth = smooth_image();

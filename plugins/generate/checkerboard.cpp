@@ -1,6 +1,5 @@
 // Checkerboard: an RGB test image, for graphs that need no files.
-#include <algorithm>
-
+#include "generators.hpp"
 #include "loom/image.hpp"
 #include "loom/plugin.hpp"
 
@@ -17,20 +16,8 @@ struct Checkerboard {
         .output<loom::Image>("image", "the checkerboard");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
-    const loom::Vec2i size = in.get<loom::Vec2i>("size");
-    const int cells = in.get<int>("cells");
-    const auto& a = in.get<loom::Color>("color_a").rgba;
-    const auto& b = in.get<loom::Color>("color_b").rgba;
-    const double cell = static_cast<double>(std::min(size.x(), size.y())) / cells;
-    cv::Mat m(size.y(), size.x(), CV_32FC3);
-    for (int y = 0; y < m.rows; ++y) {
-      auto* row = m.ptr<cv::Vec3f>(y);
-      const int cy = static_cast<int>(y / cell);
-      for (int x = 0; x < m.cols; ++x) {
-        const auto& c = ((static_cast<int>(x / cell) + cy) % 2 == 0) ? a : b;
-        row[x] = cv::Vec3f(static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2]));
-      }
-    }
+    const cv::Mat m = loom::generate::checkerboard(in.get<loom::Vec2i>("size"), in.get<int>("cells"),
+                                                   in.get<loom::Color>("color_a"), in.get<loom::Color>("color_b"));
     out.set("image", loom::Image(m, loom::Encoding::srgb));
   }
 };

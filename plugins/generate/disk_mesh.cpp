@@ -1,8 +1,6 @@
 // DiskMesh: a triangulated disk, flat or with bumps, one boundary loop.
-#include <cmath>
-
+#include "generators.hpp"
 #include "loom/plugin.hpp"
-#include "polar_mesh.hpp"
 
 namespace {
 
@@ -18,13 +16,8 @@ struct DiskMesh {
         .output<loom::Mesh>("mesh", "the disk");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
-    const double R = in.get<double>("radius"), h = in.get<double>("bump_height");
-    out.set("mesh", loom::generate::polar_mesh(
-                        in.get<int>("rings"), in.get<int>("segments"), [&](double t, double phi) {
-                          const double x = R * t * std::cos(phi), y = R * t * std::sin(phi);
-                          const double z = h * std::sin(2 * M_PI * x / R) * std::sin(2 * M_PI * y / R) * (1 - t * t);
-                          return Eigen::Vector3d(x, y, z);
-                        }));
+    out.set("mesh", loom::generate::disk_mesh(in.get<double>("radius"), in.get<int>("rings"),
+                                              in.get<int>("segments"), in.get<double>("bump_height")));
   }
 };
 LOOM_NODE(DiskMesh);

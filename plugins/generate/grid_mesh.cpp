@@ -1,5 +1,5 @@
 // GridMesh: a planar rectangle of squares split into triangles, with UVs.
-#include "loom/mesh.hpp"
+#include "generators.hpp"
 #include "loom/plugin.hpp"
 
 namespace {
@@ -13,26 +13,8 @@ struct GridMesh {
         .output<loom::Mesh>("mesh", "the grid");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
-    const loom::Vec2 size = in.get<loom::Vec2>("size");
-    const int nx = in.get<loom::Vec2i>("resolution").x(), ny = in.get<loom::Vec2i>("resolution").y();
-    loom::Mesh mesh;
-    mesh.V.resize((nx + 1) * (ny + 1), 3);
-    mesh.UV.resize(mesh.V.rows(), 2);
-    mesh.F.resize(2 * nx * ny, 3);
-    auto index = [&](int i, int j) { return j * (nx + 1) + i; };
-    for (int j = 0; j <= ny; ++j)
-      for (int i = 0; i <= nx; ++i) {
-        const double u = static_cast<double>(i) / nx, v = static_cast<double>(j) / ny;
-        mesh.V.row(index(i, j)) << (u - 0.5) * size.x(), (v - 0.5) * size.y(), 0;
-        mesh.UV.row(index(i, j)) << u, v;
-      }
-    int f = 0;
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        mesh.F.row(f++) << index(i, j), index(i + 1, j), index(i + 1, j + 1);
-        mesh.F.row(f++) << index(i, j), index(i + 1, j + 1), index(i, j + 1);
-      }
-    out.set("mesh", std::move(mesh));
+    const loom::Vec2i resolution = in.get<loom::Vec2i>("resolution");
+    out.set("mesh", loom::generate::rectangle_mesh(in.get<loom::Vec2>("size"), resolution.x(), resolution.y()));
   }
 };
 LOOM_NODE(GridMesh);

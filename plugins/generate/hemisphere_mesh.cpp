@@ -1,9 +1,6 @@
 // HemisphereMesh: the upper half of a sphere, optionally with radial noise.
-#include <cmath>
-#include <random>
-
+#include "generators.hpp"
 #include "loom/plugin.hpp"
-#include "polar_mesh.hpp"
 
 namespace {
 
@@ -19,15 +16,8 @@ struct HemisphereMesh {
         .output<loom::Mesh>("mesh", "the hemisphere");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
-    const double R = in.get<double>("radius"), noise = in.get<double>("noise");
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    out.set("mesh", loom::generate::polar_mesh(
-                        in.get<int>("rings"), in.get<int>("segments"), [&](double t, double phi) {
-                          const double theta = t * M_PI / 2;  // polar angle from the pole
-                          const double r = R * (1 + noise * u(ctx.rng()));
-                          return Eigen::Vector3d(r * std::sin(theta) * std::cos(phi),
-                                                 r * std::sin(theta) * std::sin(phi), r * std::cos(theta));
-                        }));
+    out.set("mesh", loom::generate::hemisphere_mesh(in.get<double>("radius"), in.get<int>("rings"),
+                                                    in.get<int>("segments"), in.get<double>("noise"), ctx.rng()));
   }
 };
 LOOM_NODE(HemisphereMesh);

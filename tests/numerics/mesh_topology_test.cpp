@@ -40,7 +40,7 @@ TEST(MeshTopology, DiskLoopIsTheOuterRing) {
 }
 
 TEST(MeshTopology, AnnulusHasOuterAndInnerLoopsOppositelyOriented) {
-  const auto m = test::disk(4, 20, 0.4);
+  const auto m = test::annulus(4, 20, 0.4);
   const auto loops = boundary_loops(m.F);
   ASSERT_EQ(loops.size(), 2u);
   EXPECT_EQ(loops[0].size(), 20u);

@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "generators.hpp"
 #include "harmonic_map.hpp"
 #include "loom/error.hpp"
 #include "loom/numerics/distortion.hpp"
@@ -49,16 +50,10 @@ TestMesh bumpy_sheared_grid() {
   return m;
 }
 
+// HemisphereMesh's shape with ±2% radial noise.
 TestMesh noisy_hemisphere(int rings, int segments) {
-  auto m = numerics::test::disk(rings, segments);
-  std::mt19937 rng(9);
-  std::uniform_real_distribution<double> u(-0.02, 0.02);
-  for (int v = 0; v < m.V.rows(); ++v) {
-    const double r = m.V.row(v).head<2>().norm(), theta = r * M_PI / 2, phi = std::atan2(m.V(v, 1), m.V(v, 0));
-    const double R = 1 + u(rng);
-    m.V.row(v) << R * std::sin(theta) * std::cos(phi), R * std::sin(theta) * std::sin(phi), R * std::cos(theta);
-  }
-  return m;
+  std::mt19937_64 rng(9);
+  return generate::hemisphere_mesh(1, rings, segments, 0.02, rng);
 }
 
 TEST(HarmonicMap, PlanarMeshIsReproducedFromItsOwnBoundary) {

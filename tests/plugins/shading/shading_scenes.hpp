@@ -6,6 +6,7 @@
 #include <cmath>
 #include <memory>
 
+#include "generators.hpp"
 #include "loom/mesh.hpp"
 #include "loom/scene.hpp"
 
@@ -38,24 +39,9 @@ inline Mesh sphere(int rings, int segments, double radius = 1) {
 
 // Square [-h, h]² in the xz plane at height y, facing +y, n x n quads, UV in [0,1]².
 inline Mesh plane(int n, double h, double y = 0) {
-  Mesh m;
-  m.V.resize((n + 1) * (n + 1), 3);
-  m.UV.resize(m.V.rows(), 2);
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const double u = double(i) / n, v = double(j) / n;
-      m.V.row(j * (n + 1) + i) << -h + 2 * h * u, y, h - 2 * h * v;
-      m.UV.row(j * (n + 1) + i) << u, v;
-    }
-  m.F.resize(2 * n * n, 3);
-  int f = 0;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
-      m.F.row(f++) << a, b, d;
-      m.F.row(f++) << a, d, c;
-    }
-  return m;
+  return generate::grid_mesh(n, n, [&](double u, double v) {
+    return Eigen::Vector3d(-h + 2 * h * u, y, h - 2 * h * v);
+  });
 }
 
 // Axis-aligned box [lo, hi]: 6 faces of 4 own vertices (flat normals), 12 triangles, outward.
