@@ -267,19 +267,4 @@ bool EmbreeScene::occluded(const Vec3f& o, const Vec3f& d, float tmax) const {
   return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 
-bool EmbreeScene::occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const {
-  const Vec3f origin = offset(hit, light_point - hit.p);
-  const Vec3f d = light_point - origin;
-  const float length = std::sqrt(d.squaredNorm());
-  // The segment stops short of the light's surface by the same margin.
-  const float tmax = length - offset_distance(light_point);
-  if (!(tmax > 0)) return false;
-  return occluded(origin, d * (1 / length), tmax);
-}
-
-Vec3f EmbreeScene::offset(const SurfaceHit& hit, const Vec3f& direction) const {
-  const float eps = hit.eps > 0 ? hit.eps : offset_distance(hit.p);
-  return hit.p + (hit.ng.dot(direction) >= 0 ? eps : -eps) * hit.ng;
-}
-
 }  // namespace loom::pathtrace
