@@ -23,8 +23,8 @@ constexpr unsigned kCameraMask = 1, kShadowMask = 2;
 // Fills a ray in three 16-byte stores. Embree's kernels load org|tnear and
 // dir|time as 16-byte vectors first thing; filled field by field (4-byte
 // stores), that load cannot be forwarded from the store buffer and waits for
-// the stores to retire: perf put 4-5 % of the path tracer's time on those
-// two loads (docs/pathtrace.md, "Throughput, session 3").
+// the stores to retire: perf put about 3.5 % of the path tracer's time on
+// those two loads (docs/pathtrace.md, "Throughput, session 3").
 void set_ray(RTCRay& r, const Vec3f& o, const Vec3f& d, float tfar, unsigned mask) {
 #if defined(__SSE2__)
   _mm_store_ps(&r.org_x, _mm_setr_ps(o.x(), o.y(), o.z(), 0.f));  // tnear 0

@@ -46,8 +46,8 @@ class LightSampler {
   bool samples_environment() const { return environment_entry_ >= 0 && !table_.empty(); }
   std::size_t emissive_triangles() const { return triangle_count_; }
 
-  // Inline (below): it runs at every bounce and its result goes straight into
-  // the path loop's registers.
+  // Defined inline below, so that the path loop (integrator.cpp) can inline
+  // it: it runs at every bounce.
   std::optional<LightSample> sample(const Vec3f& p, float uc, const Vec2f& u, float u_env) const;
   // Solid-angle density of sample() choosing the point `hit` seen from `from`.
   float triangle_pdf(const SurfaceHit& hit, const Vec3f& from) const;
