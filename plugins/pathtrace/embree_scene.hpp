@@ -97,11 +97,11 @@ class EmbreeScene {
   bool occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const {
     const Vec3f origin = offset(hit, light_point - hit.p);
     const Vec3f d = light_point - origin;
-    const float length = std::sqrt(d.squaredNorm());
+    const float length2 = d.squaredNorm(), inv_length = inv_sqrt(length2);
     // The segment stops short of the light's surface by the same margin.
-    const float tmax = length - offset_distance(light_point);
+    const float tmax = length2 * inv_length - offset_distance(light_point);
     if (!(tmax > 0)) return false;
-    return occluded(origin, d * (1 / length), tmax);
+    return occluded(origin, d * inv_length, tmax);
   }
 
  private:

@@ -123,7 +123,7 @@ inline std::optional<LightSample> LightSampler::sample(const Vec3f& p, float uc,
       Vec3f d = l.position - p;
       const float dist2 = d.squaredNorm();
       if (!(dist2 > 0)) return std::nullopt;
-      const float inv_dist = 1 / std::sqrt(dist2);
+      const float inv_dist = inv_sqrt(dist2);
       d *= inv_dist;
       float k = inv_dist * inv_dist;
       if (l.kind == Light::Kind::spot) k *= spot_falloff(l.direction, l.cos_inner, l.cos_outer, -d);

@@ -120,8 +120,8 @@ TEST(Bsdf, SmoothModelsAreDeltaLobes) {
 
 // The inline cos/sin of the sampling warps against libm in double, over a
 // fine sweep of [0, 1) including the quadrant boundaries and the largest
-// float below 1.
-TEST(Sampling, CosSinMatchLibm) {
+// float below 1; the inline 1/sqrt against sqrt in double.
+TEST(Sampling, CosSinAndInverseSqrtMatchLibm) {
   double worst = 0;
   std::vector<float> ts;
   for (int i = 0; i < 200000; ++i) ts.push_back(float(i) / 200000);
@@ -137,6 +137,14 @@ TEST(Sampling, CosSinMatchLibm) {
     worst = std::max({worst, std::abs(c - std::cos(phi)), std::abs(s - std::sin(phi))});
   }
   EXPECT_LT(worst, 2e-7);
+  // The reciprocal square root of unit(), point lights and shadow rays, over
+  // twelve decades.
+  double worst_rsqrt = 0;
+  for (double x = 1e-6; x < 1e6; x *= 1.0007) {
+    const float xf = float(x);
+    worst_rsqrt = std::max(worst_rsqrt, std::abs(inv_sqrt(xf) * std::sqrt(double(xf)) - 1));
+  }
+  EXPECT_LT(worst_rsqrt, 5e-7);
   // The warps stay unit length.
   for (float t : {0.f, 0.1f, 0.3f, 0.6f, 0.9f})
     EXPECT_NEAR(sample_cosine_hemisphere(Vec2f(0.37f, t)).norm(), 1, 1e-6);
