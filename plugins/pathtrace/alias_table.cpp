@@ -35,11 +35,4 @@ AliasTable::AliasTable(const std::vector<double>& weights) {
   for (std::uint32_t i : large) bins_[i] = {1, bins_[i].p, i};
 }
 
-std::uint32_t AliasTable::sample(float u) const {
-  const float scaled = u * float(bins_.size());
-  const std::uint32_t i = std::min(std::uint32_t(scaled), std::uint32_t(bins_.size() - 1));
-  const float up = std::fmin(scaled - float(i), 0x1.fffffep-1f);
-  return up < bins_[i].q ? i : bins_[i].alias;
-}
-
 }  // namespace loom::pathtrace

@@ -17,7 +17,15 @@ class AliasTable {
   bool empty() const { return bins_.empty(); }
   std::size_t size() const { return bins_.size(); }
   // An index with probability weight[i] / sum, from u in [0, 1).
-  std::uint32_t sample(float u) const;
+  std::uint32_t sample(float u) const {
+    const float scaled = u * float(bins_.size());
+    const std::uint32_t last = std::uint32_t(bins_.size() - 1);
+    std::uint32_t i = std::uint32_t(scaled);
+    if (i > last) i = last;
+    float up = scaled - float(i);
+    if (!(up < 0x1.fffffep-1f)) up = 0x1.fffffep-1f;  // below 1 (not fmin: a libm call)
+    return up < bins_[i].q ? i : bins_[i].alias;
+  }
   float pmf(std::size_t i) const { return bins_[i].p; }
   double total() const { return total_; }
 

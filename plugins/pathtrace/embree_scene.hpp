@@ -6,6 +6,7 @@
 // not traced (the rasterizer draws them).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -80,14 +81,28 @@ class EmbreeScene {
   // Any shadow-casting surface between origin and origin + tmax * direction.
   bool occluded(const Vec3f& origin, const Vec3f& direction, float tmax) const;
   // A ray origin moved off the surface to the side `direction` leaves by.
-  Vec3f offset(const SurfaceHit& hit, const Vec3f& direction) const;
+  // (Inline, like occluded_to: a Vec3f returned from another translation unit
+  // comes back through memory as three 4-byte stores that the caller's 8-byte
+  // load cannot forward.)
+  Vec3f offset(const SurfaceHit& hit, const Vec3f& direction) const {
+    const float eps = hit.eps > 0 ? hit.eps : offset_distance(hit.p);
+    return hit.p + (hit.ng.dot(direction) >= 0 ? eps : -eps) * hit.ng;
+  }
   // How far offset() moves a point at p: float precision at p's magnitude.
   float offset_distance(const Vec3f& p) const {
     return 1e-4f * (1 + p.cwiseAbs().maxCoeff()) + 1e-6f * extent_;
   }
   // Whether the segment from hit (offset) to a point on a light is blocked;
   // both ends are kept off their surfaces.
-  bool occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const;
+  bool occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const {
+    const Vec3f origin = offset(hit, light_point - hit.p);
+    const Vec3f d = light_point - origin;
+    const float length2 = d.squaredNorm(), inv_length = inv_sqrt(length2);
+    // The segment stops short of the light's surface by the same margin.
+    const float tmax = length2 * inv_length - offset_distance(light_point);
+    if (!(tmax > 0)) return false;
+    return occluded(origin, d * inv_length, tmax);
+  }
 
  private:
   RTCDevice device_ = nullptr;

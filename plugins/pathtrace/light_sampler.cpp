@@ -6,20 +6,6 @@
 
 namespace loom::pathtrace {
 
-namespace {
-
-template <class L>
-float spot_falloff(const L& l, const Vec3f& from_light) {
-  const float c = from_light.dot(l.direction);
-  const float ci = l.cos_inner, co = l.cos_outer;
-  if (c >= ci) return 1;
-  if (c <= co || ci <= co) return 0;
-  const float t = (c - co) / (ci - co);
-  return t * t * (3 - 2 * t);
-}
-
-}  // namespace
-
 LightSampler::LightSampler(const Scene& scene, const EmbreeScene& traced,
                            const std::vector<Vec3f>& emission, const EnvironmentLight& environment)
     : traced_(traced), environment_(environment), emission_(emission) {
@@ -71,55 +57,12 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& traced,
   table_ = AliasTable(power);
 }
 
-std::optional<LightSample> LightSampler::sample(const Vec3f& p, float uc, const Vec2f& u,
-                                                float u_env) const {
-  if (table_.empty()) return std::nullopt;
-  const std::uint32_t index = table_.sample(uc);
-  const float select = table_.pmf(index);
-  if (!(select > 0)) return std::nullopt;
-  const Entry& e = entries_[index];
+std::optional<LightSample> LightSampler::sample_environment(float select, float u_env,
+                                                            const Vec2f& u) const {
+  const auto s = environment_.sample(u_env, u);
+  if (!(s.pdf > 0)) return std::nullopt;
   constexpr float inf = std::numeric_limits<float>::infinity();
-  switch (e.kind) {
-    case Entry::Kind::triangle: {
-      const TracedObject& o = traced_.objects()[e.object];
-      const auto& t = o.F[e.prim];
-      const Vec2f b = sample_uniform_triangle(u);
-      const Vec3f q = (1 - b.x() - b.y()) * o.P[t[0]] + b.x() * o.P[t[1]] + b.y() * o.P[t[2]];
-      const Vec3f n = (o.P[t[1]] - o.P[t[0]]).cross(o.P[t[2]] - o.P[t[0]]).normalized();
-      Vec3f d = q - p;
-      const float dist2 = d.squaredNorm();
-      if (!(dist2 > 0)) return std::nullopt;
-      const float dist = std::sqrt(dist2);
-      d /= dist;
-      const float cos_light = -n.dot(d);
-      if (!(cos_light > 0)) return std::nullopt;  // the back of a one-sided emitter
-      const float pdf = select * dist2 / (e.area * cos_light);
-      if (!std::isfinite(pdf)) return std::nullopt;
-      return LightSample{d, dist, q, emission_[e.object], pdf, false, true};
-    }
-    case Entry::Kind::light: {
-      const PointLike& l = lights_[e.light];
-      if (l.kind == Light::Kind::directional) {
-        if (l.direction.x() == 0 && l.direction.y() == 0 && l.direction.z() == 0) return std::nullopt;
-        return LightSample{-l.direction, inf, Vec3f::Zero(), l.radiance, select, true, l.casts_shadow};
-      }
-      Vec3f d = l.position - p;
-      const float dist2 = d.squaredNorm();
-      if (!(dist2 > 0)) return std::nullopt;
-      const float dist = std::sqrt(dist2);
-      d /= dist;
-      float k = 1 / dist2;
-      if (l.kind == Light::Kind::spot) k *= spot_falloff(l, -d);
-      if (!(k > 0)) return std::nullopt;
-      return LightSample{d, dist, l.position, l.radiance * k, select, true, l.casts_shadow};
-    }
-    case Entry::Kind::environment: {
-      const auto s = environment_.sample(u_env, u);
-      if (!(s.pdf > 0)) return std::nullopt;
-      return LightSample{s.direction, inf, Vec3f::Zero(), environment_.radiance(s.direction), select * s.pdf, false, true};
-    }
-  }
-  return std::nullopt;
+  return LightSample{s.direction, inf, Vec3f::Zero(), environment_.radiance(s.direction), select * s.pdf, false, true};
 }
 
 float LightSampler::triangle_pdf(const SurfaceHit& hit, const Vec3f& from) const {

@@ -9,6 +9,8 @@
 // is p_select · d² / (A |cos θ_light|) (course report, eqs. 57–61).
 #pragma once
 
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -44,6 +46,8 @@ class LightSampler {
   bool samples_environment() const { return environment_entry_ >= 0 && !table_.empty(); }
   std::size_t emissive_triangles() const { return triangle_count_; }
 
+  // Defined inline below, so that the path loop (integrator.cpp) can inline
+  // it: it runs at every bounce.
   std::optional<LightSample> sample(const Vec3f& p, float uc, const Vec2f& u, float u_env) const;
   // Solid-angle density of sample() choosing the point `hit` seen from `from`.
   float triangle_pdf(const SurfaceHit& hit, const Vec3f& from) const;
@@ -64,6 +68,7 @@ class LightSampler {
     float cos_inner, cos_outer;
     bool casts_shadow;
   };
+  std::optional<LightSample> sample_environment(float select, float u_env, const Vec2f& u) const;
   std::vector<PointLike> lights_;
   std::vector<Vec3f> emission_;
   std::vector<Entry> entries_;
@@ -72,5 +77,63 @@ class LightSampler {
   std::size_t triangle_count_ = 0;
   AliasTable table_;
 };
+
+inline float spot_falloff(const Vec3f& direction, float cos_inner, float cos_outer,
+                          const Vec3f& from_light) {
+  const float c = from_light.dot(direction);
+  const float ci = cos_inner, co = cos_outer;
+  if (c >= ci) return 1;
+  if (c <= co || ci <= co) return 0;
+  const float t = (c - co) / (ci - co);
+  return t * t * (3 - 2 * t);
+}
+
+inline std::optional<LightSample> LightSampler::sample(const Vec3f& p, float uc, const Vec2f& u,
+                                                       float u_env) const {
+  if (table_.empty()) return std::nullopt;
+  const std::uint32_t index = table_.size() == 1 ? 0 : table_.sample(uc);
+  const float select = table_.pmf(index);
+  if (!(select > 0)) return std::nullopt;
+  const Entry& e = entries_[index];
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  switch (e.kind) {
+    case Entry::Kind::triangle: {
+      const TracedObject& o = traced_.objects()[e.object];
+      const auto& t = o.F[e.prim];
+      const Vec2f b = sample_uniform_triangle(u);
+      const Vec3f q = (1 - b.x() - b.y()) * o.P[t[0]] + b.x() * o.P[t[1]] + b.y() * o.P[t[2]];
+      const Vec3f& n = o.face_normal[e.prim];  // unit, by the winding
+      Vec3f d = q - p;
+      const float dist2 = d.squaredNorm();
+      if (!(dist2 > 0)) return std::nullopt;
+      const float dist = std::sqrt(dist2);
+      d *= 1 / dist;
+      const float cos_light = -n.dot(d);
+      if (!(cos_light > 0)) return std::nullopt;  // the back of a one-sided emitter
+      const float pdf = select * dist2 / (e.area * cos_light);
+      if (!std::isfinite(pdf)) return std::nullopt;
+      return LightSample{d, dist, q, emission_[e.object], pdf, false, true};
+    }
+    case Entry::Kind::light: {
+      const PointLike& l = lights_[e.light];
+      if (l.kind == Light::Kind::directional) {
+        if (l.direction.x() == 0 && l.direction.y() == 0 && l.direction.z() == 0) return std::nullopt;
+        return LightSample{-l.direction, inf, Vec3f::Zero(), l.radiance, select, true, l.casts_shadow};
+      }
+      Vec3f d = l.position - p;
+      const float dist2 = d.squaredNorm();
+      if (!(dist2 > 0)) return std::nullopt;
+      const float inv_dist = inv_sqrt(dist2);
+      d *= inv_dist;
+      float k = inv_dist * inv_dist;
+      if (l.kind == Light::Kind::spot) k *= spot_falloff(l.direction, l.cos_inner, l.cos_outer, -d);
+      if (!(k > 0) || !std::isfinite(k)) return std::nullopt;
+      return LightSample{d, dist2 * inv_dist, l.position, l.radiance * k, select, true, l.casts_shadow};
+    }
+    case Entry::Kind::environment:
+      return sample_environment(select, u_env, u);
+  }
+  return std::nullopt;
+}
 
 }  // namespace loom::pathtrace
