@@ -43,7 +43,7 @@ struct MaterialNode {
                       "tangent-space normal map, values as stored ([0,1] encodes [-1,1]); load it "
                       "with LoadImage decode=keep")
         .optional()
-        .input<Image>("displacement_map", "height along the normal (channel 0), for Render")
+        .input<Image>("displacement_map", "height along the normal (channel 0): tessellated by Render, subdivided by PathTrace")
         .optional()
         .input<double>("displacement_scale", 0.0, "displacement in scene units per unit height")
         .range(-1e6, 1e6)

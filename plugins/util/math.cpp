@@ -41,8 +41,8 @@ struct Math {
       case Op::max: r = std::max(a, b); break;
     }
     if (!std::isfinite(r))
-      throw loom::Error(in.get<std::string>("op") + " of " + std::to_string(a) + " and " + std::to_string(b) +
-                        " is not a finite number");
+      throw loom::Error(in.get<std::string>("op") + " of " + loom::TypeTraits<double>::summary(a) + " and " +
+                        loom::TypeTraits<double>::summary(b) + " is not a finite number");
     out.set("result", r);
   }
 };
