@@ -80,19 +80,17 @@ namespace {
 // is pushed onto the tangent plane at the point where it came from (the
 // normal of x_n), not radially: a step that carries it past the center would
 // otherwise push it out of the far side.
-// `penalty_h2` is κh² when x comes from Newton with penalty contact: its
-// penetration d then stands for a normal force κd, which moves a vertex by
-// κ d h²/m in a step, and that is the depth friction works with.
+// `friction`: apply Coulomb friction where vertices are pushed out (false
+// for Newton, whose friction is in its solve: friction_potential).
 Eigen::MatrixX3d resolve_collisions(const SpringSystem& s, const Eigen::MatrixX3d& x_n,
-                                    Eigen::MatrixX3d& x, const StepSettings& settings, double penalty_h2 = 0) {
+                                    Eigen::MatrixX3d& x, const StepSettings& settings, bool friction = true) {
   Eigen::MatrixX3d contact = Eigen::MatrixX3d::Zero(x.rows(), 3);
   if (!settings.ground && settings.spheres.empty()) return contact;
   // Coulomb friction on positions (as position-based dynamics does it): a
   // vertex pushed out by `depth` along n keeps its tangential motion since x_n
   // only beyond friction·depth (static below that, kinetic above).
   auto rub = [&](Eigen::Index i, const Eigen::RowVector3d& n, double depth) {
-    if (settings.friction <= 0 || depth <= 0) return;
-    if (penalty_h2 > 0) depth *= penalty_h2 / s.mass[i];
+    if (!friction || settings.friction <= 0 || depth <= 0) return;
     const Eigen::RowVector3d moved = x.row(i) - x_n.row(i);
     const Eigen::RowVector3d tangential = moved - moved.dot(n) * n;
     const double slide = tangential.norm(), limit = settings.friction * depth;
@@ -162,6 +160,79 @@ double contact_penalty(const SpringSystem& s, const StepSettings& settings, cons
   return p;
 }
 
+// Coulomb friction for Newton, inside the minimization (as IPC does it: Li et
+// al. 2020, §5): a lagged dissipative potential
+//   D = Σ_c μ λ_c f0(‖u_c‖),  u_c = (I − n_c n_cᵀ)(x_i − x_n,i),
+// over the contacts c of the frictionless solve's solution, with their normal
+// force λ_c = κ d_c and normal n_c held fixed through a second solve (one
+// lagging pass; lagging them per Newton iteration instead did not converge
+// and stretched the drape by 340 %). f0 is Coulomb's |u| smoothed below
+// ε = ε_v h: f0(u) = −u³/(3ε²) + u²/ε + ε/3, so its force μλ f1(u) û has
+// f1 = 2u/ε − u²/ε² (static friction as a very stiff drag below ε_v) and
+// is μλ û above. D is convex in x and its Hessian blocks positive
+// semidefinite. The springs see the friction in the same solve: the former
+// friction on the projected positions after the solve put contact vertices
+// back without their neighbours and ratcheted a ring of edges around the
+// sphere to 16 % stretch on the test's drape (docs/cloth.md).
+struct FrictionContact {
+  Eigen::Index vertex;
+  Eigen::RowVector3d normal;
+  double force;  // λ = κ d
+};
+
+constexpr double friction_speed = 1e-3;  // ε_v in m/s
+
+std::vector<FrictionContact> friction_contacts(const SpringSystem& s, const StepSettings& settings,
+                                               const Eigen::MatrixX3d& x) {
+  std::vector<FrictionContact> contacts;
+  if (settings.friction <= 0) return contacts;
+  const double kappa = contact_stiffness(s);
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    if (s.fixed[i]) continue;
+    if (settings.ground && x(i, 1) < settings.ground_height)
+      contacts.push_back({i, Eigen::RowVector3d(0, 1, 0), kappa * (settings.ground_height - x(i, 1))});
+    for (const auto& sphere : settings.spheres) {
+      const Eigen::RowVector3d d = x.row(i) - sphere.center.transpose();
+      const double len = d.norm();
+      if (len < sphere.radius && len > 0) contacts.push_back({i, d / len, kappa * (sphere.radius - len)});
+    }
+  }
+  return contacts;
+}
+
+double friction_potential(const std::vector<FrictionContact>& contacts, double mu, double h,
+                          const Eigen::MatrixX3d& x_n, const Eigen::MatrixX3d& x, Eigen::MatrixX3d* gradient,
+                          std::vector<std::pair<int, Eigen::Matrix3d>>* blocks) {
+  const double eps = friction_speed * h;
+  double p = 0;
+  for (const FrictionContact& c : contacts) {
+    const Eigen::RowVector3d moved = x.row(c.vertex) - x_n.row(c.vertex);
+    const Eigen::RowVector3d u = moved - moved.dot(c.normal) * c.normal;
+    const double len = u.norm(), scale = mu * c.force;
+    const Eigen::Matrix3d tangent = Eigen::Matrix3d::Identity() - c.normal.transpose() * c.normal;
+    if (len < eps) {
+      p += scale * (-len * len * len / (3 * eps * eps) + len * len / eps + eps / 3);
+      // f1(u)/u u = (2/ε − u/ε²) u; Hessian (2/ε − u/ε²) T − u/ε² ûûᵀ
+      // (eigenvalues 2/ε − 2u/ε² ≥ 0 along û and 2/ε − u/ε² across).
+      if (gradient) gradient->row(c.vertex) += scale * (2 / eps - len / (eps * eps)) * u;
+      if (blocks) {
+        Eigen::Matrix3d block = (2 / eps - len / (eps * eps)) * tangent;
+        if (len > 0) block -= (len / (eps * eps)) * (u.transpose() / len) * (u / len);
+        blocks->emplace_back(static_cast<int>(c.vertex), scale * block);
+      }
+    } else {
+      p += scale * len;
+      if (gradient) gradient->row(c.vertex) += scale / len * u;
+      if (blocks) {
+        const Eigen::RowVector3d dir = u / len;
+        blocks->emplace_back(static_cast<int>(c.vertex),
+                             scale / len * (tangent - dir.transpose() * dir).eval());
+      }
+    }
+  }
+  return p;
+}
+
 }  // namespace
 
 StepResult step(const ClothState& state, double h, const StepSettings& settings,
@@ -195,12 +266,14 @@ StepResult step(const ClothState& state, double h, const StepSettings& settings,
     for (Eigen::Index i = 0; i < y.rows(); ++i)
       if (!s.fixed[i]) y.row(i) += h * v0.row(i) + h * h / s.mass[i] * f.row(i);
     SolveOptions options = settings.solve;
-    if ((settings.ground || !settings.spheres.empty()) && settings.solver == Solver::newton)
+    std::vector<FrictionContact> friction;
+    if ((settings.ground || !settings.spheres.empty()) && settings.solver == Solver::newton) {
       options.penalty = [&](const Eigen::MatrixX3d& iterate, Eigen::MatrixX3d* gradient,
                             std::vector<std::pair<int, Eigen::Matrix3d>>* blocks) {
-        return contact_penalty(s, settings, iterate, gradient, blocks);
+        return contact_penalty(s, settings, iterate, gradient, blocks) +
+               friction_potential(friction, settings.friction, h, state.x, iterate, gradient, blocks);
       };
-    else if ((settings.ground || !settings.spheres.empty()) && lg && lg->contact_weight() > 0)
+    } else if ((settings.ground || !settings.spheres.empty()) && lg && lg->contact_weight() > 0)
       options.contact_target = [&](const Eigen::MatrixX3d& iterate, Eigen::MatrixX3d& target) {
         target = iterate;
         resolve_collisions(s, state.x, target, settings);
@@ -209,14 +282,23 @@ StepResult step(const ClothState& state, double h, const StepSettings& settings,
       options.project = [&](Eigen::MatrixX3d& iterate) { resolve_collisions(s, state.x, iterate, settings); };
     if (settings.solver == Solver::newton) {
       x = newton_solve(s, y, h, y, options, &result.report, newton_factor);
+      // Friction: a second solve from there with the normal forces and
+      // normals of the frictionless solution held fixed (one lagging pass).
+      friction = options.penalty ? friction_contacts(s, settings, x) : std::vector<FrictionContact>();
+      if (!friction.empty()) {
+        SolveReport first = std::move(result.report);
+        x = newton_solve(s, y, h, x, options, &result.report, newton_factor);
+        result.report.iterations += first.iterations;
+        first.residuals.insert(first.residuals.end(), result.report.residuals.begin(), result.report.residuals.end());
+        result.report.residuals = std::move(first.residuals);
+      }
     } else {
       if (!lg || lg->h() != h || lg->free_vertices() != s.vertices() - s.fixed_count())
         throw Error("internal: the local/global solver was not factored for this system and h");
       x = lg->solve(s, y, y, options, &result.report);
     }
   }
-  const Eigen::MatrixX3d contact = resolve_collisions(
-      s, state.x, x, settings, settings.solver == Solver::newton ? contact_stiffness(s) * h * h : 0);
+  const Eigen::MatrixX3d contact = resolve_collisions(s, state.x, x, settings, settings.solver != Solver::newton);
   result.state.v = (x - state.x) / h;
   for (Eigen::Index i = 0; i < x.rows(); ++i) {
     if (s.fixed[i]) {

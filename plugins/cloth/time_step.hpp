@@ -7,12 +7,16 @@
 // f_i = a_i ((w_i − v_i)·n̂_i) n̂_i with a_i the vertex's area share and
 // w_i = speed·ŵ·(1 + turbulence·η_i(t)), η a seeded sum of three travelling
 // sine waves (smooth in space and time). Colliders (ground plane y = height,
-// spheres; inelastic, with optional Coulomb friction applied to positions
-// where they are projected out): Newton adds a penalty ½κ Σ d² over
-// penetration depths to the potential; local/global adds Projective
-// Dynamics collision constraints ½ w ‖x_i − p_i‖² (p_i: x_i projected out of
-// the colliders at each local step; w I in the prefactored matrix). Both project the result out, then the velocity is
-// (x_{n+1} − x_n)/h with its component into the collider removed.
+// spheres; inelastic, with optional Coulomb friction): Newton adds a penalty
+// ½κ Σ d² over penetration depths to the potential, and friction as a
+// lagged smoothed Coulomb potential in a second solve (normal forces κd from
+// the first, frictionless one); local/global adds Projective Dynamics
+// collision constraints ½ w ‖x_i − p_i‖² (p_i: x_i projected out of the
+// colliders at each local step, with friction on that projection; w I in the
+// prefactored matrix). Both project the result out, then the velocity is
+// (x_{n+1} − x_n)/h with its component into the collider removed. Newton's
+// report then holds both solves' iterations, each pass's residuals relative
+// to its own start.
 #pragma once
 
 #include <cstdint>
@@ -46,7 +50,7 @@ struct StepSettings {
   bool ground = false;
   double ground_height = 0;
   std::vector<Sphere> spheres;
-  double friction = 0;  // Coulomb coefficient of the position-level friction
+  double friction = 0;  // Coulomb coefficient μ
 };
 
 struct ClothState {
