@@ -98,12 +98,14 @@ void write_image(const Image& image, const std::filesystem::path& path, Depth de
   // Float files hold linear values; integer files hold sRGB-encoded ones.
   const Encoding wanted = depth == Depth::f32 ? Encoding::linear : Encoding::srgb;
   cv::Mat m = with_encoding(image, wanted).pixels.clone();
-  if (ext == ".hdr" && (m.channels() == 2 || m.channels() == 4)) {
-    std::vector<cv::Mat> planes;
-    cv::split(m, planes);
-    planes.pop_back();  // Radiance HDR has no alpha
-    cv::merge(planes, m);
-  }
+  std::vector<cv::Mat> planes;
+  cv::split(m, planes);
+  // Radiance HDR and JPEG have no alpha; no encoder takes gray+alpha (2
+  // channels), so it goes out as RGBA with the gray in all three colours.
+  const bool alpha = planes.size() == 2 || planes.size() == 4;
+  if (alpha && (ext == ".hdr" || ext == ".jpg" || ext == ".jpeg")) planes.pop_back();
+  else if (planes.size() == 2) planes = {planes[0], planes[0], planes[0], planes[1]};
+  cv::merge(planes, m);
   swap_red_blue(m);
   if (depth == Depth::u8) m.convertTo(m, CV_8U, 255.0);  // saturates to [0, 255]
   else if (depth == Depth::u16) m.convertTo(m, CV_16U, 65535.0);

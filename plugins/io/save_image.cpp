@@ -9,7 +9,8 @@ struct SaveImage {
   static void declare(loom::NodeSpec& s) {
     s.describe("Writes PNG, JPEG, TIFF, BMP (8/16-bit, sRGB-encoded) or EXR, HDR (float, linear). "
                "Converts by the image's tag, so nothing is encoded twice; writes a temporary file "
-               "and renames it, so no half-written file is ever seen.")
+               "and renames it, so no half-written file is ever seen. A 2-channel image (gray+alpha) is "
+               "written as RGBA; HDR and JPEG drop alpha.")
         .set_sink()
         .input<loom::Image>("image", "the image to write")
         .input<std::string>("path", "the file to write, relative to the output folder; {frame:04} in it becomes the frame number (one file per frame)").output_file()

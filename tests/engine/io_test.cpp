@@ -70,6 +70,38 @@ TEST(ImageFiles, SixteenBitAndFloatFormatsKeepPrecision) {
   EXPECT_LT(max_difference(io::read_image(dir / "s.png", io::Decode::keep).pixels, s.pixels), 0.5 / 65535 + 1e-7);
 }
 
+// No OpenCV encoder takes 2 channels (it asserted, found by scripts/probe on
+// WarpField's displacement): gray+alpha goes out as RGBA, in every format that
+// has alpha, and keeps its values; JPEG keeps the gray, HDR writes it as RGB.
+TEST(ImageFiles, GrayAlphaIsWrittenAsRgba) {
+  auto dir = test::temp_dir();
+  const Image a = ramp(2, Encoding::linear);
+  std::vector<cv::Mat> source;
+  cv::split(a.pixels, source);
+  struct Case {
+    const char* name;
+    io::Depth depth;
+    bool keeps_alpha;
+    double gray_tolerance;  // float files exact; 8-bit after the sRGB round trip; HDR's shared exponent
+  };
+  for (const Case& c : {Case{"ga.exr", io::Depth::f32, true, 1e-6}, Case{"ga.tif", io::Depth::f32, true, 1e-6},
+                        Case{"ga.png", io::Depth::u8, true, 0.01}, Case{"ga.hdr", io::Depth::f32, false, 0.01}}) {
+    io::write_image(a, dir / c.name, c.depth);
+    std::vector<cv::Mat> planes;
+    cv::split(io::read_image(dir / c.name, io::Decode::linear).pixels, planes);
+    ASSERT_EQ(planes.size(), c.keeps_alpha ? 4u : 3u) << c.name;
+    for (int k = 0; k < 3; ++k)
+      EXPECT_LT(max_difference(planes[static_cast<std::size_t>(k)], source[0]), c.gray_tolerance) << c.name;
+    if (c.keeps_alpha) {  // alpha is never encoded: k/255 exactly in 8 bits
+      EXPECT_LT(max_difference(planes[3], source[1]), c.depth == io::Depth::u8 ? 0.5 / 255 : 1e-6) << c.name;
+    }
+  }
+  io::write_image(a, dir / "ga.jpg", io::Depth::u8);  // lossy: a gray JPEG, the gray on average
+  const Image jpg = io::read_image(dir / "ga.jpg", io::Decode::linear);
+  ASSERT_EQ(jpg.channels(), 1);
+  EXPECT_NEAR(cv::mean(jpg.pixels)[0], cv::mean(source[0])[0], 0.01);
+}
+
 TEST(ImageFiles, ClearErrorsAndNothingWritten) {
   auto dir = test::temp_dir();
   Image nan = ramp(3, Encoding::srgb);
