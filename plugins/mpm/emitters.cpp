@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -18,21 +19,31 @@ namespace {
 template <int D>
 using Vec = Eigen::Matrix<double, D, 1>;
 
+// Cells of size h along each axis of [lo, hi] (at least one; rounded up or
+// down) and their product, refused above `limit` before anything is cast or
+// allocated: counted in double, since a huge shape over a fine spacing
+// overflows long.
+template <int D>
+std::pair<Eigen::Matrix<long, D, 1>, long> cell_counts(const Vec<D>& lo, const Vec<D>& hi, double h, bool round_up,
+                                                       double limit, const char* too_many) {
+  Eigen::Matrix<double, D, 1> count;
+  for (int d = 0; d < D; ++d) {
+    const double c = (hi[d] - lo[d]) / h;
+    count[d] = std::max(1.0, round_up ? std::ceil(c) : std::floor(c));
+  }
+  if (!(count.prod() <= limit)) throw Error(too_many);
+  return {count.template cast<long>(), static_cast<long>(count.prod())};
+}
+
 // Points of the lattice spacing·(i + 1/2) inside [lo, hi], optionally jittered
 // uniformly within their cell.
 template <int D>
 std::vector<Vec<D>> lattice(const Vec<D>& lo, const Vec<D>& hi, double h, bool jitter,
                             std::mt19937_64& rng) {
-  // Counted in double first: a huge shape over a fine spacing overflows long.
-  double cells = 1;
-  for (int d = 0; d < D; ++d) cells *= std::max(1.0, std::floor((hi[d] - lo[d]) / h));
-  if (!(cells <= 100'000'000)) throw Error("the shape holds more than 100 million particles at this spacing");
-  Eigen::Matrix<long, D, 1> n;
-  long total = 1;
-  for (int d = 0; d < D; ++d) {
-    n[d] = std::max(1L, static_cast<long>(std::floor((hi[d] - lo[d]) / h)));
-    total *= n[d];
-  }
+  const auto counts = cell_counts<D>(lo, hi, h, false, 100'000'000,
+                                     "the shape holds more than 100 million particles at this spacing");
+  const Eigen::Matrix<long, D, 1>& n = counts.first;
+  const long total = counts.second;
   std::uniform_real_distribution<double> u(-0.5, 0.5);
   std::vector<Vec<D>> points;
   points.reserve(static_cast<std::size_t>(total));
@@ -54,15 +65,10 @@ template <int D>
 std::vector<Vec<D>> poisson_disk(const Vec<D>& lo, const Vec<D>& hi, double h,
                                  std::mt19937_64& rng) {
   const double cell = h / std::sqrt(static_cast<double>(D));
-  double cells = 1;
-  for (int d = 0; d < D; ++d) cells *= std::max(1.0, std::ceil((hi[d] - lo[d]) / cell));
-  if (!(cells <= 200'000'000)) throw Error("the shape is too large for Poisson-disk sampling at this spacing");
-  Eigen::Matrix<long, D, 1> n;
-  long total = 1;
-  for (int d = 0; d < D; ++d) {
-    n[d] = std::max(1L, static_cast<long>(std::ceil((hi[d] - lo[d]) / cell)));
-    total *= n[d];
-  }
+  const auto counts = cell_counts<D>(lo, hi, cell, true, 200'000'000,
+                                     "the shape is too large for Poisson-disk sampling at this spacing");
+  const Eigen::Matrix<long, D, 1>& n = counts.first;
+  const long total = counts.second;
   std::vector<int> grid(static_cast<std::size_t>(total), -1);
   auto cell_of = [&](const Vec<D>& x, Eigen::Matrix<long, D, 1>& c) {
     for (int d = 0; d < D; ++d)
