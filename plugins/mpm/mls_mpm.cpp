@@ -316,8 +316,15 @@ AdvanceReport Solver<D>::advance(Particles<D>& ps, double seconds,
   double speed = max_signal_speed(ps);
   double t = 0;
   report.dt_min = s_.dt_max;
+  // One rule for the start state and every substep: a NaN or infinite
+  // velocity (or a particle g2p refused) ends the frame with an error.
+  const auto require_finite = [&] {
+    if (diverged_ || !std::isfinite(speed))
+      throw Error("the simulation diverged at " + shortest(t) + " s into the frame (NaN or infinite "
+                  "velocities): lower cfl or dt_max, or the stiffness");
+  };
+  require_finite();
   while (seconds - t > 1e-12 * seconds) {
-    if (!std::isfinite(speed)) throw Error("the simulation diverged (non-finite velocity)");
     const double remaining = seconds - t;
     const double steps = std::ceil(remaining / cfl_dt(speed) - 1e-9);
     const double dt = remaining / std::max(steps, 1.0);
@@ -325,9 +332,7 @@ AdvanceReport Solver<D>::advance(Particles<D>& ps, double seconds,
       throw Error("more than " + std::to_string(s_.max_substeps) + " substeps in one frame (Δt " + shortest(dt) +
                   " s): lower the stiffness or the speeds, or raise max_substeps");
     speed = substep(ps, dt);
-    if (diverged_)
-      throw Error("the simulation diverged at " + shortest(t) + " s into the frame (NaN or infinite "
-                  "grid velocities): lower cfl or dt_max, or the stiffness");
+    require_finite();
     t += dt;
     ++report.substeps;
     report.dt_min = std::min(report.dt_min, dt);
