@@ -137,7 +137,8 @@ Color TypeTraits<Color>::from_json(const json& j) {
     // Colors become float pixels and are scaled by intensities up to 1e12:
     // a bound keeps every product finite (HDR emission needs far less).
     if (std::abs(v) > kColorLimit)
-      throw Error("expected color components between -1e6 and 1e6, got " + describe_json(j));
+      throw Error("expected color components between -" + fmt(kColorLimit) + " and " + fmt(kColorLimit) + ", got " +
+                  describe_json(j));
     c.rgba[static_cast<int>(k)] = v;
   }
   return c;
