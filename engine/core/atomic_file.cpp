@@ -1,44 +1,78 @@
 #include "loom/atomic_file.hpp"
 
-#include <atomic>
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
+#include <memory>
 #include <string>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "loom/error.hpp"
+#include "loom/temporary_file.hpp"
 
 namespace loom {
+namespace fs = std::filesystem;
 
-void write_file_atomic(const std::filesystem::path& path, std::string_view bytes) {
-  namespace fs = std::filesystem;
-  static std::atomic<unsigned> counter{0};
+namespace {
+
+void create_parent(const fs::path& path) {
+  if (!path.has_parent_path()) return;
   std::error_code ec;
-  if (path.has_parent_path()) {
-    fs::create_directories(path.parent_path(), ec);
-    if (ec) throw Error("cannot create folder " + path.parent_path().string() + ": " + ec.message());
+  fs::create_directories(path.parent_path(), ec);
+  if (ec) throw Error("cannot create folder " + path.parent_path().string() + ": " + ec.message());
+}
+
+// Every byte written, flushed to the disk and closed, each step checked: a
+// full disk or a quota shows here, not later as a cut file.
+void write_staging(const TemporaryFile& tmp, std::string_view bytes) {
+  auto fail = [&](int error) {
+    throw Error("cannot write " + tmp.target().string() + ": " + std::strerror(error ? error : EIO));
+  };
+  const int fd = ::open(tmp.path().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  if (fd < 0) fail(errno);
+  std::size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int error = n < 0 ? errno : ENOSPC;
+      ::close(fd);
+      fail(error);
+    }
+    done += static_cast<std::size_t>(n);
   }
-  fs::path tmp = path.parent_path() /
-                 ("." + path.filename().string() + ".tmp" + std::to_string(::getpid()) + "." +
-                  std::to_string(counter++));
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw Error("cannot write " + path.string() + ": " + std::strerror(errno));
-  bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  ok = std::fflush(f) == 0 && ok;
-  ok = ::fsync(::fileno(f)) == 0 && ok;
-  int saved = errno;
-  ok = std::fclose(f) == 0 && ok;
-  if (!ok) {
-    fs::remove(tmp, ec);
-    throw Error("cannot write " + path.string() + ": " + std::strerror(saved ? saved : EIO));
+  if (::fsync(fd) != 0) {
+    const int error = errno;
+    ::close(fd);
+    fail(error);
   }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::string why = ec.message();
-    fs::remove(tmp, ec);
-    throw Error("cannot write " + path.string() + ": " + why);
+  if (::close(fd) != 0) fail(errno);
+}
+
+}  // namespace
+
+void write_file_atomic(const fs::path& path, std::string_view bytes) {
+  create_parent(path);
+  TemporaryFile tmp(path, path.extension().string());
+  write_staging(tmp, bytes);
+  tmp.commit();
+}
+
+void write_files_atomic(const std::vector<std::pair<fs::path, std::string>>& files) {
+  std::vector<std::unique_ptr<TemporaryFile>> staged;
+  for (const auto& [path, bytes] : files) {
+    create_parent(path);
+    staged.push_back(std::make_unique<TemporaryFile>(path, path.extension().string()));
+    write_staging(*staged.back(), bytes);
+  }
+  std::size_t renamed = 0;
+  try {
+    for (; renamed < staged.size(); ++renamed) staged[renamed]->commit();
+  } catch (...) {
+    std::error_code ec;
+    for (std::size_t i = 0; i < renamed; ++i) fs::remove(staged[i]->target(), ec);
+    throw;
   }
 }
 

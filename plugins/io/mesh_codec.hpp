@@ -22,7 +22,7 @@ Mesh read_mesh(const std::filesystem::path& path, MeshNotes* notes = nullptr);
 
 // Writes by extension: .obj (with a .mtl beside it), .ply, .gltf, .glb, .stl.
 // `texture`, when not empty, becomes the material's diffuse map. Each file is
-// made in memory, then written atomically (the .mtl before the .obj), so a
+// made in memory, then all are staged and renamed together (write_files_atomic), so a
 // failing write changes no file. `check_cancelled` runs every 32768 rows while
 // the bytes are made and once more before any file is touched: a cancelled
 // write leaves no file and no temporary file.
