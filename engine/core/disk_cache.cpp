@@ -10,7 +10,9 @@
 #include <dlfcn.h>
 
 #include "loom/atomic_file.hpp"
+#include "loom/error.hpp"
 #include "loom/hash.hpp"
+#include "loom/temporary_file.hpp"
 
 namespace loom {
 namespace fs = std::filesystem;
@@ -46,12 +48,113 @@ std::string hex(std::uint64_t v) {
   return text;
 }
 
-bool is_entry(const fs::path& p) { return p.extension() == kExtension; }
-bool is_temporary(const fs::path& p) { return p.filename().string().rfind('.', 0) == 0; }
+bool is_hex(const std::string& s, std::size_t n) {
+  if (s.size() != n) return false;
+  for (char c : s)
+    if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
+  return true;
+}
+
+// The cache's own files, and nothing else, are ever listed, counted or
+// deleted: <dir>/<2 hex>/<16 hex starting with those 2>.loomcache (entries),
+// and in those folders the staging files of write_file_atomic
+// (".loomtmp-<pid>-<n>.loomcache") or of Loom before them
+// (".<16 hex>.loomcache.tmp<pid>.<n>").
+bool is_entry_name(const std::string& folder, const std::string& name) {
+  const std::size_t ext = std::strlen(kExtension);
+  return name.size() == 16 + ext && name.compare(16, ext, kExtension) == 0 && is_hex(name.substr(0, 16), 16) &&
+         name.compare(0, 2, folder) == 0;
+}
+bool is_staging_file_name(const std::string& name) {
+  if (is_staging_name(name)) return name.size() > std::strlen(kExtension) && name.find(kExtension) != std::string::npos;
+  const std::string legacy = std::string(kExtension) + ".tmp";
+  return name.size() > 17 + legacy.size() && name[0] == '.' && is_hex(name.substr(1, 16), 16) &&
+         name.compare(17, legacy.size(), legacy) == 0;
+}
+
+enum class Kind { entry, staging };
+struct OwnFile {
+  fs::path path;
+  Kind kind;
+};
+
+// Walks only the cache's layout: real folders named by 2 hex digits, and in
+// them regular files (never links) with the cache's names.
+std::vector<OwnFile> own_files(const fs::path& dir) {
+  std::vector<OwnFile> files;
+  std::error_code ec;
+  for (fs::directory_iterator top(dir, ec), end; !ec && top != end; top.increment(ec)) {
+    std::error_code e;
+    const std::string folder = top->path().filename().string();
+    if (!is_hex(folder, 2) || !fs::is_directory(top->symlink_status(e))) continue;
+    for (fs::directory_iterator it(top->path(), e); !e && it != end; it.increment(e)) {
+      std::error_code f;
+      if (!fs::is_regular_file(it->symlink_status(f))) continue;
+      const std::string name = it->path().filename().string();
+      if (is_entry_name(folder, name)) files.push_back({it->path(), Kind::entry});
+      else if (is_staging_file_name(name)) files.push_back({it->path(), Kind::staging});
+    }
+  }
+  return files;
+}
+
+// The cache folder's tag (https://bford.info/cachedir/): marks it as Loom's,
+// and tells backup tools to skip it.
+constexpr const char* kTagName = "CACHEDIR.TAG";
+constexpr const char* kTagText =
+    "Signature: 8a477f597d28d172789f06886806bc55\n"
+    "# This file is a cache directory tag created by Loom (loom run --cache).\n"
+    "# For information about cache directory tags, see https://bford.info/cachedir/\n";
+
+bool has_tag(const fs::path& dir) {
+  std::ifstream in(dir / kTagName, std::ios::binary);
+  std::string first(43, '\0');
+  return in.read(first.data(), 43) && first == "Signature: 8a477f597d28d172789f06886806bc55";
+}
+
+// A folder Loom may use: missing, empty, tagged, or (a cache made before the
+// tag) holding nothing but the cache's layout. Anything else is refused
+// before a single file in it is touched.
+void claim_folder(const fs::path& dir) {
+  std::error_code ec;
+  const auto status = fs::status(dir, ec);
+  if (status.type() == fs::file_type::not_found) {
+    fs::create_directories(dir, ec);
+  } else if (!fs::is_directory(status) || has_tag(dir)) {
+    return;  // a file or an unreadable path: stores fail quietly, as on a full disk
+  } else {
+    std::string stranger;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end && stranger.empty(); it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      std::error_code e;
+      if (!is_hex(name, 2) || !fs::is_directory(it->symlink_status(e))) { stranger = name; break; }
+      for (fs::directory_iterator f(it->path(), e); !e && f != end; f.increment(e)) {
+        const std::string file = f->path().filename().string();
+        std::error_code g;
+        if (!fs::is_regular_file(f->symlink_status(g)) || (!is_entry_name(name, file) && !is_staging_file_name(file))) {
+          stranger = name + "/" + file;
+          break;
+        }
+      }
+    }
+    if (ec) return;  // unreadable: nothing will be stored or deleted there either
+    if (!stranger.empty())
+      throw Error("the cache folder " + dir.string() + " is not a Loom cache: it holds " + stranger +
+                  " and no " + kTagName + ". Loom keeps its cache only in an empty folder or one of its own "
+                  "(it deletes old entries); choose another --cache folder");
+  }
+  try {
+    write_file_atomic(dir / kTagName, kTagText);
+  } catch (const Error&) {
+    // a read-only folder: nothing will be stored, so nothing needs the tag
+  }
+}
 
 }  // namespace
 
-DiskCache::DiskCache(Options options) : options_(std::move(options)), engine_build_(engine_build()) {}
+DiskCache::DiskCache(Options options) : options_(std::move(options)), engine_build_(engine_build()) {
+  claim_folder(options_.dir);
+}
 
 fs::path DiskCache::default_dir() {
   if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return fs::path(xdg) / "loom";
@@ -172,11 +275,12 @@ std::uint64_t DiskCache::store(std::uint64_t key, const std::vector<Value>& valu
 
 DiskCache::Stats DiskCache::stats() const {
   Stats s;
-  std::error_code ec;
-  for (fs::recursive_directory_iterator it(options_.dir, ec), end; !ec && it != end; it.increment(ec)) {
-    if (!it->is_regular_file(ec) || !is_entry(it->path()) || is_temporary(it->path())) continue;
+  for (const OwnFile& f : own_files(options_.dir)) {
+    std::error_code ec;
+    const auto size = fs::file_size(f.path, ec);
+    if (f.kind != Kind::entry || ec) continue;
     ++s.entries;
-    s.bytes += it->file_size(ec);
+    s.bytes += size;
   }
   return s;
 }
@@ -190,19 +294,16 @@ void DiskCache::trim() {
   std::vector<Entry> entries;
   std::uint64_t total = 0;
   const auto stale = fs::file_time_type::clock::now() - std::chrono::hours(1);
-  std::error_code ec;
-  for (fs::recursive_directory_iterator it(options_.dir, ec), end; !ec && it != end; it.increment(ec)) {
+  for (const OwnFile& f : own_files(options_.dir)) {
     std::error_code e;
-    if (!it->is_regular_file(e)) continue;
-    const auto time = it->last_write_time(e);
-    if (is_temporary(it->path())) {  // a writer killed before its rename
-      if (!e && time < stale) fs::remove(it->path(), e);
+    const auto time = fs::last_write_time(f.path, e);
+    if (f.kind == Kind::staging) {  // a writer killed before its rename
+      if (!e && time < stale) fs::remove(f.path, e);
       continue;
     }
-    if (!is_entry(it->path())) continue;
-    const auto size = it->file_size(e);
+    const auto size = fs::file_size(f.path, e);
     if (e) continue;
-    entries.push_back({it->path(), time, size});
+    entries.push_back({f.path, time, size});
     total += size;
   }
   if (total <= options_.max_bytes) return;
@@ -217,10 +318,7 @@ void DiskCache::trim() {
 
 void DiskCache::clear() {
   std::error_code ec;
-  std::vector<fs::path> doomed;
-  for (fs::recursive_directory_iterator it(options_.dir, ec), end; !ec && it != end; it.increment(ec))
-    if (it->is_regular_file(ec) && (is_entry(it->path()) || is_temporary(it->path()))) doomed.push_back(it->path());
-  for (const auto& p : doomed) fs::remove(p, ec);
+  for (const OwnFile& f : own_files(options_.dir)) fs::remove(f.path, ec);
 }
 
 }  // namespace loom
