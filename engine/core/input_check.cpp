@@ -1,4 +1,5 @@
 #include "input_check.hpp"
+#include "output_confinement.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -87,6 +88,7 @@ std::string resolve_output_path(const std::string& path, const fs::path& output_
   if (!allow_outside && (rel.empty() || *rel.begin() == ".."))
     throw Error("output path \"" + path + "\" leaves the output folder: \"..\" may not climb out of --out; "
                 "run with --allow-outside-out to write elsewhere");
+  if (!allow_outside) require_inside_real_output(resolved, output_dir, path);
   return resolved.string();
 }
 
