@@ -3,7 +3,6 @@
 // Exit codes: 0 success; 1 a node failed (other outputs still written);
 // 2 invalid graph or usage; 3 plugin load error; 130 interrupted.
 #include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -19,16 +18,13 @@
 #include "new_plugin.hpp"
 #include "node_reference.hpp"
 #include "progress.hpp"
+#include "signals.hpp"
 
 namespace {
 
 enum Exit { kOk = 0, kNodeFailed = 1, kInvalid = 2, kPluginError = 3, kInterrupted = 130 };
 
 std::atomic<bool> g_cancel{false};
-
-extern "C" void on_interrupt(int) {
-  if (g_cancel.exchange(true)) std::_Exit(kInterrupted);  // second Ctrl-C: leave now
-}
 
 // Where the persistent cache lives and how it behaves (`--cache`, `--no-cache`).
 struct CacheSettings {
@@ -109,7 +105,12 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   }
   std::optional<loom::DiskCache> disk;
   if (!cache.disabled) {
-    disk.emplace(cache.options());
+    try {
+      disk.emplace(cache.options());
+    } catch (const loom::Error& e) {  // a folder that is not a Loom cache
+      std::cerr << "error: " << e.what() << "\n";
+      return kInvalid;
+    }
     options.disk_cache = &*disk;
   }
   for (const auto& t : targets) options.targets.push_back(loom::parse_target(t));
@@ -127,8 +128,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
                 << " has no sink nodes (e.g. SaveImage): nothing to run; name outputs with --target\n";
   }
 
-  std::signal(SIGINT, on_interrupt);
-  std::signal(SIGTERM, on_interrupt);
+  loom::runner::stop_on_signals(g_cancel);
   loom::EvalResult result;
   try {
     result = loom::Session(registry).evaluate(graph, options);
@@ -192,7 +192,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   return result.ok() ? kOk : kNodeFailed;
 }
 
-int cmd_cache(const std::string& action, const CacheSettings& settings) {
+int cmd_cache(const std::string& action, const CacheSettings& settings) try {
   loom::DiskCache cache(settings.options());
   if (action == "clear") {
     cache.clear();
@@ -204,6 +204,9 @@ int cmd_cache(const std::string& action, const CacheSettings& settings) {
               cache.options().dir.c_str(), static_cast<unsigned long long>(stats.entries),
               static_cast<double>(stats.bytes) / (1024.0 * 1024.0), settings.limit_mb);
   return kOk;
+} catch (const loom::Error& e) {
+  std::cerr << "error: " << e.what() << "\n";
+  return kInvalid;
 }
 
 int cmd_validate(const std::string& graph_path) {

@@ -1,0 +1,54 @@
+#include "signals.hpp"
+
+#include <csignal>
+#include <cstring>
+
+#include <unistd.h>
+
+#include "loom/temporary_file.hpp"
+
+namespace loom::runner {
+namespace {
+
+constexpr int kInterrupted = 130;
+std::atomic<bool>* g_cancel = nullptr;
+
+void say(const char* text) {
+  const ssize_t ignored = ::write(STDERR_FILENO, text, std::strlen(text));
+  (void)ignored;
+}
+
+// Only async-signal-safe calls below: unlink (inside remove_temporary_files),
+// write, alarm, _exit.
+extern "C" void leave_now(int) {
+  loom::remove_temporary_files();
+  _exit(kInterrupted);
+}
+
+extern "C" void on_alarm(int) {
+  say("loom: the run did not stop within 5 s of the signal: leaving without it\n");
+  leave_now(SIGALRM);
+}
+
+extern "C" void on_stop_signal(int) {
+  if (g_cancel->exchange(true)) leave_now(0);  // the second signal: leave now
+  ::alarm(kGraceSeconds);
+}
+
+void handle(int signal, void (*handler)(int)) {
+  struct sigaction action {};
+  action.sa_handler = handler;
+  sigemptyset(&action.sa_mask);
+  ::sigaction(signal, &action, nullptr);
+}
+
+}  // namespace
+
+void stop_on_signals(std::atomic<bool>& cancel) {
+  g_cancel = &cancel;
+  for (int s : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) handle(s, on_stop_signal);
+  handle(SIGALRM, on_alarm);
+  handle(SIGXFSZ, SIG_IGN);
+}
+
+}  // namespace loom::runner
