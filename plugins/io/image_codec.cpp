@@ -8,7 +8,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "image_header.hpp"
+#include "loom/formats/image_header.hpp"
+#include "loom/formats/regular_file.hpp"
 #include "loom/atomic_file.hpp"
 
 namespace loom::io {
@@ -18,9 +19,6 @@ namespace {
 // OpenCV reads OpenEXR only when asked to, through this variable, which it
 // reads on first use: set it when the plugin loads, before any decoding.
 const bool kExrEnabled = ::setenv("OPENCV_IO_ENABLE_OPENEXR", "1", 0) == 0;
-// OpenCV's own limit, for any format whose header Loom does not read.
-const bool kPixelLimitSet =
-    ::setenv("OPENCV_IO_MAX_IMAGE_PIXELS", std::to_string(kDefaultMaxImagePixels).c_str(), 0) == 0;
 
 std::string extension(const std::filesystem::path& path) {
   std::string e = path.extension().string();
@@ -40,22 +38,12 @@ void swap_red_blue(cv::Mat& m) {
 
 Image read_image(const std::filesystem::path& path, Decode decode, std::uint64_t max_pixels) {
   (void)kExrEnabled;
-  (void)kPixelLimitSet;
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw Error("cannot read image " + path.string() + ": no such file");
+  formats::require_regular_file(path, "image");
   std::ifstream in(path, std::ios::binary);
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.empty()) throw Error("cannot decode image " + path.string() + ": the file is empty");
-  if (auto size = declared_image_size(std::string_view(bytes.data(), bytes.size()))) {
-    if (size->width == 0 || size->height == 0)
-      throw Error("cannot decode image " + path.string() + ": its header declares a " +
-                  std::to_string(size->width) + "×" + std::to_string(size->height) + " image");
-    if (size->width > max_pixels / size->height)
-      throw Error("cannot decode image " + path.string() + ": its header declares " + std::to_string(size->width) +
-                  "×" + std::to_string(size->height) + " pixels, more than the limit of " +
-                  std::to_string(max_pixels) + " (LoadImage's max_pixels)");
-  }
+  formats::require_declared_pixels_within(std::string_view(bytes.data(), bytes.size()), path.string(), max_pixels,
+                                          "LoadImage's max_pixels");
   cv::Mat m;
   try {
     m = cv::imdecode(bytes, cv::IMREAD_UNCHANGED | cv::IMREAD_ANYDEPTH | cv::IMREAD_ANYCOLOR);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string>
 
+#include "loom/formats/image_header.hpp"
 #include "loom/image.hpp"
 
 namespace loom::io {
@@ -13,8 +14,8 @@ enum class Decode { linear, keep };
 enum class Depth { u8, u16, f32 };
 
 // Images whose header declares more pixels than this are refused before
-// decoding (a decompression bomb): 2^28, e.g. 16384 × 16384.
-constexpr std::uint64_t kDefaultMaxImagePixels = std::uint64_t(1) << 28;
+// decoding (a decompression bomb).
+constexpr std::uint64_t kDefaultMaxImagePixels = formats::kDefaultMaxImagePixels;
 
 // 8- and 16-bit files hold sRGB-encoded values: `linear` decodes them and tags
 // the image linear; `keep` keeps the encoded values and tags it sRGB. Float

@@ -6,12 +6,13 @@
 #include <memory>
 
 #include <assimp/Exporter.hpp>
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
+#include "loom/formats/assimp_import.hpp"
+#include "loom/formats/regular_file.hpp"
 
 namespace loom::io {
 
@@ -26,30 +27,29 @@ std::string lower_extension(const fs::path& path) {
 }
 
 // Formats without indices of their own (STL) or with several meshes (glTF,
-// FBX, ...) through assimp, each primitive's vertex list as it is.
+// FBX, ...) through assimp (loom/formats/assimp_import.hpp: nothing joined,
+// indices checked), each primitive's vertex list as it is, one after another.
+// UVs, normals and colors are kept when every primitive has them.
 Mesh read_with_assimp(const fs::path& path, MeshNotes& notes) {
   Assimp::Importer importer;
-  // No JoinIdenticalVertices: it welds the two sides of a cut. The data
-  // structure is validated before anything else reads it.
-  const aiScene* scene = importer.ReadFile(
-      path.string(), aiProcess_ValidateDataStructure | aiProcess_Triangulate |
-                         aiProcess_PreTransformVertices | aiProcess_SortByPType);
-  if (!scene || !scene->mRootNode)
-    throw Error("cannot read mesh " + path.string() + ": " + importer.GetErrorString());
-
-  Eigen::Index nv = 0, nf = 0;
-  bool uv = true, normals = true, colors = true;
+  const aiScene* scene = formats::import_scene(importer, path, aiProcess_PreTransformVertices);
+  std::vector<Mesh> parts;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
     const aiMesh* a = scene->mMeshes[m];
     if (!(a->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) {
       notes.dropped_primitives += static_cast<int>(a->mNumFaces);
       continue;
     }
-    nv += a->mNumVertices;
-    nf += a->mNumFaces;
-    uv = uv && a->HasTextureCoords(0);
-    normals = normals && a->HasNormals();
-    colors = colors && a->HasVertexColors(0);
+    parts.push_back(formats::mesh_from_assimp(*a, path.string()));
+  }
+  Eigen::Index nv = 0, nf = 0;
+  bool uv = true, normals = true, colors = true;
+  for (const Mesh& p : parts) {
+    nv += p.vertices();
+    nf += p.faces();
+    uv = uv && p.has_uv();
+    normals = normals && p.has_normals();
+    colors = colors && p.has_colors();
   }
   if (nf == 0) throw Error(path.string() + " has no triangles");
   Mesh mesh;
@@ -59,26 +59,14 @@ Mesh read_with_assimp(const fs::path& path, MeshNotes& notes) {
   if (normals) mesh.N.resize(nv, 3);
   if (colors) mesh.C.resize(nv, 3);
   Eigen::Index v0 = 0, f0 = 0;
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-    const aiMesh* a = scene->mMeshes[m];
-    if (!(a->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-    for (unsigned i = 0; i < a->mNumVertices; ++i) {
-      const auto& p = a->mVertices[i];
-      mesh.V.row(v0 + i) << p.x, p.y, p.z;
-      if (uv) mesh.UV.row(v0 + i) << a->mTextureCoords[0][i].x, a->mTextureCoords[0][i].y;
-      if (normals) mesh.N.row(v0 + i) << a->mNormals[i].x, a->mNormals[i].y, a->mNormals[i].z;
-      if (colors) mesh.C.row(v0 + i) << a->mColors[0][i].r, a->mColors[0][i].g, a->mColors[0][i].b;
-    }
-    for (unsigned f = 0; f < a->mNumFaces; ++f) {
-      const aiFace& face = a->mFaces[f];
-      if (face.mNumIndices != 3) throw Error(path.string() + ": a face is not a triangle after triangulation");
-      for (int k = 0; k < 3; ++k) {
-        if (face.mIndices[k] >= a->mNumVertices) throw Error(path.string() + ": a face index is out of range");
-        mesh.F(f0 + f, k) = static_cast<int>(v0 + face.mIndices[k]);
-      }
-    }
-    v0 += a->mNumVertices;
-    f0 += a->mNumFaces;
+  for (const Mesh& p : parts) {
+    mesh.V.middleRows(v0, p.vertices()) = p.V;
+    if (uv) mesh.UV.middleRows(v0, p.vertices()) = p.UV;
+    if (normals) mesh.N.middleRows(v0, p.vertices()) = p.N;
+    if (colors) mesh.C.middleRows(v0, p.vertices()) = p.C;
+    mesh.F.middleRows(f0, p.faces()) = p.F.array() + static_cast<int>(v0);
+    v0 += p.vertices();
+    f0 += p.faces();
   }
   return mesh;
 }
@@ -106,8 +94,7 @@ void require_finite_attributes(const Mesh& mesh, const std::string& what) {
 }  // namespace
 
 Mesh read_mesh(const fs::path& path, MeshNotes* notes) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw Error("cannot read mesh " + path.string() + ": no such file");
+  formats::require_regular_file(path, "mesh");
   MeshNotes local;
   MeshNotes& n = notes ? *notes : local;
   const std::string ext = lower_extension(path), name = path.string();
@@ -324,7 +311,7 @@ void write_mesh(const Mesh& mesh, const fs::path& path, const std::string& textu
   }
   // One check between files as well; a cancelled write has written nothing.
   if (check_cancelled) check_cancelled();
-  for (const auto& [file, bytes] : files) write_file_atomic(file, bytes);
+  write_files_atomic(files);
 }
 
 }  // namespace loom::io

@@ -4,19 +4,22 @@
 // roughness, metallic -> conductor, transmission -> dielectric, emission),
 // and the file's lights and first camera.
 #include <assimp/GltfMaterial.h>
-#include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
-#include <assimp/scene.h>
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <optional>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "loom/formats/assimp_import.hpp"
+#include "loom/formats/image_header.hpp"
+#include "loom/formats/regular_file.hpp"
 #include "loom/image.hpp"
 #include "loom/plugin.hpp"
 #include "loom/scene.hpp"
@@ -53,18 +56,11 @@ class Textures {
     auto it = cache_.find(key);
     if (it != cache_.end()) return it->second;
     cv::Mat raw;
-    if (const aiTexture* embedded = scene_->GetEmbeddedTexture(path.C_Str())) {
-      if (embedded->mHeight == 0) {
-        const cv::Mat bytes(1, static_cast<int>(embedded->mWidth), CV_8UC1, embedded->pcData);
-        raw = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
-      } else {
-        const cv::Mat bgra(static_cast<int>(embedded->mHeight), static_cast<int>(embedded->mWidth), CV_8UC4,
-                           embedded->pcData);  // aiTexel is b, g, r, a
-        raw = bgra.clone();
-      }
-    } else {
-      const fs::path file = folder_ / fs::path(path.C_Str());
-      raw = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+    try {
+      raw = decode(path.C_Str());
+    } catch (const loom::Error& e) {
+      ctx.warn(std::string(e.what()) + ": the material goes without it");
+      return cache_[key] = nullptr;
     }
     if (raw.empty()) {
       ctx.warn(std::string("texture ") + path.C_Str() + " could not be read: the material goes without it");
@@ -87,6 +83,33 @@ class Textures {
   }
 
  private:
+  // The texture's pixels as OpenCV decodes them, after its header's size is
+  // checked against the pixel limit (a small file may declare a huge image)
+  // and, for a file, after it is known to be a regular one (a FIFO blocks).
+  cv::Mat decode(const std::string& name) const {
+    const std::string limit = "LoadScene's texture limit";
+    if (const aiTexture* embedded = scene_->GetEmbeddedTexture(name.c_str())) {
+      if (embedded->mHeight == 0) {
+        const std::string_view bytes(reinterpret_cast<const char*>(embedded->pcData), embedded->mWidth);
+        loom::formats::require_declared_pixels_within(bytes, "texture " + name, loom::formats::kDefaultMaxImagePixels, limit);
+        return cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, embedded->pcData), cv::IMREAD_UNCHANGED);
+      }
+      const cv::Mat bgra(static_cast<int>(embedded->mHeight), static_cast<int>(embedded->mWidth), CV_8UC4,
+                         embedded->pcData);  // aiTexel is b, g, r, a
+      return bgra.clone();
+    }
+    const fs::path file = folder_ / fs::path(name);
+    loom::formats::require_regular_file(file, "texture");
+    std::string head(kHeaderBytes, '\0');
+    std::ifstream in(file, std::ios::binary);
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    loom::formats::require_declared_pixels_within(head, "texture " + file.string(), loom::formats::kDefaultMaxImagePixels,
+                                                  limit);
+    return cv::imread(file.string(), cv::IMREAD_UNCHANGED);
+  }
+
+  static constexpr std::size_t kHeaderBytes = 1 << 18;  // enough for every header Loom reads but a late TIFF IFD
   const aiScene* scene_;
   fs::path folder_;
   std::map<std::string, std::shared_ptr<const loom::Image>> cache_;
@@ -126,6 +149,93 @@ loom::Material material_of(const aiMaterial* m, Textures& textures, double bump_
   return out;
 }
 
+// Every triangle mesh of the file by assimp's index (null for the others),
+// each with its own vertex list (io's policy: a cut stays cut).
+std::vector<std::shared_ptr<const loom::Mesh>> triangle_meshes(const aiScene& ai) {
+  std::vector<std::shared_ptr<const loom::Mesh>> meshes(ai.mNumMeshes);
+  for (unsigned i = 0; i < ai.mNumMeshes; ++i) {
+    const aiMesh* a = ai.mMeshes[i];
+    if (!(a->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || a->mNumFaces == 0) continue;
+    auto m = std::make_shared<loom::Mesh>(loom::formats::mesh_from_assimp(*a, a->mName.C_Str()));
+    if (m->has_normals() && !m->N.allFinite()) m->N.resize(0, 3);
+    loom::require_valid(*m, a->mName.C_Str());
+    meshes[i] = std::move(m);
+  }
+  return meshes;
+}
+
+// Depth-first over the node tree, accumulating transforms: one object per
+// (node, triangle mesh). Returns every node's world transform by name.
+std::map<std::string, Eigen::Matrix4d> place_objects(const aiScene& ai,
+                                                     const std::vector<std::shared_ptr<const loom::Mesh>>& meshes,
+                                                     const std::vector<loom::Material>& materials, loom::Scene& scene) {
+  std::map<std::string, Eigen::Matrix4d> transforms;
+  std::vector<std::pair<const aiNode*, Eigen::Matrix4d>> stack{{ai.mRootNode, Eigen::Matrix4d::Identity()}};
+  while (!stack.empty()) {
+    auto [node, parent] = stack.back();
+    stack.pop_back();
+    const Eigen::Matrix4d world = parent * to_eigen(node->mTransformation);
+    transforms[node->mName.C_Str()] = world;
+    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+      const unsigned index = node->mMeshes[k];
+      if (!meshes[index]) continue;
+      loom::SceneObject o;
+      o.name = node->mName.length ? node->mName.C_Str() : ai.mMeshes[index]->mName.C_Str();
+      o.mesh = meshes[index];
+      o.material = materials.at(ai.mMeshes[index]->mMaterialIndex);
+      o.transform = world;
+      scene.objects.push_back(std::move(o));
+    }
+    for (unsigned c = 0; c < node->mNumChildren; ++c) stack.emplace_back(node->mChildren[c], world);
+  }
+  return transforms;
+}
+
+// A point, spot or directional light placed by its node's transform T.
+std::optional<loom::Light> light_of(const aiLight& a, const Eigen::Matrix4d& T, loom::Context& ctx) {
+  loom::Light l;
+  if (a.mType == aiLightSource_POINT)
+    l.kind = loom::Light::Kind::point;
+  else if (a.mType == aiLightSource_SPOT)
+    l.kind = loom::Light::Kind::spot;
+  else if (a.mType == aiLightSource_DIRECTIONAL)
+    l.kind = loom::Light::Kind::directional;
+  else {
+    ctx.warn(std::string("light ") + a.mName.C_Str() + " is of a kind Loom does not draw: skipped");
+    return std::nullopt;
+  }
+  l.position = (T * Eigen::Vector4d(a.mPosition.x, a.mPosition.y, a.mPosition.z, 1)).head<3>();
+  Eigen::Vector3d d = T.topLeftCorner<3, 3>() * Eigen::Vector3d(a.mDirection.x, a.mDirection.y, a.mDirection.z);
+  if (d.norm() > 0) l.direction = d.normalized();
+  const Eigen::Vector3d color(a.mColorDiffuse.r, a.mColorDiffuse.g, a.mColorDiffuse.b);
+  l.intensity = std::max(color.maxCoeff(), 0.0);
+  l.color = l.intensity > 0 ? Eigen::Vector3d(color / l.intensity) : Eigen::Vector3d(1, 1, 1);
+  if (l.kind == loom::Light::Kind::spot) {
+    l.spot_outer = std::clamp<double>(a.mAngleOuterCone, 1e-3, 3.1);
+    l.spot_inner = std::clamp<double>(a.mAngleInnerCone, 0, l.spot_outer);
+  }
+  return l;
+}
+
+// The file's camera placed by its node's transform T; none when its look or
+// up direction is zero.
+std::optional<loom::Camera> camera_of(const aiCamera& a, const Eigen::Matrix4d& T) {
+  const Eigen::Vector3d eye = (T * Eigen::Vector4d(a.mPosition.x, a.mPosition.y, a.mPosition.z, 1)).head<3>();
+  const Eigen::Vector3d look = T.topLeftCorner<3, 3>() * Eigen::Vector3d(a.mLookAt.x, a.mLookAt.y, a.mLookAt.z);
+  const Eigen::Vector3d up = T.topLeftCorner<3, 3>() * Eigen::Vector3d(a.mUp.x, a.mUp.y, a.mUp.z);
+  if (!(look.norm() > 0 && up.norm() > 0)) return std::nullopt;
+  loom::Camera c;
+  c.eye = eye;
+  c.target = eye + look.normalized();
+  c.up = up.normalized();
+  // assimp gives the horizontal half angle; Loom's camera the vertical full one.
+  const double aspect = a.mAspect > 0 ? a.mAspect : 1.0;
+  if (a.mHorizontalFOV > 0) c.fov_y = 2 * std::atan(std::tan(a.mHorizontalFOV) / aspect);
+  if (a.mClipPlaneNear > 0) c.near_plane = a.mClipPlaneNear;
+  if (a.mClipPlaneFar > c.near_plane) c.far_plane = a.mClipPlaneFar;
+  return c;
+}
+
 struct LoadScene {
   static constexpr const char* name = "LoadScene";
   static void declare(loom::NodeSpec& s) {
@@ -141,110 +251,22 @@ struct LoadScene {
 
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     const fs::path path = in.get<std::string>("path");
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) throw loom::Error("cannot read scene " + path.string() + ": no such file");
     Assimp::Importer importer;
-    const aiScene* ai = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                                                             aiProcess_SortByPType | aiProcess_GenSmoothNormals);
-    if (!ai || !ai->mRootNode) throw loom::Error("cannot read scene " + path.string() + ": " + importer.GetErrorString());
+    const aiScene* ai = loom::formats::import_scene(importer, path, aiProcess_GenSmoothNormals);
     Textures textures(ai, path.parent_path());
     std::vector<loom::Material> materials;
     for (unsigned i = 0; i < ai->mNumMaterials; ++i)
       materials.push_back(material_of(ai->mMaterials[i], textures, in.get<double>("bump_scale"), ctx));
-    std::vector<std::shared_ptr<const loom::Mesh>> meshes(ai->mNumMeshes);
-    for (unsigned i = 0; i < ai->mNumMeshes; ++i) {
-      const aiMesh* a = ai->mMeshes[i];
-      if (!(a->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || a->mNumFaces == 0) continue;
-      auto m = std::make_shared<loom::Mesh>();
-      const int n = static_cast<int>(a->mNumVertices);
-      m->V.resize(n, 3);
-      if (a->HasNormals()) m->N.resize(n, 3);
-      if (a->HasTextureCoords(0)) m->UV.resize(n, 2);
-      if (a->HasVertexColors(0)) m->C.resize(n, 3);
-      for (int v = 0; v < n; ++v) {
-        m->V.row(v) << a->mVertices[v].x, a->mVertices[v].y, a->mVertices[v].z;
-        if (a->HasNormals()) m->N.row(v) << a->mNormals[v].x, a->mNormals[v].y, a->mNormals[v].z;
-        if (a->HasTextureCoords(0)) m->UV.row(v) << a->mTextureCoords[0][v].x, a->mTextureCoords[0][v].y;
-        if (a->HasVertexColors(0)) m->C.row(v) << a->mColors[0][v].r, a->mColors[0][v].g, a->mColors[0][v].b;
-      }
-      m->F.resize(a->mNumFaces, 3);
-      for (unsigned f = 0; f < a->mNumFaces; ++f)
-        m->F.row(f) << a->mFaces[f].mIndices[0], a->mFaces[f].mIndices[1], a->mFaces[f].mIndices[2];
-      if (m->has_normals() && !m->N.allFinite()) m->N.resize(0, 3);
-      loom::require_valid(*m, a->mName.C_Str());
-      meshes[i] = m;
-    }
     loom::Scene scene;
-    std::map<std::string, Eigen::Matrix4d> node_transforms;
-    // Depth-first over the node tree, accumulating transforms.
-    std::vector<std::pair<const aiNode*, Eigen::Matrix4d>> stack{{ai->mRootNode, Eigen::Matrix4d::Identity()}};
-    while (!stack.empty()) {
-      auto [node, parent] = stack.back();
-      stack.pop_back();
-      const Eigen::Matrix4d world = parent * to_eigen(node->mTransformation);
-      node_transforms[node->mName.C_Str()] = world;
-      for (unsigned k = 0; k < node->mNumMeshes; ++k) {
-        const unsigned index = node->mMeshes[k];
-        if (!meshes[index]) continue;
-        loom::SceneObject o;
-        o.name = node->mName.length ? node->mName.C_Str() : ai->mMeshes[index]->mName.C_Str();
-        o.mesh = meshes[index];
-        o.material = materials.at(ai->mMeshes[index]->mMaterialIndex);
-        o.transform = world;
-        scene.objects.push_back(std::move(o));
-      }
-      for (unsigned c = 0; c < node->mNumChildren; ++c) stack.emplace_back(node->mChildren[c], world);
-    }
+    const auto transforms = place_objects(*ai, triangle_meshes(*ai), materials, scene);
     if (scene.objects.empty()) throw loom::Error(path.string() + " has no triangle meshes");
     auto placed = [&](const aiString& node_name) {
-      auto it = node_transforms.find(node_name.C_Str());
-      return it == node_transforms.end() ? Eigen::Matrix4d(Eigen::Matrix4d::Identity()) : it->second;
+      auto it = transforms.find(node_name.C_Str());
+      return it == transforms.end() ? Eigen::Matrix4d(Eigen::Matrix4d::Identity()) : it->second;
     };
-    for (unsigned i = 0; i < ai->mNumLights; ++i) {
-      const aiLight* a = ai->mLights[i];
-      loom::Light l;
-      if (a->mType == aiLightSource_POINT)
-        l.kind = loom::Light::Kind::point;
-      else if (a->mType == aiLightSource_SPOT)
-        l.kind = loom::Light::Kind::spot;
-      else if (a->mType == aiLightSource_DIRECTIONAL)
-        l.kind = loom::Light::Kind::directional;
-      else {
-        ctx.warn(std::string("light ") + a->mName.C_Str() + " is of a kind Loom does not draw: skipped");
-        continue;
-      }
-      const Eigen::Matrix4d T = placed(a->mName);
-      l.position = (T * Eigen::Vector4d(a->mPosition.x, a->mPosition.y, a->mPosition.z, 1)).head<3>();
-      Eigen::Vector3d d = T.topLeftCorner<3, 3>() * Eigen::Vector3d(a->mDirection.x, a->mDirection.y, a->mDirection.z);
-      if (d.norm() > 0) l.direction = d.normalized();
-      const Eigen::Vector3d color(a->mColorDiffuse.r, a->mColorDiffuse.g, a->mColorDiffuse.b);
-      l.intensity = std::max(color.maxCoeff(), 0.0);
-      l.color = l.intensity > 0 ? Eigen::Vector3d(color / l.intensity) : Eigen::Vector3d(1, 1, 1);
-      if (l.kind == loom::Light::Kind::spot) {
-        l.spot_outer = std::clamp<double>(a->mAngleOuterCone, 1e-3, 3.1);
-        l.spot_inner = std::clamp<double>(a->mAngleInnerCone, 0, l.spot_outer);
-      }
-      scene.lights.push_back(l);
-    }
-    if (ai->mNumCameras > 0) {
-      const aiCamera* a = ai->mCameras[0];
-      const Eigen::Matrix4d T = placed(a->mName);
-      loom::Camera c;
-      const Eigen::Vector3d eye = (T * Eigen::Vector4d(a->mPosition.x, a->mPosition.y, a->mPosition.z, 1)).head<3>();
-      const Eigen::Vector3d look = T.topLeftCorner<3, 3>() * Eigen::Vector3d(a->mLookAt.x, a->mLookAt.y, a->mLookAt.z);
-      const Eigen::Vector3d up = T.topLeftCorner<3, 3>() * Eigen::Vector3d(a->mUp.x, a->mUp.y, a->mUp.z);
-      if (look.norm() > 0 && up.norm() > 0) {
-        c.eye = eye;
-        c.target = eye + look.normalized();
-        c.up = up.normalized();
-        // assimp gives the horizontal half angle; Loom's camera the vertical full one.
-        const double aspect = a->mAspect > 0 ? a->mAspect : 1.0;
-        if (a->mHorizontalFOV > 0) c.fov_y = 2 * std::atan(std::tan(a->mHorizontalFOV) / aspect);
-        if (a->mClipPlaneNear > 0) c.near_plane = a->mClipPlaneNear;
-        if (a->mClipPlaneFar > c.near_plane) c.far_plane = a->mClipPlaneFar;
-        scene.camera = c;
-      }
-    }
+    for (unsigned i = 0; i < ai->mNumLights; ++i)
+      if (auto light = light_of(*ai->mLights[i], placed(ai->mLights[i]->mName), ctx)) scene.lights.push_back(*light);
+    if (ai->mNumCameras > 0) scene.camera = camera_of(*ai->mCameras[0], placed(ai->mCameras[0]->mName));
     loom::require_valid(scene, "scene");
     out.set("scene", std::move(scene));
   }

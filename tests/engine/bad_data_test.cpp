@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "image_codec.hpp"
-#include "image_header.hpp"
+#include "loom/formats/image_header.hpp"
 #include "loom_test.hpp"
 #include "mesh_codec.hpp"
 
@@ -47,7 +47,7 @@ TEST(BadData, HeadersAreReadBeforeDecoding) {
   io::write_image(gradient(), dir / "a.hdr", io::Depth::f32);
   io::write_image(gradient(), dir / "a.tif", io::Depth::u16);
   for (const std::string name : {"a.png", "a.jpg", "a.bmp", "a.exr", "a.hdr", "a.tif"}) {
-    auto size = io::declared_image_size(read_all(dir / name));
+    auto size = formats::declared_image_size(read_all(dir / name));
     ASSERT_TRUE(size) << name;
     EXPECT_EQ(size->width, 96u) << name;
     EXPECT_EQ(size->height, 64u) << name;

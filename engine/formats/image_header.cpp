@@ -1,11 +1,13 @@
-#include "image_header.hpp"
+#include "loom/formats/image_header.hpp"
 
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 
-namespace loom::io {
+#include "loom/error.hpp"
+
+namespace loom::formats {
 
 namespace {
 
@@ -132,4 +134,26 @@ std::optional<ImageSize> declared_image_size(std::string_view b) {
   return std::nullopt;
 }
 
-}  // namespace loom::io
+namespace {
+// OpenCV's own limit, for any format whose header Loom does not read; OpenCV
+// reads the variable on first use, so it is set when a plugin using these
+// readers loads, before any decoding.
+const bool kPixelLimitSet =
+    ::setenv("OPENCV_IO_MAX_IMAGE_PIXELS", std::to_string(kDefaultMaxImagePixels).c_str(), 0) == 0;
+}  // namespace
+
+void require_declared_pixels_within(std::string_view bytes, const std::string& what, std::uint64_t max_pixels,
+                                    const std::string& limit_name) {
+  (void)kPixelLimitSet;
+  const auto size = declared_image_size(bytes);
+  if (!size) return;
+  if (size->width == 0 || size->height == 0)
+    throw Error("cannot decode image " + what + ": its header declares a " + std::to_string(size->width) + "×" +
+                std::to_string(size->height) + " image");
+  if (size->width > max_pixels / size->height)
+    throw Error("cannot decode image " + what + ": its header declares " + std::to_string(size->width) + "×" +
+                std::to_string(size->height) + " pixels, more than the limit of " + std::to_string(max_pixels) +
+                " (" + limit_name + ")");
+}
+
+}  // namespace loom::formats
