@@ -8,6 +8,7 @@
 #include <string>
 
 #include "loom/image.hpp"
+#include "loom/temporary_file.hpp"
 
 namespace cv {
 class VideoWriter;
@@ -17,9 +18,12 @@ namespace loom::io {
 
 enum class VideoCodec { automatic, h264, mpeg4 };
 
-// Writes to a temporary file beside `path` and renames it over `path` in
-// finish(); destroyed unfinished (cancelled, failed), it removes the temporary
-// file, so a partial video is never seen.
+// Writes to a staging file beside `path` (loom/temporary_file.hpp: removed
+// on every exit short of SIGKILL) and renames it over `path` in finish(),
+// after reading it back: OpenCV's writer reports no write errors, so a video
+// cut short by a full disk is caught by its frame count. Destroyed
+// unfinished (cancelled, failed), it removes the staging file, so a partial
+// video is never seen.
 class VideoSequence {
  public:
   VideoSequence(std::filesystem::path path, double fps, VideoCodec codec);
@@ -28,8 +32,9 @@ class VideoSequence {
   VideoSequence& operator=(const VideoSequence&) = delete;
 
   // 8-bit sRGB-encoded; 1, 3 or 4 channels (alpha dropped). Every frame must
-  // have the size of the first; odd sizes are padded to even ones (H.264's
-  // 4:2:0 chroma needs them) by repeating the last row or column.
+  // have the size of the first (else loom::Error); odd sizes are padded to
+  // even ones (H.264's 4:2:0 chroma needs them) by repeating the last row or
+  // column.
   void add(const Image& frame);
   void finish();
 
@@ -38,12 +43,15 @@ class VideoSequence {
 
  private:
   void open(int width, int height);
-  std::filesystem::path path_, temp_;
+  void verify() const;
+  std::filesystem::path path_;
+  std::unique_ptr<TemporaryFile> temp_;
   double fps_;
   VideoCodec codec_;
   std::unique_ptr<cv::VideoWriter> writer_;
   std::string codec_name_;
   int width_ = 0, height_ = 0, frames_ = 0;
+  int frame_width_ = 0, frame_height_ = 0;  // before padding
   bool finished_ = false;
 };
 
