@@ -28,7 +28,7 @@ void declare_emitter_inputs(NodeSpec& s) {
                   "`count` uniform random points (mpm88)")
       .input<double>("spacing", 1.0 / 256, "distance between particles (grid, jittered, poisson)")
       .at_least(1e-6)
-      .input<int>("count", 8192, "number of particles (random sampling)").at_least(1)
+      .input<int>("count", 8192, "number of particles (random sampling)").range(1, 100'000'000)
       .input<double>("particle_volume", 0.0,
                      "volume (area in 2D) per particle; 0: the shape's volume / count")
       .at_least(0);
@@ -47,6 +47,10 @@ EmitOptions read_emit_options(Inputs& in, Context& ctx) {
   o.count = in.get<int>("count");
   o.particle_volume = in.get<double>("particle_volume");
   o.seed = ctx.seed();
+  o.progress = [&ctx](double done, double total) {
+    ctx.progress(done, total, "placing particles");
+    ctx.check_cancelled();
+  };
   return o;
 }
 

@@ -62,8 +62,8 @@ std::vector<Vec<D>> lattice(const Vec<D>& lo, const Vec<D>& hi, double h, bool j
 
 // Bridson's Poisson-disk sampling with minimum distance h, 30 candidates a point.
 template <int D>
-std::vector<Vec<D>> poisson_disk(const Vec<D>& lo, const Vec<D>& hi, double h,
-                                 std::mt19937_64& rng) {
+std::vector<Vec<D>> poisson_disk(const Vec<D>& lo, const Vec<D>& hi, double h, std::mt19937_64& rng,
+                                 const std::function<void(double, double)>& progress) {
   const double cell = h / std::sqrt(static_cast<double>(D));
   const auto counts = cell_counts<D>(lo, hi, cell, true, 200'000'000,
                                      "the shape is too large for Poisson-disk sampling at this spacing");
@@ -110,7 +110,15 @@ std::vector<Vec<D>> poisson_disk(const Vec<D>& lo, const Vec<D>& hi, double h,
   Vec<D> first;
   for (int d = 0; d < D; ++d) first[d] = lo[d] + u01(rng) * (hi[d] - lo[d]);
   accept(first);
+  // A maximal sampling fills about 35% (2D) or 14% (3D) of the h/√D cells: the
+  // estimate of the count for progress.
+  const double expected = static_cast<double>(total) * (D == 2 ? 0.35 : 0.14);
+  std::size_t next_report = 0;
   while (!active.empty()) {
+    if (progress && points.size() >= next_report) {
+      progress(static_cast<double>(points.size()), std::max(expected, static_cast<double>(points.size()) + 1));
+      next_report = points.size() + 65536;
+    }
     std::uniform_int_distribution<std::size_t> pick(0, active.size() - 1);
     const std::size_t a = pick(rng);
     const Vec<D> centre = active[a];
@@ -163,7 +171,7 @@ Particles<D> fill_shape(const std::function<bool(const Vec<D>&)>& inside, const 
   switch (o.sampling) {
     case Sampling::grid: candidates = lattice<D>(lo, hi, o.spacing, false, rng); break;
     case Sampling::jittered: candidates = lattice<D>(lo, hi, o.spacing, true, rng); break;
-    case Sampling::poisson: candidates = poisson_disk<D>(lo, hi, o.spacing, rng); break;
+    case Sampling::poisson: candidates = poisson_disk<D>(lo, hi, o.spacing, rng, o.progress); break;
     case Sampling::random: {
       if (o.count <= 0) throw Error("count must be positive for random sampling");
       std::uniform_real_distribution<double> u(0, 1);

@@ -25,6 +25,8 @@ struct EmitOptions {
   // Per-particle volume; 0: the shape's volume (estimated at `spacing`) / count.
   double particle_volume = 0;
   std::uint64_t seed = 1;
+  // Reports long set-up work (Poisson-disk sampling) and may throw to cancel it.
+  std::function<void(double done, double total)> progress;
 };
 
 // Fills {x in [lo, hi] : inside(x)} (lo/hi bound the shape). Throws loom::Error
