@@ -21,18 +21,27 @@ namespace {
 // assimp opens every file through this: a file the scene refers to that is
 // not a regular file is refused (and remembered for the message) instead of
 // blocking in open().
+// (DefaultIOSystem::Exists opens the file too.)
 class RegularFilesOnly : public Assimp::DefaultIOSystem {
  public:
+  bool Exists(const char* file) const override { return regular(file) && DefaultIOSystem::Exists(file); }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
+    return regular(file) ? DefaultIOSystem::Open(file, mode) : nullptr;
+  }
+  mutable std::string refused;
+
+ private:
+  bool regular(const char* file) const {
+    std::error_code ec;
+    if (!fs::exists(file, ec)) return false;  // a missing file is assimp's to report
     try {
       require_regular_file(file, "file");
+      return true;
     } catch (const Error& e) {
       if (refused.empty()) refused = e.what();
-      return nullptr;
+      return false;
     }
-    return DefaultIOSystem::Open(file, mode);
   }
-  std::string refused;
 };
 
 std::string read_at(std::ifstream& in, std::uint64_t offset, std::uint64_t size) {

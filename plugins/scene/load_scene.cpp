@@ -61,6 +61,10 @@ class Textures {
     } catch (const loom::Error& e) {
       ctx.warn(std::string(e.what()) + ": the material goes without it");
       return cache_[key] = nullptr;
+    } catch (const cv::Exception& e) {
+      ctx.warn(std::string("texture ") + path.C_Str() + " could not be decoded (" + e.what() +
+               "): the material goes without it");
+      return cache_[key] = nullptr;
     }
     if (raw.empty()) {
       ctx.warn(std::string("texture ") + path.C_Str() + " could not be read: the material goes without it");
@@ -94,6 +98,9 @@ class Textures {
         loom::formats::require_declared_pixels_within(bytes, "texture " + name, loom::formats::kDefaultMaxImagePixels, limit);
         return cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, embedded->pcData), cv::IMREAD_UNCHANGED);
       }
+      if (std::uint64_t(embedded->mWidth) * embedded->mHeight > loom::formats::kDefaultMaxImagePixels)
+        throw loom::Error("texture " + name + " has more pixels than the limit of " +
+                          std::to_string(loom::formats::kDefaultMaxImagePixels));
       const cv::Mat bgra(static_cast<int>(embedded->mHeight), static_cast<int>(embedded->mWidth), CV_8UC4,
                          embedded->pcData);  // aiTexel is b, g, r, a
       return bgra.clone();

@@ -1,6 +1,7 @@
 // The scene assembly nodes through the engine: transforms against hand-built
 // matrices, merging rules, and refusals of bad input.
 #include <cmath>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -133,6 +134,60 @@ TEST(SceneNodes, MaterialDecodesSRGBColorMapsAndKeepsNormalMapsAsStored) {
     const float v = board.pixels.at<cv::Vec3f>(0, 0)[0];
     EXPECT_NEAR(m.base_color_map->pixels.at<cv::Vec3f>(0, 0)[0], loom::srgb_to_linear(v), 1e-6);
   }
+}
+
+
+// A square of two triangles in glTF, as positions (float32) and uint16
+// indices in one data URI.
+std::string square_gltf(int vertices, const std::string& base64, int position_bytes) {
+  const json doc = {
+      {"asset", {{"version", "2.0"}}},
+      {"buffers", {{{"uri", "data:application/octet-stream;base64," + base64}, {"byteLength", position_bytes + 12}}}},
+      {"bufferViews", {{{"buffer", 0}, {"byteLength", position_bytes}},
+                       {{"buffer", 0}, {"byteOffset", position_bytes}, {"byteLength", 12}}}},
+      {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC3"},
+                      {"min", {0, 0, 0}}, {"max", {1, 1, 0}}},
+                     {{"bufferView", 1}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
+      {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
+      {"nodes", {{{"mesh", 0}}}},
+      {"scenes", {{{"nodes", {0}}}}}};
+  return doc.dump();
+}
+
+const loom::Mesh& loaded_mesh(loom::test::Engine& engine, const std::filesystem::path& file) {
+  const json doc = {{"loom", 1}, {"nodes", {{"load", {{"type", "LoadScene"}, {"inputs", {{"path", file.string()}}}}}}}};
+  const auto& scene = engine.output(doc, "load.scene").as<loom::Scene>();
+  EXPECT_EQ(scene.objects.size(), 1u);
+  return *scene.objects.at(0).mesh;
+}
+
+// Issue 26 item 7: LoadScene converts meshes as LoadMesh does (one
+// conversion, loom/formats/assimp_import.hpp): a mesh keeps its own vertices.
+// A square cut along its diagonal (the two sides' vertices at the same
+// positions, as a mesh prepared for parameterization has) stays cut; the
+// same square with a shared edge keeps its 4 vertices. JoinIdenticalVertices,
+// which LoadScene used, welded the cut to 4.
+TEST(SceneNodes, LoadSceneKeepsACutSeamAndTheFilesOwnVertices) {
+  const auto dir = loom::test::temp_dir();
+  {
+    std::ofstream(dir / "cut.gltf") << square_gltf(
+        6, "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAACAPwAAAAAAAAAAAACAPwAAgD8AAAAAAAAAAAAAgD8AAAAAAAABAAIAAwAEAAUA", 72);
+    std::ofstream(dir / "shared.gltf") << square_gltf(
+        4, "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAACAPwAAgD8AAAAAAAABAAIAAQADAAIA", 48);
+    std::ofstream(dir / "cut.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 4 5 6\n";
+  }
+  loom::test::Engine engine;
+  for (const char* cut : {"cut.gltf", "cut.obj"}) {
+    const loom::Mesh& m = loaded_mesh(engine, dir / cut);
+    ASSERT_EQ(m.faces(), 2) << cut;
+    EXPECT_EQ(m.vertices(), 6) << cut;
+    for (int k = 0; k < 3; ++k)
+      for (int l = 0; l < 3; ++l) EXPECT_NE(m.F(0, k), m.F(1, l)) << cut << ": the seam was welded";
+  }
+  const loom::Mesh& shared = loaded_mesh(engine, dir / "shared.gltf");
+  EXPECT_EQ(shared.vertices(), 4);
+  EXPECT_EQ(shared.F.row(0), Eigen::RowVector3i(0, 1, 2));
+  EXPECT_EQ(shared.F.row(1), Eigen::RowVector3i(1, 3, 2));
 }
 
 }  // namespace
