@@ -127,7 +127,11 @@ void claim_folder(const fs::path& dir) {
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end && stranger.empty(); it.increment(ec)) {
       const std::string name = it->path().filename().string();
       std::error_code e;
-      if (!is_hex(name, 2) || !fs::is_directory(it->symlink_status(e))) { stranger = name; break; }
+      if (is_staging_name(name)) continue;  // another process writing the tag right now
+      if (!is_hex(name, 2) || !fs::is_directory(it->symlink_status(e))) {
+        stranger = name;
+        break;
+      }
       for (fs::directory_iterator f(it->path(), e); !e && f != end; f.increment(e)) {
         const std::string file = f->path().filename().string();
         std::error_code g;
