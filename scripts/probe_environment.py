@@ -60,7 +60,9 @@ def writer_graph(writer, path, frames=None, feed=None):
 
 
 def staging(folder):
-    return [os.path.join(r, n) for r, _, names in os.walk(folder) for n in names if n.startswith(".loomtmp")]
+    """Staging files: .loomtmp-PID-N..., or Loom's older .NAME.tmpPID.N... naming."""
+    return [os.path.join(r, n) for r, _, names in os.walk(folder) for n in names
+            if n.startswith(".loomtmp") or (n.startswith(".") and ".tmp" in n)]
 
 
 def png_header(width, height):

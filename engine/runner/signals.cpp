@@ -19,7 +19,7 @@ void say(const char* text) {
 }
 
 // Only async-signal-safe calls below: unlink (inside remove_temporary_files),
-// write, alarm, _exit.
+// write, alarm, raise, _exit.
 extern "C" void leave_now(int) {
   loom::remove_temporary_files();
   _exit(kInterrupted);
@@ -35,9 +35,17 @@ extern "C" void on_stop_signal(int) {
   ::alarm(kGraceSeconds);
 }
 
-void handle(int signal, void (*handler)(int)) {
+// A crash (or an abort from an uncaught exception) still removes the staging
+// files, then dies of the same signal, so the crash is reported as one.
+extern "C" void on_fatal_signal(int signal) {
+  loom::remove_temporary_files();
+  ::raise(signal);  // the handler was reset to the default on entry
+}
+
+void handle(int signal, void (*handler)(int), int flags = 0) {
   struct sigaction action {};
   action.sa_handler = handler;
+  action.sa_flags = flags;
   sigemptyset(&action.sa_mask);
   ::sigaction(signal, &action, nullptr);
 }
@@ -49,6 +57,7 @@ void stop_on_signals(std::atomic<bool>& cancel) {
   for (int s : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) handle(s, on_stop_signal);
   handle(SIGALRM, on_alarm);
   handle(SIGXFSZ, SIG_IGN);
+  for (int s : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL}) handle(s, on_fatal_signal, SA_RESETHAND | SA_NODEFER);
 }
 
 }  // namespace loom::runner

@@ -4,7 +4,9 @@
 // kGraceSeconds without the run ending (a node blocked in a system call or a
 // library that never checks), removes this process's staging files and exits
 // 130 at once. SIGXFSZ is ignored, so a file-size limit makes a write fail
-// with an error instead of killing the process mid-file.
+// with an error instead of killing the process mid-file. A crash (SIGSEGV,
+// SIGBUS, SIGABRT, SIGFPE, SIGILL) removes the staging files before the
+// process dies of it.
 #pragma once
 
 #include <atomic>
