@@ -1,6 +1,6 @@
 // Internal: whether an output path stays inside the output folder once its
 // symbolic links are followed. The lexical rule (no absolute path, no ".."
-// climbing out) lives in input_check.cpp; this one reads the file system.
+// climbing out) lives in input_binding.cpp; this one reads the file system.
 #pragma once
 
 #include <filesystem>
