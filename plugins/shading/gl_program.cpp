@@ -4,37 +4,51 @@
 
 namespace loom::shading {
 
+namespace {
+
+// A program's shaders, deleted when it is linked or when building it throws.
+struct Shaders {
+  const GlApi& gl;
+  std::vector<GLuint> ids;
+  ~Shaders() {
+    for (GLuint s : ids) gl.DeleteShader(s);
+  }
+};
+
+}  // namespace
+
 GlProgram::GlProgram(const GlApi& gl, const char* name,
                      const std::vector<std::pair<GLenum, const char*>>& stages)
     : gl_(gl) {
   id_ = gl.CreateProgram();
-  std::vector<GLuint> shaders;
-  for (const auto& [kind, source] : stages) {
-    const GLuint s = gl.CreateShader(kind);
-    gl.ShaderSource(s, 1, &source, nullptr);
-    gl.CompileShader(s);
+  try {
+    Shaders shaders{gl, {}};
+    shaders.ids.reserve(stages.size());
+    for (const auto& [kind, source] : stages) {
+      shaders.ids.push_back(gl.CreateShader(kind));
+      const GLuint s = shaders.ids.back();
+      gl.ShaderSource(s, 1, &source, nullptr);
+      gl.CompileShader(s);
+      GLint ok = 0;
+      gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+      if (!ok) {
+        char log[4096] = {};
+        gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
+        throw Error(std::string("shader of program '") + name + "' does not compile: " + log);
+      }
+      gl.AttachShader(id_, s);
+    }
+    gl.LinkProgram(id_);
     GLint ok = 0;
-    gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    gl.GetProgramiv(id_, GL_LINK_STATUS, &ok);
     if (!ok) {
       char log[4096] = {};
-      gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
-      gl.DeleteShader(s);
-      for (GLuint other : shaders) gl.DeleteShader(other);
-      gl.DeleteProgram(id_);
-      throw Error(std::string("shader of program '") + name + "' does not compile: " + log);
+      gl.GetProgramInfoLog(id_, sizeof log, nullptr, log);
+      throw Error(std::string("program '") + name + "' does not link: " + log);
     }
-    gl.AttachShader(id_, s);
-    shaders.push_back(s);
-  }
-  gl.LinkProgram(id_);
-  for (GLuint s : shaders) gl.DeleteShader(s);
-  GLint ok = 0;
-  gl.GetProgramiv(id_, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {};
-    gl.GetProgramInfoLog(id_, sizeof log, nullptr, log);
-    gl.DeleteProgram(id_);
-    throw Error(std::string("program '") + name + "' does not link: " + log);
+  } catch (...) {
+    gl.DeleteProgram(id_);  // the destructor does not run for a constructor that throws
+    throw;
   }
 }
 
