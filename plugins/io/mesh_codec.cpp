@@ -12,6 +12,7 @@
 
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
+#include "loom/mesh_file_counts.hpp"
 
 namespace loom::io {
 
@@ -28,6 +29,7 @@ std::string lower_extension(const fs::path& path) {
 // Formats without indices of their own (STL) or with several meshes (glTF,
 // FBX, ...) through assimp, each primitive's vertex list as it is.
 Mesh read_with_assimp(const fs::path& path, MeshNotes& notes) {
+  check_declared_counts(path);  // before assimp allocates what the header claims
   Assimp::Importer importer;
   // No JoinIdenticalVertices: it welds the two sides of a cut. The data
   // structure is validated before anything else reads it.

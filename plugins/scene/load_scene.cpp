@@ -18,6 +18,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "loom/image.hpp"
+#include "loom/mesh_file_counts.hpp"
 #include "loom/plugin.hpp"
 #include "loom/scene.hpp"
 
@@ -143,6 +144,7 @@ struct LoadScene {
     const fs::path path = in.get<std::string>("path");
     std::error_code ec;
     if (!fs::is_regular_file(path, ec)) throw loom::Error("cannot read scene " + path.string() + ": no such file");
+    loom::check_declared_counts(path);  // before assimp allocates what the header claims
     Assimp::Importer importer;
     const aiScene* ai = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                                                              aiProcess_SortByPType | aiProcess_GenSmoothNormals);
