@@ -70,8 +70,6 @@ struct PathContext {
   // Whether a BSDF-sampled ray can find light at all (an emissive object or
   // the environment): if not, the ray after the last bounce is not traced.
   bool emitters_hittable;
-  bool use_nee = settings.strategy != Strategy::bsdf && !lights.empty();
-  bool use_mis = settings.strategy == Strategy::mis;
 };
 
 struct PathResult {
@@ -91,16 +89,6 @@ struct PathVertex {
   Vec3f prev_point;
 };
 
-// A light sample as the BSDF sees it: f cos θ = factor · scale (kept apart so
-// the product rounds the same way for both BSDF forms), and what the BSDF's
-// pdf needs (the direction in its frame).
-struct DirectTerm {
-  Vec3f factor;
-  float scale = 1;
-  Vec3f wi_local;
-  bool nonzero = false;
-};
-
 // A scattered direction: weight = f cos θ / pdf.
 struct Scattered {
   Vec3f weight, dir;
@@ -108,17 +96,26 @@ struct Scattered {
   bool delta;
 };
 
+// Each BSDF form gives next-event estimation a Term for a light's direction:
+// f cos θ = factor · scale (kept apart so the product rounds the same way for
+// both forms), whether it is nonzero, and what its pdf() needs.
+
 // Lambert, two-sided, in closed form with no local frame: f cos θi = base cos θi / π
 // on wo's side of the shading normal, pdf = cos θi / π (cosine sampling), weight = base.
 struct LambertBsdf {
   Vec3f n;  // the shading normal turned to wo's side
   Vec3f base;
+  struct Term {
+    Vec3f factor;
+    float scale;
+    bool nonzero;
+  };
   bool nonspecular() const { return true; }
-  DirectTerm direct(const Vec3f& wi) const {
+  Term direct(const Vec3f& wi) const {
     const float cos_i = n.dot(wi);
-    return {base, cos_i * kInvPi, Vec3f::Zero(), cos_i > 0};
+    return {base, cos_i * kInvPi, cos_i > 0};
   }
-  float pdf(const DirectTerm& t) const { return t.scale; }
+  float pdf(const Term& t) const { return t.scale; }
   std::optional<Scattered> sample(Rng& rng) const {
     const Vec3f wi = sample_cosine_hemisphere(rng.uniform2());
     if (!(wi.z() > 0)) return std::nullopt;
@@ -131,13 +128,19 @@ struct FramedBsdf {
   SurfaceMaterial m;
   Frame frame;
   Vec3f wo;
+  struct Term {
+    Vec3f factor;
+    float scale;
+    bool nonzero;
+    Vec3f wi_local;
+  };
   bool nonspecular() const { return !m.purely_specular(); }
-  DirectTerm direct(const Vec3f& wi) const {
+  Term direct(const Vec3f& wi) const {
     const Vec3f local = frame.to_local(wi);
     const Vec3f f = bsdf_eval(m, wo, local);
-    return {f, 1.f, local, (f.array() > 0).any()};
+    return {f, 1.f, (f.array() > 0).any(), local};
   }
-  float pdf(const DirectTerm& t) const { return bsdf_pdf(m, wo, t.wi_local); }
+  float pdf(const Term& t) const { return bsdf_pdf(m, wo, t.wi_local); }
   std::optional<Scattered> sample(Rng& rng) const {
     const float uc = rng.uniform();
     const auto bs = bsdf_sample(m, wo, uc, rng.uniform2());
@@ -159,25 +162,30 @@ bool occluded(const EmbreeScene& traced, const SurfaceHit& hit, const LightSampl
 // product first, as the path loop always multiplied.
 template <class Bsdf>
 void sample_direct(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, const Vec3f& beta,
-                   Rng& rng, PathResult& r) {
+                   bool use_mis, Rng& rng, PathResult& r) {
   const float uc = rng.uniform();
   const Vec2f u = rng.uniform2();
   const float ue = rng.uniform();
   const auto ls = c.lights.sample(hit.p, uc, u, ue);
   if (!ls) return;
-  const DirectTerm t = bsdf.direct(ls->wi);
+  const auto t = bsdf.direct(ls->wi);
   if (!t.nonzero || !(wo_side * ls->wi.dot(hit.ng) >= 0)) return;
   if (ls->shadowed && (++r.rays, occluded(c.traced, hit, *ls))) return;
-  const float w = ls->delta || !c.use_mis ? 1.f : power_heuristic(ls->pdf, bsdf.pdf(t));
+  const float w = ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf.pdf(t));
   r.L += beta.cwiseProduct(t.factor).cwiseProduct(ls->radiance) * (t.scale * w / ls->pdf);
 }
+
+// The light sampling strategy (RenderSettings::strategy) of every bounce.
+struct Strategies {
+  bool nee, mis;
+};
 
 // One bounce at a hit: direct light, then the BSDF-sampled direction the path
 // continues in. False when the path ends here.
 template <class Bsdf>
-bool scatter(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, Rng& rng,
+bool scatter(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, Strategies use, Rng& rng,
              PathVertex& v, PathResult& r) {
-  if (c.use_nee && bsdf.nonspecular()) sample_direct(c, hit, wo_side, bsdf, v.beta, rng, r);
+  if (use.nee && bsdf.nonspecular()) sample_direct(c, hit, wo_side, bsdf, v.beta, use.mis, rng, r);
   const auto s = bsdf.sample(rng);
   if (!s) return false;
   v.beta = v.beta.cwiseProduct(s->weight);
@@ -189,16 +197,17 @@ bool scatter(const PathContext& c, const SurfaceHit& hit, float wo_side, const B
 
 // Light from the environment along a ray that left the scene, MIS-weighted
 // against light sampling's environment pdf.
-void add_environment(const PathContext& c, const PathVertex& v, int depth, PathResult& r) {
+void add_environment(const PathContext& c, const PathVertex& v, Strategies use, int depth, PathResult& r) {
   if (c.environment.black()) return;
   float w = 1;
-  if (!v.prev_delta && c.use_nee && c.lights.samples_environment())
-    w = c.use_mis ? power_heuristic(v.prev_pdf, c.lights.environment_pdf(v.dir)) : 0.f;
+  if (!v.prev_delta && use.nee && c.lights.samples_environment())
+    w = use.mis ? power_heuristic(v.prev_pdf, c.lights.environment_pdf(v.dir)) : 0.f;
   r.L += v.beta.cwiseProduct(c.environment.radiance(v.dir)) * w;
   if (depth == 0) r.albedo = c.environment.radiance(v.dir);
 }
 
 PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
+  const Strategies use{c.settings.strategy != Strategy::bsdf && !c.lights.empty(), c.settings.strategy == Strategy::mis};
   PathResult r;
   PathVertex v;
   v.dir = dir;
@@ -207,7 +216,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
   for (int depth = 0;; ++depth) {
     ++r.rays;
     if (!c.traced.intersect(origin, v.dir, kInf, &hit, depth == 0)) {
-      add_environment(c, v, depth, r);
+      add_environment(c, v, use, depth, r);
       break;
     }
     const ObjectShading& sh = c.shading[hit.object];
@@ -229,20 +238,21 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
     // Emission (one-sided, on the winding's front).
     if (sh.emissive && hit.ng.dot(v.dir) < 0) {
       float w = 1;
-      if (!v.prev_delta && c.use_nee && !c.traced.objects()[hit.object].spheres)
-        w = c.use_mis ? power_heuristic(v.prev_pdf, c.lights.triangle_pdf(hit, v.prev_point)) : 0.f;
+      if (!v.prev_delta && use.nee && !c.traced.objects()[hit.object].spheres)
+        w = use.mis ? power_heuristic(v.prev_pdf, c.lights.triangle_pdf(hit, v.prev_point)) : 0.f;
       r.L += v.beta.cwiseProduct(sh.emission) * w;
     }
     if (depth >= c.settings.max_depth) break;
 
     bool goes_on;
     if (sh.lambert) {
-      goes_on = scatter(c, hit, wo_side, LambertBsdf{hit.ns.dot(v.dir) > 0 ? Vec3f(-hit.ns) : hit.ns, base}, rng, v, r);
+      goes_on = scatter(c, hit, wo_side, LambertBsdf{hit.ns.dot(v.dir) > 0 ? Vec3f(-hit.ns) : hit.ns, base}, use, rng, v,
+                        r);
     } else {
       SurfaceMaterial m = sh.material;
       m.base = base;
       const Frame frame(hit.ns);
-      goes_on = scatter(c, hit, wo_side, FramedBsdf{m, frame, frame.to_local(-v.dir)}, rng, v, r);
+      goes_on = scatter(c, hit, wo_side, FramedBsdf{m, frame, frame.to_local(-v.dir)}, use, rng, v, r);
     }
     if (!goes_on) break;
     v.prev_point = hit.p;
@@ -316,12 +326,12 @@ struct Film {
 };
 
 struct RayCounts {
-  std::atomic<std::uint64_t> rays{0}, nonfinite{0};
+  std::uint64_t rays = 0, nonfinite = 0;
 };
 
 // `pass` more samples for every pixel of a tile that is not done.
-void trace_tile(const PathContext& c, const CameraRays& cam, Film& film, int tile, int pass, std::uint64_t& rays,
-                std::uint64_t& nonfinite) {
+RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, int tile, int pass) {
+  RayCounts counts;
   const int W = film.width, H = film.height;
   const int x0 = (tile % film.tiles_x) * Film::kTile, y0 = (tile / film.tiles_x) * Film::kTile;
   for (int y = y0; y < std::min(H, y0 + Film::kTile); ++y)
@@ -335,30 +345,36 @@ void trace_tile(const PathContext& c, const CameraRays& cam, Film& film, int til
         Vec3f origin, dir;
         cam.ray(2 * (x + j.x()) / W - 1, 1 - 2 * (y + j.y()) / H, &origin, &dir);
         const PathResult p = trace_path(c, origin, dir, rng);
-        rays += std::uint64_t(p.rays);
+        counts.rays += std::uint64_t(p.rays);
         ++a.n;
         if (!p.L.allFinite()) {
-          ++nonfinite;  // counted as a black sample: the mean stays finite
+          ++counts.nonfinite;  // counted as a black sample: the mean stays finite
           continue;
         }
         a.add(p);
       }
     }
+  return counts;
 }
 
 // One pass of `pass` samples per active pixel, in batches of tiles with
 // progress and cancellation (between_batches) on the calling thread.
-void trace_pass(const PathContext& c, const CameraRays& cam, Film& film, int pass, RayCounts& counts,
+void trace_pass(const PathContext& c, const CameraRays& cam, Film& film, int pass,
+                std::atomic<std::uint64_t>& rays, std::atomic<std::uint64_t>& nonfinite,
                 const std::function<void(double)>& between_batches) {
   const double total = double(film.width) * film.height * c.settings.spp;
   constexpr int kBatch = 32;  // tiles between progress reports and cancellation checks
   for (int first = 0; first < film.tiles; first += kBatch) {
     const int last = std::min(film.tiles, first + kBatch);
     tbb::parallel_for(tbb::blocked_range<int>(first, last, 1), [&](const tbb::blocked_range<int>& range) {
-      std::uint64_t rays = 0, nonfinite = 0;
-      for (int tile = range.begin(); tile != range.end(); ++tile) trace_tile(c, cam, film, tile, pass, rays, nonfinite);
-      counts.rays += rays;
-      counts.nonfinite += nonfinite;
+      RayCounts sum;
+      for (int tile = range.begin(); tile != range.end(); ++tile) {
+        const RayCounts t = trace_tile(c, cam, film, tile, pass);
+        sum.rays += t.rays;
+        sum.nonfinite += t.nonfinite;
+      }
+      rays += sum.rays;
+      nonfinite += sum.nonfinite;
     });
     if (between_batches) {
       double done = 0;
@@ -432,17 +448,17 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
   const CameraRays cam(camera, s.width, s.height);
 
   Film film(s.width, s.height);
-  RayCounts counts;
+  std::atomic<std::uint64_t> rays{0}, nonfinite{0};
   for (int taken = 0; taken < s.spp;) {
     const int pass = next_pass(s, taken);
-    trace_pass(context, cam, film, pass, counts, between_batches);
+    trace_pass(context, cam, film, pass, rays, nonfinite, between_batches);
     taken += pass;
     if (s.adaptive_threshold > 0 && taken < s.spp) mark_converged(film, s.adaptive_threshold);
   }
   RenderResult out;
   resolve(film, out);
-  out.rays = counts.rays;
-  out.nonfinite = counts.nonfinite;
+  out.rays = rays;
+  out.nonfinite = nonfinite;
   out.emissive_triangles = lights.emissive_triangles();
   out.environment_sampled = lights.samples_environment();
   return out;
