@@ -149,7 +149,9 @@ bool is_off(std::string_view head) {
   return !t.empty() && t[0].size() >= 3 && t[0].size() <= 6 && t[0].substr(t[0].size() - 3) == "OFF";
 }
 
-bool is_text_x(std::string_view head) { return head.size() >= 16 && starts_with(head, "xof ") && head.substr(8, 4) == "txt "; }
+bool is_text_x(std::string_view head) {
+  return head.size() >= 16 && starts_with(head, "xof ") && head.substr(8, 4) == "txt ";
+}
 
 }  // namespace
 

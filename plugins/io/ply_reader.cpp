@@ -6,6 +6,7 @@
 // file has before anything is allocated (loom/mesh_file_counts.hpp).
 #include <cstring>
 #include <optional>
+#include <utility>
 
 #include "indexed_mesh.hpp"
 #include "loom/mesh_file_counts.hpp"
@@ -193,24 +194,22 @@ struct VertexColumns {
   bool colors() const { return r >= 0 && g >= 0 && b >= 0; }
 };
 
+// The property names each column goes by.
+constexpr std::pair<const char*, int VertexColumns::*> vertex_names[] = {
+    {"x", &VertexColumns::x},         {"y", &VertexColumns::y},          {"z", &VertexColumns::z},
+    {"nx", &VertexColumns::nx},       {"ny", &VertexColumns::ny},        {"nz", &VertexColumns::nz},
+    {"u", &VertexColumns::u},         {"s", &VertexColumns::u},          {"texture_u", &VertexColumns::u},
+    {"v", &VertexColumns::v},         {"t", &VertexColumns::v},          {"texture_v", &VertexColumns::v},
+    {"red", &VertexColumns::r},       {"r", &VertexColumns::r},          {"green", &VertexColumns::g},
+    {"g", &VertexColumns::g},         {"blue", &VertexColumns::b},       {"b", &VertexColumns::b}};
+
 VertexColumns vertex_columns(const Element& e, const std::string& file) {
   VertexColumns c;
   for (std::size_t k = 0; k < e.properties.size(); ++k) {
     const Property& p = e.properties[k];
     if (p.list) continue;
-    const std::string& n = p.name;
-    const int i = static_cast<int>(k);
-    if (n == "x") c.x = i;
-    else if (n == "y") c.y = i;
-    else if (n == "z") c.z = i;
-    else if (n == "nx") c.nx = i;
-    else if (n == "ny") c.ny = i;
-    else if (n == "nz") c.nz = i;
-    else if (n == "u" || n == "s" || n == "texture_u") c.u = i;
-    else if (n == "v" || n == "t" || n == "texture_v") c.v = i;
-    else if (n == "red" || n == "r") c.r = i;
-    else if (n == "green" || n == "g") c.g = i;
-    else if (n == "blue" || n == "b") c.b = i;
+    for (const auto& [name, column] : vertex_names)
+      if (p.name == name) c.*column = static_cast<int>(k);
   }
   if (c.x < 0 || c.y < 0 || c.z < 0) throw Error(file + ": the vertex element has no x, y, z");
   return c;

@@ -109,10 +109,9 @@ TracedObject traced_mesh(const SceneObject& o, int displacement_level, Eigen::Al
   const Eigen::Matrix4d& T = o.transform;
   const Eigen::Matrix3d L = T.topLeftCorner<3, 3>();
   const Eigen::Matrix3d normal_matrix = L.inverse().transpose();
-  const Mesh m = displaced(o, displacement_level)
-                     ? displaced_mesh(*o.mesh, *o.material.displacement_map, o.material.displacement_scale,
-                                      displacement_level)
-                     : *o.mesh;
+  const Mesh m = displaced(o, displacement_level) ? displaced_mesh(*o.mesh, *o.material.displacement_map,
+                                                                   o.material.displacement_scale, displacement_level)
+                                                  : *o.mesh;
   TracedObject t;
   t.P.resize(m.vertices());
   for (int v = 0; v < m.vertices(); ++v) {
@@ -242,7 +241,8 @@ EmbreeScene::EmbreeScene(const Scene& scene, int displacement_level) {
     objects_.push_back(std::move(t));
   }
   rtcCommitScene(scene_.get());
-  if (rtcGetDeviceError(device_.get()) != RTC_ERROR_NONE) throw Error("Embree failed to build the BVH (out of memory?)");
+  if (rtcGetDeviceError(device_.get()) != RTC_ERROR_NONE)
+    throw Error("Embree failed to build the BVH (out of memory?)");
   extent_ = box.isEmpty() ? 1.f : std::max(box.diagonal().norm(), 1e-6f);
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

@@ -207,7 +207,8 @@ void add_environment(const PathContext& c, const PathVertex& v, Strategies use, 
 }
 
 PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
-  const Strategies use{c.settings.strategy != Strategy::bsdf && !c.lights.empty(), c.settings.strategy == Strategy::mis};
+  const Strategies use{c.settings.strategy != Strategy::bsdf && !c.lights.empty(),
+                       c.settings.strategy == Strategy::mis};
   PathResult r;
   PathVertex v;
   v.dir = dir;
@@ -246,8 +247,8 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
 
     bool goes_on;
     if (sh.lambert) {
-      goes_on = scatter(c, hit, wo_side, LambertBsdf{hit.ns.dot(v.dir) > 0 ? Vec3f(-hit.ns) : hit.ns, base}, use, rng, v,
-                        r);
+      goes_on =
+          scatter(c, hit, wo_side, LambertBsdf{hit.ns.dot(v.dir) > 0 ? Vec3f(-hit.ns) : hit.ns, base}, use, rng, v, r);
     } else {
       SurfaceMaterial m = sh.material;
       m.base = base;
@@ -321,7 +322,10 @@ struct Film {
   static constexpr int kTile = 16;
   int tiles_x, tiles;
   Film(int w, int h)
-      : width(w), height(h), pixels(std::size_t(w) * h), tiles_x((w + kTile - 1) / kTile),
+      : width(w),
+        height(h),
+        pixels(std::size_t(w) * h),
+        tiles_x((w + kTile - 1) / kTile),
         tiles(tiles_x * ((h + kTile - 1) / kTile)) {}
 };
 
@@ -359,9 +363,8 @@ RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, in
 
 // One pass of `pass` samples per active pixel, in batches of tiles with
 // progress and cancellation (between_batches) on the calling thread.
-void trace_pass(const PathContext& c, const CameraRays& cam, Film& film, int pass,
-                std::atomic<std::uint64_t>& rays, std::atomic<std::uint64_t>& nonfinite,
-                const std::function<void(double)>& between_batches) {
+void trace_pass(const PathContext& c, const CameraRays& cam, Film& film, int pass, std::atomic<std::uint64_t>& rays,
+                std::atomic<std::uint64_t>& nonfinite, const std::function<void(double)>& between_batches) {
   const double total = double(film.width) * film.height * c.settings.spp;
   constexpr int kBatch = 32;  // tiles between progress reports and cancellation checks
   for (int first = 0; first < film.tiles; first += kBatch) {
@@ -433,8 +436,8 @@ void resolve(const Film& film, RenderResult& out) {
 
 }  // namespace
 
-RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene& traced,
-                    const RenderSettings& s, const std::function<void(double)>& between_batches) {
+RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene& traced, const RenderSettings& s,
+                    const std::function<void(double)>& between_batches) {
   const std::vector<ObjectShading> shading = object_shading(scene, traced);
   std::vector<Vec3f> emission;
   bool emitters_hittable = false;

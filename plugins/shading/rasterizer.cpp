@@ -418,8 +418,10 @@ void Rasterizer::State::draw_background(const Frame& f) {
   const GlApi& gl = this->gl();
   if (!background) {
     const std::string fragment = glsl::background_fragment();
-    background = std::make_unique<GlProgram>(gl, "environment background", std::vector<std::pair<GLenum, const char*>>{
-        {GL_VERTEX_SHADER, glsl::background_vertex}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
+    background = std::make_unique<GlProgram>(
+        gl, "environment background",
+        std::vector<std::pair<GLenum, const char*>>{{GL_VERTEX_SHADER, glsl::background_vertex},
+                                                    {GL_FRAGMENT_SHADER, fragment.c_str()}});
   }
   GlProgram& p = *background;
   p.use();
@@ -454,10 +456,10 @@ void Rasterizer::State::draw_object(const Frame& f, const GpuObject& o) {
   }
   const bool points = o.kind == GpuObject::Kind::points;
   const bool tess = !points && displaced(o, options.tessellation);
-  const std::string defines =
-      points ? f.lighting + "#define DEPTH_PASS 0\n"
-             : f.lighting + "#define HAS_BASE_MAP " + (o.base_map ? "1" : "0") + "\n#define HAS_NORMAL_MAP " +
-                   (o.normal_map ? "1" : "0") + "\n#define HAS_DISPLACEMENT " + (tess ? "1" : "0") + "\n";
+  const std::string defines = points ? f.lighting + "#define DEPTH_PASS 0\n"
+                                     : f.lighting + "#define HAS_BASE_MAP " + (o.base_map ? "1" : "0") +
+                                           "\n#define HAS_NORMAL_MAP " + (o.normal_map ? "1" : "0") +
+                                           "\n#define HAS_DISPLACEMENT " + (tess ? "1" : "0") + "\n";
   GlProgram& p = lit_program(points ? Lit::sphere : tess ? Lit::mesh_tess : Lit::mesh, defines);
   p.use();
   set_lighting(p, f.scene, f.maps, options, f.camera.eye, f.ambient, f.env);
@@ -574,8 +576,16 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   t = Clock::now();
   const State::EnvironmentMap* env = s.environment_map(scene.environment);
   if (env) gl.BindTextureUnit(unit_environment, env->texture);
-  const State::Frame frame{scene, options, camera, view, proj, proj * view, ambient_of(scene.environment), env,
-                           shadows.maps, lighting_defines(lighting_variant(scene, shadows.maps, options, env != nullptr))};
+  const State::Frame frame{scene,
+                           options,
+                           camera,
+                           view,
+                           proj,
+                           proj * view,
+                           ambient_of(scene.environment),
+                           env,
+                           shadows.maps,
+                           lighting_defines(lighting_variant(scene, shadows.maps, options, env != nullptr))};
   const State::Targets& fb = s.clear_targets(frame);
   s.draw_background(frame);
   if (options.wireframe) {

@@ -85,8 +85,7 @@ struct Render {
 
     // The context and compiled programs survive between evaluations.
     const auto rasterizer = ctx.scratch<loom::shading::Rasterizer>(
-        loom::hash_string("shading.Rasterizer"),
-        [] { return std::make_shared<loom::shading::Rasterizer>(); });
+        loom::hash_string("shading.Rasterizer"), [] { return std::make_shared<loom::shading::Rasterizer>(); });
     if (o.samples > rasterizer->max_samples())
       ctx.warn("MSAA limited to " + std::to_string(rasterizer->max_samples()) + " samples by " +
                rasterizer->renderer());

@@ -29,8 +29,9 @@ namespace {
 
 // Light kinds and shadow filters as the lighting GLSL knows them: each name is
 // #defined to its position here, for every program (lighting_defines).
-constexpr std::pair<Light::Kind, const char*> light_kinds[] = {
-    {Light::Kind::point, "LIGHT_POINT"}, {Light::Kind::spot, "LIGHT_SPOT"}, {Light::Kind::directional, "LIGHT_DIRECTIONAL"}};
+constexpr std::pair<Light::Kind, const char*> light_kinds[] = {{Light::Kind::point, "LIGHT_POINT"},
+                                                               {Light::Kind::spot, "LIGHT_SPOT"},
+                                                               {Light::Kind::directional, "LIGHT_DIRECTIONAL"}};
 constexpr std::pair<ShadowFilter, const char*> shadow_filters[] = {{ShadowFilter::off, "FILTER_NONE"},
                                                                    {ShadowFilter::hard, "FILTER_HARD"},
                                                                    {ShadowFilter::pcf, "FILTER_PCF"},

@@ -24,7 +24,7 @@ struct LightingVariant {
   std::vector<std::pair<Light::Kind, int>> lights;  // per light: its kind and shadow slot, or -1
   ShadowFilter shadow_filter = ShadowFilter::off;   // off when no light has a shadow map
   int pcf_size = 1;
-  bool environment_map = false;                     // SH irradiance + prefiltered reflections, else u_ambient
+  bool environment_map = false;  // SH irradiance + prefiltered reflections, else u_ambient
 };
 // The variant as GLSL #define lines (also the key of the compiled program):
 // the limits (MAX_LIGHTS, MAX_SHADOWS), every light kind's and shadow
