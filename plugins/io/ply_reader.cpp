@@ -196,12 +196,12 @@ struct VertexColumns {
 
 // The property names each column goes by.
 constexpr std::pair<const char*, int VertexColumns::*> vertex_names[] = {
-    {"x", &VertexColumns::x},         {"y", &VertexColumns::y},          {"z", &VertexColumns::z},
-    {"nx", &VertexColumns::nx},       {"ny", &VertexColumns::ny},        {"nz", &VertexColumns::nz},
-    {"u", &VertexColumns::u},         {"s", &VertexColumns::u},          {"texture_u", &VertexColumns::u},
-    {"v", &VertexColumns::v},         {"t", &VertexColumns::v},          {"texture_v", &VertexColumns::v},
-    {"red", &VertexColumns::r},       {"r", &VertexColumns::r},          {"green", &VertexColumns::g},
-    {"g", &VertexColumns::g},         {"blue", &VertexColumns::b},       {"b", &VertexColumns::b}};
+    {"x", &VertexColumns::x},   {"y", &VertexColumns::y},    {"z", &VertexColumns::z},
+    {"nx", &VertexColumns::nx}, {"ny", &VertexColumns::ny},  {"nz", &VertexColumns::nz},
+    {"u", &VertexColumns::u},   {"s", &VertexColumns::u},    {"texture_u", &VertexColumns::u},
+    {"v", &VertexColumns::v},   {"t", &VertexColumns::v},    {"texture_v", &VertexColumns::v},
+    {"red", &VertexColumns::r}, {"r", &VertexColumns::r},    {"green", &VertexColumns::g},
+    {"g", &VertexColumns::g},   {"blue", &VertexColumns::b}, {"b", &VertexColumns::b}};
 
 VertexColumns vertex_columns(const Element& e, const std::string& file) {
   VertexColumns c;

@@ -1,5 +1,7 @@
 #include "gl_program.hpp"
 
+#include <string>
+
 #include "loom/error.hpp"
 
 namespace loom::shading {
@@ -15,6 +17,17 @@ struct Shaders {
   }
 };
 
+// Throws `failure` and the info log when a compile or link step failed.
+template <class Status, class InfoLog>
+void require_success(GLuint id, GLenum pname, Status status, InfoLog info_log, const std::string& failure) {
+  GLint ok = 0;
+  status(id, pname, &ok);
+  if (ok) return;
+  char log[4096] = {};
+  info_log(id, sizeof log, nullptr, log);
+  throw Error(failure + log);
+}
+
 }  // namespace
 
 GlProgram::GlProgram(const GlApi& gl, const char* name,
@@ -29,23 +42,13 @@ GlProgram::GlProgram(const GlApi& gl, const char* name,
       const GLuint s = shaders.ids.back();
       gl.ShaderSource(s, 1, &source, nullptr);
       gl.CompileShader(s);
-      GLint ok = 0;
-      gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-      if (!ok) {
-        char log[4096] = {};
-        gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
-        throw Error(std::string("shader of program '") + name + "' does not compile: " + log);
-      }
+      require_success(s, GL_COMPILE_STATUS, gl.GetShaderiv, gl.GetShaderInfoLog,
+                      std::string("shader of program '") + name + "' does not compile: ");
       gl.AttachShader(id_, s);
     }
     gl.LinkProgram(id_);
-    GLint ok = 0;
-    gl.GetProgramiv(id_, GL_LINK_STATUS, &ok);
-    if (!ok) {
-      char log[4096] = {};
-      gl.GetProgramInfoLog(id_, sizeof log, nullptr, log);
-      throw Error(std::string("program '") + name + "' does not link: " + log);
-    }
+    require_success(id_, GL_LINK_STATUS, gl.GetProgramiv, gl.GetProgramInfoLog,
+                    std::string("program '") + name + "' does not link: ");
   } catch (...) {
     gl.DeleteProgram(id_);  // the destructor does not run for a constructor that throws
     throw;
