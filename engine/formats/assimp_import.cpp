@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "loom/error.hpp"
+#include "loom/formats/mesh_file_counts.hpp"
 #include "loom/formats/regular_file.hpp"
 
 namespace loom::formats {
@@ -226,6 +227,7 @@ void check_gltf(const fs::path& path) {
 const aiScene* import_scene(Assimp::Importer& importer, const fs::path& path, unsigned extra_flags) {
   require_regular_file(path, "scene");
   check_gltf(path);
+  check_declared_counts(path);  // OFF/PLY/X headers: before assimp allocates what they claim
   auto* io = new RegularFilesOnly;
   importer.SetIOHandler(io);  // the importer owns it
   const aiScene* scene = importer.ReadFile(

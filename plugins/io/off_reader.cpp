@@ -1,6 +1,7 @@
 // Object File Format: "OFF" (or "COFF" with per-vertex colors), the counts
 // #V #F #E, then vertices and polygons "n i0 ... i(n-1)" with 0-based indices.
 #include "indexed_mesh.hpp"
+#include "loom/formats/mesh_file_counts.hpp"
 #include "text_numbers.hpp"
 
 namespace loom::io {
@@ -35,11 +36,10 @@ IndexedMesh read_off_file(const std::string& bytes, const std::string& file) {
   const std::string_view t2 = next_token(counts);
   if (t2.empty()) throw Error(at.where() + ": missing the face count");
   const long long nf = parse_integer(t2, at);
-  // Each vertex takes at least 6 bytes and each face 8: counts beyond the
-  // file's size are a corrupt header, not an allocation.
-  if (nv < 0 || nf < 0 || nv > static_cast<long long>(bytes.size() / 6) || nf > static_cast<long long>(bytes.size() / 8))
-    throw Error(at.where() + ": vertex/face counts " + std::to_string(nv) + "/" + std::to_string(nf) +
-                " do not fit the file's " + std::to_string(bytes.size()) + " bytes");
+  if (nv < 0 || nf < 0)
+    throw Error(at.where() + ": negative vertex/face counts " + std::to_string(nv) + "/" + std::to_string(nf));
+  // Counts beyond the file's size are a corrupt header, not an allocation.
+  formats::check_declared_counts(bytes, bytes.size(), file);
   m.V.reserve(static_cast<std::size_t>(nv));
   for (long long v = 0; v < nv; ++v) {
     if (!content(rest)) throw Error(file + ": the file ends after " + std::to_string(v) + " of " + std::to_string(nv) + " vertices");

@@ -3,11 +3,13 @@
 // texture_v) and colors (red green blue; 8-bit values are divided by 255),
 // and the face element's vertex_indices (or vertex_index) list. Other elements
 // and properties are read past. Every count is checked against the bytes the
-// file has before anything is allocated.
+// file has before anything is allocated (loom/formats/mesh_file_counts.hpp).
 #include <cstring>
 #include <optional>
+#include <utility>
 
 #include "indexed_mesh.hpp"
+#include "loom/formats/mesh_file_counts.hpp"
 #include "text_numbers.hpp"
 
 namespace loom::io {
@@ -120,9 +122,33 @@ class Body {
   TextPlace place_;
 };
 
-}  // namespace
+struct Header {
+  Format format;
+  std::vector<Element> elements;
+  std::size_t body_start;  // byte offset of the first element
+};
 
-IndexedMesh read_ply_file(const std::string& bytes, const std::string& file) {
+Property parse_property(std::string_view rest, const TextPlace& at) {
+  Property p;
+  std::string_view t = next_token(rest);
+  if (t == "list") {
+    p.list = true;
+    const auto c = scalar_of(next_token(rest));
+    const auto v = scalar_of(next_token(rest));
+    if (!c || !v || *c == Scalar::f32 || *c == Scalar::f64)
+      throw Error(at.where() + ": a list property needs an integer count type and a value type");
+    p.count_type = *c;
+    p.type = *v;
+  } else {
+    const auto s = scalar_of(t);
+    if (!s) throw Error(at.where() + ": unknown property type \"" + std::string(t.substr(0, 40)) + "\"");
+    p.type = *s;
+  }
+  p.name = std::string(next_token(rest));
+  return p;
+}
+
+Header parse_header(const std::string& bytes, const std::string& file) {
   TextPlace at{file};
   std::string_view text = bytes, line;
   if (!next_line(text, line) || line.substr(0, 3) != "ply") throw Error(file + ": not a PLY file (no \"ply\" line)");
@@ -133,9 +159,9 @@ IndexedMesh read_ply_file(const std::string& bytes, const std::string& file) {
   while (!ended && next_line(text, line)) {
     ++at.line;
     std::string_view rest = line;
-    std::string_view key = next_token(rest);
+    const std::string_view key = next_token(rest);
     if (key == "format") {
-      std::string_view f = next_token(rest);
+      const std::string_view f = next_token(rest);
       if (f == "ascii") format = Format::ascii;
       else if (f == "binary_little_endian") format = Format::little;
       else if (f == "binary_big_endian") format = Format::big;
@@ -148,23 +174,7 @@ IndexedMesh read_ply_file(const std::string& bytes, const std::string& file) {
       elements.push_back(std::move(e));
     } else if (key == "property") {
       if (elements.empty()) throw Error(at.where() + ": a property before any element");
-      Property p;
-      std::string_view t = next_token(rest);
-      if (t == "list") {
-        p.list = true;
-        auto c = scalar_of(next_token(rest));
-        auto v = scalar_of(next_token(rest));
-        if (!c || !v || *c == Scalar::f32 || *c == Scalar::f64)
-          throw Error(at.where() + ": a list property needs an integer count type and a value type");
-        p.count_type = *c;
-        p.type = *v;
-      } else {
-        auto s = scalar_of(t);
-        if (!s) throw Error(at.where() + ": unknown property type \"" + std::string(t.substr(0, 40)) + "\"");
-        p.type = *s;
-      }
-      p.name = std::string(next_token(rest));
-      elements.back().properties.push_back(std::move(p));
+      elements.back().properties.push_back(parse_property(rest, at));
     } else if (key == "end_header") {
       ended = true;
     } else if (key != "comment" && key != "obj_info" && !key.empty()) {
@@ -173,98 +183,119 @@ IndexedMesh read_ply_file(const std::string& bytes, const std::string& file) {
   }
   if (!ended) throw Error(file + ": the header has no end_header");
   if (!format) throw Error(file + ": the header has no format line");
-  const std::size_t body_start = bytes.size() - text.size();
-  Body body(bytes, body_start, *format, file);
+  return {*format, std::move(elements), bytes.size() - text.size()};
+}
 
+// Where the vertex attributes Loom reads sit among an element's properties (-1: absent).
+struct VertexColumns {
+  int x = -1, y = -1, z = -1, nx = -1, ny = -1, nz = -1, u = -1, v = -1, r = -1, g = -1, b = -1;
+  bool normals() const { return nx >= 0 && ny >= 0 && nz >= 0; }
+  bool uv() const { return u >= 0 && v >= 0; }
+  bool colors() const { return r >= 0 && g >= 0 && b >= 0; }
+};
+
+// The property names each column goes by.
+constexpr std::pair<const char*, int VertexColumns::*> vertex_names[] = {
+    {"x", &VertexColumns::x},   {"y", &VertexColumns::y},    {"z", &VertexColumns::z},
+    {"nx", &VertexColumns::nx}, {"ny", &VertexColumns::ny},  {"nz", &VertexColumns::nz},
+    {"u", &VertexColumns::u},   {"s", &VertexColumns::u},    {"texture_u", &VertexColumns::u},
+    {"v", &VertexColumns::v},   {"t", &VertexColumns::v},    {"texture_v", &VertexColumns::v},
+    {"red", &VertexColumns::r}, {"r", &VertexColumns::r},    {"green", &VertexColumns::g},
+    {"g", &VertexColumns::g},   {"blue", &VertexColumns::b}, {"b", &VertexColumns::b}};
+
+VertexColumns vertex_columns(const Element& e, const std::string& file) {
+  VertexColumns c;
+  for (std::size_t k = 0; k < e.properties.size(); ++k) {
+    const Property& p = e.properties[k];
+    if (p.list) continue;
+    for (const auto& [name, column] : vertex_names)
+      if (p.name == name) c.*column = static_cast<int>(k);
+  }
+  if (c.x < 0 || c.y < 0 || c.z < 0) throw Error(file + ": the vertex element has no x, y, z");
+  return c;
+}
+
+// The face element's vertex index list (the last, if it names several).
+int face_list(const Element& e, const std::string& file) {
+  int list = -1;
+  for (std::size_t k = 0; k < e.properties.size(); ++k)
+    if (e.properties[k].list && (e.properties[k].name == "vertex_indices" || e.properties[k].name == "vertex_index"))
+      list = static_cast<int>(k);
+  if (list < 0) throw Error(file + ": the face element has no vertex_indices list");
+  return list;
+}
+
+void add_vertex(const Element& e, const VertexColumns& c, const std::vector<double>& values, IndexedMesh& m) {
+  const auto at = [&](int i) { return values[static_cast<std::size_t>(i)]; };
+  m.V.emplace_back(at(c.x), at(c.y), at(c.z));
+  if (c.normals()) m.N.emplace_back(at(c.nx), at(c.ny), at(c.nz));
+  if (c.uv()) m.UV.emplace_back(at(c.u), at(c.v));
+  if (c.colors()) {
+    // 8-bit colors are 0..255.
+    const Scalar red = e.properties[static_cast<std::size_t>(c.r)].type;
+    const double s = red == Scalar::u8 || red == Scalar::i8 ? 1.0 / 255 : 1.0;
+    m.C.emplace_back(at(c.r) * s, at(c.g) * s, at(c.b) * s);
+  }
+}
+
+// Reads a list property of instance `r`; face indices (when `indices`) become
+// a polygon of m, other lists are read past.
+void read_list(Body& body, const Element& e, const Property& p, long long r, bool indices, IndexedMesh& m,
+               const std::string& file) {
+  const double count = body.read(p.count_type);
+  if (count < 0) throw Error(file + ": a negative list length in " + e.name + " " + std::to_string(r));
+  if (count > static_cast<double>(body.remaining()))
+    throw Error(file + ": a list in " + e.name + " " + std::to_string(r) + " is longer than the file");
+  if (indices && count < 3)
+    throw Error(file + ": face " + std::to_string(r) + " has " + std::to_string(static_cast<int>(count)) +
+                " vertices (at least 3 needed)");
+  for (int c = 0; c < static_cast<int>(count); ++c) {
+    const double idx = body.read(p.type);
+    if (!indices) continue;
+    if (!(idx >= 0) || idx >= static_cast<double>(m.V.size()) || idx != std::floor(idx))
+      throw Error(file + ": face " + std::to_string(r) + " has vertex index " +
+                  std::to_string(static_cast<long long>(idx)) + " outside [0, " + std::to_string(m.V.size()) + ")");
+    m.corner_v.push_back(static_cast<int>(idx));
+  }
+  if (indices) m.polygon_start.push_back(static_cast<int>(m.corner_v.size()));
+}
+
+}  // namespace
+
+IndexedMesh read_ply_file(const std::string& bytes, const std::string& file) {
+  const Header header = parse_header(bytes, file);
+  // Counts beyond the file's size are a corrupt header, not an allocation.
+  formats::check_declared_counts(bytes, bytes.size(), file);
+  Body body(bytes, header.body_start, header.format, file);
   IndexedMesh m;
-  bool have_vertices = false, have_faces = false;
-  for (const Element& e : elements) {
-    // Every element instance takes at least one byte (binary) or two (ASCII):
-    // a count beyond that is a corrupt header, not an allocation to attempt.
-    std::size_t min_size = 0;
-    for (const Property& p : e.properties) min_size += p.list ? size_of(p.count_type) : size_of(p.type);
-    if (*format == Format::ascii) min_size = 2 * e.properties.size();
-    if (min_size > 0 && static_cast<unsigned long long>(e.count) > body.remaining() / min_size)
-      throw Error(file + ": the header declares " + std::to_string(e.count) + " " + e.name +
-                  " elements but the file is too short for them (truncated or corrupt)");
+  bool have_vertices = false, have_faces = false, vertex_normals = false, vertex_uv = false;
+  for (const Element& e : header.elements) {
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
-    int ix = -1, iy = -1, iz = -1, inx = -1, iny = -1, inz = -1, iu = -1, iv = -1, ir = -1, ig = -1, ib = -1, iface = -1;
-    for (std::size_t k = 0; k < e.properties.size(); ++k) {
-      const std::string& n = e.properties[k].name;
-      const int i = static_cast<int>(k);
-      if (e.properties[k].list) {
-        if (is_face && (n == "vertex_indices" || n == "vertex_index")) iface = i;
-        continue;
-      }
-      if (n == "x") ix = i;
-      else if (n == "y") iy = i;
-      else if (n == "z") iz = i;
-      else if (n == "nx") inx = i;
-      else if (n == "ny") iny = i;
-      else if (n == "nz") inz = i;
-      else if (n == "u" || n == "s" || n == "texture_u") iu = i;
-      else if (n == "v" || n == "t" || n == "texture_v") iv = i;
-      else if (n == "red" || n == "r") ir = i;
-      else if (n == "green" || n == "g") ig = i;
-      else if (n == "blue" || n == "b") ib = i;
-    }
-    if (is_vertex) {
-      if (ix < 0 || iy < 0 || iz < 0) throw Error(file + ": the vertex element has no x, y, z");
-      have_vertices = true;
-    }
-    if (is_face) {
-      if (iface < 0) throw Error(file + ": the face element has no vertex_indices list");
-      have_faces = true;
-    }
-    const bool normals = inx >= 0 && iny >= 0 && inz >= 0, uv = iu >= 0 && iv >= 0,
-               colors = ir >= 0 && ig >= 0 && ib >= 0;
+    const VertexColumns columns = is_vertex ? vertex_columns(e, file) : VertexColumns{};
+    const int face_indices = is_face ? face_list(e, file) : -1;
+    have_vertices |= is_vertex;
+    have_faces |= is_face;
     std::vector<double> values(e.properties.size());
     for (long long r = 0; r < e.count; ++r) {
       for (std::size_t k = 0; k < e.properties.size(); ++k) {
         const Property& p = e.properties[k];
-        if (!p.list) {
+        if (p.list)
+          read_list(body, e, p, r, static_cast<int>(k) == face_indices, m, file);
+        else
           values[k] = body.read(p.type);
-          continue;
-        }
-        const double count = body.read(p.count_type);
-        if (count < 0) throw Error(file + ": a negative list length in " + e.name + " " + std::to_string(r));
-        if (count > static_cast<double>(body.remaining()))
-          throw Error(file + ": a list in " + e.name + " " + std::to_string(r) + " is longer than the file");
-        const bool indices = is_face && static_cast<int>(k) == iface;
-        if (indices && count < 3)
-          throw Error(file + ": face " + std::to_string(r) + " has " + std::to_string(static_cast<int>(count)) +
-                      " vertices (at least 3 needed)");
-        for (int c = 0; c < static_cast<int>(count); ++c) {
-          const double idx = body.read(p.type);
-          if (!indices) continue;
-          if (!(idx >= 0) || idx >= static_cast<double>(m.V.size()) || idx != std::floor(idx))
-            throw Error(file + ": face " + std::to_string(r) + " has vertex index " + std::to_string(static_cast<long long>(idx)) +
-                        " outside [0, " + std::to_string(m.V.size()) + ")");
-          m.corner_v.push_back(static_cast<int>(idx));
-        }
-        if (indices) m.polygon_start.push_back(static_cast<int>(m.corner_v.size()));
       }
-      if (is_vertex) {
-        auto u8 = [&](int i) { const Scalar s = e.properties[static_cast<std::size_t>(i)].type; return s == Scalar::u8 || s == Scalar::i8; };
-        m.V.emplace_back(values[static_cast<std::size_t>(ix)], values[static_cast<std::size_t>(iy)], values[static_cast<std::size_t>(iz)]);
-        if (normals) m.N.emplace_back(values[static_cast<std::size_t>(inx)], values[static_cast<std::size_t>(iny)], values[static_cast<std::size_t>(inz)]);
-        if (uv) m.UV.emplace_back(values[static_cast<std::size_t>(iu)], values[static_cast<std::size_t>(iv)]);
-        if (colors) {
-          const double s = u8(ir) ? 1.0 / 255 : 1.0;
-          m.C.emplace_back(values[static_cast<std::size_t>(ir)] * s, values[static_cast<std::size_t>(ig)] * s, values[static_cast<std::size_t>(ib)] * s);
-        }
-      }
+      if (is_vertex) add_vertex(e, columns, values, m);
     }
     if (is_vertex) {
-      // Per-vertex attributes: each corner uses its vertex's entry.
-      if (normals) m.corner_n.assign(1, 0);
-      if (uv) m.corner_uv.assign(1, 0);
+      vertex_normals |= columns.normals();
+      vertex_uv |= columns.uv();
     }
   }
   if (!have_vertices) throw Error(file + ": no vertex element");
   if (!have_faces) throw Error(file + ": no face element (a point cloud, not a mesh)");
-  if (!m.corner_n.empty()) m.corner_n = m.corner_v;
-  if (!m.corner_uv.empty()) m.corner_uv = m.corner_v;
+  // Per-vertex attributes: each corner uses its vertex's entry.
+  if (vertex_normals) m.corner_n = m.corner_v;
+  if (vertex_uv) m.corner_uv = m.corner_v;
   return m;
 }
 

@@ -85,125 +85,166 @@ std::uint64_t geometry_key(const Scene& scene, int displacement_level) {
   return h.digest();
 }
 
+namespace {
+
+struct ReleaseGeometry {
+  void operator()(RTCGeometry g) const { rtcReleaseGeometry(g); }
+};
+using GeometryHandle = std::unique_ptr<RTCGeometryTy, ReleaseGeometry>;
+
+// A new geometry buffer of `count` items of `size` bytes (Embree reports a
+// failed allocation through the device and a null pointer).
+void* new_buffer(RTCDevice device, RTCGeometry g, RTCBufferType type, RTCFormat format, std::size_t size,
+                 std::size_t count) {
+  void* b = rtcSetNewGeometryBuffer(g, type, 0, format, size, count);
+  if (!b)
+    throw Error("Embree could not allocate a geometry buffer of " + std::to_string(count) + " items (error " +
+                std::to_string(int(rtcGetDeviceError(device))) + ")");
+  return b;
+}
+
+// A mesh in world space (displaced first when it is), with the attributes the
+// integrator reads; extends `box` by its vertices.
+TracedObject traced_mesh(const SceneObject& o, int displacement_level, Eigen::AlignedBox3f& box) {
+  const Eigen::Matrix4d& T = o.transform;
+  const Eigen::Matrix3d L = T.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d normal_matrix = L.inverse().transpose();
+  const Mesh m = displaced(o, displacement_level) ? displaced_mesh(*o.mesh, *o.material.displacement_map,
+                                                                   o.material.displacement_scale, displacement_level)
+                                                  : *o.mesh;
+  TracedObject t;
+  t.P.resize(m.vertices());
+  for (int v = 0; v < m.vertices(); ++v) {
+    t.P[v] = (L * m.V.row(v).transpose() + T.block<3, 1>(0, 3)).cast<float>();
+    box.extend(t.P[v]);
+  }
+  if (m.has_normals()) {
+    t.N.resize(m.vertices());
+    for (int v = 0; v < m.vertices(); ++v) {
+      const Eigen::Vector3d n = normal_matrix * m.N.row(v).transpose();
+      t.N[v] = n.norm() > 0 ? Vec3f(n.normalized().cast<float>()) : Vec3f(Vec3f::Zero());
+    }
+  }
+  if (m.has_uv()) {
+    t.UV.resize(m.vertices());
+    for (int v = 0; v < m.vertices(); ++v) t.UV[v] = m.UV.row(v).transpose().cast<float>();
+  }
+  if (m.has_uv() && o.material.normal_map && !o.material.normal_map->empty()) {
+    Eigen::MatrixX3d world(m.vertices(), 3), dPdu, dPdv;
+    for (int v = 0; v < m.vertices(); ++v) world.row(v) = t.P[v].cast<double>().transpose();
+    numerics::uv_tangents(world, m.F, m.UV, dPdu, dPdv);
+    t.dPdu.resize(m.vertices());
+    t.dPdv.resize(m.vertices());
+    for (int v = 0; v < m.vertices(); ++v) {
+      t.dPdu[v] = dPdu.row(v).transpose().cast<float>();
+      t.dPdv[v] = dPdv.row(v).transpose().cast<float>();
+    }
+  }
+  if (m.has_colors()) {
+    t.C.resize(m.vertices());
+    for (int v = 0; v < m.vertices(); ++v) t.C[v] = m.C.row(v).transpose().cast<float>();
+  }
+  t.F.resize(m.faces());
+  t.face_normal.resize(m.faces());
+  for (int f = 0; f < m.faces(); ++f) {
+    const Eigen::Vector3i tri = m.F.row(f).transpose();
+    t.F[f] = tri;
+    const Vec3f n = (t.P[tri[1]] - t.P[tri[0]]).cross(t.P[tri[2]] - t.P[tri[0]]);
+    const float n2 = n.squaredNorm();
+    t.face_normal[f] = n2 > 0 && std::isfinite(n2) ? Vec3f(n / std::sqrt(n2)) : Vec3f(Vec3f::Zero());
+  }
+  return t;
+}
+
+GeometryHandle triangle_geometry(RTCDevice device, const TracedObject& t) {
+  GeometryHandle g(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE));
+  if (!g) throw Error("Embree could not create a triangle geometry");
+  auto* vb = static_cast<float*>(
+      new_buffer(device, g.get(), RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3, 3 * sizeof(float), t.P.size()));
+  for (std::size_t v = 0; v < t.P.size(); ++v)
+    for (int k = 0; k < 3; ++k) vb[3 * v + k] = t.P[v][k];
+  auto* ib = static_cast<unsigned*>(
+      new_buffer(device, g.get(), RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), t.F.size()));
+  for (std::size_t f = 0; f < t.F.size(); ++f)
+    for (int k = 0; k < 3; ++k) ib[3 * f + k] = unsigned(t.F[f][k]);
+  return g;
+}
+
+// A point set as spheres in world space, a default radius of 1% of the
+// cloud's extent when the set has none; extends `box` by the spheres.
+TracedObject traced_points(const SceneObject& o, Eigen::AlignedBox3f& box) {
+  const PointSet& ps = *o.points;
+  const Eigen::Matrix3d L = o.transform.topLeftCorner<3, 3>();
+  TracedObject t;
+  t.spheres = true;
+  Eigen::AlignedBox3d local;
+  for (int p = 0; p < ps.points(); ++p) local.extend(Eigen::Vector3d(ps.P.row(p)));
+  const double fallback = std::max(0.01 * local.diagonal().norm(), 1e-3);
+  const double scale = std::cbrt(std::abs(L.determinant()));
+  t.points.resize(ps.points());
+  for (int p = 0; p < ps.points(); ++p) {
+    const Eigen::Vector3d c = L * ps.P.row(p).transpose() + o.transform.block<3, 1>(0, 3);
+    const double r = (ps.has_radius() ? ps.radius[p] : fallback) * scale;
+    t.points[p] = Eigen::Vector4f(float(c.x()), float(c.y()), float(c.z()), float(r));
+    box.extend(c.cast<float>() + Vec3f::Constant(float(r)));
+    box.extend(c.cast<float>() - Vec3f::Constant(float(r)));
+  }
+  if (ps.has_colors()) {
+    t.point_colors.resize(ps.points());
+    for (int p = 0; p < ps.points(); ++p) t.point_colors[p] = ps.C.row(p).transpose().cast<float>();
+  }
+  return t;
+}
+
+GeometryHandle sphere_geometry(RTCDevice device, const TracedObject& t) {
+  GeometryHandle g(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT));
+  if (!g) throw Error("Embree could not create a sphere geometry");
+  auto* pb = static_cast<float*>(
+      new_buffer(device, g.get(), RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT4, 4 * sizeof(float), t.points.size()));
+  for (std::size_t p = 0; p < t.points.size(); ++p)
+    for (int k = 0; k < 4; ++k) pb[4 * p + k] = t.points[p][k];
+  return g;
+}
+
+}  // namespace
+
 EmbreeScene::EmbreeScene(const Scene& scene, int displacement_level) {
   const auto start = std::chrono::steady_clock::now();
-  device_ = rtcNewDevice(nullptr);
-  if (!device_) throw Error("Embree could not create a device (error " +
-                            std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
-  scene_ = rtcNewScene(device_);
-  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  device_.reset(rtcNewDevice(nullptr));
+  if (!device_)
+    throw Error("Embree could not create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+  scene_.reset(rtcNewScene(device_.get()));
+  if (!scene_) throw Error("Embree could not create a scene (out of memory?)");
+  rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
   Eigen::AlignedBox3f box;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
-    const Eigen::Matrix4d& T = o.transform;
-    const Eigen::Matrix3d L = T.topLeftCorner<3, 3>();
-    const Eigen::Matrix3d normal_matrix = L.inverse().transpose();
     TracedObject t;
-    t.scene_index = int(i);
-    RTCGeometry g = nullptr;
+    GeometryHandle g;
     if (o.mesh && o.mesh->faces() > 0) {
-      const Mesh m = displaced(o, displacement_level)
-                         ? displaced_mesh(*o.mesh, *o.material.displacement_map,
-                                          o.material.displacement_scale, displacement_level)
-                         : *o.mesh;
-      t.P.resize(m.vertices());
-      for (int v = 0; v < m.vertices(); ++v) {
-        t.P[v] = (L * m.V.row(v).transpose() + T.block<3, 1>(0, 3)).cast<float>();
-        box.extend(t.P[v]);
-      }
-      if (m.has_normals()) {
-        t.N.resize(m.vertices());
-        for (int v = 0; v < m.vertices(); ++v) {
-          const Eigen::Vector3d n = normal_matrix * m.N.row(v).transpose();
-          t.N[v] = n.norm() > 0 ? Vec3f(n.normalized().cast<float>()) : Vec3f(Vec3f::Zero());
-        }
-      }
-      if (m.has_uv()) {
-        t.UV.resize(m.vertices());
-        for (int v = 0; v < m.vertices(); ++v) t.UV[v] = m.UV.row(v).transpose().cast<float>();
-      }
-      if (m.has_uv() && o.material.normal_map && !o.material.normal_map->empty()) {
-        Eigen::MatrixX3d world(m.vertices(), 3), dPdu, dPdv;
-        for (int v = 0; v < m.vertices(); ++v) world.row(v) = t.P[v].cast<double>().transpose();
-        numerics::uv_tangents(world, m.F, m.UV, dPdu, dPdv);
-        t.dPdu.resize(m.vertices());
-        t.dPdv.resize(m.vertices());
-        for (int v = 0; v < m.vertices(); ++v) {
-          t.dPdu[v] = dPdu.row(v).transpose().cast<float>();
-          t.dPdv[v] = dPdv.row(v).transpose().cast<float>();
-        }
-      }
-      if (m.has_colors()) {
-        t.C.resize(m.vertices());
-        for (int v = 0; v < m.vertices(); ++v) t.C[v] = m.C.row(v).transpose().cast<float>();
-      }
-      t.F.resize(m.faces());
-      t.face_normal.resize(m.faces());
-      for (int f = 0; f < m.faces(); ++f) {
-        const Eigen::Vector3i tri = m.F.row(f).transpose();
-        t.F[f] = tri;
-        const Vec3f n = (t.P[tri[1]] - t.P[tri[0]]).cross(t.P[tri[2]] - t.P[tri[0]]);
-        const float n2 = n.squaredNorm();
-        t.face_normal[f] = n2 > 0 && std::isfinite(n2) ? Vec3f(n / std::sqrt(n2)) : Vec3f(Vec3f::Zero());
-      }
-      g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-      auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
-          g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), t.P.size()));
-      for (std::size_t v = 0; v < t.P.size(); ++v)
-        for (int k = 0; k < 3; ++k) vb[3 * v + k] = t.P[v][k];
-      auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-          g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), t.F.size()));
-      for (std::size_t f = 0; f < t.F.size(); ++f)
-        for (int k = 0; k < 3; ++k) ib[3 * f + k] = unsigned(t.F[f][k]);
+      t = traced_mesh(o, displacement_level, box);
+      g = triangle_geometry(device_.get(), t);
       triangles_ += t.F.size();
     } else if (o.points && o.points->points() > 0) {
-      const PointSet& ps = *o.points;
-      t.spheres = true;
-      // A default radius of 1% of the cloud's extent when the set has none.
-      Eigen::AlignedBox3d local;
-      for (int p = 0; p < ps.points(); ++p) local.extend(Eigen::Vector3d(ps.P.row(p)));
-      const double fallback = std::max(0.01 * local.diagonal().norm(), 1e-3);
-      const double scale = std::cbrt(std::abs(L.determinant()));
-      t.points.resize(ps.points());
-      for (int p = 0; p < ps.points(); ++p) {
-        const Eigen::Vector3d c = L * ps.P.row(p).transpose() + T.block<3, 1>(0, 3);
-        const double r = (ps.has_radius() ? ps.radius[p] : fallback) * scale;
-        t.points[p] = Eigen::Vector4f(float(c.x()), float(c.y()), float(c.z()), float(r));
-        box.extend(c.cast<float>() + Vec3f::Constant(float(r)));
-        box.extend(c.cast<float>() - Vec3f::Constant(float(r)));
-      }
-      if (ps.has_colors()) {
-        t.point_colors.resize(ps.points());
-        for (int p = 0; p < ps.points(); ++p) t.point_colors[p] = ps.C.row(p).transpose().cast<float>();
-      }
-      g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-      auto* pb = static_cast<float*>(rtcSetNewGeometryBuffer(
-          g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), t.points.size()));
-      for (std::size_t p = 0; p < t.points.size(); ++p)
-        for (int k = 0; k < 4; ++k) pb[4 * p + k] = t.points[p][k];
+      t = traced_points(o, box);
+      g = sphere_geometry(device_.get(), t);
     } else {
       if (o.lines) ++skipped_polylines_;
       continue;
     }
-    rtcSetGeometryMask(g, o.casts_shadow ? (kCameraMask | kShadowMask) : kCameraMask);
-    rtcCommitGeometry(g);
-    const unsigned id = rtcAttachGeometry(scene_, g);
-    rtcReleaseGeometry(g);
+    t.scene_index = int(i);
+    rtcSetGeometryMask(g.get(), o.casts_shadow ? (kCameraMask | kShadowMask) : kCameraMask);
+    rtcCommitGeometry(g.get());
+    const unsigned id = rtcAttachGeometry(scene_.get(), g.get());
     if (object_of_geometry_.size() <= id) object_of_geometry_.resize(id + 1, -1);
     object_of_geometry_[id] = int(objects_.size());
     objects_.push_back(std::move(t));
   }
-  rtcCommitScene(scene_);
-  if (rtcGetDeviceError(device_) != RTC_ERROR_NONE)
+  rtcCommitScene(scene_.get());
+  if (rtcGetDeviceError(device_.get()) != RTC_ERROR_NONE)
     throw Error("Embree failed to build the BVH (out of memory?)");
   extent_ = box.isEmpty() ? 1.f : std::max(box.diagonal().norm(), 1e-6f);
-  build_seconds_ =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-EmbreeScene::~EmbreeScene() {
-  if (scene_) rtcReleaseScene(scene_);
-  if (device_) rtcReleaseDevice(device_);
+  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceHit* hit,
@@ -215,7 +256,7 @@ bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceH
   set_ray(rh.ray, o, d, tmax, kCameraMask);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(scene_, &context, &rh);
+  rtcIntersect1(scene_.get(), &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
   const int index = object_of_geometry_[rh.hit.geomID];
   const TracedObject& obj = objects_[index];
@@ -263,7 +304,7 @@ bool EmbreeScene::occluded(const Vec3f& o, const Vec3f& d, float tmax) const {
   rtcInitIntersectContext(&context);
   RTCRay ray;
   set_ray(ray, o, d, tmax, kShadowMask);
-  rtcOccluded1(scene_, &context, &ray);
+  rtcOccluded1(scene_.get(), &context, &ray);
   return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 

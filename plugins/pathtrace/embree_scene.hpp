@@ -65,7 +65,6 @@ class EmbreeScene {
   // Displaced meshes (displaced()) are subdivided `displacement_level` times
   // and displaced (displacement.hpp) before the build.
   explicit EmbreeScene(const Scene& scene, int displacement_level = 0);
-  ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
 
@@ -105,8 +104,15 @@ class EmbreeScene {
   }
 
  private:
-  RTCDevice device_ = nullptr;
-  RTCScene scene_ = nullptr;
+  // Released by their owners, also when the constructor throws half way.
+  struct ReleaseDevice {
+    void operator()(RTCDevice d) const { rtcReleaseDevice(d); }
+  };
+  struct ReleaseScene {
+    void operator()(RTCScene s) const { rtcReleaseScene(s); }
+  };
+  std::unique_ptr<RTCDeviceTy, ReleaseDevice> device_;  // declared first: released last
+  std::unique_ptr<RTCSceneTy, ReleaseScene> scene_;
   std::vector<TracedObject> objects_;
   std::vector<int> object_of_geometry_;
   int skipped_polylines_ = 0;

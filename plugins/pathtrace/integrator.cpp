@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -77,31 +79,145 @@ struct PathResult {
   int rays = 0;
 };
 
+// Where a path is between bounces: its throughput, the next ray's direction,
+// and what the emitter that ray may hit needs for its MIS weight.
+struct PathVertex {
+  Vec3f beta = Vec3f::Ones();
+  Vec3f dir;
+  float prev_pdf = 0;
+  bool prev_delta = true;  // the camera ray: emitters count fully
+  Vec3f prev_point;
+};
+
+// A scattered direction: weight = f cos θ / pdf.
+struct Scattered {
+  Vec3f weight, dir;
+  float pdf;
+  bool delta;
+};
+
+// Each BSDF form gives next-event estimation a Term for a light's direction:
+// f cos θ = factor · scale (kept apart so the product rounds the same way for
+// both forms), whether it is nonzero, and what its pdf() needs.
+
+// Lambert, two-sided, in closed form with no local frame: f cos θi = base cos θi / π
+// on wo's side of the shading normal, pdf = cos θi / π (cosine sampling), weight = base.
+struct LambertBsdf {
+  Vec3f n;  // the shading normal turned to wo's side
+  Vec3f base;
+  struct Term {
+    Vec3f factor;
+    float scale;
+    bool nonzero;
+  };
+  bool nonspecular() const { return true; }
+  Term direct(const Vec3f& wi) const {
+    const float cos_i = n.dot(wi);
+    return {base, cos_i * kInvPi, cos_i > 0};
+  }
+  float pdf(const Term& t) const { return t.scale; }
+  std::optional<Scattered> sample(Rng& rng) const {
+    const Vec3f wi = sample_cosine_hemisphere(rng.uniform2());
+    if (!(wi.z() > 0)) return std::nullopt;
+    return Scattered{base, unit(Frame(n).to_world(wi)), wi.z() * kInvPi, false};
+  }
+};
+
+// Every other model through bsdf.hpp, in the shading frame.
+struct FramedBsdf {
+  SurfaceMaterial m;
+  Frame frame;
+  Vec3f wo;
+  struct Term {
+    Vec3f factor;
+    float scale;
+    bool nonzero;
+    Vec3f wi_local;
+  };
+  bool nonspecular() const { return !m.purely_specular(); }
+  Term direct(const Vec3f& wi) const {
+    const Vec3f local = frame.to_local(wi);
+    const Vec3f f = bsdf_eval(m, wo, local);
+    return {f, 1.f, (f.array() > 0).any(), local};
+  }
+  float pdf(const Term& t) const { return bsdf_pdf(m, wo, t.wi_local); }
+  std::optional<Scattered> sample(Rng& rng) const {
+    const float uc = rng.uniform();
+    const auto bs = bsdf_sample(m, wo, uc, rng.uniform2());
+    if (!bs || !(bs->weight.array() > 0).any()) return std::nullopt;
+    return Scattered{bs->weight, unit(frame.to_world(bs->wi)), bs->pdf, bs->delta};
+  }
+};
+
 // The shadow ray of next-event estimation.
 bool occluded(const EmbreeScene& traced, const SurfaceHit& hit, const LightSample& ls) {
   return std::isinf(ls.distance) ? traced.occluded(traced.offset(hit, ls.wi), ls.wi, kInf)
                                  : traced.occluded_to(hit, ls.point);
 }
 
+// Next-event estimation (pbrt-v4's SampleLd): one light sample, its shadow
+// ray, f Le w_light / p_light with w_light the power heuristic against the
+// BSDF's pdf (1 for delta lights or without MIS). `wo_side` cuts directions
+// through the geometric surface (normal maps, reflection only). β enters the
+// product first, as the path loop always multiplied.
+template <class Bsdf>
+void sample_direct(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, const Vec3f& beta,
+                   bool use_mis, Rng& rng, PathResult& r) {
+  const float uc = rng.uniform();
+  const Vec2f u = rng.uniform2();
+  const float ue = rng.uniform();
+  const auto ls = c.lights.sample(hit.p, uc, u, ue);
+  if (!ls) return;
+  const auto t = bsdf.direct(ls->wi);
+  if (!t.nonzero || !(wo_side * ls->wi.dot(hit.ng) >= 0)) return;
+  if (ls->shadowed && (++r.rays, occluded(c.traced, hit, *ls))) return;
+  const float w = ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf.pdf(t));
+  r.L += beta.cwiseProduct(t.factor).cwiseProduct(ls->radiance) * (t.scale * w / ls->pdf);
+}
+
+// The light sampling strategy (RenderSettings::strategy) of every bounce.
+struct Strategies {
+  bool nee, mis;
+};
+
+// One bounce at a hit: direct light, then the BSDF-sampled direction the path
+// continues in. False when the path ends here.
+template <class Bsdf>
+bool scatter(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, Strategies use, Rng& rng,
+             PathVertex& v, PathResult& r) {
+  if (use.nee && bsdf.nonspecular()) sample_direct(c, hit, wo_side, bsdf, v.beta, use.mis, rng, r);
+  const auto s = bsdf.sample(rng);
+  if (!s) return false;
+  v.beta = v.beta.cwiseProduct(s->weight);
+  v.prev_pdf = s->pdf;
+  v.prev_delta = s->delta;
+  v.dir = s->dir;
+  return !(wo_side * v.dir.dot(hit.ng) < 0);
+}
+
+// Light from the environment along a ray that left the scene, MIS-weighted
+// against light sampling's environment pdf.
+void add_environment(const PathContext& c, const PathVertex& v, Strategies use, int depth, PathResult& r) {
+  if (c.environment.black()) return;
+  float w = 1;
+  if (!v.prev_delta && use.nee && c.lights.samples_environment())
+    w = use.mis ? power_heuristic(v.prev_pdf, c.lights.environment_pdf(v.dir)) : 0.f;
+  r.L += v.beta.cwiseProduct(c.environment.radiance(v.dir)) * w;
+  if (depth == 0) r.albedo = c.environment.radiance(v.dir);
+}
+
 PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
+  const Strategies use{c.settings.strategy != Strategy::bsdf && !c.lights.empty(),
+                       c.settings.strategy == Strategy::mis};
   PathResult r;
-  const bool use_nee = c.settings.strategy != Strategy::bsdf && !c.lights.empty();
-  const bool use_mis = c.settings.strategy == Strategy::mis;
-  Vec3f beta = Vec3f::Ones();
-  float prev_pdf = 0;
-  bool prev_delta = true;  // the camera ray: emitters count fully
-  Vec3f prev_point = origin;
+  PathVertex v;
+  v.dir = dir;
+  v.prev_point = origin;
   SurfaceHit hit;
   for (int depth = 0;; ++depth) {
     ++r.rays;
-    if (!c.traced.intersect(origin, dir, kInf, &hit, depth == 0)) {
-      if (!c.environment.black()) {
-        float w = 1;
-        if (!prev_delta && use_nee && c.lights.samples_environment())
-          w = use_mis ? power_heuristic(prev_pdf, c.lights.environment_pdf(dir)) : 0.f;
-        r.L += beta.cwiseProduct(c.environment.radiance(dir)) * w;
-        if (depth == 0) r.albedo = c.environment.radiance(dir);
-      }
+    if (!c.traced.intersect(origin, v.dir, kInf, &hit, depth == 0)) {
+      add_environment(c, v, use, depth, r);
       break;
     }
     const ObjectShading& sh = c.shading[hit.object];
@@ -110,8 +226,8 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
     float wo_side = 0;
     if (sh.normal_map) {
       hit.ns = mapped_normal(hit.ns, hit.dpdu, hit.dpdv, texel_bilinear(*sh.normal_map, hit.uv));
-      hit.ns = bend_above_horizon(hit.ns, hit.ng, -dir);
-      if (sh.reflective_only) wo_side = -dir.dot(hit.ng);
+      hit.ns = bend_above_horizon(hit.ns, hit.ng, -v.dir);
+      if (sh.reflective_only) wo_side = -v.dir.dot(hit.ng);
     }
     Vec3f base = sh.material.base.cwiseProduct(hit.color);
     if (sh.base_color_map) base = base.cwiseProduct(texel_color(*sh.base_color_map, hit.uv));
@@ -121,87 +237,38 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
       r.depth = hit.t;
     }
     // Emission (one-sided, on the winding's front).
-    if (sh.emissive && hit.ng.dot(dir) < 0) {
+    if (sh.emissive && hit.ng.dot(v.dir) < 0) {
       float w = 1;
-      if (!prev_delta && use_nee && !c.traced.objects()[hit.object].spheres)
-        w = use_mis ? power_heuristic(prev_pdf, c.lights.triangle_pdf(hit, prev_point)) : 0.f;
-      r.L += beta.cwiseProduct(sh.emission) * w;
+      if (!v.prev_delta && use.nee && !c.traced.objects()[hit.object].spheres)
+        w = use.mis ? power_heuristic(v.prev_pdf, c.lights.triangle_pdf(hit, v.prev_point)) : 0.f;
+      r.L += v.beta.cwiseProduct(sh.emission) * w;
     }
     if (depth >= c.settings.max_depth) break;
 
+    bool goes_on;
     if (sh.lambert) {
-      // Lambert, two-sided: f cos = base cos θi / π on wo's side of the
-      // shading normal, pdf = cos θi / π (cosine sampling), weight = base.
-      const Vec3f n = hit.ns.dot(dir) > 0 ? Vec3f(-hit.ns) : hit.ns;
-      if (use_nee) {
-        const float uc = rng.uniform();
-        const Vec2f u = rng.uniform2();
-        const float ue = rng.uniform();
-        if (const auto ls = c.lights.sample(hit.p, uc, u, ue)) {
-          const float cos_i = n.dot(ls->wi);
-          if (cos_i > 0 && wo_side * ls->wi.dot(hit.ng) >= 0) {
-            const bool blocked = ls->shadowed && (++r.rays, occluded(c.traced, hit, *ls));
-            if (!blocked) {
-              const float bsdf_pdf = cos_i * kInvPi;
-              const float w = ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf_pdf);
-              r.L += beta.cwiseProduct(base).cwiseProduct(ls->radiance) * (bsdf_pdf * w / ls->pdf);
-            }
-          }
-        }
-      }
-      const Vec3f wi = sample_cosine_hemisphere(rng.uniform2());
-      if (!(wi.z() > 0)) break;
-      beta = beta.cwiseProduct(base);
-      prev_pdf = wi.z() * kInvPi;
-      prev_delta = false;
-      dir = unit(Frame(n).to_world(wi));
-      if (wo_side * dir.dot(hit.ng) < 0) break;
+      goes_on =
+          scatter(c, hit, wo_side, LambertBsdf{hit.ns.dot(v.dir) > 0 ? Vec3f(-hit.ns) : hit.ns, base}, use, rng, v, r);
     } else {
       SurfaceMaterial m = sh.material;
       m.base = base;
       const Frame frame(hit.ns);
-      const Vec3f wo = frame.to_local(-dir);
-      // Next-event estimation.
-      if (use_nee && !m.purely_specular()) {
-        const float uc = rng.uniform();
-        const Vec2f u = rng.uniform2();
-        const float ue = rng.uniform();
-        if (const auto ls = c.lights.sample(hit.p, uc, u, ue)) {
-          const Vec3f wi = frame.to_local(ls->wi);
-          const Vec3f f = bsdf_eval(m, wo, wi);
-          if ((f.array() > 0).any() && wo_side * ls->wi.dot(hit.ng) >= 0) {
-            const bool blocked = ls->shadowed && (++r.rays, occluded(c.traced, hit, *ls));
-            if (!blocked) {
-              const float w =
-                  ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf_pdf(m, wo, wi));
-              r.L += beta.cwiseProduct(f).cwiseProduct(ls->radiance) * (w / ls->pdf);
-            }
-          }
-        }
-      }
-      // BSDF sampling.
-      const float uc = rng.uniform();
-      const auto bs = bsdf_sample(m, wo, uc, rng.uniform2());
-      if (!bs || !(bs->weight.array() > 0).any()) break;
-      beta = beta.cwiseProduct(bs->weight);
-      prev_pdf = bs->pdf;
-      prev_delta = bs->delta;
-      dir = unit(frame.to_world(bs->wi));
-      if (wo_side * dir.dot(hit.ng) < 0) break;
+      goes_on = scatter(c, hit, wo_side, FramedBsdf{m, frame, frame.to_local(-v.dir)}, use, rng, v, r);
     }
-    prev_point = hit.p;
+    if (!goes_on) break;
+    v.prev_point = hit.p;
     // A path that can gather nothing more ends here: its throughput is zero
     // (e.g. red after green), or the next hit would be past the last bounce
     // and could only add emission the scene does not have.
-    if (!(beta.maxCoeff() > 0)) break;
+    if (!(v.beta.maxCoeff() > 0)) break;
     if (depth + 1 >= c.settings.max_depth && !c.emitters_hittable) break;
-    origin = c.traced.offset(hit, dir);
+    origin = c.traced.offset(hit, v.dir);
     if (c.settings.russian_roulette && depth + 1 >= c.settings.rr_min_depth) {
-      const float survive = std::min(0.95f, beta.maxCoeff());
+      const float survive = std::min(0.95f, v.beta.maxCoeff());
       if (!(rng.uniform() < survive)) break;
-      beta /= survive;
+      v.beta /= survive;
     }
-    if (!beta.allFinite()) break;
+    if (!v.beta.allFinite()) break;
   }
   return r;
 }
@@ -212,16 +279,23 @@ struct PixelAccumulator {
   double depth = 0, lum = 0, lum2 = 0;
   int n = 0;
   bool done = false;
+
+  void add(const PathResult& p) {
+    const float l = luminance(p.L);
+    for (int i = 0; i < 3; ++i) {
+      L[i] += p.L[i];
+      albedo[i] += p.albedo[i];
+      normal[i] += p.normal[i];
+    }
+    depth += p.depth;
+    lum += l;
+    lum2 += double(l) * l;
+  }
 };
 
-}  // namespace
-
-RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene& traced,
-                    const RenderSettings& s, const std::function<void(double)>& between_batches) {
-  const int W = s.width, H = s.height;
+// The scene's materials as the path loop reads them, per traced object.
+std::vector<ObjectShading> object_shading(const Scene& scene, const EmbreeScene& traced) {
   std::vector<ObjectShading> shading(traced.objects().size());
-  std::vector<Vec3f> emission(traced.objects().size());
-  bool emitters_hittable = false;
   for (std::size_t i = 0; i < shading.size(); ++i) {
     const Material& mat = scene.objects[traced.objects()[i].scene_index].material;
     ObjectShading& sh = shading[i];
@@ -237,94 +311,114 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
     sh.emission = mat.emission.cast<float>();
     sh.emissive = (sh.emission.array() > 0).any();
     sh.lambert = mat.model == Material::Model::diffuse;
-    emission[i] = sh.emission;
-    emitters_hittable |= sh.emissive;
   }
-  const EnvironmentLight environment(scene.environment, s.environment_sampling);
-  const LightSampler lights(scene, traced, emission, environment);
-  const PathContext context{traced, shading, lights, environment, s,
-                            emitters_hittable || !environment.black()};
-  const CameraRays cam(camera, W, H);
+  return shading;
+}
 
-  std::vector<PixelAccumulator> acc(std::size_t(W) * H);
-  constexpr int kTile = 16;
-  const int tiles_x = (W + kTile - 1) / kTile, tiles_y = (H + kTile - 1) / kTile;
-  const int tiles = tiles_x * tiles_y;
-  std::atomic<std::uint64_t> rays{0}, nonfinite{0};
-  std::uint64_t paths = 0;
-  const bool adaptive = s.adaptive_threshold > 0;
-  const double total = double(W) * H * s.spp;
-  int taken = 0;  // samples per active pixel so far
-  while (taken < s.spp) {
-    const int pass = !adaptive ? s.spp - taken
-                               : (taken == 0 ? std::min(s.spp, std::max(1, s.adaptive_min_spp))
-                                             : std::min(s.spp - taken, std::max(4, taken / 4)));
-    constexpr int kBatch = 32;  // tiles between progress reports and cancellation checks
-    for (int first = 0; first < tiles; first += kBatch) {
-      const int last = std::min(tiles, first + kBatch);
-      tbb::parallel_for(tbb::blocked_range<int>(first, last, 1), [&](const tbb::blocked_range<int>& range) {
-        std::uint64_t local_rays = 0, local_bad = 0;
-        for (int tile = range.begin(); tile != range.end(); ++tile) {
-          const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
-          for (int y = y0; y < std::min(H, y0 + kTile); ++y)
-            for (int x = x0; x < std::min(W, x0 + kTile); ++x) {
-              const std::size_t index = std::size_t(y) * W + x;
-              PixelAccumulator& a = acc[index];
-              if (a.done) continue;
-              for (int k = 0; k < pass; ++k) {
-                Rng rng(s.seed, index, std::uint64_t(a.n));
-                const Vec2f j = rng.uniform2();
-                Vec3f origin, dir;
-                cam.ray(2 * (x + j.x()) / W - 1, 1 - 2 * (y + j.y()) / H, &origin, &dir);
-                const PathResult p = trace_path(context, origin, dir, rng);
-                local_rays += std::uint64_t(p.rays);
-                ++a.n;
-                if (!p.L.allFinite()) {
-                  ++local_bad;  // counted as a black sample: the mean stays finite
-                  continue;
-                }
-                const float lum = luminance(p.L);
-                for (int i = 0; i < 3; ++i) {
-                  a.L[i] += p.L[i];
-                  a.albedo[i] += p.albedo[i];
-                  a.normal[i] += p.normal[i];
-                }
-                a.depth += p.depth;
-                a.lum += lum;
-                a.lum2 += double(lum) * lum;
-              }
-            }
+// The image's pixels and what one pass over them needs.
+struct Film {
+  int width, height;
+  std::vector<PixelAccumulator> pixels;
+  static constexpr int kTile = 16;
+  int tiles_x, tiles;
+  Film(int w, int h)
+      : width(w),
+        height(h),
+        pixels(std::size_t(w) * h),
+        tiles_x((w + kTile - 1) / kTile),
+        tiles(tiles_x * ((h + kTile - 1) / kTile)) {}
+};
+
+struct RayCounts {
+  std::uint64_t rays = 0, nonfinite = 0;
+};
+
+// `pass` more samples for every pixel of a tile that is not done.
+RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, int tile, int pass) {
+  RayCounts counts;
+  const int W = film.width, H = film.height;
+  const int x0 = (tile % film.tiles_x) * Film::kTile, y0 = (tile / film.tiles_x) * Film::kTile;
+  for (int y = y0; y < std::min(H, y0 + Film::kTile); ++y)
+    for (int x = x0; x < std::min(W, x0 + Film::kTile); ++x) {
+      const std::size_t index = std::size_t(y) * W + x;
+      PixelAccumulator& a = film.pixels[index];
+      if (a.done) continue;
+      for (int k = 0; k < pass; ++k) {
+        Rng rng(c.settings.seed, index, std::uint64_t(a.n));
+        const Vec2f j = rng.uniform2();
+        Vec3f origin, dir;
+        cam.ray(2 * (x + j.x()) / W - 1, 1 - 2 * (y + j.y()) / H, &origin, &dir);
+        const PathResult p = trace_path(c, origin, dir, rng);
+        counts.rays += std::uint64_t(p.rays);
+        ++a.n;
+        if (!p.L.allFinite()) {
+          ++counts.nonfinite;  // counted as a black sample: the mean stays finite
+          continue;
         }
-        rays += local_rays;
-        nonfinite += local_bad;
-      });
-      if (between_batches) {
-        double done = 0;
-        for (const auto& a : acc) done += a.n;
-        between_batches(std::min(1.0, done / total));
+        a.add(p);
       }
     }
-    taken += pass;
-    if (adaptive && taken < s.spp) {
-      for (auto& a : acc) {
-        if (a.done || a.n < 2) continue;
-        const double mean = a.lum / a.n;
-        const double var = std::max(0.0, (a.lum2 - a.lum * mean) / (a.n - 1));
-        // Relative standard error of the mean, with a floor for black pixels.
-        a.done = std::sqrt(var / a.n) < s.adaptive_threshold * std::max(mean, 1e-3);
+  return counts;
+}
+
+// One pass of `pass` samples per active pixel, in batches of tiles with
+// progress and cancellation (between_batches) on the calling thread.
+void trace_pass(const PathContext& c, const CameraRays& cam, Film& film, int pass, std::atomic<std::uint64_t>& rays,
+                std::atomic<std::uint64_t>& nonfinite, const std::function<void(double)>& between_batches) {
+  const double total = double(film.width) * film.height * c.settings.spp;
+  constexpr int kBatch = 32;  // tiles between progress reports and cancellation checks
+  for (int first = 0; first < film.tiles; first += kBatch) {
+    const int last = std::min(film.tiles, first + kBatch);
+    tbb::parallel_for(tbb::blocked_range<int>(first, last, 1), [&](const tbb::blocked_range<int>& range) {
+      RayCounts sum;
+      for (int tile = range.begin(); tile != range.end(); ++tile) {
+        const RayCounts t = trace_tile(c, cam, film, tile, pass);
+        sum.rays += t.rays;
+        sum.nonfinite += t.nonfinite;
       }
+      rays += sum.rays;
+      nonfinite += sum.nonfinite;
+    });
+    if (between_batches) {
+      double done = 0;
+      for (const auto& a : film.pixels) done += a.n;
+      between_batches(std::min(1.0, done / total));
     }
   }
-  RenderResult out;
+}
+
+// Samples per active pixel in the next pass: all at once without adaptive
+// sampling; else adaptive_min_spp first, then a quarter more each pass.
+int next_pass(const RenderSettings& s, int taken) {
+  if (!(s.adaptive_threshold > 0)) return s.spp - taken;
+  if (taken == 0) return std::min(s.spp, std::max(1, s.adaptive_min_spp));
+  return std::min(s.spp - taken, std::max(4, taken / 4));
+}
+
+// Adaptive sampling: a pixel is done when the relative standard error of its
+// luminance mean is below the threshold (with a floor for black pixels).
+void mark_converged(Film& film, double threshold) {
+  for (auto& a : film.pixels) {
+    if (a.done || a.n < 2) continue;
+    const double mean = a.lum / a.n;
+    const double var = std::max(0.0, (a.lum2 - a.lum * mean) / (a.n - 1));
+    a.done = std::sqrt(var / a.n) < threshold * std::max(mean, 1e-3);
+  }
+}
+
+// The pixels' means as images.
+void resolve(const Film& film, RenderResult& out) {
+  const int W = film.width, H = film.height;
   out.image.create(H, W, CV_32FC3);
   out.albedo.create(H, W, CV_32FC3);
   out.normal.create(H, W, CV_32FC3);
   out.depth.create(H, W, CV_32FC1);
   out.samples.create(H, W, CV_32FC1);
   double sum_n = 0;
+  std::uint64_t paths = 0;
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      const PixelAccumulator& a = acc[std::size_t(y) * W + x];
+      const PixelAccumulator& a = film.pixels[std::size_t(y) * W + x];
       const double inv = a.n > 0 ? 1.0 / a.n : 0;
       for (int i = 0; i < 3; ++i) {
         out.image.at<cv::Vec3f>(y, x)[i] = float(a.L[i] * inv);
@@ -338,6 +432,34 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
     }
   out.mean_spp = sum_n / (double(W) * H);
   out.paths = paths;
+}
+
+}  // namespace
+
+RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene& traced, const RenderSettings& s,
+                    const std::function<void(double)>& between_batches) {
+  const std::vector<ObjectShading> shading = object_shading(scene, traced);
+  std::vector<Vec3f> emission;
+  bool emitters_hittable = false;
+  for (const ObjectShading& sh : shading) {
+    emission.push_back(sh.emission);
+    emitters_hittable |= sh.emissive;
+  }
+  const EnvironmentLight environment(scene.environment, s.environment_sampling);
+  const LightSampler lights(scene, traced, emission, environment);
+  const PathContext context{traced, shading, lights, environment, s, emitters_hittable || !environment.black()};
+  const CameraRays cam(camera, s.width, s.height);
+
+  Film film(s.width, s.height);
+  std::atomic<std::uint64_t> rays{0}, nonfinite{0};
+  for (int taken = 0; taken < s.spp;) {
+    const int pass = next_pass(s, taken);
+    trace_pass(context, cam, film, pass, rays, nonfinite, between_batches);
+    taken += pass;
+    if (s.adaptive_threshold > 0 && taken < s.spp) mark_converged(film, s.adaptive_threshold);
+  }
+  RenderResult out;
+  resolve(film, out);
   out.rays = rays;
   out.nonfinite = nonfinite;
   out.emissive_triangles = lights.emissive_triangles();

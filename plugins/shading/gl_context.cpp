@@ -8,9 +8,17 @@
 
 namespace loom::shading {
 
+// Owns the OSMesa context: destroyed also when the constructor throws after
+// creating it (OSMesaMakeCurrent failing, no renderer string).
 struct GlContext::Impl {
   OSMesaContext context = nullptr;
   std::vector<unsigned char> buffer = std::vector<unsigned char>(4 * 4 * 4);
+  Impl() = default;
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+  ~Impl() {
+    if (context) OSMesaDestroyContext(context);
+  }
 };
 
 namespace {
@@ -32,14 +40,13 @@ GlContext::GlContext() : impl_(std::make_unique<Impl>()) {
                 "llvmpipe is needed: install libosmesa6; GALLIUM_DRIVER must not force softpipe)");
   make_current(impl_->context, impl_->buffer);
   gl_.load(&resolve);
-  renderer_ = reinterpret_cast<const char*>(gl_.GetString(GL_RENDERER));
-  version_ = reinterpret_cast<const char*>(gl_.GetString(GL_VERSION));
+  const auto* renderer = reinterpret_cast<const char*>(gl_.GetString(GL_RENDERER));
   OSMesaMakeCurrent(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0);
+  if (!renderer) throw Error("the OpenGL context names no renderer");
+  renderer_ = renderer;
 }
 
-GlContext::~GlContext() {
-  if (impl_->context) OSMesaDestroyContext(impl_->context);
-}
+GlContext::~GlContext() = default;
 
 GlContext::Current::Current(GlContext& c) : c_(c), lock_(c.mutex_) {
   make_current(c_.impl_->context, c_.impl_->buffer);

@@ -38,14 +38,13 @@ class GlContext {
 
   const GlApi& gl() const { return gl_; }
   const std::string& renderer() const { return renderer_; }  // "llvmpipe (LLVM 15...)"
-  const std::string& version() const { return version_; }
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   std::mutex mutex_;
   GlApi gl_;
-  std::string renderer_, version_;
+  std::string renderer_;
 };
 
 }  // namespace loom::shading

@@ -1,40 +1,57 @@
 #include "gl_program.hpp"
 
+#include <string>
+
 #include "loom/error.hpp"
 
 namespace loom::shading {
+
+namespace {
+
+// A program's shaders, deleted when it is linked or when building it throws.
+struct Shaders {
+  const GlApi& gl;
+  std::vector<GLuint> ids;
+  ~Shaders() {
+    for (GLuint s : ids) gl.DeleteShader(s);
+  }
+};
+
+// Throws `failure` and the info log when a compile or link step failed.
+template <class Status, class InfoLog>
+void require_success(GLuint id, GLenum pname, Status status, InfoLog info_log, const std::string& failure) {
+  GLint ok = 0;
+  status(id, pname, &ok);
+  if (ok) return;
+  char log[4096] = {};
+  info_log(id, sizeof log, nullptr, log);
+  throw Error(failure + log);
+}
+
+}  // namespace
 
 GlProgram::GlProgram(const GlApi& gl, const char* name,
                      const std::vector<std::pair<GLenum, const char*>>& stages)
     : gl_(gl) {
   id_ = gl.CreateProgram();
-  std::vector<GLuint> shaders;
-  for (const auto& [kind, source] : stages) {
-    const GLuint s = gl.CreateShader(kind);
-    gl.ShaderSource(s, 1, &source, nullptr);
-    gl.CompileShader(s);
-    GLint ok = 0;
-    gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-      char log[4096] = {};
-      gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
-      gl.DeleteShader(s);
-      for (GLuint other : shaders) gl.DeleteShader(other);
-      gl.DeleteProgram(id_);
-      throw Error(std::string("shader of program '") + name + "' does not compile: " + log);
+  try {
+    Shaders shaders{gl, {}};
+    shaders.ids.reserve(stages.size());
+    for (const auto& [kind, source] : stages) {
+      shaders.ids.push_back(gl.CreateShader(kind));
+      const GLuint s = shaders.ids.back();
+      gl.ShaderSource(s, 1, &source, nullptr);
+      gl.CompileShader(s);
+      require_success(s, GL_COMPILE_STATUS, gl.GetShaderiv, gl.GetShaderInfoLog,
+                      std::string("shader of program '") + name + "' does not compile: ");
+      gl.AttachShader(id_, s);
     }
-    gl.AttachShader(id_, s);
-    shaders.push_back(s);
-  }
-  gl.LinkProgram(id_);
-  for (GLuint s : shaders) gl.DeleteShader(s);
-  GLint ok = 0;
-  gl.GetProgramiv(id_, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {};
-    gl.GetProgramInfoLog(id_, sizeof log, nullptr, log);
-    gl.DeleteProgram(id_);
-    throw Error(std::string("program '") + name + "' does not link: " + log);
+    gl.LinkProgram(id_);
+    require_success(id_, GL_LINK_STATUS, gl.GetProgramiv, gl.GetProgramInfoLog,
+                    std::string("program '") + name + "' does not link: ");
+  } catch (...) {
+    gl.DeleteProgram(id_);  // the destructor does not run for a constructor that throws
+    throw;
   }
 }
 

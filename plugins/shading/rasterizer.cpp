@@ -103,7 +103,48 @@ struct Rasterizer::State {
   const GlApi& gl() const { return context.gl(); }
   enum class Lit { mesh, mesh_tess, sphere };
   GlProgram& lit_program(Lit kind, const std::string& defines);
+
+  // What every draw of one render shares.
+  struct Frame {
+    const Scene& scene;
+    const RenderOptions& options;
+    Camera camera;
+    Eigen::Matrix4d view, proj, view_proj;
+    Eigen::Vector3d ambient;
+    const EnvironmentMap* env;
+    const std::vector<ShadowMap>& maps;
+    std::string lighting;  // lighting_defines of this frame
+  };
+  // The steps of a render, in order.
+  const Targets& clear_targets(const Frame& f);
+  void draw_background(const Frame& f);
+  void draw_object(const Frame& f, const GpuObject& o);
+  void draw_wireframe(const Frame& f, const GpuScene& gpu);
+  RenderImages read_back(const Targets& fb);
+
+  // Deletes the GL objects with the context current (a constructor that
+  // throws half way leaves the same to clean up).
+  ~State();
 };
+
+Rasterizer::State::~State() {
+  try {
+    GlContext::Current current(context);
+    release_targets();
+    gpu_cache.reset();
+    if (environment.texture) gl().DeleteTextures(1, &environment.texture);
+    lit.clear();
+    depth.reset();
+    depth_only.reset();
+    depth_tess.reset();
+    sphere_depth.reset();
+    background.reset();
+    line.reset();
+    if (empty_vao) gl().DeleteVertexArrays(1, &empty_vao);
+  } catch (const Error&) {
+    // The context cannot be made current: destroying it frees its objects.
+  }
+}
 
 const Rasterizer::State::EnvironmentMap* Rasterizer::State::environment_map(const Environment& env) {
   if (!env.map || env.map->empty()) return nullptr;
@@ -237,21 +278,7 @@ Rasterizer::Rasterizer() {
   s.compile_seconds = since(t1);
 }
 
-Rasterizer::~Rasterizer() {
-  if (!state_) return;
-  GlContext::Current current(state_->context);
-  state_->release_targets();
-  state_->gpu_cache.reset();
-  if (state_->environment.texture) state_->gl().DeleteTextures(1, &state_->environment.texture);
-  state_->lit.clear();
-  state_->depth.reset();
-  state_->depth_only.reset();
-  state_->depth_tess.reset();
-  state_->sphere_depth.reset();
-  state_->background.reset();
-  state_->gl().DeleteVertexArrays(1, &state_->empty_vao);
-  state_->line.reset();
-}
+Rasterizer::~Rasterizer() = default;
 
 double Rasterizer::context_seconds() const { return state_->context_seconds; }
 double Rasterizer::compile_seconds() const { return state_->compile_seconds; }
@@ -321,18 +348,14 @@ LightingVariant lighting_variant(const Scene& scene, const std::vector<ShadowMap
     int slot = -1;
     for (std::size_t m = 0; m < maps.size(); ++m)
       if (maps[m].light == i) slot = static_cast<int>(m);
-    v.lights.emplace_back(l.kind == Light::Kind::point ? 0 : l.kind == Light::Kind::spot ? 1 : 2, slot);
+    v.lights.emplace_back(l.kind, slot);
   }
-  if (!maps.empty())
-    v.shadow_filter = o.shadows == ShadowFilter::pcss ? 3 : o.shadows == ShadowFilter::pcf ? 2 : 1;
+  if (!maps.empty()) v.shadow_filter = o.shadows;
   v.pcf_size = o.pcf_size;
   return v;
 }
 
-}  // namespace
-
-RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options, RenderTimings* timings) {
-  require_valid(scene, "scene");
+void check_options(const RenderOptions& options) {
   if (options.width < 1 || options.height < 1 || options.width > 16384 || options.height > 16384)
     throw Error("image size " + std::to_string(options.width) + "x" + std::to_string(options.height) +
                 " is outside 1..16384");
@@ -344,6 +367,188 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   if (options.shadow_resolution < 16 || options.shadow_resolution > 16384)
     throw Error("shadow_resolution must be in 16..16384");
   if (options.pcf_size < 1 || options.pcf_size > 15) throw Error("pcf_size must be in 1..15");
+}
+
+// The GL state every render starts from.
+void set_draw_state(const GlApi& gl) {
+  gl.Enable(GL_DEPTH_TEST);
+  gl.DepthFunc(GL_LESS);
+  gl.DepthMask(GL_TRUE);
+  gl.Disable(GL_CULL_FACE);
+  gl.Disable(GL_BLEND);
+  gl.Enable(GL_PROGRAM_POINT_SIZE);
+  gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  gl.PatchParameteri(GL_PATCH_VERTICES, 3);
+}
+
+}  // namespace
+
+// The image's MSAA framebuffer (color + optional normal, position, shadow),
+// bound and cleared: color to the ambient, position to the far plane, shadow to lit.
+const Rasterizer::State::Targets& Rasterizer::State::clear_targets(const Frame& f) {
+  const GlApi& gl = this->gl();
+  const RenderOptions& o = f.options;
+  const int samples = std::clamp(o.samples, 1, max_samples);
+  const int attachments = o.aux ? 4 : 1;
+  const Targets& fb = image_targets(o.width, o.height, samples, attachments);
+  GLenum draw_buffers[4];
+  for (int a = 0; a < attachments; ++a) draw_buffers[a] = GL_COLOR_ATTACHMENT0 + a;
+  gl.NamedFramebufferDrawBuffers(fb.msaa, attachments, draw_buffers);
+  gl.BindFramebuffer(GL_FRAMEBUFFER, fb.msaa);
+  gl.Viewport(0, 0, o.width, o.height);
+  const Eigen::Vector3d& bg = f.ambient;
+  const float clear_color[4] = {float(bg.x()), float(bg.y()), float(bg.z()), 0};
+  const float clear_zero[4] = {0, 0, 0, 0};
+  const float clear_position[4] = {0, 0, 0, float(f.camera.far_plane)};
+  const float clear_shadow[4] = {1, 0, 0, 0};
+  const float one = 1;
+  gl.ClearBufferfv(GL_COLOR, 0, clear_color);
+  if (o.aux) {
+    gl.ClearBufferfv(GL_COLOR, 1, clear_zero);
+    gl.ClearBufferfv(GL_COLOR, 2, clear_position);
+    gl.ClearBufferfv(GL_COLOR, 3, clear_shadow);
+  }
+  gl.ClearBufferfv(GL_DEPTH, 0, &one);
+  return fb;
+}
+
+// The environment map behind the scene, at the far plane, no depth written.
+void Rasterizer::State::draw_background(const Frame& f) {
+  if (!f.env) return;
+  const GlApi& gl = this->gl();
+  if (!background) {
+    const std::string fragment = glsl::background_fragment();
+    background = std::make_unique<GlProgram>(
+        gl, "environment background",
+        std::vector<std::pair<GLenum, const char*>>{{GL_VERTEX_SHADER, glsl::background_vertex},
+                                                    {GL_FRAGMENT_SHADER, fragment.c_str()}});
+  }
+  GlProgram& p = *background;
+  p.use();
+  set_lighting(p, f.scene, {}, f.options, f.camera.eye, f.ambient, f.env);
+  p.set("u_inverse_view_proj", Eigen::Matrix4d(f.view_proj.inverse()));
+  p.set("u_far", f.camera.far_plane);
+  gl.DepthMask(GL_FALSE);
+  gl.Disable(GL_DEPTH_TEST);
+  gl.BindVertexArray(empty_vao);
+  gl.DrawArrays(GL_TRIANGLES, 0, 3);
+  gl.Enable(GL_DEPTH_TEST);
+  gl.DepthMask(GL_TRUE);
+}
+
+// One object: points as lit sphere impostors, lines unlit, meshes lit with
+// their maps (through the tessellation programs when displaced).
+void Rasterizer::State::draw_object(const Frame& f, const GpuObject& o) {
+  const GlApi& gl = this->gl();
+  const RenderOptions& options = f.options;
+  const Material& mat = o.source->material;
+  gl.BindVertexArray(o.vao);
+  if (o.kind == GpuObject::Kind::lines) {
+    GlProgram& p = *line;
+    p.use();
+    p.set("u_model", o.source->transform);
+    p.set("u_view_proj", f.view_proj);
+    p.set("u_view", f.view);
+    p.set("u_uniform_color", false);
+    gl.LineWidth(std::clamp(static_cast<float>(options.line_width), line_width_range[0], line_width_range[1]));
+    gl.DrawElements(GL_LINES, o.count, GL_UNSIGNED_INT, nullptr);
+    return;
+  }
+  const bool points = o.kind == GpuObject::Kind::points;
+  const bool tess = !points && displaced(o, options.tessellation);
+  const std::string defines = points ? f.lighting + "#define DEPTH_PASS 0\n"
+                                     : f.lighting + "#define HAS_BASE_MAP " + (o.base_map ? "1" : "0") +
+                                           "\n#define HAS_NORMAL_MAP " + (o.normal_map ? "1" : "0") +
+                                           "\n#define HAS_DISPLACEMENT " + (tess ? "1" : "0") + "\n";
+  GlProgram& p = lit_program(points ? Lit::sphere : tess ? Lit::mesh_tess : Lit::mesh, defines);
+  p.use();
+  set_lighting(p, f.scene, f.maps, options, f.camera.eye, f.ambient, f.env);
+  p.set("u_env_reflectance", environment_reflectance(mat));
+  p.set("u_model", o.source->transform);
+  if (points) {
+    p.set("u_radius_scale", o.source->points->has_radius() ? 1.0 : options.point_radius);
+    p.set("u_view", f.view);
+    p.set("u_proj", f.proj);
+    p.set("u_ortho", f.camera.projection == Camera::Projection::orthographic);
+    p.set("u_inverse_view_proj", Eigen::Matrix4d(f.view_proj.inverse()));
+    p.set("u_viewport", Eigen::Vector2d(options.width, options.height));
+    p.set("u_specular", mat.specular);
+    p.set("u_shininess", shininess(mat.roughness));
+    gl.DrawArrays(GL_POINTS, 0, o.count);
+    return;
+  }
+  p.set("u_normal_matrix", normal_matrix(o.source->transform));
+  p.set("u_view_proj", f.view_proj);
+  p.set("u_view", f.view);
+  p.set("u_base_color", mat.base_color);
+  p.set("u_emission", mat.emission);
+  p.set("u_specular", mat.specular);
+  p.set("u_shininess", shininess(mat.roughness));
+  p.set("u_displacement_scale", mat.displacement_scale);
+  if (o.base_map) gl.BindTextureUnit(unit_base, o.base_map);
+  if (o.normal_map) gl.BindTextureUnit(unit_normal, o.normal_map);
+  if (o.displacement_map) gl.BindTextureUnit(unit_displacement, o.displacement_map);
+  if (tess) {
+    p.set("u_tess_level", static_cast<double>(options.tessellation));
+    draw_patches(gl, o.count, options.tessellation);
+  } else {
+    gl.DrawElements(GL_TRIANGLES, o.count, GL_UNSIGNED_INT, nullptr);
+  }
+}
+
+// Mesh edges over the shading (the fill was pushed back by a polygon offset).
+void Rasterizer::State::draw_wireframe(const Frame& f, const GpuScene& gpu) {
+  const GlApi& gl = this->gl();
+  GlProgram& p = *line;
+  p.use();
+  p.set("u_view_proj", f.view_proj);
+  p.set("u_view", f.view);
+  p.set("u_uniform_color", true);
+  p.set("u_color", f.options.wireframe_color);
+  gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+  gl.DepthFunc(GL_LEQUAL);
+  gl.LineWidth(std::clamp(static_cast<float>(f.options.line_width), line_width_range[0], line_width_range[1]));
+  for (const GpuObject& o : gpu.objects()) {
+    if (o.kind != GpuObject::Kind::mesh || o.count == 0) continue;
+    p.set("u_model", o.source->transform);
+    gl.BindVertexArray(o.vao);
+    gl.DrawElements(GL_TRIANGLES, o.count, GL_UNSIGNED_INT, nullptr);
+  }
+  gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  gl.DepthFunc(GL_LESS);
+}
+
+// Resolves the samples and reads each attachment back (GL's rows go bottom-up).
+RenderImages Rasterizer::State::read_back(const Targets& fb) {
+  const GlApi& gl = this->gl();
+  const int W = fb.width, H = fb.height;
+  RenderImages images;
+  cv::Mat* images_of[4] = {&images.color, &images.normal, &images.position, &images.shadow};
+  for (int a = 0; a < fb.attachments; ++a) {
+    const GLenum attachment = GL_COLOR_ATTACHMENT0 + a;
+    gl.NamedFramebufferReadBuffer(fb.msaa, attachment);
+    gl.NamedFramebufferDrawBuffers(fb.resolve, 1, &attachment);
+    gl.BlitNamedFramebuffer(fb.msaa, fb.resolve, 0, 0, W, H, 0, 0, W, H, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, fb.resolve);
+    gl.NamedFramebufferReadBuffer(fb.resolve, attachment);
+    // Half-float attachments are read as stored (half the bytes, no
+    // conversion on this thread) and widened in the parallel flip.
+    const bool half = formats[a] == GL_RGBA16F;
+    cv::Mat raw(H, W, half ? CV_16FC4 : CV_32FC4);
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+    gl.ReadPixels(0, 0, W, H, GL_RGBA, half ? GL_HALF_FLOAT : GL_FLOAT, raw.data);
+    cv::Mat rgba = half ? flipped_finite<cv::float16_t>(raw) : flipped_finite<float>(raw);
+    if (a == 1) cv::cvtColor(rgba, rgba, cv::COLOR_RGBA2RGB);
+    if (a == 3) cv::extractChannel(rgba, rgba, 0);
+    *images_of[a] = rgba;
+  }
+  gl.check("reading the image back");
+  return images;
+}
+
+RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options, RenderTimings* timings) {
+  require_valid(scene, "scene");
+  check_options(options);
   RenderTimings local;
   RenderTimings& time = timings ? *timings : local;
   State& s = *state_;
@@ -356,188 +561,50 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   const Camera camera = scene.camera ? *scene.camera : framing_camera(scene, aspect);
   Eigen::Matrix4d view, proj;
   camera_matrices(camera, aspect, view, proj);
-  const Eigen::Vector3d ambient = ambient_of(scene.environment);
   Eigen::AlignedBox3d box = bounds(scene);
   if (box.isEmpty()) box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-1), Eigen::Vector3d::Constant(1));
-  gl.Enable(GL_DEPTH_TEST);
-  gl.DepthFunc(GL_LESS);
-  gl.DepthMask(GL_TRUE);
-  gl.Disable(GL_CULL_FACE);
-  gl.Disable(GL_BLEND);
-  gl.Enable(GL_PROGRAM_POINT_SIZE);
-  gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-  gl.PatchParameteri(GL_PATCH_VERTICES, 3);
+  set_draw_state(gl);
   gl.check("uploading the scene");
   time.upload = since(t);
 
-  // Shadow maps.
   t = Clock::now();
-  std::vector<ShadowMap> maps =
-      render_shadow_maps(gl, {*s.depth, *s.depth_only, *s.depth_tess, *s.sphere_depth}, gpu, scene, box, options);
+  ShadowMaps shadows(gl);
+  render_shadow_maps(gl, {*s.depth, *s.depth_only, *s.depth_tess, *s.sphere_depth}, gpu, scene, box, options, shadows);
   gl.Finish();
   time.shadows = since(t);
 
-  // The image: an MSAA framebuffer (color + optional normal, position, shadow).
   t = Clock::now();
-  const int W = options.width, H = options.height;
-  const int samples = std::clamp(options.samples, 1, s.max_samples);
-  const int attachments = options.aux ? 4 : 1;
-  const State::Targets& fb = s.image_targets(W, H, samples, attachments);
-  const GLuint msaa = fb.msaa, resolve = fb.resolve;
-  GLenum draw_buffers[4];
-  for (int a = 0; a < attachments; ++a) draw_buffers[a] = GL_COLOR_ATTACHMENT0 + a;
-  gl.NamedFramebufferDrawBuffers(msaa, attachments, draw_buffers);
-  gl.BindFramebuffer(GL_FRAMEBUFFER, msaa);
-  gl.Viewport(0, 0, W, H);
-  const Eigen::Vector3d bg = ambient;
-  const float clear_color[4] = {float(bg.x()), float(bg.y()), float(bg.z()), 0};
-  const float clear_zero[4] = {0, 0, 0, 0};
-  const float clear_position[4] = {0, 0, 0, float(camera.far_plane)};
-  const float clear_shadow[4] = {1, 0, 0, 0};
-  const float one = 1;
-  gl.ClearBufferfv(GL_COLOR, 0, clear_color);
-  if (options.aux) {
-    gl.ClearBufferfv(GL_COLOR, 1, clear_zero);
-    gl.ClearBufferfv(GL_COLOR, 2, clear_position);
-    gl.ClearBufferfv(GL_COLOR, 3, clear_shadow);
-  }
-  gl.ClearBufferfv(GL_DEPTH, 0, &one);
-  const Eigen::Matrix4d vp = proj * view;
-  const bool ortho = camera.projection == Camera::Projection::orthographic;
   const State::EnvironmentMap* env = s.environment_map(scene.environment);
   if (env) gl.BindTextureUnit(unit_environment, env->texture);
-  const std::string lighting = lighting_defines(lighting_variant(scene, maps, options, env != nullptr));
-  if (env) {
-    // The map behind the scene, at the far plane, no depth written.
-    if (!s.background) {
-      const std::string fragment = glsl::background_fragment();
-      s.background = std::make_unique<GlProgram>(gl, "environment background", std::vector<std::pair<GLenum, const char*>>{
-          {GL_VERTEX_SHADER, glsl::background_vertex}, {GL_FRAGMENT_SHADER, fragment.c_str()}});
-    }
-    GlProgram& p = *s.background;
-    p.use();
-    set_lighting(p, scene, {}, options, camera.eye, ambient, env);
-    p.set("u_inverse_view_proj", Eigen::Matrix4d(vp.inverse()));
-    p.set("u_far", camera.far_plane);
-    gl.DepthMask(GL_FALSE);
-    gl.Disable(GL_DEPTH_TEST);
-    gl.BindVertexArray(s.empty_vao);
-    gl.DrawArrays(GL_TRIANGLES, 0, 3);
-    gl.Enable(GL_DEPTH_TEST);
-    gl.DepthMask(GL_TRUE);
-  }
+  const State::Frame frame{scene,
+                           options,
+                           camera,
+                           view,
+                           proj,
+                           proj * view,
+                           ambient_of(scene.environment),
+                           env,
+                           shadows.maps,
+                           lighting_defines(lighting_variant(scene, shadows.maps, options, env != nullptr))};
+  const State::Targets& fb = s.clear_targets(frame);
+  s.draw_background(frame);
   if (options.wireframe) {
     gl.Enable(GL_POLYGON_OFFSET_FILL);
     gl.PolygonOffset(1, 1);
   }
-  for (const GpuObject& o : gpu.objects()) {
-    if (o.count == 0) continue;
-    const Material& mat = o.source->material;
-    gl.BindVertexArray(o.vao);
-    if (o.kind == GpuObject::Kind::points) {
-      GlProgram& p = s.lit_program(State::Lit::sphere, lighting + "#define DEPTH_PASS 0\n");
-      p.use();
-      set_lighting(p, scene, maps, options, camera.eye, ambient, env);
-      p.set("u_env_reflectance", environment_reflectance(mat));
-      p.set("u_model", o.source->transform);
-      p.set("u_radius_scale", o.source->points->has_radius() ? 1.0 : options.point_radius);
-      p.set("u_view", view);
-      p.set("u_proj", proj);
-      p.set("u_ortho", ortho);
-      p.set("u_inverse_view_proj", Eigen::Matrix4d(vp.inverse()));
-      p.set("u_viewport", Eigen::Vector2d(W, H));
-      p.set("u_specular", mat.specular);
-      p.set("u_shininess", shininess(mat.roughness));
-      gl.DrawArrays(GL_POINTS, 0, o.count);
-    } else if (o.kind == GpuObject::Kind::lines) {
-      GlProgram& p = *s.line;
-      p.use();
-      p.set("u_model", o.source->transform);
-      p.set("u_view_proj", vp);
-      p.set("u_view", view);
-      p.set("u_uniform_color", false);
-      gl.LineWidth(std::clamp(static_cast<float>(options.line_width), s.line_width_range[0], s.line_width_range[1]));
-      gl.DrawElements(GL_LINES, o.count, GL_UNSIGNED_INT, nullptr);
-    } else {
-      const bool tess = displaced(o, options.tessellation);
-      const std::string defines = lighting + "#define HAS_BASE_MAP " + (o.base_map ? "1" : "0") +
-                                  "\n#define HAS_NORMAL_MAP " + (o.normal_map ? "1" : "0") +
-                                  "\n#define HAS_DISPLACEMENT " + (tess ? "1" : "0") + "\n";
-      GlProgram& p = s.lit_program(tess ? State::Lit::mesh_tess : State::Lit::mesh, defines);
-      p.use();
-      set_lighting(p, scene, maps, options, camera.eye, ambient, env);
-      p.set("u_env_reflectance", environment_reflectance(mat));
-      p.set("u_model", o.source->transform);
-      p.set("u_normal_matrix", normal_matrix(o.source->transform));
-      p.set("u_view_proj", vp);
-      p.set("u_view", view);
-      p.set("u_base_color", mat.base_color);
-      p.set("u_emission", mat.emission);
-      p.set("u_specular", mat.specular);
-      p.set("u_shininess", shininess(mat.roughness));
-      p.set("u_displacement_scale", mat.displacement_scale);
-      if (o.base_map) gl.BindTextureUnit(unit_base, o.base_map);
-      if (o.normal_map) gl.BindTextureUnit(unit_normal, o.normal_map);
-      if (o.displacement_map) gl.BindTextureUnit(unit_displacement, o.displacement_map);
-      if (tess) {
-        p.set("u_tess_level", static_cast<double>(options.tessellation));
-        draw_patches(gl, o.count, options.tessellation);
-      } else {
-        gl.DrawElements(GL_TRIANGLES, o.count, GL_UNSIGNED_INT, nullptr);
-      }
-    }
-  }
+  for (const GpuObject& o : gpu.objects())
+    if (o.count > 0) s.draw_object(frame, o);
   gl.Disable(GL_POLYGON_OFFSET_FILL);
-  if (options.wireframe) {
-    GlProgram& p = *s.line;
-    p.use();
-    p.set("u_view_proj", vp);
-    p.set("u_view", view);
-    p.set("u_uniform_color", true);
-    p.set("u_color", options.wireframe_color);
-    gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-    gl.DepthFunc(GL_LEQUAL);
-    gl.LineWidth(std::clamp(static_cast<float>(options.line_width), s.line_width_range[0], s.line_width_range[1]));
-    for (const GpuObject& o : gpu.objects()) {
-      if (o.kind != GpuObject::Kind::mesh || o.count == 0) continue;
-      p.set("u_model", o.source->transform);
-      gl.BindVertexArray(o.vao);
-      gl.DrawElements(GL_TRIANGLES, o.count, GL_UNSIGNED_INT, nullptr);
-    }
-    gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-    gl.DepthFunc(GL_LESS);
-  }
+  if (options.wireframe) s.draw_wireframe(frame, gpu);
   gl.check("drawing the scene");
   gl.Finish();
   time.draw = since(t);
 
-  // Resolve the samples and read the pixels back (GL's rows go bottom-up).
   t = Clock::now();
-  RenderImages images;
-  cv::Mat* targets[4] = {&images.color, &images.normal, &images.position, &images.shadow};
-  for (int a = 0; a < attachments; ++a) {
-    const GLenum attachment = GL_COLOR_ATTACHMENT0 + a;
-    gl.NamedFramebufferReadBuffer(msaa, attachment);
-    gl.NamedFramebufferDrawBuffers(resolve, 1, &attachment);
-    gl.BlitNamedFramebuffer(msaa, resolve, 0, 0, W, H, 0, 0, W, H, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    gl.BindFramebuffer(GL_READ_FRAMEBUFFER, resolve);
-    gl.NamedFramebufferReadBuffer(resolve, attachment);
-    // Half-float attachments are read as stored (half the bytes, no
-    // conversion on this thread) and widened in the parallel flip.
-    const bool half = formats[a] == GL_RGBA16F;
-    cv::Mat raw(H, W, half ? CV_16FC4 : CV_32FC4);
-    gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl.ReadPixels(0, 0, W, H, GL_RGBA, half ? GL_HALF_FLOAT : GL_FLOAT, raw.data);
-    cv::Mat rgba = half ? flipped_finite<cv::float16_t>(raw) : flipped_finite<float>(raw);
-    if (a == 1) cv::cvtColor(rgba, rgba, cv::COLOR_RGBA2RGB);
-    if (a == 3) cv::extractChannel(rgba, rgba, 0);
-    *targets[a] = rgba;
-  }
-  gl.check("reading the image back");
+  RenderImages images = s.read_back(fb);
   gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
   gl.BindVertexArray(0);
   gl.UseProgram(0);
-  delete_shadow_maps(gl, maps);
   s.gpu_cache->release_unused();
   for (GLuint u = 0; u < texture_units_used; ++u) gl.BindTextureUnit(u, 0);
   time.readback = since(t);

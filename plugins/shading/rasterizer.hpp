@@ -14,6 +14,10 @@ namespace loom::shading {
 
 enum class ShadowFilter { off, hard, pcf, pcss };
 
+// The first max_lights lights are drawn, and the first max_shadows of them
+// that cast shadows get shadow maps.
+constexpr int max_lights = 8, max_shadows = 4;
+
 struct RenderOptions {
   int width = 960, height = 540;
   int samples = 4;                    // MSAA samples per pixel (1: none)

@@ -73,17 +73,19 @@ struct Render {
     o.wireframe = in.get<bool>("wireframe");
     o.wireframe_color = in.get<loom::Color>("wireframe_color").rgba.head<3>();
     o.aux = in.get<bool>("extra_images");
-    if (scene.lights.size() > 8) ctx.warn("only the first 8 lights are drawn");
+    using loom::shading::max_lights, loom::shading::max_shadows;
+    if (scene.lights.size() > static_cast<std::size_t>(max_lights))
+      ctx.warn("only the first " + std::to_string(max_lights) + " lights are drawn");
     if (o.shadows != ShadowFilter::off) {
       int shadowed = 0;
       for (const auto& l : scene.lights) shadowed += l.casts_shadow;
-      if (shadowed > 4) ctx.warn("only the first 4 shadow-casting lights cast shadows");
+      if (shadowed > max_shadows)
+        ctx.warn("only the first " + std::to_string(max_shadows) + " shadow-casting lights cast shadows");
     }
 
     // The context and compiled programs survive between evaluations.
     const auto rasterizer = ctx.scratch<loom::shading::Rasterizer>(
-        loom::Hasher().str("shading.Rasterizer").digest(),
-        [] { return std::make_shared<loom::shading::Rasterizer>(); });
+        loom::hash_string("shading.Rasterizer"), [] { return std::make_shared<loom::shading::Rasterizer>(); });
     if (o.samples > rasterizer->max_samples())
       ctx.warn("MSAA limited to " + std::to_string(rasterizer->max_samples()) + " samples by " +
                rasterizer->renderer());

@@ -25,14 +25,45 @@ void bind_sampler_units(GlProgram& p) {
   }
 }
 
+namespace {
+
+// Light kinds and shadow filters as the lighting GLSL knows them: each name is
+// #defined to its position here, for every program (lighting_defines).
+constexpr std::pair<Light::Kind, const char*> light_kinds[] = {{Light::Kind::point, "LIGHT_POINT"},
+                                                               {Light::Kind::spot, "LIGHT_SPOT"},
+                                                               {Light::Kind::directional, "LIGHT_DIRECTIONAL"}};
+constexpr std::pair<ShadowFilter, const char*> shadow_filters[] = {{ShadowFilter::off, "FILTER_NONE"},
+                                                                   {ShadowFilter::hard, "FILTER_HARD"},
+                                                                   {ShadowFilter::pcf, "FILTER_PCF"},
+                                                                   {ShadowFilter::pcss, "FILTER_PCSS"}};
+
+template <class Enum, std::size_t N>
+const char* glsl_name(const std::pair<Enum, const char*> (&table)[N], Enum value) {
+  for (const auto& [e, name] : table)
+    if (e == value) return name;
+  return table[0].second;
+}
+
+template <class Enum, std::size_t N>
+std::string glsl_codes(const std::pair<Enum, const char*> (&table)[N]) {
+  std::string d;
+  for (std::size_t i = 0; i < N; ++i) d += "#define " + std::string(table[i].second) + " " + std::to_string(i) + "\n";
+  return d;
+}
+
+}  // namespace
+
 std::string lighting_defines(const LightingVariant& v) {
-  std::string d = "#define SHADOW_FILTER " + std::to_string(v.shadow_filter) + "\n#define PCF_SIZE " +
-                  std::to_string(v.pcf_size) + "\n#define ENV_MAP " + std::to_string(v.environment_map ? 1 : 0) +
-                  "\n#define LIGHTS";
+  std::string d = "#define MAX_LIGHTS " + std::to_string(max_lights) + "\n#define MAX_SHADOWS " +
+                  std::to_string(max_shadows) + "\n" + glsl_codes(light_kinds) + glsl_codes(shadow_filters);
+  d += "#define SHADOW_FILTER " + std::string(glsl_name(shadow_filters, v.shadow_filter)) + "\n#define PCF_SIZE " +
+       std::to_string(v.pcf_size) + "\n#define ENV_MAP " + std::to_string(v.environment_map ? 1 : 0) +
+       "\n#define LIGHTS";
   for (std::size_t i = 0; i < v.lights.size(); ++i) {
     const auto [kind, slot] = v.lights[i];
-    d += slot >= 0 ? " SHADOWED(" + std::to_string(i) + ", " + std::to_string(kind) + ", " + std::to_string(slot) + ")"
-                   : " LIT(" + std::to_string(i) + ", " + std::to_string(kind) + ")";
+    const std::string k = glsl_name(light_kinds, kind);
+    d += slot >= 0 ? " SHADOWED(" + std::to_string(i) + ", " + k + ", " + std::to_string(slot) + ")"
+                   : " LIT(" + std::to_string(i) + ", " + k + ")";
   }
   return d + "\n";
 }
@@ -113,14 +144,10 @@ void main() {
 namespace {
 // The lighting code is compiled per feature set (lighting_defines): llvmpipe
 // runs both sides of a branch under a mask, so code behind a uniform that is
-// off still costs its full price per fragment. Expected defines: SHADOW_FILTER
-// (0 none, 1 hard, 2 pcf, 3 pcss), PCF_SIZE, ENV_MAP (0 or 1), and LIGHTS, a
-// list of LIT(i, kind) and SHADOWED(i, kind, slot) with kind 0 point, 1 spot,
-// 2 directional.
+// off still costs its full price per fragment. The defines it expects are
+// lighting_defines' (LIGHTS: a list of LIT(i, kind) and SHADOWED(i, kind, slot)).
 const char* const lighting = R"(
 const float PI = 3.14159265358979;
-const int MAX_LIGHTS = 8;
-const int MAX_SHADOWS = 4;
 uniform vec3 u_eye;
 uniform vec3 u_ambient;
 uniform vec3 u_light_position[MAX_LIGHTS];
@@ -144,7 +171,7 @@ vec3 safe_normalize(vec3 v, vec3 fallback) {
   return l > 1e-20 ? v / l : fallback;
 }
 
-#if SHADOW_FILTER > 0
+#if SHADOW_FILTER != FILTER_NONE
 // The stored depth `off` texels away from the receiver's lookup point.
 float stored_depth(int s, bool cube, vec2 uv, vec3 dir, vec3 t, vec3 b, vec2 off) {
   if (cube) {
@@ -167,8 +194,8 @@ float stored_depth(int s, bool cube, vec2 uv, vec3 dir, vec3 t, vec3 b, vec2 off
 // w = light_size (d_receiver - d_blocker) / d_blocker, PCF of that width).
 // s and kind are constants where it is called (one call per shadowed light).
 float visibility(int s, int kind, vec3 P, vec3 N, vec3 L) {
-  bool cube = kind == 0;
-  bool ortho = kind == 2;
+  bool cube = kind == LIGHT_POINT;
+  bool ortho = kind == LIGHT_DIRECTIONAL;
   vec3 v = P - u_shadow_origin[s];
   // Perspective maps (spot, point) store the distance to the light, so the
   // slope term, which follows the angle to the light, matches how the stored
@@ -190,13 +217,13 @@ float visibility(int s, int kind, vec3 P, vec3 N, vec3 L) {
   float texel = u_shadow_texel[s] * (ortho ? 1.0 : d);
   float c = clamp(dot(N, L), 1e-3, 1.0);
   float tan_theta = min(sqrt(1.0 - c * c) / c, 10.0);
-#if SHADOW_FILTER == 1
+#if SHADOW_FILTER == FILTER_HARD
   // A plane tilted by theta changes depth by tan(theta) per texel: half a
   // texel for the lookup itself.
   float bias = texel * (u_bias + u_slope_bias * tan_theta * 0.5);
   return d - bias <= stored_depth(s, cube, uv, dir, t, b, vec2(0.0)) ? 1.0 : 0.0;
 #else
-#if SHADOW_FILTER == 2
+#if SHADOW_FILTER == FILTER_PCF
   const int n = PCF_SIZE;
   float radius = 0.5 * float(n - 1);
   float step = 1.0;
@@ -221,7 +248,7 @@ float visibility(int s, int kind, vec3 P, vec3 N, vec3 L) {
   // The farthest kernel sample is sqrt 2 radius away (diagonally), plus the
   // half texel of the lookup itself.
   float bias = texel * (u_bias + u_slope_bias * tan_theta * (0.5 + 1.415 * radius));
-#if SHADOW_FILTER == 2
+#if SHADOW_FILTER == FILTER_PCF
   if (!cube) {
     // The same n x n texels as one texelFetch each, 2 x 2 per textureGather
     // (a quarter of the lookups). Texels past the edge read the border (1e30,
@@ -263,12 +290,12 @@ float visibility(int s, int kind, vec3 P, vec3 N, vec3 L) {
 // Direction to light i and its irradiance E at P (kind constant at the call).
 vec3 incidence(int i, int kind, vec3 P, out vec3 E) {
   E = u_light_radiance[i];
-  if (kind == 2) return -u_light_direction[i];
+  if (kind == LIGHT_DIRECTIONAL) return -u_light_direction[i];
   vec3 to_light = u_light_position[i] - P;
   float d2 = max(dot(to_light, to_light), 1e-12);
   vec3 L = to_light * inversesqrt(d2);
   E /= d2;
-  if (kind == 1) E *= smoothstep(u_spot_cos_outer[i], u_spot_cos_inner[i], dot(-L, u_light_direction[i]));
+  if (kind == LIGHT_SPOT) E *= smoothstep(u_spot_cos_outer[i], u_spot_cos_inner[i], dot(-L, u_light_direction[i]));
   return L;
 }
 

@@ -6,12 +6,11 @@
 #include <vector>
 
 #include "gl_program.hpp"
+#include "rasterizer.hpp"
 
 namespace loom::shading {
 
-// What the programs assume: at most 8 lights, 4 of them with shadow maps, and
-// these texture units (samplers of different types never share a unit).
-constexpr int max_lights = 8, max_shadows = 4;
+// The texture units the programs use (samplers of different types never share a unit).
 constexpr GLuint unit_base = 0, unit_normal = 1, unit_displacement = 2, unit_environment = 3, unit_shadow = 4,
                  unit_cube = 8;
 constexpr GLuint texture_units_used = 12;
@@ -22,12 +21,15 @@ void bind_sampler_units(GlProgram& p);
 // every branch under a mask, so features switched off by uniforms still cost
 // their full price per fragment: each feature set gets its own program.
 struct LightingVariant {
-  std::vector<std::pair<int, int>> lights;  // per light: kind (0 point, 1 spot, 2 directional), shadow slot or -1
-  int shadow_filter = 0;                    // 0 none, 1 hard, 2 pcf, 3 pcss
+  std::vector<std::pair<Light::Kind, int>> lights;  // per light: its kind and shadow slot, or -1
+  ShadowFilter shadow_filter = ShadowFilter::off;   // off when no light has a shadow map
   int pcf_size = 1;
-  bool environment_map = false;             // SH irradiance + prefiltered reflections, else u_ambient
+  bool environment_map = false;  // SH irradiance + prefiltered reflections, else u_ambient
 };
-// The variant as GLSL #define lines (also the key of the compiled program).
+// The variant as GLSL #define lines (also the key of the compiled program):
+// the limits (MAX_LIGHTS, MAX_SHADOWS), every light kind's and shadow
+// filter's code by name (LIGHT_POINT, ..., FILTER_PCSS: the one mapping the
+// GLSL compares against), SHADOW_FILTER, PCF_SIZE, ENV_MAP and LIGHTS.
 std::string lighting_defines(const LightingVariant& v);
 
 }  // namespace loom::shading

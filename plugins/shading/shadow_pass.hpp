@@ -27,10 +27,22 @@ struct DepthPrograms {
   GlProgram& spheres;
 };
 
-// Renders the maps and binds map i to unit_shadow + i (2D) or unit_cube + i.
-std::vector<ShadowMap> render_shadow_maps(const GlApi& gl, const DepthPrograms& programs, const GpuScene& gpu,
-                                          const Scene& scene, const Eigen::AlignedBox3d& box,
-                                          const RenderOptions& options);
-void delete_shadow_maps(const GlApi& gl, std::vector<ShadowMap>& maps);
+// The maps of one render, deleted with it (also when the render throws).
+class ShadowMaps {
+ public:
+  explicit ShadowMaps(const GlApi& gl) : gl_(gl) {}
+  ~ShadowMaps();
+  ShadowMaps(const ShadowMaps&) = delete;
+  ShadowMaps& operator=(const ShadowMaps&) = delete;
+
+  std::vector<ShadowMap> maps;
+
+ private:
+  const GlApi& gl_;
+};
+
+// Renders the maps into `out` and binds map i to unit_shadow + i (2D) or unit_cube + i.
+void render_shadow_maps(const GlApi& gl, const DepthPrograms& programs, const GpuScene& gpu, const Scene& scene,
+                        const Eigen::AlignedBox3d& box, const RenderOptions& options, ShadowMaps& out);
 
 }  // namespace loom::shading

@@ -160,5 +160,38 @@ TEST(BadData, BadMeshesFailTheirNodeNamingTheFile) {
   }
 }
 
+// Issue 30: OFF, PLY and DirectX .x headers declaring 2e9 vertices in a few
+// bytes ended in "std::bad_alloc" (assimp allocated what they claimed). Each is
+// refused before allocating, naming the file and the count, through LoadMesh
+// (Loom's readers; assimp for .x) and LoadScene (assimp for all three).
+TEST(BadData, MeshHeadersDeclaringBillionsAreRefusedBeforeAllocating) {
+  auto dir = test::temp_dir();
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"bomb.off", "OFF\n2000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+      {"bomb.ply", "ply\nformat ascii 1.0\nelement vertex 2000000000\nproperty float x\nproperty float y\n"
+                   "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                   "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+      {"bomb.x", "xof 0303txt 0032\nMesh bomb {\n 2000000000;\n 0.0;0.0;0.0;,\n 1.0;0.0;0.0;,\n 0.0;1.0;0.0;;\n"
+                 " 1;\n 3;0,1,2;;\n}\n"},
+  };
+  for (const auto& [name, bytes] : files) {
+    write_all(dir / name, bytes);
+    for (const std::string type : {"LoadMesh", "LoadScene"}) {
+      const json doc = {{"loom", 1}, {"nodes", {{"load", {{"type", type}, {"inputs", {{"path", name}}}}}}}};
+      std::ofstream(dir / "g.json") << doc.dump();
+      // At most 4 GiB of address space: a regression fails here rather than
+      // taking the machine's memory.
+      std::string out;
+      const int rc = test::run_shell(std::string("ulimit -v 4194304 && ") + LOOM_RUNNER + " run " +
+                                         (dir / "g.json").string() + " --target load --no-cache",
+                                     &out);
+      EXPECT_EQ(rc, 1) << type << " " << name << ": " << out;
+      EXPECT_NE(out.find(name), std::string::npos) << type << " " << name << ": " << out;
+      EXPECT_NE(out.find("2000000000"), std::string::npos) << type << " " << name << ": " << out;
+      EXPECT_EQ(out.find("bad_alloc"), std::string::npos) << type << " " << name << ": " << out;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace loom
