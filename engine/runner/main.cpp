@@ -16,6 +16,7 @@
 #include "loom/graph.hpp"
 #include "loom/plugin_loader.hpp"
 #include "loom/suggest.hpp"
+#include "command_names.hpp"
 #include "new_plugin.hpp"
 #include "node_reference.hpp"
 #include "progress.hpp"
@@ -351,6 +352,10 @@ int main(int argc, char** argv) {
   scaffold->add_option("name", plugin_name, "plugin name: a-z, 0-9 and _, starting with a letter")->required();
   scaffold->add_option("--dir", plugin_dir, "create the plugin in DIR/NAME")->capture_default_str();
 
+  if (auto unknown = loom::runner::unknown_command_message(app, argc, argv)) {
+    std::cerr << "error: " << *unknown << "\n";
+    return kInvalid;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
