@@ -18,6 +18,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "loom/image.hpp"
+#include "loom/input_file.hpp"
 #include "loom/plugin.hpp"
 #include "loom/scene.hpp"
 
@@ -141,8 +142,7 @@ struct LoadScene {
 
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     const fs::path path = in.get<std::string>("path");
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) throw loom::Error("cannot read scene " + path.string() + ": no such file");
+    loom::require_input_file(path, "scene", ctx.graph_dir());
     Assimp::Importer importer;
     const aiScene* ai = importer.ReadFile(path.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
                                                              aiProcess_SortByPType | aiProcess_GenSmoothNormals);
