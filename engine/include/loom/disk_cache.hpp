@@ -55,6 +55,9 @@ class LOOM_API DiskCache {
   // written (0: not stored). Never throws: a full disk only loses the entry.
   std::uint64_t store(std::uint64_t key, const std::vector<Value>& values, double compute_seconds = 1e300);
 
+  // The checksum an entry carries of its payload.
+  static std::uint64_t checksum(const char* data, std::size_t size);
+
   struct Stats {
     std::uint64_t entries = 0, bytes = 0;
   };
