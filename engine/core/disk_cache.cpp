@@ -192,9 +192,21 @@ std::optional<std::vector<Value>> DiskCache::load(std::uint64_t key, std::string
   }
 }
 
+double DiskCache::expected_read_seconds(std::uint64_t bytes) const {
+  return options_.read_entry_seconds + static_cast<double>(bytes) / (options_.read_mb_per_s * 1024 * 1024);
+}
+
+bool DiskCache::worth_storing(std::uint64_t bytes, double compute_seconds, int frames) const {
+  const double n = std::max(frames, 1);
+  return n * compute_seconds >= options_.min_seconds &&              // the run's time is worth files
+         2 * expected_read_seconds(bytes) <= compute_seconds &&                // each frame reads back clearly faster
+         n * static_cast<double>(bytes) <= options_.max_sequence_share * static_cast<double>(options_.max_bytes);
+}
+
 // One buffer: the header with its sizes and checksum patched in at the end.
-std::uint64_t DiskCache::store(std::uint64_t key, const std::vector<Value>& values, double compute_seconds) {
-  if (compute_seconds < options_.min_seconds) return 0;
+std::uint64_t DiskCache::store(std::uint64_t key, const std::vector<Value>& values, double compute_seconds,
+                               int frames) {
+  if (!worth_storing(0, compute_seconds, frames)) return 0;  // too quick whatever the size
   for (const Value& v : values)
     if (!v || !v.type()->storable()) return 0;
   try {
@@ -215,8 +227,7 @@ std::uint64_t DiskCache::store(std::uint64_t key, const std::vector<Value>& valu
       patch(size_at, file.buffer().size() - size_at - sizeof(std::uint64_t));
     }
     const std::size_t payload = file.buffer().size() - kHeaderBytes;
-    const double read_seconds = static_cast<double>(file.buffer().size()) / (options_.read_mb_per_s * 1024 * 1024);
-    if (2 * read_seconds > compute_seconds) return 0;  // cheaper to compute again
+    if (!worth_storing(file.buffer().size(), compute_seconds, frames)) return 0;
     patch(kHeaderBytes - 16, payload);
     patch(kHeaderBytes - 8, checksum(file.buffer().data() + kHeaderBytes, payload));
     write_file_atomic(path_of(key), std::string_view(file.buffer().data(), file.buffer().size()));

@@ -322,7 +322,8 @@ int main(int argc, char** argv) {
   };
   cache_options(run);
   run->add_flag("--no-cache", cache.disabled, "neither read nor write the persistent cache");
-  run->add_option("--cache-min-seconds", cache.min_seconds, "store only results slower than this")
+  run->add_option("--cache-min-seconds", cache.min_seconds,
+                  "store only results whose node takes this long over the run's frames (docs/time.md)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
 
