@@ -20,6 +20,7 @@
 #include "new_plugin.hpp"
 #include "node_reference.hpp"
 #include "progress.hpp"
+#include "watch.hpp"
 
 namespace {
 
@@ -300,7 +301,7 @@ int main(int argc, char** argv) {
   std::string graph_path, out_dir = "out", profile_path, type, manifest_lib, manifest_out;
   std::vector<std::string> sets, targets;
   int threads = 0;
-  bool quiet = false, as_json = false, as_markdown = false, allow_outside = false;
+  bool quiet = false, as_json = false, as_markdown = false, allow_outside = false, watch = false;
 
   auto* run = app.add_subcommand("run", "Run a graph: evaluate its sinks (or --target outputs).");
   run->add_option("graph", graph_path, "graph file (JSON)")->required();
@@ -313,6 +314,7 @@ int main(int argc, char** argv) {
   run->add_flag("--quiet,-q", quiet, "print only errors and requested outputs");
   std::string frames;
   CacheSettings cache;
+  run->add_flag("--watch", watch, "run again whenever the graph or an input file it reads changes; Ctrl-C ends");
   run->add_option("--frames", frames, "frames to run, A-B or A (default: the graph's \"time\" range)");
   auto cache_options = [&cache](CLI::App* app) {
     app->add_option("--cache", cache.dir, "persistent cache folder (default: $XDG_CACHE_HOME/loom)");
@@ -361,6 +363,12 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kOk : kInvalid;
+  }
+  if (*run && watch) {
+    std::signal(SIGINT, on_interrupt);
+    return loom::runner::watch(graph_path, g_cancel, [&] {
+      return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside);
+    });
   }
   if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside);
   if (*cache_cmd) return cmd_cache(cache_action, cache);
