@@ -1,7 +1,8 @@
 #include "watch.hpp"
 
-#include <chrono>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <set>
 
@@ -49,11 +50,16 @@ namespace {
 class FolderWatch {
  public:
   explicit FolderWatch(const std::vector<fs::path>& files) : fd_(::inotify_init1(IN_NONBLOCK | IN_CLOEXEC)) {
+    if (fd_ < 0) {
+      problem_ = std::string("inotify: ") + std::strerror(errno);
+      return;
+    }
     for (const fs::path& f : files) {
       files_.insert(f);
       const int wd = ::inotify_add_watch(fd_, f.parent_path().c_str(),
                                          IN_CLOSE_WRITE | IN_MOVED_TO | IN_MOVED_FROM | IN_CREATE | IN_DELETE);
       if (wd >= 0) folders_[wd] = f.parent_path();
+      else std::fprintf(stderr, "warning: cannot watch %s: %s\n", f.parent_path().c_str(), std::strerror(errno));
     }
   }
   ~FolderWatch() {
@@ -61,6 +67,9 @@ class FolderWatch {
   }
   FolderWatch(const FolderWatch&) = delete;
   FolderWatch& operator=(const FolderWatch&) = delete;
+
+  // Why nothing can be watched, or "".
+  const std::string& problem() const { return problem_; }
 
   // The watched files that changed, once changes have been quiet for a moment
   // (a save is often several events); empty when `cancel` was set first.
@@ -93,6 +102,7 @@ class FolderWatch {
   }
 
   int fd_;
+  std::string problem_;
   std::map<int, fs::path> folders_;
   std::set<fs::path> files_;
 };
@@ -116,6 +126,10 @@ int watch(const fs::path& graph_file, const std::atomic<bool>& cancel, const std
     FolderWatch watch(files);
     const int code = run_once();
     if (cancel.load()) return code;
+    if (!watch.problem().empty()) {
+      std::fprintf(stderr, "error: --watch: %s\n", watch.problem().c_str());
+      return 2;
+    }
     std::fprintf(stderr, "watching %zu file%s for changes (Ctrl-C to stop)\n", files.size(),
                  files.size() == 1 ? "" : "s");
     const std::set<fs::path> changed = watch.wait(cancel);

@@ -19,7 +19,8 @@ std::vector<std::filesystem::path> files_read(const std::filesystem::path& graph
 // inotify on their folders (an editor that saves by renaming a new file into
 // place is seen too), prints which files changed and runs again. Returns when
 // `cancel` is set: run_once's exit code when it was set during a run (130:
-// interrupted), 0 when it was set while waiting.
+// interrupted), 0 when it was set while waiting; 2 after the first run when
+// inotify cannot be used.
 int watch(const std::filesystem::path& graph_file, const std::atomic<bool>& cancel,
           const std::function<int()>& run_once);
 
