@@ -3,29 +3,18 @@
 // hand, then through the real `loom` command: a sequence of quick frames is
 // served from disk on a rerun, and the frames finished before a Ctrl-C are
 // reused by the next run.
-#include <fstream>
-#include <sstream>
-
 #include <gtest/gtest.h>
 
 #include "loom/disk_cache.hpp"
-#include "loom_test.hpp"
+#include "runner_helpers.hpp"
 
 namespace loom {
 namespace {
 
 namespace fs = std::filesystem;
-
-json from(const std::string& link) { return {{"from", link}}; }
-
-json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  return json::parse(in);
-}
-
-int loom(const std::string& args, std::string* out) {
-  return test::run_loom_env("LOOM_PLUGIN_PATH=" LOOM_TEST_PLUGIN_DIR, args, out);
-}
+using test::read_json;
+using test::sequence_graph;
+const auto loom = test::loom_with_test_plugins;
 
 TEST(CacheRule, WeighsReadCostAgainstComputeCostPerFrameAndOverTheRun) {
   DiskCache::Options o;
@@ -54,20 +43,9 @@ TEST(CacheRule, WeighsReadCostAgainstComputeCostPerFrameAndOverTheRun) {
   EXPECT_FALSE(cache.worth_storing(mb, 1.0, 257));
 }
 
-// FrameNumber -> Sleep(ms) -> one file per frame: a time-dependent node of
-// `ms` per frame, below the 0.05 s floor alone.
-json sequence_graph(int frames, int ms) {
-  return {{"loom", 1},
-          {"time", {{"start", 1}, {"end", frames}, {"fps", 24}}},
-          {"nodes",
-           {{"f", {{"type", "FrameNumber"}}},
-            {"slow", {{"type", "Sleep"}, {"inputs", {{"value", from("f.value")}, {"ms", ms}}}}},
-            {"w", {{"type", "WriteText"}, {"inputs", {{"value", from("slow.value")}, {"path", "x_{frame}.txt"}}}}}}}};
-}
-
 TEST(CacheRule, ARerunOfASequenceOfQuickFramesReadsEveryFrameFromDisk) {
   const auto dir = test::temp_dir();
-  std::ofstream(dir / "g.json") << sequence_graph(20, 10).dump(2);
+  std::ofstream(dir / "g.json") << sequence_graph(20, 10).dump(2);  // 10 ms a frame: below the floor alone
   const std::string common = "run " + (dir / "g.json").string() + " --cache " + (dir / "cache").string() +
                              " --out " + (dir / "out").string();
   const std::string run = common + " --profile " + (dir / "p.json").string();

@@ -9,19 +9,14 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "loom_test.hpp"
+#include "runner_helpers.hpp"
 
 namespace loom {
 namespace {
 
 namespace fs = std::filesystem;
-
-json from(const std::string& link) { return {{"from", link}}; }
-
-json read_json(const fs::path& p) {
-  std::ifstream in(p);
-  return json::parse(in);
-}
+using test::from;
+using test::read_json;
 
 // A unit quad facing +z, with or without texture coordinates.
 void write_quad(const fs::path& file, bool uvs) {

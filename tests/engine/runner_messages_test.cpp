@@ -1,30 +1,22 @@
 // What `loom` says to a user who makes the usual mistakes, and how it reports
 // while it works: a mistyped command, a missing input file, progress written to
 // a log (not a terminal), and `loom run --watch`.
-#include <chrono>
 #include <fstream>
-#include <regex>
 #include <sstream>
-#include <thread>
 
 #include <gtest/gtest.h>
 
-#include "loom_test.hpp"
+#include "runner_helpers.hpp"
 
 namespace loom {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path write_graph(const fs::path& dir, const json& doc, const std::string& name = "g.json") {
-  std::ofstream(dir / name) << doc.dump(2);
-  return dir / name;
-}
-json from(const std::string& link) { return {{"from", link}}; }
-
-int loom(const std::string& args, std::string* out) {
-  return test::run_loom_env("LOOM_PLUGIN_PATH=" LOOM_TEST_PLUGIN_DIR, args, out);
-}
+using test::from;
+using test::read_text;
+using test::sequence_graph;
+using test::write_graph;
+const auto loom = test::loom_with_test_plugins;
 
 std::vector<std::string> lines_starting(const std::string& text, const std::string& prefix) {
   std::vector<std::string> found;
@@ -32,13 +24,6 @@ std::vector<std::string> lines_starting(const std::string& text, const std::stri
   for (std::string line; std::getline(in, line);)
     if (line.rfind(prefix, 0) == 0) found.push_back(line);
   return found;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 TEST(RunnerMessages, AnUnknownCommandIsNamedWithTheNearestOne) {
@@ -82,16 +67,6 @@ TEST(RunnerMessages, AMissingInputFileSuggestsTheClosestNameAndSaysHowItWasResol
   EXPECT_NE(out.find("no such folder " + folder + "/mehses; did you mean \"meshes\"?"), std::string::npos) << out;
   // The name as it is: the mesh loads.
   EXPECT_EQ(run_with("meshes/Balls.obj", &out), 0) << out;
-}
-
-// FrameNumber -> Sleep (reports progress at every millisecond) -> a file per frame.
-json sequence_graph(int frames, int ms) {
-  return {{"loom", 1},
-          {"time", {{"start", 1}, {"end", frames}, {"fps", 24}}},
-          {"nodes",
-           {{"f", {{"type", "FrameNumber"}}},
-            {"slow", {{"type", "Sleep"}, {"inputs", {{"value", from("f.value")}, {"ms", ms}}}}},
-            {"w", {{"type", "WriteText"}, {"inputs", {{"value", from("slow.value")}, {"path", "x_{frame}.txt"}}}}}}}};
 }
 
 TEST(RunnerMessages, WithoutATerminalProgressIsOneLinePerFrame) {
