@@ -15,6 +15,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "input_binding.hpp"
 #include "loom/evaluator.hpp"
 
 namespace loom {
@@ -92,6 +93,13 @@ struct NodeState {
   std::vector<Value> outputs;
 };
 
+// "input "NAME": node "ID" failed": why a node cannot use an input whose
+// upstream node did not run or failed.
+std::string upstream_failure(const InputSpec& input, const NodeState& upstream);
+
+// Where a result is kept (see Evaluation::kept).
+enum class Kept { nowhere, memory, disk };
+
 struct Evaluation {
   Session::State& session;
   const Graph& graph;
@@ -100,13 +108,15 @@ struct Evaluation {
   std::unordered_map<std::string_view, int> index;  // views of graph.nodes' keys
   const std::filesystem::path graph_dir;
   const FrameTime time;  // step is set per node
+  const BindingPlace place;  // what paths bound to inputs resolve against
   // A simulation stepping through frames evaluates the graph at each frame
   // with its previous outputs handed in here (see step_to in evaluator.cpp).
   int fed_node = -1;
   std::vector<Value> fed_previous;
 
   Evaluation(Session::State& s, const Graph& g, const EvalOptions& o, FrameTime t)
-      : session(s), graph(g), options(o), graph_dir(g.dir()), time(t) {}
+      : session(s), graph(g), options(o), graph_dir(g.dir()), time(t),
+        place{graph_dir, o.output_dir, o.allow_outside_output, t.frame} {}
 
   NodeState& at(int n) { return *nodes[static_cast<std::size_t>(n)]; }
   bool cancelled() const { return options.cancel && options.cancel->load(std::memory_order_relaxed); }
@@ -119,8 +129,13 @@ struct Evaluation {
     return s.inputs[input].kind == NodeState::Binding::link && !fed_state(s, input);
   }
 
-  // Memory, then the disk cache: is the result of a node with this hash kept?
-  bool cache_has(const NodeState& s);
+  // result_cache.cpp. The one answer to "is the result of s at `hash` kept?":
+  // the memory cache, then the simulation chain's latest state, then the disk
+  // cache (asked, not read).
+  Kept kept(const NodeState& s, std::uint64_t hash);
+  const std::vector<Value>* memory_entry(const NodeState& s, std::uint64_t hash, bool touch);
+  // The kept result, read from where kept() finds it (a disk entry that fails
+  // to read or does not fit the node's outputs is a miss).
   std::optional<std::vector<Value>> cache_find(const NodeState& s, std::uint64_t hash, bool* from_disk);
   void cache_put(NodeState& s, double seconds);
 
@@ -142,7 +157,19 @@ struct Evaluation {
     if (!s.claimed.exchange(true, std::memory_order_acq_rel)) return run_node(n);
     while (!s.done.load(std::memory_order_acquire)) std::this_thread::yield();
   }
+  // node_runner.cpp: one node, in four steps (see there).
   void run_node(int n);
+  bool settled_without_running(int n);
+  bool take_cached(NodeState& s);
+  bool ensure_inputs(NodeState& s);
+  struct Outcome {
+    NodeStatus status = NodeStatus::failed;
+    std::string error;
+    std::vector<Value> outputs;
+    double seconds = 0;
+  };
+  Outcome invoke(NodeState& s);
+  void record(NodeState& s, Outcome outcome);
   // Simulations past the start frame: fills s.previous with the outputs at
   // frame - 1, stepping from the latest cached frame. False if it could not.
   bool step_to_previous(int n);

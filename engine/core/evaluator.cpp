@@ -1,21 +1,17 @@
-// Scheduling and running: the closure of the requested nodes runs on a TBB
-// task group as inputs become ready; each node is looked up in the caches
-// first; Session::evaluate walks the frames. The plan (bindings, order,
-// hashes) is in plan.cpp, the hash rule in computation_hash.cpp, what node
-// bodies reach in node_host.cpp, the caches' policy in result_cache.cpp,
-// simulation stepping in simulation.cpp.
+// Scheduling: the closure of the requested nodes runs on a TBB task group as
+// inputs become ready; Session::evaluate walks the frames. The plan (bindings,
+// order, hashes) is in plan.cpp, the hash rule in computation_hash.cpp, one
+// node's run in node_runner.cpp, what node bodies reach in node_host.cpp, the
+// caches' policy in result_cache.cpp, simulation stepping in simulation.cpp.
 #include "loom/evaluator.hpp"
 
 #include <algorithm>
-#include <new>
-#include <stdexcept>
-
 #include <tbb/info.h>
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include "evaluation.hpp"
-#include "node_host.hpp"
+#include "graph_time.hpp"
 
 namespace loom {
 
@@ -61,7 +57,7 @@ void Evaluation::execute(const std::vector<int>& roots) {
     stack.pop_back();
     members.push_back(n);
     NodeState& s = at(n);
-    if (s.cacheable && cache_has(s)) {
+    if (s.cacheable && kept(s, s.hash) != Kept::nowhere) {
       hit[static_cast<std::size_t>(n)] = 1;
       continue;
     }
@@ -107,101 +103,6 @@ void Evaluation::execute(const std::vector<int>& roots) {
   for (int n : members)
     if (pending[static_cast<std::size_t>(n)].load(std::memory_order_relaxed) == 0) spawn(n);
   group.wait();
-}
-
-void Evaluation::run_node(int n) {
-  NodeState& s = at(n);
-  const NodeSpec& spec = s.type->spec;
-  if (cancelled()) {
-    s.report.status = NodeStatus::skipped;
-    s.report.error = "cancelled";
-    return finish(s);
-  }
-  if (s.cacheable) {
-    bool from_disk = false;
-    if (auto v = cache_find(s, s.hash, &from_disk)) {
-      s.outputs = std::move(*v);
-      s.ok = true;
-      s.report.status = NodeStatus::cached;
-      (from_disk ? s.report.disk_hits : s.report.memory_hits) += 1;
-      return finish(s);
-    }
-  }
-  if (spec.simulation() && time.frame > time.start && !step_to_previous(n)) return finish(s);
-
-  // Normally the scheduler has run every non-lazy input already; if not (a
-  // lazy fetch or a corrupt disk entry reached this node), run them now.
-  std::vector<int> missing;
-  for (std::size_t i = 0; i < s.inputs.size(); ++i) {
-    const auto& b = s.inputs[i];
-    if (links_upstream(s, i) && !spec.inputs[i].lazy && !at(b.upstream).done.load(std::memory_order_acquire))
-      missing.push_back(b.upstream);
-  }
-  if (!missing.empty()) execute(missing);
-  for (std::size_t i = 0; i < s.inputs.size(); ++i) {
-    const auto& b = s.inputs[i];
-    if (!links_upstream(s, i) || spec.inputs[i].lazy) continue;
-    const NodeState& up = at(b.upstream);
-    if (!up.ok) {
-      s.report.status = NodeStatus::skipped;
-      s.report.error = "input \"" + spec.inputs[i].name + "\": node \"" + up.node->id + "\" " +
-                       to_string(up.report.status);
-      return finish(s);
-    }
-  }
-
-  if (options.observer) options.observer->node_started(s.node->id, spec.name);
-  Host host(*this, s);
-  Inputs in(spec, host);
-  Outputs out(spec);
-  FrameTime t = time;
-  t.step = spec.simulation() && time.frame > time.start ? 1.0 / time.fps : 0.0;
-  Context ctx(host, s.node->id, s.seed, graph_dir, options.output_dir, t);
-  auto start = std::chrono::steady_clock::now();
-  double seconds = 0;
-  try {
-    // Every non-lazy linked value is checked before the body runs, whether or
-    // not the body reads it (fetch_input checks ranges, choices and paths).
-    for (std::size_t i = 0; i < s.inputs.size(); ++i)
-      if (links_upstream(s, i) && !spec.inputs[i].lazy) host.fetch_input(static_cast<int>(i));
-    tbb::this_task_arena::isolate([&] { s.type->run(in, out, ctx); });
-    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    for (std::size_t o = 0; o < spec.outputs.size(); ++o) {
-      if (!out.values()[o])
-        throw Error("node did not set its output \"" + spec.outputs[o].name + "\" (a bug in " + spec.name + ")");
-      // No NaN, infinity or broken index leaves a node: the type's check
-      // (TypeTraits::check) names what is wrong, the engine names the output.
-      try {
-        out.values()[o].check();
-      } catch (const Error& e) {
-        throw Error("output \"" + spec.outputs[o].name + "\": " + e.what());
-      }
-    }
-    s.outputs = std::move(out.values());
-    s.ok = true;
-    s.report.status = NodeStatus::ran;
-  } catch (const UpstreamFailed& e) {
-    s.report.status = NodeStatus::skipped;
-    s.report.error = e.what();
-  } catch (const std::bad_alloc&) {
-    s.report.status = NodeStatus::failed;
-    s.report.error = "out of memory: the inputs ask for more memory than this machine can give";
-  } catch (const std::length_error& e) {
-    s.report.status = NodeStatus::failed;
-    s.report.error = std::string("the inputs ask for a size beyond what memory can hold (") + e.what() + ")";
-  } catch (const std::exception& e) {
-    s.report.status = NodeStatus::failed;
-    s.report.error = e.what();
-  } catch (...) {
-    s.report.status = NodeStatus::failed;
-    s.report.error = "unknown exception";
-  }
-  if (seconds == 0) seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  s.previous.clear();  // the step is done with it: a state copied once per frame, not held twice
-  s.report.seconds += seconds;
-  s.report.runs += 1;
-  if (s.ok && s.cacheable && !cancelled()) cache_put(s, seconds);
-  finish(s);
 }
 
 }  // namespace detail
@@ -256,15 +157,14 @@ void merge(NodeReport& into, NodeReport&& frame) {
 EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
   auto start = std::chrono::steady_clock::now();
   State& st = *state_;
-  FrameTime time;
-  if (graph.time) {
-    time.start = graph.time->start;
-    time.fps = graph.time->fps;
-  }
+  FrameTime time = detail::graph_time(graph);
   const FrameRange range = options.frames ? *options.frames : FrameRange{time.start, time.start};
   if (range.first > range.last)
     throw Error("frames " + std::to_string(range.first) + "-" + std::to_string(range.last) +
                 ": the first frame is after the last");
+  if (range.first < -kMaxFrame || range.last > kMaxFrame)
+    throw Error("frames " + std::to_string(range.first) + "-" + std::to_string(range.last) +
+                ": frame numbers lie between " + std::to_string(-kMaxFrame) + " and " + std::to_string(kMaxFrame));
   if (range.first < time.start)
     throw Error("frame " + std::to_string(range.first) + " is before the graph's start frame " +
                 std::to_string(time.start));

@@ -1,31 +1,40 @@
 #include "node_host.hpp"
 
-#include "input_check.hpp"
-#include "loom/frame_pattern.hpp"
+#include "loom/graph.hpp"
 
 namespace loom::detail {
+
+namespace {
+
+// Lazy fetches nested on this thread's stack (see kMaxLazyChain).
+thread_local int lazy_depth = 0;
+
+}  // namespace
 
 Value Host::fetch_input(int i) {
   const auto& b = s_.inputs[static_cast<std::size_t>(i)];
   if (e_.fed_state(s_, static_cast<std::size_t>(i))) return s_.previous[static_cast<std::size_t>(s_.state_output)];
   if (b.kind == NodeState::Binding::literal) return b.literal_value;
-  NodeState& up = e_.at(b.upstream);
-  if (!up.done.load(std::memory_order_acquire)) e_.execute({b.upstream});
   const InputSpec& spec = s_.type->spec.inputs[static_cast<std::size_t>(i)];
-  if (!up.ok)
-    throw UpstreamFailed("input \"" + spec.name + "\": node \"" + up.node->id + "\" " +
-                         to_string(up.report.status));
-  // Every linked value is checked against the input's declaration, as literals
-  // are at validation; file paths follow the same rules as literal ones.
-  const Value& value = up.outputs[static_cast<std::size_t>(b.output)];
-  check_input_value(spec, value);
-  if (spec.role == InputRole::value) return value;
-  Value path = value;
-  if (spec.role == InputRole::output_file)
-    path = Value::make<std::string>(expand_frame_pattern(value.as<std::string>(), e_.time.frame));
-  path = resolve_path_value(spec, path, e_.graph_dir, e_.options.output_dir, e_.options.allow_outside_output);
+  NodeState& up = e_.at(b.upstream);
+  if (!up.done.load(std::memory_order_acquire)) {
+    if (lazy_depth >= kMaxLazyChain)
+      throw Error("input \"" + spec.name + "\": more than " + std::to_string(kMaxLazyChain) +
+                  " lazy inputs are nested in one another (a chain of Switch nodes?): split the chain");
+    ++lazy_depth;
+    try {
+      e_.execute({b.upstream});
+    } catch (...) {
+      --lazy_depth;
+      throw;
+    }
+    --lazy_depth;
+  }
+  if (!up.ok) throw UpstreamFailed(upstream_failure(spec, up));
+  Value bound = bind_value(spec, up.outputs[static_cast<std::size_t>(b.output)], e_.place);
+  if (spec.role == InputRole::value) return bound;
   std::lock_guard lock(mutex_);
-  return resolved_paths_.emplace_back(std::move(path));
+  return resolved_paths_.emplace_back(std::move(bound));  // in.get returns a reference into it
 }
 
 bool Host::input_set(int i) const {

@@ -1,12 +1,7 @@
 // Building an evaluation from a graph: node states, input bindings,
 // topological order, computation hashes.
-#include <filesystem>
-
 #include "computation_hash.hpp"
 #include "evaluation.hpp"
-#include "input_check.hpp"
-#include "literal.hpp"
-#include "loom/frame_pattern.hpp"
 
 namespace loom::detail {
 
@@ -24,9 +19,8 @@ void Evaluation::build() {
   hash_nodes(topological_order());
 }
 
-// Each declared input: a link, a literal (from the graph or the default, paths
-// resolved against the graph's or the output folder, {frame:04} in output
-// paths expanded), or unset.
+// Each declared input: a link, a literal (from the graph or the default,
+// bound by the one rule of input_binding.hpp), or unset.
 void Evaluation::bind_inputs() {
   for (auto& sp : nodes) {
     NodeState& s = *sp;
@@ -47,16 +41,11 @@ void Evaluation::bind_inputs() {
                                                                 : nullptr;
       if (!literal) continue;  // optional and unset
       b.kind = NodeState::Binding::literal;
-      b.literal_value = literal_value(spec, *literal);
-      if (spec.role != InputRole::value) {
-        std::string text = b.literal_value.as<std::string>();
-        if (spec.role == InputRole::output_file) text = expand_frame_pattern(text, time.frame);
-        try {
-          b.literal_value = resolve_path_value(spec, Value::make<std::string>(std::move(text)), graph_dir,
-                                               options.output_dir, options.allow_outside_output);
-        } catch (const Error& e) {
-          throw Error("node \"" + s.node->id + "\": " + e.what());
-        }
+      try {
+        b.literal_value = bind_value(spec, convert_literal(spec, *literal), place);
+      } catch (const Error& e) {
+        const bool set = it != s.node->inputs.end() && !it->second.set_by.empty();
+        throw Error("node \"" + s.node->id + "\": " + e.what() + (set ? " (given by " + it->second.set_by + ")" : ""));
       }
     }
   }
@@ -101,15 +90,10 @@ void Evaluation::hash_nodes(const std::vector<int>& order) {
     s.time_dependent = spec.time_dependent;
     for (const auto& b : s.inputs)
       if (b.kind == NodeState::Binding::link) s.time_dependent = s.time_dependent || at(b.upstream).time_dependent;
-    if (spec.simulation()) {
+    if (spec.simulation()) {  // the declaration was checked when the type was registered
       any_simulation = true;
       s.state_input = spec.input_index(spec.state_input);
       s.state_output = spec.output_index(spec.state_output);
-      if (s.state_input < 0 || s.state_output < 0 ||
-          spec.inputs[static_cast<std::size_t>(s.state_input)].type->storage !=
-              spec.outputs[static_cast<std::size_t>(s.state_output)].type->storage)
-        throw Error("node type " + spec.name + " declares a simulation state \"" + spec.state_input + "\" -> \"" +
-                    spec.state_output + "\" without that input and output of one type (a bug in the node)");
     }
   }
   auto pass = [&](const FrameTime& t) {

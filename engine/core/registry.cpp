@@ -2,8 +2,34 @@
 
 namespace loom {
 
+namespace {
+
+// What the engine relies on in a declaration, checked once here rather than at
+// every evaluation: names without '.' (links split "ID.OUTPUT" at the last
+// '.'), and a simulation's state input and output of one type.
+void check_declaration(const NodeSpec& spec, const std::string& plugin) {
+  auto bug = [&](const std::string& what) {
+    return Error("node type " + spec.name + " of plugin " + plugin + " " + what + " (a bug in the node)");
+  };
+  for (const InputSpec& in : spec.inputs)
+    if (in.name.empty() || in.name.find('.') != std::string::npos)
+      throw bug("declares an input named \"" + in.name + "\": names are non-empty and hold no '.'");
+  for (const OutputSpec& out : spec.outputs)
+    if (out.name.empty() || out.name.find('.') != std::string::npos)
+      throw bug("declares an output named \"" + out.name + "\": names are non-empty and hold no '.'");
+  if (!spec.simulation()) return;
+  const int in = spec.input_index(spec.state_input), out = spec.output_index(spec.state_output);
+  if (in < 0 || out < 0 ||
+      spec.inputs[static_cast<std::size_t>(in)].type->storage != spec.outputs[static_cast<std::size_t>(out)].type->storage)
+    throw bug("declares a simulation state \"" + spec.state_input + "\" -> \"" + spec.state_output +
+              "\" without that input and output of one type");
+}
+
+}  // namespace
+
 void Registry::add(NodeType type, const std::string& plugin) {
   if (type.spec.name.empty()) throw Error("plugin " + plugin + " registered a node without a name");
+  check_declaration(type.spec, plugin);
   if (auto it = types_.find(type.spec.name); it != types_.end())
     throw Error("node type " + type.spec.name + " is registered twice: by plugin " +
                 it->second->spec.plugin + " and by plugin " + plugin);

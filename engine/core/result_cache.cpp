@@ -5,6 +5,7 @@
 
 #include "computation_hash.hpp"
 #include "evaluation.hpp"
+#include "graph_time.hpp"
 #include "loom/disk_cache.hpp"
 
 namespace loom::detail {
@@ -31,30 +32,36 @@ std::size_t bytes_of(const std::vector<Value>& values) {
 
 }  // namespace
 
-bool Evaluation::cache_has(const NodeState& s) {
+// The memory entry of `hash`, or a simulation chain's latest state when it is
+// that hash: the lookup both kept() and cache_find() make. The caller holds
+// the cache mutex; `touch` marks the entry used in this frame.
+const std::vector<Value>* Evaluation::memory_entry(const NodeState& s, std::uint64_t hash, bool touch) {
+  auto it = session.cache.find(hash);
+  if (it != session.cache.end()) {
+    if (touch) it->second.generation = session.generation;
+    return &it->second.outputs;
+  }
+  if (!s.type->spec.simulation()) return nullptr;
+  auto latest = session.latest_states.find(s.chain);
+  if (latest == session.latest_states.end() || state_hash(s.chain, latest->second.frame) != hash) return nullptr;
+  if (touch) latest->second.generation = session.generation;
+  return &latest->second.outputs;
+}
+
+Kept Evaluation::kept(const NodeState& s, std::uint64_t hash) {
   {
     std::lock_guard lock(session.cache_mutex);
-    if (session.cache.count(s.hash)) return true;
+    if (memory_entry(s, hash, false)) return Kept::memory;
   }
-  return options.disk_cache && options.disk_cache->contains(options.disk_cache->key(s.hash, s.type->spec.build));
+  DiskCache* disk = options.disk_cache;
+  return disk && disk->contains(disk->key(hash, s.type->spec.build)) ? Kept::disk : Kept::nowhere;
 }
 
 std::optional<std::vector<Value>> Evaluation::cache_find(const NodeState& s, std::uint64_t hash, bool* from_disk) {
   *from_disk = false;
   {
     std::lock_guard lock(session.cache_mutex);
-    auto it = session.cache.find(hash);
-    if (it != session.cache.end()) {
-      it->second.generation = session.generation;
-      return it->second.outputs;
-    }
-    if (s.type->spec.simulation()) {
-      auto latest = session.latest_states.find(s.chain);
-      if (latest != session.latest_states.end() && state_hash(s.chain, latest->second.frame) == hash) {
-        latest->second.generation = session.generation;
-        return latest->second.outputs;
-      }
-    }
+    if (const auto* outputs = memory_entry(s, hash, true)) return *outputs;
   }
   if (!options.disk_cache) return std::nullopt;
   std::string problem;
@@ -153,11 +160,7 @@ std::vector<int> Session::cached_frames(const Graph& graph, const std::string& n
                                         const EvalOptions& options) {
   if (!graph.nodes.count(node)) throw Error("cached_frames: unknown node \"" + node + "\"");
   State& st = *state_;
-  FrameTime time;
-  if (graph.time) {
-    time.start = graph.time->start;
-    time.fps = graph.time->fps;
-  }
+  FrameTime time = detail::graph_time(graph);
   frames.first = std::max(frames.first, time.start);
   std::vector<int> kept;
   EvalOptions hashing = options;
@@ -170,16 +173,7 @@ std::vector<int> Session::cached_frames(const Graph& graph, const std::string& n
     e.build();
     const detail::NodeState& s = e.at(e.index.at(node));
     *time_dependent = s.time_dependent;
-    if (!s.cacheable) return false;
-    {
-      std::lock_guard lock(st.cache_mutex);
-      if (st.cache.count(s.hash)) return true;
-      if (s.type->spec.simulation()) {
-        auto latest = st.latest_states.find(s.chain);
-        if (latest != st.latest_states.end() && latest->second.frame == frame) return true;
-      }
-    }
-    return options.disk_cache && options.disk_cache->contains(options.disk_cache->key(s.hash, s.type->spec.build));
+    return s.cacheable && e.kept(s, s.hash) != detail::Kept::nowhere;
   };
   for (int frame = frames.first; frame <= frames.last; ++frame) {
     bool time_dependent = true;

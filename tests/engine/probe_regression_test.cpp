@@ -76,7 +76,7 @@ TEST(ProbeRegression, AHugeCycleIsReportedBriefly) {
 
 TEST(ProbeRegression, OneLinkParser) {
   EXPECT_EQ(parse_link("a.b")->node, "a");
-  EXPECT_EQ(parse_link("a.b.c")->output, "b.c");
+  EXPECT_EQ(parse_link("a.b.c")->output, "c");  // ids and names hold no '.': the member is after the last
   EXPECT_FALSE(parse_link("a."));
   EXPECT_FALSE(parse_link(".b"));
   EXPECT_FALSE(parse_link("ab"));

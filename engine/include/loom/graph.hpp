@@ -29,13 +29,16 @@ struct Link {
   std::string output;
 };
 
-// The one parser of links written "ID.OUTPUT": the node id before the first
-// '.', the output name after it; nullopt when either is empty or there is no '.'.
+// The one parser of the names written "ID.MEMBER" (links "ID.OUTPUT",
+// targets, --set's "ID.INPUT"): the member after the last '.', the node before
+// it; nullopt when either is empty or there is no '.'. Node ids and input and
+// output names hold no '.', so the split is unambiguous.
 LOOM_API std::optional<Link> parse_link(std::string_view text);
 
 struct InputBinding {
   std::optional<Link> link;  // set: linked; unset: literal
   json literal;
+  std::string set_by;  // the --set assignment that gave this value, for messages; empty: the file
 };
 
 struct GraphNode {
@@ -44,6 +47,14 @@ struct GraphNode {
   std::map<std::string, InputBinding> inputs;
   json ui;  // editor layout, kept as is
 };
+
+// Frame numbers, in graph files and in every run, lie within
+// [-kMaxFrame, kMaxFrame]: counts and loops over them never overflow an int.
+constexpr int kMaxFrame = 1000000000;
+// A lazy input (Switch's) is fetched from inside its node's body, so each
+// lazy link of a chain nests one evaluation in another on the stack: chains
+// longer than this are refused by validation and when evaluated.
+constexpr int kMaxLazyChain = 256;
 
 // "time": {"start": 1, "end": 240, "fps": 24}: the frames a run walks by
 // default and their rate. A graph without it is one evaluation at frame 1.
@@ -67,6 +78,7 @@ struct Graph {
 struct GraphIssue {
   std::string pointer;  // JSON pointer, e.g. /nodes/warp/inputs/mu
   std::string message;
+  std::string source = {};  // where the value came from when not the file (e.g. "--set warp.mu=2")
 };
 
 class LOOM_API GraphError : public Error {

@@ -1,7 +1,9 @@
-#include "input_check.hpp"
+#include "input_binding.hpp"
 
 #include <cmath>
 #include <sstream>
+
+#include "loom/frame_pattern.hpp"
 
 namespace loom::detail {
 
@@ -20,8 +22,7 @@ std::string range_text(const InputSpec& spec) {
 void check_number(const InputSpec& spec, double v, const std::string& shown) {
   const bool ok = std::isfinite(v) ? !((spec.min && v < *spec.min) || (spec.max && v > *spec.max))
                                    : (!spec.min && !spec.max && !std::isnan(v));
-  if (!ok)
-    throw Error("input \"" + spec.name + "\": value " + shown + " is out of range: expected " + range_text(spec));
+  if (!ok) throw Error("value " + shown + " is out of range: expected " + range_text(spec));
 }
 
 void check_json_numbers(const InputSpec& spec, const json& j, const json& whole) {
@@ -32,33 +33,51 @@ void check_json_numbers(const InputSpec& spec, const json& j, const json& whole)
   }
 }
 
-void refuse_control_characters(const InputSpec& spec, const std::string& path) {
-  if (path.empty()) throw Error("input \"" + spec.name + "\": the path is empty");
+void check_choice(const InputSpec& spec, const std::string& s) {
+  for (const auto& c : spec.choices)
+    if (c == s) return;
+  std::string list;
+  for (const auto& c : spec.choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+  throw Error("\"" + s.substr(0, 80) + "\" is not one of the choices: " + list);
+}
+
+void refuse_control_characters(const std::string& path) {
+  if (path.empty()) throw Error("the path is empty");
   for (unsigned char c : path)
     if (c < 0x20 || c == 0x7f)
-      throw Error("input \"" + spec.name + "\": the path contains a NUL or control character (byte " +
-                  std::to_string(static_cast<int>(c)) + ")");
+      throw Error("the path contains a NUL or control character (byte " + std::to_string(static_cast<int>(c)) +
+                  ")");
+}
+
+std::string bind_path(const InputSpec& spec, const std::string& path, const BindingPlace& place) {
+  if (spec.role == InputRole::input_file) return resolve_input_path(path, place.graph_dir);
+  return resolve_output_path(expand_frame_pattern(path, place.frame), place.output_dir,
+                             place.allow_outside_output);
 }
 
 }  // namespace
 
-void check_input_value(const InputSpec& spec, const Value& value) {
+Value convert_literal(const InputSpec& spec, const json& literal) {
+  if (!spec.type->literal())
+    throw Error(spec.type->name + " values cannot be written in a graph file: link this input " +
+                "to a node output, e.g. {\"from\": \"ID.OUTPUT\"}");
+  try {
+    return Value(spec.type, spec.type->from_json(literal));
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {  // a JSON library error in a conversion
+    throw Error("expected " + spec.type->name + ", got " + describe_json(literal) + " (" + e.what() + ")");
+  }
+}
+
+void check_declared(const InputSpec& spec, const Value& value) {
   if (!value || (!spec.min && !spec.max && spec.choices.empty())) return;
   const TypeInfo* type = value.type();
-  if (!spec.choices.empty() && type->storage == enum_type().storage) {
-    const auto& s = value.as<std::string>();
-    for (const auto& c : spec.choices)
-      if (c == s) return;
-    std::string list;
-    for (const auto& c : spec.choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
-    throw Error("input \"" + spec.name + "\": \"" + s.substr(0, 80) + "\" is not one of the choices: " + list);
-  }
+  if (!spec.choices.empty() && type->storage == enum_type().storage) return check_choice(spec, value.as<std::string>());
   if (!spec.min && !spec.max) return;
   if (type->storage == type_of<double>().storage) {
     const double v = value.as<double>();
-    std::ostringstream shown;
-    shown << v;
-    return check_number(spec, v, shown.str());
+    return check_number(spec, v, std::isfinite(v) ? json(v).dump() : std::to_string(v));
   }
   if (type->storage == type_of<int>().storage) {
     const int v = value.as<int>();
@@ -71,10 +90,24 @@ void check_input_value(const InputSpec& spec, const Value& value) {
   }
 }
 
+Value literal_value(const InputSpec& spec, const json& literal) {
+  Value v = convert_literal(spec, literal);
+  check_declared(spec, v);
+  return v;
+}
+
+Value bind_value(const InputSpec& spec, const Value& value, const BindingPlace& place) {
+  try {
+    check_declared(spec, value);
+    if (spec.role == InputRole::value || !value) return value;
+    return Value::make<std::string>(bind_path(spec, value.as<std::string>(), place));
+  } catch (const Error& e) {
+    throw Error("input \"" + spec.name + "\": " + e.what());
+  }
+}
+
 std::string resolve_output_path(const std::string& path, const fs::path& output_dir, bool allow_outside) {
-  InputSpec spec;
-  spec.name = "path";
-  refuse_control_characters(spec, path);
+  refuse_control_characters(path);
   fs::path p = path;
   if (p.is_absolute()) {
     if (!allow_outside)
@@ -91,27 +124,10 @@ std::string resolve_output_path(const std::string& path, const fs::path& output_
 }
 
 std::string resolve_input_path(const std::string& path, const fs::path& graph_dir) {
-  InputSpec spec;
-  spec.name = "path";
-  refuse_control_characters(spec, path);
+  refuse_control_characters(path);
   fs::path p = path;
   if (p.is_relative()) p = graph_dir / p;
   return p.lexically_normal().string();
-}
-
-Value resolve_path_value(const InputSpec& spec, const Value& value, const fs::path& graph_dir,
-                         const fs::path& output_dir, bool allow_outside) {
-  if (spec.role == InputRole::value || !value) return value;
-  const std::string& path = value.as<std::string>();
-  try {
-    return Value::make<std::string>(spec.role == InputRole::input_file
-                                        ? resolve_input_path(path, graph_dir)
-                                        : resolve_output_path(path, output_dir, allow_outside));
-  } catch (const Error& e) {
-    std::string what = e.what();
-    if (what.rfind("input \"", 0) == 0) what = what.substr(what.find(':') + 2);
-    throw Error("input \"" + spec.name + "\": " + what);
-  }
 }
 
 }  // namespace loom::detail

@@ -1,0 +1,201 @@
+// The rules that sit under every evaluation: one binding rule for literal and
+// linked values, one parser of "ID.MEMBER", declarations checked once at
+// registration, bounded lazy nesting and bounded frame numbers.
+#include <climits>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "loom_test.hpp"
+
+namespace loom {
+namespace {
+
+json graph(json nodes) { return {{"loom", 1}, {"nodes", std::move(nodes)}}; }
+json from(const std::string& link) { return {{"from", link}}; }
+
+EvalResult evaluate(test::Engine& e, const Graph& g, const std::vector<std::string>& targets, int threads = 0) {
+  EvalOptions o;
+  for (const auto& t : targets) o.targets.push_back(parse_target(t));
+  o.threads = threads;
+  o.output_dir = test::temp_dir();
+  return e.session.evaluate(g, o);
+}
+
+// What follows the input's name in a message: the part the rule writes.
+std::string after_input_name(const std::string& message) {
+  const auto p = message.find("\": ");
+  return p == std::string::npos ? message : message.substr(p + 3);
+}
+
+TEST(Binding, ALiteralAndALinkedValueAreRefusedInTheSameWords) {
+  test::Engine e;
+  std::string literal_message;
+  try {
+    e.graph(graph({{"s", {{"type", "Switch"}, {"inputs", {{"index", 5}}}}}}));
+  } catch (const GraphError& error) {
+    ASSERT_EQ(error.issues().size(), 1u);
+    EXPECT_EQ(error.issues()[0].pointer, "/nodes/s/inputs/index");
+    literal_message = error.issues()[0].message;
+  }
+  EXPECT_EQ(literal_message, "value 5 is out of range: expected between 0 and 3");
+
+  Graph g = e.graph(graph({{"five", {{"type", "IntConstant"}, {"inputs", {{"value", 5}}}}},
+                           {"s", {{"type", "Switch"}, {"inputs", {{"index", from("five.value")}}}}}}));
+  EvalResult r = evaluate(e, g, {"s.value"});
+  ASSERT_EQ(r.nodes.at("s").status, NodeStatus::failed);
+  EXPECT_EQ(r.nodes.at("s").error.rfind("input \"index\": ", 0), 0u) << r.nodes.at("s").error;
+  EXPECT_EQ(after_input_name(r.nodes.at("s").error), literal_message);
+}
+
+TEST(Binding, ALiteralAndALinkedOutputPathAreConfinedAlike) {
+  test::Engine e;
+  const json write = {{"type", "WriteText"}, {"inputs", {{"value", 1.0}, {"path", "../outside.txt"}}}};
+  std::string literal;  // a literal is bound when the plan is built: the evaluation refuses to start
+  try {
+    evaluate(e, e.graph(graph({{"w", write}})), {});
+    ADD_FAILURE() << "a literal path out of --out was accepted";
+  } catch (const Error& error) {
+    literal = error.what();
+  }
+  EXPECT_EQ(literal.rfind("node \"w\": input \"path\": ", 0), 0u) << literal;
+
+  json linked = write;
+  linked["inputs"]["path"] = from("p.value");
+  EvalResult via_link = evaluate(
+      e, e.graph(graph({{"p", {{"type", "StringConstant"}, {"inputs", {{"value", "../outside.txt"}}}}}, {"w", linked}})),
+      {});
+  ASSERT_EQ(via_link.nodes.at("w").status, NodeStatus::failed);
+  EXPECT_NE(literal.find("leaves the output folder"), std::string::npos) << literal;
+  EXPECT_EQ(after_input_name(via_link.nodes.at("w").error), after_input_name(literal.substr(literal.find("input"))));
+}
+
+TEST(Binding, OneParserOfIdDotMember) {
+  auto link = parse_link("warp.image");
+  ASSERT_TRUE(link);
+  EXPECT_EQ(link->node, "warp");
+  EXPECT_EQ(link->output, "image");
+  link = parse_link("look.render.image");  // a path of nodes: the member is after the last '.'
+  ASSERT_TRUE(link);
+  EXPECT_EQ(link->node, "look.render");
+  EXPECT_EQ(link->output, "image");
+  for (const char* bad : {"warp", ".image", "warp.", ""}) EXPECT_FALSE(parse_link(bad)) << bad;
+  const Target t = parse_target("warp");
+  EXPECT_EQ(t.node, "warp");
+  EXPECT_EQ(t.output, "");
+}
+
+NodeType type_with(const std::function<void(NodeSpec&)>& declare) {
+  NodeType t;
+  t.spec.name = "Declared";
+  declare(t.spec);
+  t.run = [](Inputs&, Outputs&, Context&) {};
+  return t;
+}
+
+TEST(Binding, DeclarationsAreCheckedOnceWhenRegistered) {
+  Registry r;
+  EXPECT_THROW(r.add(type_with([](NodeSpec& s) { s.input<double>("a.b", 0.0, "dotted"); }), "p"), Error);
+  EXPECT_THROW(r.add(type_with([](NodeSpec& s) { s.output<double>("x.y", "dotted"); }), "p"), Error);
+  try {
+    r.add(type_with([](NodeSpec& s) {
+            s.set_simulation("state", "state").input<double>("state", 0.0, "x").output<int>("state", "y");
+          }),
+          "p");
+    ADD_FAILURE() << "a simulation with input and output of different types was registered";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("simulation state \"state\" -> \"state\""), std::string::npos)
+        << error.what();
+  }
+  EXPECT_NO_THROW(r.add(type_with([](NodeSpec& s) {
+                          s.set_simulation("state", "state").input<double>("state", 0.0, "x").output<double>("state",
+                                                                                                              "y");
+                        }),
+                        "p"));
+}
+
+// constant -> s1.in0 -> s2.in0 -> ... -> s<n>: every link a lazy input.
+json switch_chain(int n) {
+  json nodes = {{"c", {{"type", "FloatConstant"}, {"inputs", {{"value", 3.5}}}}}};
+  std::string up = "c.value";
+  for (int i = 1; i <= n; ++i) {
+    const std::string id = "s" + std::to_string(i);
+    nodes[id] = {{"type", "Switch"}, {"inputs", {{"index", 0}, {"in0", from(up)}}}};
+    up = id + ".value";
+  }
+  return graph(nodes);
+}
+
+TEST(Binding, ALazyChainAtTheLimitRunsOnEveryThread) {
+  test::Engine e;
+  Graph g = e.graph(switch_chain(kMaxLazyChain));
+  for (int threads : {1, 2}) {
+    test::Engine fresh;
+    fresh.graph(switch_chain(kMaxLazyChain));  // loads the plugins
+    EvalResult r = evaluate(fresh, g, {"s" + std::to_string(kMaxLazyChain) + ".value"}, threads);
+    ASSERT_TRUE(r.ok()) << threads;
+    EXPECT_EQ(r.outputs.begin()->second.at(0).as<double>(), 3.5);
+  }
+}
+
+TEST(Binding, ALazyChainPastTheLimitIsRefusedByValidationAndByTheEvaluator) {
+  test::Engine e;
+  const json doc = switch_chain(2000);
+  try {
+    e.graph(doc);
+    ADD_FAILURE() << "validation accepted 2000 chained lazy inputs";
+  } catch (const GraphError& error) {
+    ASSERT_EQ(error.issues().size(), 1u) << error.what();
+    EXPECT_EQ(error.issues()[0].pointer, "/nodes/s" + std::to_string(kMaxLazyChain + 1));
+    EXPECT_NE(error.issues()[0].message.find("lazy inputs"), std::string::npos);
+  }
+  // Unvalidated (a front end that skips validation): a clear failure, no crash.
+  Graph g = parse_graph(doc, "chain.json");
+  e.loader.load_for(node_types_used(g));
+  EvalResult r = evaluate(e, g, {"s2000.value"}, 2);
+  EXPECT_FALSE(r.ok());
+  bool named = false;
+  for (const auto& [id, report] : r.nodes) named = named || report.error.find("lazy inputs are nested") != std::string::npos;
+  EXPECT_TRUE(named);
+}
+
+TEST(Binding, FrameNumbersAreBounded) {
+  test::Engine e;
+  Graph g = e.graph(graph({{"c", {{"type", "FloatConstant"}, {"inputs", {{"value", 1.0}}}}}}));
+  EvalOptions o;
+  o.targets = {parse_target("c.value")};
+  o.frames = FrameRange{INT_MAX, INT_MAX};
+  try {
+    e.session.evaluate(g, o);
+    ADD_FAILURE() << "frame 2147483647 was evaluated";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("frame numbers lie between"), std::string::npos) << error.what();
+  }
+  json doc = graph(json::object());
+  doc["time"] = {{"start", 2147483647}};
+  try {
+    parse_graph(doc, "t.json");
+    ADD_FAILURE() << "start frame 2147483647 accepted";
+  } catch (const GraphError& error) {
+    ASSERT_EQ(error.issues().size(), 1u);
+    EXPECT_EQ(error.issues()[0].pointer, "/time/start");
+    EXPECT_NE(error.issues()[0].message.find("expected between -1000000000 and 1000000000"), std::string::npos)
+        << error.issues()[0].message;
+  }
+}
+
+TEST(Binding, ABadSetValueIsReportedAsComingFromSet) {
+  const auto dir = test::temp_dir();
+  std::ofstream(dir / "g.json") << graph({{"s", {{"type", "Switch"}, {"inputs", {{"index", 0}, {"in0", 1.0}}}}},
+                                          {"p", {{"type", "Print"}, {"inputs", {{"value", from("s.value")}}}}}})
+                                       .dump();
+  std::string out;
+  EXPECT_EQ(test::run_loom("run " + (dir / "g.json").string() + " --set s.index=9 --out " + dir.string(), &out), 2);
+  EXPECT_NE(out.find("--set s.index=9: /nodes/s/inputs/index: value 9 is out of range"), std::string::npos) << out;
+  EXPECT_EQ(out.find((dir / "g.json").string() + ": /nodes/s/inputs/index"), std::string::npos) << out;
+  EXPECT_EQ(test::run_loom("run " + (dir / "g.json").string() + " --set nope.index=1 --out " + dir.string(), &out), 2);
+  EXPECT_NE(out.find("--set nope.index=1: /nodes/nope: --set names unknown node \"nope\""), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace loom
