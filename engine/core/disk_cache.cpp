@@ -5,9 +5,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 
 #include <dlfcn.h>
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
@@ -20,7 +23,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr char kMagic[8] = {'L', 'O', 'O', 'M', 'C', 'A', 'C', 'H'};
-constexpr std::uint32_t kFormatVersion = 1;
+constexpr std::uint32_t kFormatVersion = 2;  // 2: the four-lane payload checksum
 constexpr const char* kExtension = ".loomcache";
 // magic, format version, key, value count, payload size, payload checksum
 constexpr std::size_t kHeaderBytes = 8 + 4 + 8 + 4 + 8 + 8;
@@ -153,6 +156,66 @@ void claim_folder(const fs::path& dir) {
     // a read-only folder: nothing will be stored, so nothing needs the tag
   }
 }
+}  // namespace
+
+// FNV-1a (Hasher's step) in four lanes over interleaved 8-byte words, the
+// lanes and the tail then mixed by Hasher: four independent multiply chains
+// instead of Hasher's one (docs/time.md has what that saves).
+std::uint64_t DiskCache::checksum(const char* p, std::size_t n) {
+  std::uint64_t lane[4] = {0x9e3779b97f4a7c15ull, 0xbf58476d1ce4e5b9ull, 0x94d049bb133111ebull, 0x100000001b3ull};
+  std::size_t i = 0;
+  for (; i + 32 <= n; i += 32)
+    for (int k = 0; k < 4; ++k) {
+      std::uint64_t w;
+      std::memcpy(&w, p + i + 8 * k, 8);
+      lane[k] = (lane[k] ^ w) * 0x100000001b3ull;
+      lane[k] ^= lane[k] >> 29;
+    }
+  Hasher h;
+  for (std::uint64_t l : lane) h.pod(l);
+  return h.bytes(p + i, n - i).pod(static_cast<std::uint64_t>(n)).digest();
+}
+
+namespace {
+
+// A cache entry mapped read-only: the page cache's own pages, so a read makes
+// no buffer of its own (a fresh 48 MB buffer cost more than the disk, the
+// checksum or the decoding: docs/time.md). Entries are replaced by rename,
+// never rewritten in place, so the mapped file does not shrink under us.
+class MappedEntry {
+ public:
+  explicit MappedEntry(const fs::path& path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);  // a FIFO must not block
+    if (fd < 0) return;
+    struct stat st {};
+    if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) {
+      opened_ = true;
+      if (st.st_size > 0) {
+        void* p = ::mmap(nullptr, static_cast<std::size_t>(st.st_size), PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+        if (p != MAP_FAILED) {
+          data_ = static_cast<const char*>(p);
+          size_ = static_cast<std::size_t>(st.st_size);
+        }
+      }
+    }
+    ::close(fd);
+  }
+  ~MappedEntry() {
+    if (data_) ::munmap(const_cast<char*>(data_), size_);
+  }
+  MappedEntry(const MappedEntry&) = delete;
+  MappedEntry& operator=(const MappedEntry&) = delete;
+
+  bool opened() const { return opened_; }
+  const char* data() const { return data_; }
+  std::size_t size() const { return size_; }
+
+ private:
+  bool opened_ = false;
+  const char* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
 
 }  // namespace
 
@@ -183,14 +246,8 @@ bool DiskCache::contains(std::uint64_t key) const {
 std::optional<std::vector<Value>> DiskCache::load(std::uint64_t key, std::string* problem) {
   const auto start = std::chrono::steady_clock::now();
   const fs::path path = path_of(key);
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return std::nullopt;
-  const auto file_size = static_cast<std::size_t>(std::max<std::streamoff>(0, in.tellg()));
-  std::string bytes(file_size, '\0');
-  in.seekg(0);
-  in.read(bytes.data(), static_cast<std::streamsize>(file_size));
-  if (static_cast<std::size_t>(in.gcount()) != file_size) bytes.resize(static_cast<std::size_t>(in.gcount()));
-  in.close();
+  const MappedEntry bytes(path);
+  if (!bytes.opened()) return std::nullopt;
   auto reject = [&](const std::string& why) -> std::optional<std::vector<Value>> {
     std::error_code ec;
     fs::remove(path, ec);
@@ -206,12 +263,12 @@ std::optional<std::vector<Value>> DiskCache::load(std::uint64_t key, std::string
     if (header.pod<std::uint64_t>() != key) return reject("belongs to another key");
     const auto count = header.pod<std::uint32_t>();
     const auto size = header.pod<std::uint64_t>();
-    const auto checksum = header.pod<std::uint64_t>();
+    const auto stored_checksum = header.pod<std::uint64_t>();
     if (bytes.size() != kHeaderBytes + size)
       return reject("is truncated (" + std::to_string(bytes.size()) + " bytes, expected " +
                     std::to_string(kHeaderBytes + size) + ")");
     const char* payload = bytes.data() + kHeaderBytes;
-    if (Hasher().bytes(payload, size).digest() != checksum) return reject("fails its checksum");
+    if (checksum(payload, size) != stored_checksum) return reject("fails its checksum");
     std::vector<Value> values;
     std::size_t offset = 0;
     for (std::uint32_t i = 0; i < count; ++i) {
@@ -242,9 +299,21 @@ std::optional<std::vector<Value>> DiskCache::load(std::uint64_t key, std::string
   }
 }
 
+double DiskCache::expected_read_seconds(std::uint64_t bytes) const {
+  return options_.read_entry_seconds + static_cast<double>(bytes) / (options_.read_mb_per_s * 1024 * 1024);
+}
+
+bool DiskCache::worth_storing(std::uint64_t bytes, double compute_seconds, int frames) const {
+  const double n = std::max(frames, 1);
+  return n * compute_seconds >= options_.min_seconds &&              // the run's time is worth files
+         2 * expected_read_seconds(bytes) <= compute_seconds &&                // each frame reads back clearly faster
+         n * static_cast<double>(bytes) <= options_.max_sequence_share * static_cast<double>(options_.max_bytes);
+}
+
 // One buffer: the header with its sizes and checksum patched in at the end.
-std::uint64_t DiskCache::store(std::uint64_t key, const std::vector<Value>& values, double compute_seconds) {
-  if (compute_seconds < options_.min_seconds) return 0;
+std::uint64_t DiskCache::store(std::uint64_t key, const std::vector<Value>& values, double compute_seconds,
+                               int frames) {
+  if (!worth_storing(0, compute_seconds, frames)) return 0;  // too quick whatever the size
   for (const Value& v : values)
     if (!v || !v.type()->storable()) return 0;
   try {
@@ -265,10 +334,9 @@ std::uint64_t DiskCache::store(std::uint64_t key, const std::vector<Value>& valu
       patch(size_at, file.buffer().size() - size_at - sizeof(std::uint64_t));
     }
     const std::size_t payload = file.buffer().size() - kHeaderBytes;
-    const double read_seconds = static_cast<double>(file.buffer().size()) / (options_.read_mb_per_s * 1024 * 1024);
-    if (2 * read_seconds > compute_seconds) return 0;  // cheaper to compute again
+    if (!worth_storing(file.buffer().size(), compute_seconds, frames)) return 0;
     patch(kHeaderBytes - 16, payload);
-    patch(kHeaderBytes - 8, Hasher().bytes(file.buffer().data() + kHeaderBytes, payload).digest());
+    patch(kHeaderBytes - 8, checksum(file.buffer().data() + kHeaderBytes, payload));
     write_file_atomic(path_of(key), std::string_view(file.buffer().data(), file.buffer().size()));
     bytes_written_ += file.buffer().size();
     return file.buffer().size();

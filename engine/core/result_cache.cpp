@@ -83,8 +83,9 @@ std::optional<std::vector<Value>> Evaluation::cache_find(const NodeState& s, std
   return values;
 }
 
-// Keeps a result that just ran: in memory, and on disk when it was slow to
-// compute (for a simulation: when the steps since its last state on disk were).
+// Keeps a result that just ran: in memory, and on disk when DiskCache's rule
+// says reading it back beats computing it again (for a simulation: the steps
+// since its last state on disk), per frame and over the frames of the run.
 void Evaluation::cache_put(NodeState& s, double seconds) {
   const bool simulation = s.type->spec.simulation();
   {
@@ -110,7 +111,8 @@ void Evaluation::cache_put(NodeState& s, double seconds) {
     std::lock_guard lock(session.cache_mutex);
     slow = session.unsaved_seconds[s.chain] += seconds;
   }
-  if (disk->store(disk->key(s.hash, s.type->spec.build), s.outputs, slow) > 0 && simulation) {
+  const int frames = s.time_dependent ? time.last - time.first + 1 : 1;  // a result like it at each frame
+  if (disk->store(disk->key(s.hash, s.type->spec.build), s.outputs, slow, frames) > 0 && simulation) {
     std::lock_guard lock(session.cache_mutex);
     session.unsaved_seconds[s.chain] = 0;
   }

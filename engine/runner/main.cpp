@@ -15,10 +15,12 @@
 #include "loom/graph.hpp"
 #include "loom/plugin_loader.hpp"
 #include "loom/suggest.hpp"
+#include "command_names.hpp"
 #include "new_plugin.hpp"
 #include "node_reference.hpp"
 #include "progress.hpp"
 #include "signals.hpp"
+#include "watch.hpp"
 
 namespace {
 
@@ -302,7 +304,7 @@ int main(int argc, char** argv) {
   std::string graph_path, out_dir = "out", profile_path, type, manifest_lib, manifest_out;
   std::vector<std::string> sets, targets;
   int threads = 0;
-  bool quiet = false, as_json = false, as_markdown = false, allow_outside = false;
+  bool quiet = false, as_json = false, as_markdown = false, allow_outside = false, watch = false;
 
   auto* run = app.add_subcommand("run", "Run a graph: evaluate its sinks (or --target outputs).");
   run->add_option("graph", graph_path, "graph file (JSON)")->required();
@@ -315,6 +317,7 @@ int main(int argc, char** argv) {
   run->add_flag("--quiet,-q", quiet, "print only errors and requested outputs");
   std::string frames;
   CacheSettings cache;
+  run->add_flag("--watch", watch, "run again whenever the graph or an input file it reads changes; Ctrl-C ends");
   run->add_option("--frames", frames, "frames to run, A-B or A (default: the graph's \"time\" range)");
   auto cache_options = [&cache](CLI::App* app) {
     app->add_option("--cache", cache.dir, "persistent cache folder (default: $XDG_CACHE_HOME/loom)");
@@ -324,7 +327,8 @@ int main(int argc, char** argv) {
   };
   cache_options(run);
   run->add_flag("--no-cache", cache.disabled, "neither read nor write the persistent cache");
-  run->add_option("--cache-min-seconds", cache.min_seconds, "store only results slower than this")
+  run->add_option("--cache-min-seconds", cache.min_seconds,
+                  "store only results whose node takes this long over the run's frames (docs/time.md)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
 
@@ -354,10 +358,20 @@ int main(int argc, char** argv) {
   scaffold->add_option("name", plugin_name, "plugin name: a-z, 0-9 and _, starting with a letter")->required();
   scaffold->add_option("--dir", plugin_dir, "create the plugin in DIR/NAME")->capture_default_str();
 
+  if (auto unknown = loom::runner::unknown_command_message(app, argc, argv)) {
+    std::cerr << "error: " << *unknown << "\n";
+    return kInvalid;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kOk : kInvalid;
+  }
+  if (*run && watch) {
+    std::signal(SIGINT, on_interrupt);
+    return loom::runner::watch(graph_path, g_cancel, [&] {
+      return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside);
+    });
   }
   if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside);
   if (*cache_cmd) return cmd_cache(cache_action, cache);

@@ -30,6 +30,9 @@ void ConsoleObserver::stop() {
     if (stopping_) return;
     stopping_ = true;
     clear_locked();
+    if (repeated_warnings_ > 0)
+      std::fprintf(stderr, "(%d repeated warnings not shown again: the profile lists each once)\n",
+                   repeated_warnings_);
   }
   wake_.notify_all();
   if (painter_.joinable()) painter_.join();
@@ -77,7 +80,7 @@ void ConsoleObserver::node_progress(const std::string& id, double fraction, cons
   if (it == active_.end()) return;
   it->second.fraction = fraction;
   it->second.label = label;
-  if (tty_ || quiet_) return;
+  if (tty_ || quiet_ || sequence_) return;  // in a sequence: the frame lines only
   int quarter = static_cast<int>(fraction * 4);
   if (quarter > it->second.printed_quarter && fraction < 1.0) {
     it->second.printed_quarter = quarter;
@@ -88,8 +91,13 @@ void ConsoleObserver::node_progress(const std::string& id, double fraction, cons
 
 void ConsoleObserver::node_message(const std::string& id, bool warning, const std::string& text) {
   std::lock_guard lock(mutex_);
-  if (warning) print_locked("warning: [" + id + "] " + text);
-  else if (!quiet_) print_locked("[" + id + "] " + text);
+  if (warning) {
+    // A frame range repeats a node's warning at every frame: once is enough.
+    if (warned_.insert(id + '\n' + text).second) print_locked("warning: [" + id + "] " + text);
+    else ++repeated_warnings_;
+  } else if (!quiet_) {
+    print_locked("[" + id + "] " + text);
+  }
 }
 
 void ConsoleObserver::node_finished(const std::string& id, const NodeReport& report) {
@@ -98,7 +106,7 @@ void ConsoleObserver::node_finished(const std::string& id, const NodeReport& rep
   if (it == active_.end()) return;
   bool long_run = std::chrono::steady_clock::now() - it->second.start >= kShowAfter;
   active_.erase(it);
-  if (!quiet_ && long_run && report.status == NodeStatus::ran) {
+  if (!quiet_ && !sequence_ && long_run && report.status == NodeStatus::ran) {
     char line[128];
     std::snprintf(line, sizeof line, "[%s] done in %.2f s", id.c_str(), report.seconds);
     print_locked(line);
@@ -107,11 +115,14 @@ void ConsoleObserver::node_finished(const std::string& id, const NodeReport& rep
 
 void ConsoleObserver::frame_started(int frame, int index, int count) {
   std::lock_guard lock(mutex_);
-  frame_line_ = "frame " + std::to_string(index) + " of " + std::to_string(count) + " (frame " +
-                std::to_string(frame) + ")";
-  if (tty_ || quiet_) return;
-  const int step = count / 10 > 0 ? count / 10 : 1;
-  if (index == 1 || index == count || index % step == 0) print_locked(frame_line_);
+  sequence_ = count > 1;
+  frame_line_ = frame_text(frame, index, count);
+  if (!tty_ && !quiet_) print_locked(frame_line_);
+}
+
+std::string frame_text(int frame, int index, int count) {
+  const std::string of = std::to_string(index) + " of " + std::to_string(count);
+  return frame == index ? "frame " + of : "frame " + std::to_string(frame) + " (" + of + ")";
 }
 
 }  // namespace loom::runner

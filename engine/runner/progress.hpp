@@ -1,7 +1,9 @@
 // What `loom run` shows while it works: on a terminal, a progress bar for each
-// node that runs longer than a moment; otherwise plain lines at 25% steps.
-// Warnings always; node log lines unless --quiet. Over a frame range, "frame
-// k of N" above the bars (or a line at every tenth of the range).
+// node that runs longer than a moment; otherwise (a log file, a pipe) plain
+// lines: a node's 25% steps, or over a frame range one line per frame and
+// nothing within a frame. Warnings always, each once per node however many
+// frames repeat it; node log lines unless --quiet. Over a frame range,
+// "frame k of N" above the bars.
 #pragma once
 
 #include <atomic>
@@ -9,6 +11,7 @@
 #include <condition_variable>
 #include <map>
 #include <mutex>
+#include <set>
 #include <string>
 #include <thread>
 
@@ -45,9 +48,15 @@ class ConsoleObserver final : public Observer {
   std::condition_variable wake_;
   std::map<std::string, Active> active_;
   std::string frame_line_;  // "frame k of N" while a frame range runs
+  bool sequence_ = false;   // a range of more than one frame is running
+  std::set<std::string> warned_;  // "id\ntext" of each warning printed
+  int repeated_warnings_ = 0;
   int drawn_lines_ = 0;
   bool stopping_ = false;
   std::thread painter_;
 };
+
+// "frame 12 (3 of 60)", or "frame 3 of 60" when the frame is the index.
+std::string frame_text(int frame, int index, int count);
 
 }  // namespace loom::runner

@@ -1,5 +1,6 @@
 // LoadImage: an image file as a loom::Image.
 #include "image_codec.hpp"
+#include "loom/input_file.hpp"
 #include "loom/plugin.hpp"
 
 namespace {
@@ -19,7 +20,8 @@ struct LoadImage {
         .range(1, 4e9)
         .output<loom::Image>("image", "float32 RGB(A) or gray pixels");
   }
-  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
+  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
+    loom::require_input_file(in.get<std::string>("path"), "image", ctx.graph_dir());
     out.set("image", loom::io::read_image(in.get<std::string>("path"), in.get<loom::io::Decode>("decode"),
                                           static_cast<std::uint64_t>(in.get<double>("max_pixels"))));
   }

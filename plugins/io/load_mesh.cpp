@@ -1,4 +1,5 @@
 // LoadMesh: a mesh file as a loom::Mesh, its vertex list kept as the file has it.
+#include "loom/input_file.hpp"
 #include "loom/mesh.hpp"
 #include "loom/plugin.hpp"
 #include "mesh_codec.hpp"
@@ -22,6 +23,7 @@ struct LoadMesh {
         .output<loom::Mesh>("mesh", "the triangles");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
+    loom::require_input_file(in.get<std::string>("path"), "mesh", ctx.graph_dir());
     loom::io::MeshNotes notes;
     loom::Mesh mesh = loom::io::read_mesh(in.get<std::string>("path"), &notes);
     if (notes.dropped_primitives > 0)

@@ -6,6 +6,7 @@
 #include "embree_scene.hpp"
 #include "integrator.hpp"
 #include "loom/plugin.hpp"
+#include "loom/scene_warnings.hpp"
 
 namespace {
 
@@ -16,18 +17,13 @@ void warn_about_unused(const loom::Scene& scene, const EmbreeScene& traced, cons
   if (traced.skipped_polylines() > 0)
     ctx.warn(std::to_string(traced.skipped_polylines()) +
              " polyline objects are not path traced (Render draws them)");
+  for (const std::string& w : loom::scene_warnings(scene)) ctx.warn(w);
   bool emissive_points = false;
   for (const auto& o : scene.objects) {
     emissive_points |= o.points && (o.material.emission.array() > 0).any();
-    const bool uv = o.mesh && o.mesh->has_uv();
-    if (o.material.normal_map && !uv)
-      ctx.warn("object '" + o.name + "': its normal map is ignored (only meshes with UVs are normal mapped)");
-    if (o.material.displacement_map && o.material.displacement_scale != 0) {
-      if (!uv)
-        ctx.warn("object '" + o.name + "': its displacement map is ignored (only meshes with UVs are displaced)");
-      else if (displacement_level == 0)
-        ctx.warn("object '" + o.name + "': its displacement map is ignored with displacement_subdivision 0");
-    }
+    if (o.mesh && o.mesh->has_uv() && o.material.displacement_map && o.material.displacement_scale != 0 &&
+        displacement_level == 0)
+      ctx.warn("object '" + o.name + "': its displacement map is ignored with displacement_subdivision 0");
   }
   if (emissive_points && s.strategy != Strategy::bsdf)
     ctx.warn("emissive points are found only by BSDF sampling (no light sampling on spheres)");

@@ -21,6 +21,7 @@
 #include "loom/formats/image_header.hpp"
 #include "loom/formats/regular_file.hpp"
 #include "loom/image.hpp"
+#include "loom/input_file.hpp"
 #include "loom/plugin.hpp"
 #include "loom/scene.hpp"
 
@@ -258,6 +259,7 @@ struct LoadScene {
 
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     const fs::path path = in.get<std::string>("path");
+    loom::require_input_file(path, "scene", ctx.graph_dir());
     Assimp::Importer importer;
     const aiScene* ai = loom::formats::import_scene(importer, path, aiProcess_GenSmoothNormals);
     Textures textures(ai, path.parent_path());

@@ -7,6 +7,7 @@
 #include "loom/image.hpp"
 #include "loom/plugin.hpp"
 #include "loom/scene.hpp"
+#include "loom/scene_warnings.hpp"
 #include "rasterizer.hpp"
 
 namespace {
@@ -73,6 +74,7 @@ struct Render {
     o.wireframe = in.get<bool>("wireframe");
     o.wireframe_color = in.get<loom::Color>("wireframe_color").rgba.head<3>();
     o.aux = in.get<bool>("extra_images");
+    for (const std::string& w : loom::scene_warnings(scene)) ctx.warn(w);
     using loom::shading::max_lights, loom::shading::max_shadows;
     if (scene.lights.size() > static_cast<std::size_t>(max_lights))
       ctx.warn("only the first " + std::to_string(max_lights) + " lights are drawn");

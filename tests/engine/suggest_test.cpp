@@ -1,4 +1,4 @@
-// "Did you mean": edit distance against hand-worked values, the ranking of
+// "Did you mean": edit distance (swaps included) against hand-worked values, the ranking of
 // near names, and the messages a user sees for a mistyped node type or a
 // plugin path entry that cannot hold plugins.
 #include <algorithm>
@@ -19,6 +19,17 @@ TEST(EditDistance, MatchesHandWorkedExamples) {
   EXPECT_EQ(edit_distance("abc", ""), 3u);
   EXPECT_EQ(edit_distance("Posterize", "posterize"), 0u);  // case does not count
   EXPECT_EQ(edit_distance("Posterise", "Posterize"), 1u);
+}
+
+TEST(EditDistance, ASwapOfNeighboursIsOneEdit) {
+  // Damerau's optimal string alignment: a transposition counts 1, each letter
+  // is edited at most once.
+  EXPECT_EQ(edit_distance("rnu", "run"), 1u);
+  EXPECT_EQ(edit_distance("vaildate", "validate"), 1u);
+  EXPECT_EQ(edit_distance("ab", "ba"), 1u);
+  EXPECT_EQ(edit_distance("ca", "abc"), 3u);  // not 2: "ca" -> "ac" -> "abc" edits a swapped letter again
+  EXPECT_EQ(edit_distance("abcdef", "badcfe"), 3u);
+  EXPECT_EQ(near_names("rnu", {"run", "cache", "validate", "nodes"}), (std::vector<std::string>{"run"}));
 }
 
 TEST(NearNames, CaseFirstThenDistanceThenSubstring) {

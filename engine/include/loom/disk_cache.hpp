@@ -12,8 +12,8 @@
 // fails (corrupt, truncated, an old type version) is deleted and reported, and
 // the caller recomputes. Reading an entry touches its modification time;
 // trim() removes the least recently used entries until the folder is under its
-// size limit. Only results whose node took at least min_seconds, and which
-// read back in at most half their compute time, are stored.
+// size limit. What is stored is worth_storing()'s rule: reading back must be
+// clearly cheaper than computing again, per frame and over the whole run.
 #pragma once
 
 #include <atomic>
@@ -32,10 +32,18 @@ class LOOM_API DiskCache {
   struct Options {
     std::filesystem::path dir;                     // created when missing
     std::uint64_t max_bytes = std::uint64_t(10) << 30;
-    double min_seconds = 0.05;                     // store only results slower than this...
-    // ...and only if reading them back (at this rate, measured on a loaded
-    // machine by bench_engine_cache) takes at most half the compute time.
-    double read_mb_per_s = 150;
+    // What is stored, see worth_storing(). A node's time over the frames of
+    // the run must reach min_seconds (below it a rerun saves too little to
+    // be worth a file)...
+    double min_seconds = 0.05;
+    // ...reading one result back, read_entry_seconds plus its bytes at
+    // read_mb_per_s (bench_engine_cache, docs/time.md), must take at most half
+    // its compute time...
+    double read_entry_seconds = 1e-4;
+    double read_mb_per_s = 300;
+    // ...and the run's frames of it together at most this share of max_bytes
+    // (a larger sequence would push its own first frames out before a rerun).
+    double max_sequence_share = 0.25;
   };
   explicit DiskCache(Options options);
 
@@ -50,10 +58,26 @@ class LOOM_API DiskCache {
   // The stored values, or nullopt on a miss. An entry that cannot be read is
   // deleted and *problem says why (the caller warns and recomputes).
   std::optional<std::vector<Value>> load(std::uint64_t key, std::string* problem = nullptr);
-  // Stores the values if every one's type is storable and they took long
-  // enough to compute (`compute_seconds`, see Options); returns the bytes
-  // written (0: not stored). Never throws: a full disk only loses the entry.
-  std::uint64_t store(std::uint64_t key, const std::vector<Value>& values, double compute_seconds = 1e300);
+  // Stores the values if every one's type is storable and worth_storing()
+  // says so: `compute_seconds` is what recomputing them costs (for a
+  // simulation state: the steps since its last stored state), `frames` how
+  // many frames of the run the node computes a result like it (1 for a node
+  // that does not depend on time). Returns the bytes written (0: not
+  // stored). Never throws: a full disk only loses the entry.
+  std::uint64_t store(std::uint64_t key, const std::vector<Value>& values, double compute_seconds = 1e300,
+                      int frames = 1);
+
+  // The storage rule: a result of `bytes` that took `compute_seconds` to
+  // compute, at each of `frames` frames of the run, is stored when
+  //   frames * compute_seconds >= min_seconds,
+  //   2 * expected_read_seconds(bytes) <= compute_seconds,
+  //   frames * bytes <= max_sequence_share * max_bytes.
+  bool worth_storing(std::uint64_t bytes, double compute_seconds, int frames = 1) const;
+  // What reading an entry of `bytes` back costs, by the measured model.
+  double expected_read_seconds(std::uint64_t bytes) const;
+
+  // The checksum an entry carries of its payload.
+  static std::uint64_t checksum(const char* data, std::size_t size);
 
   struct Stats {
     std::uint64_t entries = 0, bytes = 0;

@@ -10,8 +10,9 @@
 
 namespace loom {
 
-// Levenshtein distance (insert, delete, substitute: 1 each) between a and b,
-// compared case-insensitively.
+// Edit distance between a and b, compared case-insensitively: inserting,
+// deleting or substituting a letter, or swapping two neighbours, costs 1 each
+// (Damerau's optimal string alignment: "rnu" is 1 from "run", not 2).
 LOOM_API std::size_t edit_distance(std::string_view a, std::string_view b);
 
 // Up to `limit` candidates near `name`, nearest first: a case-insensitive
