@@ -18,6 +18,7 @@
 #include "loom/suggest.hpp"
 #include "new_plugin.hpp"
 #include "node_reference.hpp"
+#include "target_json.hpp"
 #include "progress.hpp"
 
 namespace {
@@ -69,7 +70,7 @@ std::optional<loom::FrameRange> parse_frames(const std::string& text) {
 int cmd_run(const std::string& graph_path, const std::string& out_dir,
             const std::vector<std::string>& sets, const std::vector<std::string>& targets,
             int threads, const std::string& profile_path, bool quiet, const std::string& frames,
-            const CacheSettings& cache, bool allow_outside) {
+            const CacheSettings& cache, bool allow_outside, bool print_json) {
   auto start = std::chrono::steady_clock::now();
   loom::Registry registry;
   loom::PluginLoader loader(registry);
@@ -146,7 +147,8 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
       std::cerr << "error: node \"" << id << "\" (" << graph.nodes.at(id).type << ") failed: " << r.error
                 << "\n";
   }
-  std::cout << loom::runner::target_lines(graph, registry, result);
+  std::cout << (print_json ? loom::runner::target_json(graph, registry, result)
+                           : loom::runner::target_lines(graph, registry, result));
   double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!quiet) {
     std::string over = result.frames > 1 ? " over " + std::to_string(result.frames) + " frames" : "";
@@ -310,6 +312,8 @@ int main(int argc, char** argv) {
   run->add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
   run->add_option("--profile", profile_path, "write a JSON profile of the run to this file");
   run->add_flag("--quiet,-q", quiet, "print only errors and requested outputs");
+  bool print_json = false;
+  run->add_flag("--json", print_json, "print the requested outputs as one JSON object, each value in full");
   std::string frames;
   CacheSettings cache;
   run->add_option("--frames", frames, "frames to run, A-B or A (default: the graph's \"time\" range)");
@@ -356,7 +360,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kOk : kInvalid;
   }
-  if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside);
+  if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside, print_json);
   if (*cache_cmd) return cmd_cache(cache_action, cache);
   if (*validate) return cmd_validate(graph_path);
   if (*nodes) return cmd_nodes(type, as_json, as_markdown);
