@@ -13,6 +13,8 @@
 //                 time-discretization error both share).
 //  cloth_convergence: local/global residual per iteration (plain, Chebyshev)
 //                 on the 81² curtain at 0.1, 10 and 1000 kg/m².
+//  cloth_start:   where local/global starts each step: distance from the
+//                 equilibrium at rest, error in motion, cost per frame.
 //  cloth_scaling: 41², 81², 161², 321²: factorization time, local/global
 //                 frame time (10 iterations), resident memory the factored
 //                 solver adds; Newton iteration CPU time up to 81².
@@ -324,6 +326,109 @@ void cuboid_study() {
                           false, ""});
 }
 
+
+const char* start_name(Start start) {
+  return start == Start::prediction ? "prediction" : start == Start::extrapolation ? "extrapolation" : "lower_energy";
+}
+
+// Where local/global starts each step (prediction y, extrapolation
+// x_n + h v_n, or the one of the two with the lower E), three ways:
+//  at rest: a 21² curtain pinned at the top, damped (c = 2/s), no wind,
+//    300 frames of 10 iterations; largest distance from its equilibrium over
+//    the cloth's size (the equilibrium: converged Newton steps from there
+//    until nothing moves by 1e-14 m);
+//  in motion: the swinging 25² corner curtain of cloth_frames100, RMS error
+//    after 100 frames against converged Newton;
+//  cost: 81² windy curtain, one frame from a swinging state, error against
+//    converged Newton and CPU time, at 10 iterations and with tolerances
+//    (iteration cap 100).
+void start_study(int runs) {
+  const double h = 1.0 / 30;
+  loom::bench::Csv csv("cloth_start" + g_suffix,
+                       {"case", "start", "iterations", "tolerance", "mean_iterations", "cpu_seconds", "error", "load"});
+  {
+    auto system = std::make_shared<const SpringSystem>(curtain(21));
+    const LocalGlobalSolver lg(*system, h);
+    for (Start start : {Start::prediction, Start::extrapolation, Start::lower_energy}) {
+      StepSettings st = windy(Solver::local_global, 10);
+      st.wind_speed = 0;
+      st.damping = 2;
+      st.start = start;
+      ClothState s = rest_state(system);
+      for (int f = 0; f < 300; ++f) s = step(s, h, st, &lg).state;
+      const double motion = (step(s, h, st, &lg).state.x - s.x).cwiseAbs().maxCoeff();
+      StepSettings exact = reference_settings();
+      exact.wind_speed = 0;
+      exact.damping = 50;
+      ClothState e = s;
+      for (int f = 0; f < 2000; ++f) {
+        ClothState next = step(e, h, exact, nullptr).state;
+        const double moved = (next.x - e.x).cwiseAbs().maxCoeff();
+        e = std::move(next);
+        if (moved < 1e-14) break;
+      }
+      const double off = (s.x - e.x).rowwise().norm().maxCoeff();
+      std::printf("at rest, start %-13s: %.3g of the size off the equilibrium, motion per frame %.2g m\n",
+                  start_name(start), off, motion);
+      csv.row({std::string("rest_21"), std::string(start_name(start)), 10LL, 0.0, 10.0, 0.0, off, load()});
+    }
+  }
+  {
+    const int n = 25;
+    SpringSystem corners = grid_cloth(n, n, Eigen::Vector3d(-0.5, 0.5, 0), Eigen::Vector3d(1, 0, 0),
+                                      Eigen::Vector3d(0, 1, 0), g_density, 1e5, 1e5, 1e5);
+    corners.fixed[grid_index(n, 0, n - 1)] = corners.fixed[grid_index(n, n - 1, n - 1)] = 1;
+    auto system = std::make_shared<const SpringSystem>(corners);
+    const LocalGlobalSolver lg(*system, h);
+    auto run = [&](StepSettings st) {
+      st.wind_speed = 0;
+      st.damping = 0;
+      ClothState s = rest_state(system);
+      for (int i = 0; i < s.v.rows(); ++i)
+        if (!system->fixed[i]) s.v(i, 2) = 1;
+      for (int f = 0; f < 100; ++f) s = step(s, h, st, st.solver == Solver::local_global ? &lg : nullptr).state;
+      return s.x;
+    };
+    StepSettings reference = reference_settings();
+    reference.solve.iterations = 200;  // the light cloth's Newton converges linearly: capped
+    const Eigen::MatrixX3d ref = run(reference);
+    for (int it : {1, 10, 50})
+      for (Start start : {Start::prediction, Start::extrapolation, Start::lower_energy}) {
+        StepSettings st = windy(Solver::local_global, it);
+        st.start = start;
+        const double err = (run(st) - ref).norm() / std::sqrt(static_cast<double>(system->vertices()));
+        std::printf("motion, %d iterations, start %-13s: RMS error after 100 frames %.3g m\n", it, start_name(start),
+                    err);
+        csv.row({std::string("motion_25_corners"), std::string(start_name(start)), static_cast<long long>(it), 0.0,
+                 static_cast<double>(it), 0.0, err, load()});
+      }
+  }
+  auto system = std::make_shared<const SpringSystem>(curtain(81));
+  const LocalGlobalSolver lg(*system, h);
+  ClothState state = rest_state(system);
+  for (int f = 0; f < 20; ++f) state = step(state, h, windy(Solver::local_global, 100), &lg).state;
+  StepSettings reference = reference_settings();
+  reference.solve.iterations = 300;  // capped: the light cloth's Newton converges linearly
+  const Eigen::MatrixX3d ref = step(state, h, reference, nullptr).state.x;
+  const double moved = (ref - state.x).norm();
+  struct Setting {
+    int iterations;
+    double tolerance;
+  };
+  for (Setting set : {Setting{10, 0}, Setting{100, 1e-2}, Setting{100, 1e-3}, Setting{100, 1e-4}})
+    for (Start start : {Start::prediction, Start::extrapolation, Start::lower_energy}) {
+      StepSettings st = windy(Solver::local_global, set.iterations, set.tolerance);
+      st.start = start;
+      StepResult r;
+      const WallCpu t = time_wall_cpu([&] { r = step(state, h, st, &lg); }, runs);
+      const double err = (r.state.x - ref).norm() / moved;
+      std::printf("81² frame, %d iterations, tolerance %g, start %-13s: %d iterations, %.2f ms CPU, error %.3g\n",
+                  set.iterations, set.tolerance, start_name(start), r.report.iterations, 1e3 * t.cpu, err);
+      csv.row({std::string("frame_81"), std::string(start_name(start)), static_cast<long long>(set.iterations),
+               set.tolerance, static_cast<double>(r.report.iterations), t.cpu, err, load()});
+    }
+  csv.save();
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -341,6 +446,7 @@ int main(int argc, char** argv) {
               {"frame", "one frame of the 81² curtain: time against error (cloth_frame)"},
               {"frames100", "100 frames of the 25² curtain: error against time (cloth_frames100)"},
               {"convergence", "local/global residual per iteration (cloth_convergence)"},
+              {"start", "where local/global starts: at rest, in motion, cost per frame (cloth_start)"},
               {"scaling", "factorization and frame time, memory, from 41² to 321² (cloth_scaling)"}},
              "parts to run (default: all; the cuboid not with --density)")
       .threads();
@@ -360,6 +466,7 @@ int main(int argc, char** argv) {
   if (loom::bench::wants(modes, "frame")) frame_study(quick ? 41 : 81, quick ? 3 : 7);
   if (loom::bench::wants(modes, "frames100")) trajectory_study(quick ? 15 : 25, 100);
   if (loom::bench::wants(modes, "convergence")) convergence_study(quick ? 41 : 81);
+  if (loom::bench::wants(modes, "start")) start_study(quick ? 3 : 7);
   if (loom::bench::wants(modes, "scaling"))
     scaling_study(quick ? std::vector<int>{41, 81} : std::vector<int>{41, 81, 161, 321}, quick ? 3 : 5);
   std::printf("load at end: %s\n", load().c_str());

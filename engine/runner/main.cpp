@@ -18,6 +18,7 @@
 #include "command_names.hpp"
 #include "new_plugin.hpp"
 #include "node_reference.hpp"
+#include "target_json.hpp"
 #include "progress.hpp"
 #include "signals.hpp"
 #include "watch.hpp"
@@ -67,7 +68,7 @@ std::optional<loom::FrameRange> parse_frames(const std::string& text) {
 int cmd_run(const std::string& graph_path, const std::string& out_dir,
             const std::vector<std::string>& sets, const std::vector<std::string>& targets,
             int threads, const std::string& profile_path, bool quiet, const std::string& frames,
-            const CacheSettings& cache, bool allow_outside) {
+            const CacheSettings& cache, bool allow_outside, bool print_json) {
   auto start = std::chrono::steady_clock::now();
   loom::Registry registry;
   loom::PluginLoader loader(registry);
@@ -148,7 +149,8 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
       std::cerr << "error: node \"" << id << "\" (" << graph.nodes.at(id).type << ") failed: " << r.error
                 << "\n";
   }
-  std::cout << loom::runner::target_lines(graph, registry, result);
+  std::cout << (print_json ? loom::runner::target_json(graph, registry, result)
+                           : loom::runner::target_lines(graph, registry, result));
   double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!quiet) {
     std::string over = result.frames > 1 ? " over " + std::to_string(result.frames) + " frames" : "";
@@ -315,6 +317,8 @@ int main(int argc, char** argv) {
   run->add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
   run->add_option("--profile", profile_path, "write a JSON profile of the run to this file");
   run->add_flag("--quiet,-q", quiet, "print only errors and requested outputs");
+  bool print_json = false;
+  run->add_flag("--json", print_json, "print the requested outputs as one JSON object, each value in full");
   std::string frames;
   CacheSettings cache;
   run->add_flag("--watch", watch, "run again whenever the graph or an input file it reads changes; Ctrl-C ends");
@@ -370,10 +374,10 @@ int main(int argc, char** argv) {
   if (*run && watch) {
     std::signal(SIGINT, on_interrupt);
     return loom::runner::watch(graph_path, g_cancel, [&] {
-      return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside);
+      return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside, print_json);
     });
   }
-  if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside);
+  if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside, print_json);
   if (*cache_cmd) return cmd_cache(cache_action, cache);
   if (*validate) return cmd_validate(graph_path);
   if (*nodes) return cmd_nodes(type, as_json, as_markdown);

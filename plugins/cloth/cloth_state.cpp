@@ -8,7 +8,19 @@ Mesh state_mesh(const ClothState& state) {
   Mesh mesh;
   mesh.V = state.x;
   mesh.F = state.system->F;
+  mesh.UV = state.system->UV;
+  mesh.C = state.system->C;
   return mesh;
+}
+
+PointSet state_points(const ClothState& state) {
+  PointSet points;
+  points.P = state.x;
+  points.C = state.system->C;
+  points.attributes = {{"velocity", state.v},
+                       {"mass", state.system->mass},
+                       {"fixed", state.system->fixed.cast<double>()}};
+  return points;
 }
 
 }  // namespace loom::cloth
@@ -36,6 +48,8 @@ void TypeTraits<cloth::ClothState>::write(const cloth::ClothState& s, ByteWriter
   w.matrix(sys.mass);
   w.matrix(sys.fixed);
   w.matrix(sys.F);
+  w.matrix(sys.UV);
+  w.matrix(sys.C);
   w.matrix(s.x);
   w.matrix(s.v);
   w.pod(s.time);
@@ -50,6 +64,8 @@ cloth::ClothState TypeTraits<cloth::ClothState>::read(ByteReader& r) {
   sys->mass = r.matrix<Eigen::VectorXd>();
   sys->fixed = r.matrix<Eigen::VectorXi>();
   sys->F = r.matrix<Eigen::MatrixX3i>();
+  sys->UV = r.matrix<Eigen::MatrixX2d>();
+  sys->C = r.matrix<Eigen::MatrixX3d>();
   cloth::require_valid(*sys);
   cloth::ClothState s;
   s.x = r.matrix<Eigen::MatrixX3d>();

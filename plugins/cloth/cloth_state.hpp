@@ -6,13 +6,19 @@
 #include <string>
 
 #include "loom/mesh.hpp"
+#include "loom/point_set.hpp"
 #include "loom/value.hpp"
 #include "time_step.hpp"
 
 namespace loom::cloth {
 
-// The deformed surface of a state: its positions with the system's triangles.
+// The deformed surface of a state: its positions with the system's
+// triangles, UVs and colors.
 Mesh state_mesh(const ClothState& state);
+
+// The state as points: positions, the system's colors, and the attributes
+// "velocity" (m/s), "mass" (kg) and "fixed" (1 held, 0 free).
+PointSet state_points(const ClothState& state);
 
 }  // namespace loom::cloth
 
@@ -24,7 +30,7 @@ struct TypeTraits<cloth::ClothState> {
   static constexpr const char* description =
       "a mass-spring system (springs, masses, fixed vertices) with its positions, velocities "
       "and simulated time";
-  static constexpr int version = 1;
+  static constexpr int version = 2;  // 2: the system's UVs and colors
   static std::string summary(const cloth::ClothState& s);
   // Throws when a position or velocity is NaN or infinite: the step diverged.
   static void check(const cloth::ClothState& s);

@@ -54,7 +54,10 @@ struct ClothStep {
         .input<loom::Vec3>("gravity", loom::Vec3(0, -9.81, 0), "gravitational acceleration in m/s²")
         .input<double>("damping", 0, "velocity damping rate c in 1/s: v ← e^{−ch} v each substep").at_least(0)
         .input<loom::Vec3>("wind_direction", loom::Vec3(0, 0, 1), "direction the wind blows to")
-        .input<double>("wind_speed", 0, "wind speed in m/s (drag on each vertex's normal)").at_least(0)
+        .input<double>("wind_speed", 0,
+                       "wind speed in m/s; the drag on a vertex is its area (m²) times the normal relative "
+                       "speed (m/s) along its normal, in N: a coefficient of 1 N·s/m³")
+        .at_least(0)
         .input<double>("turbulence", 0.5, "relative amplitude of the seeded wind gusts").range(0, 10)
         .input<bool>("ground", false, "a ground plane y = ground_height the cloth cannot pass")
         .input<double>("ground_height", 0, "height of the ground plane")

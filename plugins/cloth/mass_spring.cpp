@@ -78,10 +78,13 @@ SpringSystem grid_cloth(int nx, int ny, const Eigen::Vector3d& origin, const Eig
   if (nx < 2 || ny < 2) throw Error("a grid cloth needs at least 2 by 2 vertices");
   SpringSystem s;
   s.X.resize(nx * ny, 3);
+  s.UV.resize(nx * ny, 2);
   for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i)
-      s.X.row(grid_index(nx, i, j)) =
-          (origin + du * (static_cast<double>(i) / (nx - 1)) + dv * (static_cast<double>(j) / (ny - 1))).transpose();
+    for (int i = 0; i < nx; ++i) {
+      const double u = static_cast<double>(i) / (nx - 1), v = static_cast<double>(j) / (ny - 1);
+      s.X.row(grid_index(nx, i, j)) = (origin + du * u + dv * v).transpose();
+      s.UV.row(grid_index(nx, i, j)) << u, v;
+    }
   s.F.resize(2 * (nx - 1) * (ny - 1), 3);
   int f = 0;
   for (int j = 0; j + 1 < ny; ++j)
@@ -232,6 +235,10 @@ void require_valid(const SpringSystem& s) {
     for (int k = 0; k < 3; ++k)
       if (s.F(f, k) < 0 || s.F(f, k) >= n)
         throw Error("triangle " + std::to_string(f) + " names a vertex that does not exist");
+  if ((s.UV.rows() != 0 && s.UV.rows() != n) || !s.UV.allFinite())
+    throw Error("the mass-spring system's UVs do not match its vertices or are not finite");
+  if ((s.C.rows() != 0 && s.C.rows() != n) || !s.C.allFinite())
+    throw Error("the mass-spring system's colors do not match its vertices or are not finite");
 }
 
 }  // namespace loom::cloth

@@ -7,6 +7,8 @@
 //   mass      #V       lumped masses (density times the area or volume share)
 //   fixed     #V       1 for a vertex held at its position, else 0
 //   F         #F by 3  triangles for rendering and wind (a cuboid's surface)
+//   UV, C     #V by 2, #V by 3  texture coordinates and linear colors carried
+//             to every state's mesh (they stay valid as the cloth moves), or empty
 #pragma once
 
 #include <vector>
@@ -22,6 +24,8 @@ struct SpringSystem {
   Eigen::VectorXd mass;
   Eigen::VectorXi fixed;
   Eigen::MatrixX3i F;
+  Eigen::MatrixX2d UV;
+  Eigen::MatrixX3d C;
 
   int vertices() const { return static_cast<int>(X.rows()); }
   int spring_count() const { return static_cast<int>(springs.rows()); }
@@ -39,6 +43,7 @@ SpringSystem mesh_springs(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
 // origin + i·du + j·dv. Structural springs between grid neighbours, shear
 // springs on both diagonals of each square, bending springs two vertices
 // apart (a class is left out when its k is 0). Row j = ny-1 is the "top".
+// UV of vertex (i, j): (i/(nx−1), j/(ny−1)), as GridMesh's.
 SpringSystem grid_cloth(int nx, int ny, const Eigen::Vector3d& origin, const Eigen::Vector3d& du,
                         const Eigen::Vector3d& dv, double area_density, double k_structural,
                         double k_shear, double k_bend);
@@ -60,7 +65,8 @@ void fix_vertices(SpringSystem& system, const std::vector<int>& indices,
 
 // Throws loom::Error naming what is wrong: non-finite or negative masses,
 // stiffness or rest lengths, spring indices out of range, a spring joining a
-// vertex to itself, zero mass on a free vertex.
+// vertex to itself, zero mass on a free vertex, UVs or colors that do not
+// match the vertices or are not finite.
 void require_valid(const SpringSystem& system);
 
 // Per-vertex area: one third of each incident triangle's area at positions x.

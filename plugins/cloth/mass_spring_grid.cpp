@@ -2,6 +2,7 @@
 // bending springs, hanging as a curtain or lying flat.
 #include <string>
 
+#include "loom/numerics/rotation.hpp"
 #include "loom/plugin.hpp"
 #include "mass_spring.hpp"
 #include "system_node_io.hpp"
@@ -16,10 +17,13 @@ struct MassSpringGrid {
   static void declare(loom::NodeSpec& s) {
     s.describe("A grid cloth of mass points: structural springs between neighbours, shear springs "
                "on square diagonals, bending springs two vertices apart; masses lumped from the "
-               "area density. Hangs in the x-y plane (curtain) or lies in the x-z plane.")
+               "area density. Hangs in the x-y plane (curtain) or lies in the x-z plane, turned by "
+               "rotate_degrees about its center; UVs span [0,1]² (v up the curtain), as GridMesh's.")
         .input<loom::Vec2i>("vertices", loom::Vec2i(20, 20), "grid vertices along u and v").range(2, 4096)
         .input<loom::Vec2>("size", loom::Vec2(1, 1), "width and height in meters").range(1e-6, 1e6)
         .input<loom::Vec3>("center", loom::Vec3(0, 1, 0), "center of the cloth")
+        .input<loom::Vec3>("rotate_degrees", loom::Vec3(0, 0, 0),
+                           "rotates the cloth about its center: about x, then y, then z (fixed axes)")
         .enum_input("plane", Plane::vertical, {{Plane::vertical, "vertical"}, {Plane::horizontal, "horizontal"}},
                     "vertical: u along x, v up along y; horizontal: u along x, v along -z")
         .input<double>("area_density", 0.1, "mass per area in kg/m²").at_least(1e-12)
@@ -35,9 +39,10 @@ struct MassSpringGrid {
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
     const loom::Vec2i n = in.get<loom::Vec2i>("vertices");
     const loom::Vec2 size = in.get<loom::Vec2>("size");
-    const Eigen::Vector3d u(size.x(), 0, 0);
-    const Eigen::Vector3d v = in.get<Plane>("plane") == Plane::vertical ? Eigen::Vector3d(0, size.y(), 0)
-                                                                         : Eigen::Vector3d(0, 0, -size.y());
+    const Eigen::Matrix3d R = loom::numerics::rotation_from_degrees(in.get<loom::Vec3>("rotate_degrees"));
+    const Eigen::Vector3d u = R * Eigen::Vector3d(size.x(), 0, 0);
+    const Eigen::Vector3d v = R * (in.get<Plane>("plane") == Plane::vertical ? Eigen::Vector3d(0, size.y(), 0)
+                                                                              : Eigen::Vector3d(0, 0, -size.y()));
     const Eigen::Vector3d origin = in.get<loom::Vec3>("center") - (u + v) / 2;
     loom::cloth::SpringSystem system = loom::cloth::grid_cloth(
         n.x(), n.y(), origin, u, v, in.get<double>("area_density"), in.get<double>("k_structural"),

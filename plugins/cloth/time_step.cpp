@@ -233,6 +233,17 @@ double friction_potential(const std::vector<FrictionContact>& contacts, double m
   return p;
 }
 
+// Local/global's start (Start in time_step.hpp).
+Eigen::MatrixX3d local_global_start(const SpringSystem& s, const Eigen::MatrixX3d& x_n, const Eigen::MatrixX3d& v0,
+                                    const Eigen::MatrixX3d& y, double h, Start start) {
+  if (start == Start::prediction) return y;
+  Eigen::MatrixX3d x0 = x_n;
+  for (Eigen::Index i = 0; i < x0.rows(); ++i)
+    if (!s.fixed[i]) x0.row(i) += h * v0.row(i);
+  if (start == Start::extrapolation) return x0;
+  return incremental_potential(s, x0, y, h) < incremental_potential(s, y, y, h) ? x0 : y;
+}
+
 }  // namespace
 
 StepResult step(const ClothState& state, double h, const StepSettings& settings,
@@ -295,7 +306,7 @@ StepResult step(const ClothState& state, double h, const StepSettings& settings,
     } else {
       if (!lg || lg->h() != h || lg->free_vertices() != s.vertices() - s.fixed_count())
         throw Error("internal: the local/global solver was not factored for this system and h");
-      x = lg->solve(s, y, y, options, &result.report);
+      x = lg->solve(s, y, local_global_start(s, state.x, v0, y, h, settings.start), options, &result.report);
     }
   }
   const Eigen::MatrixX3d contact = resolve_collisions(s, state.x, x, settings, settings.solver != Solver::newton);

@@ -6,7 +6,10 @@
 // system. Wind: a linear drag on the normal relative velocity,
 // f_i = a_i ((w_i − v_i)·n̂_i) n̂_i with a_i the vertex's area share and
 // w_i = speed·ŵ·(1 + turbulence·η_i(t)), η a seeded sum of three travelling
-// sine waves (smooth in space and time). Colliders (ground plane y = height,
+// sine waves (smooth in space and time). Units: a_i in m², speeds in m/s,
+// f_i in N, i.e. a drag coefficient of 1 N·s/m³ (kg m⁻² s⁻¹); real air's
+// quadratic ½ ρ_air C_d |w|² (ρ_air = 1.2 kg/m³, C_d ≈ 1) matches it at 1.7 m/s
+// and is 2.4 times stronger at 4 m/s. Colliders (ground plane y = height,
 // spheres; inelastic, with optional Coulomb friction): Newton adds a penalty
 // ½κ Σ d² over penetration depths to the potential, and friction as a
 // lagged smoothed Coulomb potential in a second solve (normal forces κd from
@@ -33,6 +36,26 @@ namespace loom::cloth {
 
 enum class Solver { newton, local_global, explicit_euler };
 
+// Where local/global's iteration starts. A truncated iteration stops short of
+// the step's solution by an error that depends on the start:
+//  prediction: y = x_n + h v_n + h² M⁻¹ f_ext. A cloth at rest restarts
+//    h² M⁻¹ f_ext away from where it hangs every step and comes to rest off
+//    its equilibrium.
+//  extrapolation: x_n + h v_n. At rest it is x_n, and the equilibrium is an
+//    exact fixed point of every step (the global step's right-hand side
+//    there is M (y − x) − h² ∇V = 0); but what the iteration must add, h² g
+//    and soft modes, comes slowly: with contact constraints (whose weight
+//    is on every free vertex's diagonal) a falling cloth hardly falls.
+//  lower_energy: whichever of the two has the lower E. Local/global never
+//    raises E, so it starts from the better point by the measure it
+//    minimizes: at an equilibrium x_n (E(x_n) = ½h⁴‖g‖²_M < E(y) ≈ h⁴‖g‖²_M),
+//    in free fall y. Costs two evaluations of E per step.
+// (Tried and dropped: the symplectic Euler position y + h² M⁻¹ f_int(x_n),
+// also x_n at an equilibrium, amplifies the stiff springs' unbalanced force
+// by h²k/m and set a resting curtain oscillating.)
+// docs/cloth.md compares them at rest, in motion and in cost.
+enum class Start { prediction, extrapolation, lower_energy };
+
 struct Sphere {
   Eigen::Vector3d center;
   double radius;
@@ -41,6 +64,7 @@ struct Sphere {
 struct StepSettings {
   Solver solver = Solver::local_global;
   SolveOptions solve;
+  Start start = Start::lower_energy;  // local/global only
   Eigen::Vector3d gravity{0, -9.81, 0};
   double damping = 0;  // c in 1/s
   Eigen::Vector3d wind_direction{0, 0, 1};

@@ -1,3 +1,3 @@
 #include "loom/plugin.hpp"
 
-LOOM_PLUGIN("io", "LoadImage, SaveImage (OpenCV), LoadMesh, SaveMesh (assimp), SavePoints (PLY point clouds)")
+LOOM_PLUGIN("io", "LoadImage, SaveImage (OpenCV), LoadMesh, SaveMesh (assimp), SavePoints (PLY point clouds), SaveJSON")

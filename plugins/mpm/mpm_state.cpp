@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/LU>
+
 namespace loom::mpm {
 namespace {
 
@@ -57,10 +59,36 @@ PointSet point_set(const Particles<D>& p, double radius) {
   return out;
 }
 
+template <int D>
+PointSet particle_points(const Particles<D>& p, double radius) {
+  PointSet out = point_set(p, radius);
+  const int n = p.size();
+  Eigen::MatrixXd velocity = Eigen::MatrixXd::Zero(n, 3);
+  Eigen::VectorXd mass(n), volume(n), J(n), plastic_J(n), strain(n), material(n);
+  for (int i = 0; i < n; ++i) {
+    velocity.row(i).template head<D>() = p.v[i].transpose();
+    mass[i] = p.mass[i];
+    volume[i] = p.volume[i];
+    const bool fluid = p.material[i] == Material::fluid, snow = p.material[i] == Material::snow;
+    plastic_J[i] = snow ? p.J[i] : 1.0;
+    J[i] = fluid ? p.J[i] : p.F[i].determinant() * plastic_J[i];
+    strain[i] = p.material[i] == Material::sand ? p.q[i] : 0.0;
+    material[i] = static_cast<double>(p.material[i]);
+  }
+  out.attributes = {{"velocity", velocity},  {"mass", mass},     {"volume", volume},
+                    {"J", J},                {"snow_plastic_J", plastic_J},
+                    {"plastic_strain", strain}, {"material", material}};
+  return out;
+}
+
 }  // namespace
 
 PointSet point_set(const MpmState& state, double radius) {
   return state.dim == 2 ? point_set(state.p2, radius) : point_set(state.p3, radius);
+}
+
+PointSet particle_points(const MpmState& state, double radius) {
+  return state.dim == 2 ? particle_points(state.p2, radius) : particle_points(state.p3, radius);
 }
 
 }  // namespace loom::mpm

@@ -25,6 +25,13 @@ struct MpmState {
 // Positions (z = 0 in 2D), a constant radius and the particles' colours.
 PointSet point_set(const MpmState& state, double radius);
 
+// point_set with the particles' numbers as attributes: velocity (m/s, z = 0
+// in 2D), mass (kg), volume (rest volume), J (volume ratio: the fluid's J,
+// det F of a solid, det F · Jp of snow), snow_plastic_J (Jp, 1 for the
+// other materials), plastic_strain (sand's q, 0 otherwise) and material
+// (0 fluid, 1 elastic, 2 snow, 3 sand).
+PointSet particle_points(const MpmState& state, double radius);
+
 }  // namespace loom::mpm
 
 template <>

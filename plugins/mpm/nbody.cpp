@@ -1,6 +1,7 @@
 // NBody: integrates a gravitational N-body system over a duration and outputs
 // the trajectories (the assignment's spaceship around a planet).
 #include <cmath>
+#include <vector>
 
 #include "loom/error.hpp"
 #include "loom/plugin.hpp"
@@ -17,7 +18,9 @@ struct NBody {
   static void declare(loom::NodeSpec& s) {
     s.describe("Gravitational N-body integration, a = Σ G m r / (|r|² + ε²)^{3/2}, by "
                "symplectic leapfrog (velocity Verlet) or 4th-order Yoshida. Body 0 may be "
-               "held fixed (the planet); bodies reaching `central_radius` land on it.")
+               "held fixed (the planet); bodies reaching `central_radius` land on it. Massless "
+               "bodies (ships) attract nothing and may start at one point.")
+        .set_version(2)
         .input<std::vector<double>>("masses", std::vector<double>{1.0, 0.0}, "one per body")
         .input<std::vector<loom::Vec3>>("positions",
                                         std::vector<loom::Vec3>{loom::Vec3(0, 0, 0), loom::Vec3(1, 0, 0)},
@@ -39,8 +42,15 @@ struct NBody {
         .input<std::vector<loom::Vec3>>("colors", std::vector<loom::Vec3>{},
                                         "linear RGB per body (default: white)")
         .output<loom::Polylines>("trajectories", "one strip per body (the fixed body too)")
-        .output<loom::json>("events", "landed bodies with times, final energy error")
-        .output<double>("energy_error", "max |E(t) − E(0)| / |E(0)| over the run");
+        .output<loom::json>("table",
+                            "the trajectories as numbers: {\"time\": [t…], \"bodies\": [{\"position\": "
+                            "[[x, y, z]…], \"velocity\": [[…]…]}…]} at the trajectory points")
+        .output<loom::json>("events",
+                            "landed bodies with their times (located inside the step), energy_error, "
+                            "and each massless body's specific-energy drift (ship_energy_error)")
+        .output<double>("energy_error",
+                        "max |E(t) − E(0)| / |E(0)| over the run; when body 0 is the only mass, the "
+                        "largest drift of a massless body's specific orbital energy about it instead");
   }
 
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
@@ -65,9 +75,27 @@ struct NBody {
     lines.P.resize(static_cast<long>(n) * samples, 3);
     lines.C.resize(lines.P.rows(), 3);
     lines.E.resize(static_cast<long>(n) * (samples - 1), 2);
+    loom::json times = loom::json::array(), bodies = loom::json::array();
+    for (int b = 0; b < n; ++b) bodies.push_back({{"position", loom::json::array()}, {"velocity", loom::json::array()}});
     auto record = [&](int sample) {
-      for (int b = 0; b < n; ++b) lines.P.row(static_cast<long>(b) * samples + sample) = s.x[static_cast<std::size_t>(b)].transpose();
+      times.push_back(s.time);
+      for (int b = 0; b < n; ++b) {
+        const auto k = static_cast<std::size_t>(b);
+        lines.P.row(static_cast<long>(b) * samples + sample) = s.x[k].transpose();
+        bodies[k]["position"].push_back({s.x[k].x(), s.x[k].y(), s.x[k].z()});
+        bodies[k]["velocity"].push_back({s.v[k].x(), s.v[k].y(), s.v[k].z()});
+      }
     };
+    // Energy bookkeeping: the total energy, and with body 0 the only mass
+    // (ships about a planet, where the total is 0 and says nothing) each
+    // ship's specific orbital energy about it, until it lands.
+    const bool ships = s.central_only_mass();
+    std::vector<double> ship_e0(static_cast<std::size_t>(n), 0), ship_scale(static_cast<std::size_t>(n), 0),
+        ship_worst(static_cast<std::size_t>(n), 0);
+    for (int b = 1; ships && b < n; ++b) {
+      ship_e0[static_cast<std::size_t>(b)] = specific_energy(s, b);
+      ship_scale[static_cast<std::size_t>(b)] = specific_energy_scale(s, b);
+    }
     const double e0 = total_energy(s);
     double worst = 0;
     record(0);
@@ -75,6 +103,11 @@ struct NBody {
     for (long k = 1; k <= steps; ++k) {
       step(s, std::min(h, duration - (k - 1) * h), integrator);
       if (e0 != 0) worst = std::max(worst, std::abs(total_energy(s) - e0) / std::abs(e0));
+      for (int b = 1; ships && b < n; ++b) {
+        const auto i = static_cast<std::size_t>(b);
+        if (!s.landed[i])
+          ship_worst[i] = std::max(ship_worst[i], std::abs(specific_energy(s, b) - ship_e0[i]) / ship_scale[i]);
+      }
       // Samples evenly spaced in steps.
       while (next_sample < samples && k * (samples - 1) >= static_cast<long>(next_sample) * steps)
         record(next_sample++);
@@ -90,11 +123,20 @@ struct NBody {
       for (int i = 0; i + 1 < samples; ++i)
         lines.E.row(static_cast<long>(b) * (samples - 1) + i) << b * samples + i, b * samples + i + 1;
     }
-    loom::json events = {{"landed", loom::json::array()}, {"energy_error", worst}};
+    loom::json events = {{"landed", loom::json::array()}};
     for (int b = 0; b < n; ++b)
       if (s.landed[static_cast<std::size_t>(b)])
         events["landed"].push_back({{"body", b}, {"time", s.landed_time[static_cast<std::size_t>(b)]}});
+    if (ships) {
+      events["ship_energy_error"] = loom::json::array();
+      for (int b = 1; b < n; ++b) {
+        events["ship_energy_error"].push_back({{"body", b}, {"error", ship_worst[static_cast<std::size_t>(b)]}});
+        worst = std::max(worst, ship_worst[static_cast<std::size_t>(b)]);
+      }
+    }
+    events["energy_error"] = worst;
     if (!events["landed"].empty()) ctx.log("landed: " + events["landed"].dump());
+    out.set("table", loom::json{{"time", std::move(times)}, {"bodies", std::move(bodies)}});
     out.set("trajectories", std::move(lines));
     out.set("events", std::move(events));
     out.set("energy_error", worst);

@@ -1,7 +1,13 @@
 // Gravitational N-body integration for the assignment's orbit scene:
 // symplectic leapfrog (kick-drift-kick velocity Verlet) and 4th-order Yoshida
 // (1990) composition, Plummer softening, an optional fixed central body and a
-// "landed" event when a body reaches the central body's surface.
+// "landed" event when a body reaches the central body's surface, timed inside
+// the step on the step's cubic Hermite interpolant.
+//
+// Massless bodies (test particles: the assignment's ships) feel the others
+// but attract nothing, so two of them may share a position. Two bodies at
+// one position of which one has mass (and no softening) are an error naming
+// them: their attraction is infinite.
 #pragma once
 
 #include <vector>
@@ -26,6 +32,9 @@ struct NBodySystem {
   int size() const { return static_cast<int>(x.size()); }
   // Sizes the event arrays, checks the inputs (throws loom::Error).
   void prepare();
+  // The only body with mass is body 0: then each massless body's specific
+  // orbital energy about it (specific_energy) is conserved.
+  bool central_only_mass() const;
 };
 
 // Advances by h (one leapfrog step, or Yoshida's three sub-steps).
@@ -34,6 +43,13 @@ void step(NBodySystem& s, double h, Integrator integrator);
 // Total energy Σ ½ m v² − Σ_{i<j} G m_i m_j / √(r² + ε²) (the fixed body's
 // kinetic energy is zero; landed bodies are excluded).
 double total_energy(const NBodySystem& s);
+
+// A massless body's specific orbital energy about body 0,
+// ε = ½ |v − v_0|² − G m_0 / √(|x − x_0|² + ε_s²), and the scale its drift is
+// measured against, ½ |v − v_0|² + G m_0 / √(…) (never 0, unlike ε at the
+// escape speed).
+double specific_energy(const NBodySystem& s, int body);
+double specific_energy_scale(const NBodySystem& s, int body);
 
 // Escape speed √(2GM/r) from distance r of mass M.
 double escape_speed(double G, double M, double r);

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 
 #include "loom/error.hpp"
+#include "loom/numerics/rotation.hpp"
 
 namespace loom::scene {
 
@@ -14,10 +15,7 @@ Eigen::Matrix4d object_transform(const Eigen::Vector3d& translate, const Eigen::
     throw Error("translate and rotate_degrees must be finite");
   if (!scale.allFinite() || (scale.array().abs() < 1e-12).any())
     throw Error("scale must be finite and non-zero on every axis");
-  const Eigen::Matrix3d R = (Eigen::AngleAxisd(radians(rotate_degrees.z()), Eigen::Vector3d::UnitZ()) *
-                             Eigen::AngleAxisd(radians(rotate_degrees.y()), Eigen::Vector3d::UnitY()) *
-                             Eigen::AngleAxisd(radians(rotate_degrees.x()), Eigen::Vector3d::UnitX()))
-                                .toRotationMatrix();
+  const Eigen::Matrix3d R = numerics::rotation_from_degrees(rotate_degrees);
   Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
   T.topLeftCorner<3, 3>() = R * scale.asDiagonal();
   T.topRightCorner<3, 1>() = translate;

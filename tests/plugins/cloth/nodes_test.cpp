@@ -12,6 +12,7 @@
 #include "cloth_state.hpp"
 #include "loom/mesh.hpp"
 #include "loom_test.hpp"
+#include "ply_points.hpp"
 
 namespace {
 
@@ -237,6 +238,108 @@ TEST(ClothNodes, ActionableErrors) {
            {"ms", {{"type", "MassSpringMesh"}, {"inputs", {{"mesh", {{"from", "pts.mesh"}}}, {"area_density", 0.5}}}}}}}};
   const auto& state = engine.output(doc, "ms.state").as<ClothState>();
   EXPECT_NEAR(state.system->mass.sum(), 0.5, 1e-12);  // GridMesh is 1 × 1
+}
+
+// UVs (and colors) survive simulation: a GridMesh's UVs are the simulated
+// mesh's at every frame, and MassSpringGrid's are (i/(nx−1), j/(ny−1)).
+TEST(ClothNodes, UVsFollowTheClothThroughSimulatedFrames) {
+  loom::test::Engine engine;
+  loom::json doc = {
+      {"loom", 1},
+      {"time", {{"start", 1}, {"end", 4}, {"fps", 30}}},
+      {"nodes",
+       {{"sheet", {{"type", "GridMesh"}, {"inputs", {{"resolution", {4, 3}}, {"center", {0, 1, 0}}}}}},
+        {"ms", {{"type", "MassSpringMesh"},
+                {"inputs", {{"mesh", {{"from", "sheet.mesh"}}}, {"fixed_box_min", {-1, 1.4, -1}}, {"fixed_box_max", {1, 2, 1}}}}}},
+        {"grid", {{"type", "MassSpringGrid"}, {"inputs", {{"vertices", {5, 4}}}}}},
+        {"a", {{"type", "ClothStep"}, {"inputs", {{"state", {{"from", "ms.state"}}}}}}},
+        {"b", {{"type", "ClothStep"}, {"inputs", {{"state", {{"from", "grid.state"}}}}}}}}}};
+  const loom::Graph g = engine.graph(doc);
+  loom::EvalOptions options;
+  for (const char* t : {"a.mesh", "b.mesh", "sheet.mesh"}) options.targets.push_back(loom::parse_target(t));
+  options.frames = loom::FrameRange{1, 4};
+  const loom::EvalResult result = engine.session.evaluate(g, options);
+  ASSERT_TRUE(result.ok());
+  const auto& sheet = result.outputs.at("sheet.mesh").back().as<loom::Mesh>();
+  const auto& a = result.outputs.at("a.mesh").back().as<loom::Mesh>();
+  const auto& b = result.outputs.at("b.mesh").back().as<loom::Mesh>();
+  ASSERT_TRUE(sheet.has_uv());
+  EXPECT_EQ(a.UV, sheet.UV);
+  EXPECT_GT((a.V - sheet.V).norm(), 1e-6);  // it moved (a little: k = 1e5 on 1 m²)
+  ASSERT_TRUE(b.has_uv());
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 5; ++i) {
+      EXPECT_EQ(b.UV(j * 5 + i, 0), i / 4.0);
+      EXPECT_EQ(b.UV(j * 5 + i, 1), j / 3.0);
+    }
+  // The disk format keeps them.
+  const ClothState state = engine.output(doc, "ms.state").as<ClothState>();
+  loom::ByteWriter w;
+  loom::TypeTraits<ClothState>::write(state, w);
+  loom::ByteReader r(w.buffer().data(), w.buffer().size());
+  EXPECT_EQ(loom::TypeTraits<ClothState>::read(r).system->UV, sheet.UV);
+}
+
+// Placement: rotating by 90° about z maps (x, y, z) to (−y, x, z) (written out
+// here, not through the node's rotation), then the translation; the fixed box
+// is given in the placed (world) coordinates.
+TEST(ClothNodes, PlacementRotatesAndMovesBeforeFixing) {
+  loom::test::Engine engine;
+  const loom::json doc = {
+      {"loom", 1},
+      {"nodes",
+       {{"sheet", {{"type", "GridMesh"}, {"inputs", {{"resolution", {2, 2}}, {"size", {2, 1}}}}}},
+        {"moved", {{"type", "GridMesh"},
+                   {"inputs", {{"resolution", {2, 2}}, {"size", {2, 1}}, {"center", {1, 2, 3}}, {"rotate_degrees", {0, 0, 90}}}}}},
+        {"ms", {{"type", "MassSpringMesh"},
+                {"inputs", {{"mesh", {{"from", "sheet.mesh"}}}, {"translate", {1, 2, 3}}, {"rotate_degrees", {0, 0, 90}},
+                            {"fixed_box_min", {0, 2.9, 0}}, {"fixed_box_max", {2, 4, 4}}}}}},
+        {"grid", {{"type", "MassSpringGrid"},
+                  {"inputs", {{"vertices", {3, 2}}, {"size", {2, 1}}, {"center", {1, 2, 3}}, {"rotate_degrees", {0, 90, 0}}}}}}}}};
+  const auto& sheet = engine.output(doc, "sheet.mesh").as<loom::Mesh>();
+  const auto& moved = engine.output(doc, "moved.mesh").as<loom::Mesh>();
+  const auto& placed = engine.output(doc, "ms.state").as<ClothState>();
+  for (int i = 0; i < sheet.vertices(); ++i) {
+    const Eigen::RowVector3d expected(1 - sheet.V(i, 1), 2 + sheet.V(i, 0), 3 + sheet.V(i, 2));
+    EXPECT_LT((moved.V.row(i) - expected).norm(), 1e-12) << i;
+    EXPECT_LT((placed.x.row(i) - expected).norm(), 1e-12) << i;
+    EXPECT_EQ(placed.system->fixed[i], expected.y() >= 2.9 ? 1 : 0) << i;  // the sheet's x = +1 edge
+  }
+  EXPECT_EQ(placed.system->fixed_count(), 3);
+  // MassSpringGrid turned 90° about y about its center: u along x becomes −z.
+  const auto& grid = engine.output(doc, "grid.state").as<ClothState>();
+  EXPECT_LT((grid.x.row(0) - Eigen::RowVector3d(1, 1.5, 4)).norm(), 1e-12);
+  EXPECT_LT((grid.x.row(2) - Eigen::RowVector3d(1, 1.5, 2)).norm(), 1e-12);
+}
+
+// ClothPoints → SavePoints: the state's velocities and masses in a PLY, read
+// back (tests/support's reader) and compared with the step's state exactly.
+TEST(ClothNodes, VelocitiesWrittenAsPointsReadBackExactly) {
+  loom::test::Engine engine;
+  loom::json doc = grid_graph({{"wind_speed", 3.0}});
+  doc["time"] = {{"start", 1}, {"end", 3}, {"fps", 30}};
+  doc["nodes"]["pts"] = {{"type", "ClothPoints"}, {"inputs", {{"state", {{"from", "step.state"}}}}}};
+  doc["nodes"]["save"] = {{"type", "SavePoints"},
+                          {"inputs", {{"points", {{"from", "pts.points"}}}, {"path", "cloth_{frame:04}.ply"}, {"double_precision", true}}}};
+  const loom::Graph g = engine.graph(doc);
+  loom::EvalOptions options;
+  options.targets.push_back(loom::parse_target("save"));
+  options.targets.push_back(loom::parse_target("step.state"));
+  options.frames = loom::FrameRange{1, 3};
+  options.output_dir = loom::test::temp_dir();
+  const loom::EvalResult result = engine.session.evaluate(g, options);
+  ASSERT_TRUE(result.ok());
+  const auto& state = result.outputs.at("step.state").back().as<ClothState>();
+  const loom::test::PlyPoints ply = loom::test::read_ply_points(options.output_dir / "cloth_0003.ply");
+  ASSERT_EQ(ply.count, state.x.rows());
+  const char* v[] = {"velocity_x", "velocity_y", "velocity_z"};
+  for (int i = 0; i < state.x.rows(); ++i) {
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(ply.columns.at(v[k])[i], state.v(i, k)) << i;
+    EXPECT_EQ(ply.columns.at("mass")[i], state.system->mass[i]);
+    EXPECT_EQ(ply.columns.at("fixed")[i], state.system->fixed[i]);
+  }
+  // It fell: (x_3 − x_2)/h is the velocity the file holds.
+  EXPECT_LT(ply.columns.at("velocity_y")[0], -0.1);
 }
 
 }  // namespace

@@ -3,6 +3,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
+
+#include "loom/error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -170,6 +174,109 @@ TEST(Orbits, LandingEventAndSoftening) {
   t.softening = 0.1;
   for (int k = 0; k < 10000; ++k) step(t, 1e-3, Integrator::leapfrog);
   EXPECT_TRUE(t.x[1].allFinite() && t.v[1].allFinite());
+}
+
+// Massless bodies attract nothing: three ships launched from one point each
+// follow exactly the path they follow alone (the reference: one run per ship).
+TEST(Orbits, MasslessBodiesAtOnePointFlyIndependently) {
+  const std::vector<double> speeds = {0.8, 1.0, 1.3};
+  NBodySystem together;
+  together.fixed_central = true;
+  together.m = {1.0, 0.0, 0.0, 0.0};
+  together.x = {Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(1, 0, 0)};
+  together.v = {Eigen::Vector3d::Zero()};
+  for (double v : speeds) together.v.emplace_back(0, v, 0);
+  together.prepare();
+  for (int k = 0; k < 2000; ++k) step(together, 1e-3, Integrator::yoshida4);
+  for (std::size_t i = 0; i < speeds.size(); ++i) {
+    NBodySystem alone;
+    alone.fixed_central = true;
+    alone.m = {1.0, 0.0};
+    alone.x = {Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 0, 0)};
+    alone.v = {Eigen::Vector3d::Zero(), Eigen::Vector3d(0, speeds[i], 0)};
+    alone.prepare();
+    for (int k = 0; k < 2000; ++k) step(alone, 1e-3, Integrator::yoshida4);
+    ASSERT_TRUE(together.x[i + 1].allFinite());
+    EXPECT_EQ(together.x[i + 1], alone.x[1]) << "ship " << i + 1;
+    EXPECT_EQ(together.v[i + 1], alone.v[1]) << "ship " << i + 1;
+  }
+}
+
+// Two bodies at one point of which one has mass: an error naming both.
+TEST(Orbits, CoincidentMassiveBodiesAreAnErrorNamingThem) {
+  for (const std::vector<double>& masses : {std::vector<double>{1.0, 0.5, 0.5}, std::vector<double>{1.0, 0.0, 0.5}}) {
+    NBodySystem s;
+    s.fixed_central = false;
+    s.m = masses;
+    s.x = {Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 2, 3), Eigen::Vector3d(1, 2, 3)};
+    s.v = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 1, 0)};
+    try {
+      s.prepare();
+      ADD_FAILURE() << "coincident bodies with mass accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("bodies 1 and 2"), std::string::npos) << e.what();
+    }
+    s.softening = 0.01;  // a softened attraction is finite
+    EXPECT_NO_THROW(s.prepare());
+  }
+}
+
+// A ship's specific orbital energy about the planet, against the analytic
+// value of a circular orbit (ε = −GM/(2r)), and its drift: Yoshida's is
+// fourth order in h.
+TEST(Orbits, SpecificEnergyOfAShip) {
+  NBodySystem s;
+  s.fixed_central = true;
+  s.m = {2.0, 0.0};
+  s.x = {Eigen::Vector3d::Zero(), Eigen::Vector3d(2, 0, 0)};
+  s.v = {Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 1, 0)};  // circular: v² = GM/r = 1
+  s.prepare();
+  ASSERT_TRUE(s.central_only_mass());
+  EXPECT_NEAR(specific_energy(s, 1), -0.5, 1e-15);
+  EXPECT_NEAR(specific_energy_scale(s, 1), 1.5, 1e-15);
+  s.x[1] = Eigen::Vector3d(0.5, 0, 0);  // from an ellipse's periapsis the drift is not zero
+  s.v[1] = Eigen::Vector3d(0, 2.2, 0);
+  auto drift = [&](double h) {
+    NBodySystem t = s;
+    const double e0 = specific_energy(t, 1);
+    double worst = 0;
+    for (int k = 0; k < static_cast<int>(std::lround(6 / h)); ++k) {
+      step(t, h, Integrator::yoshida4);
+      worst = std::max(worst, std::abs(specific_energy(t, 1) - e0));
+    }
+    return worst;
+  };
+  const double coarse = drift(0.01), fine = drift(0.005);
+  std::printf("ship specific energy drift %.3g (h = 0.01), %.3g (h = 0.005): order %.2f\n", coarse, fine,
+              std::log2(coarse / fine));
+  EXPECT_GT(coarse, 0);
+  EXPECT_NEAR(std::log2(coarse / fine), 4, 0.3);
+}
+
+// Radial fall from rest at r0 onto a body of radius R (GM = 1): the landing
+// time in closed form, t = √(r0³/2GM) (√(ξ(1 − ξ)) + arccos √ξ), ξ = R/r0,
+// located inside the step however coarse the step.
+TEST(Orbits, LandingTimeIsLocatedInsideTheStep) {
+  const double r0 = 2, R = 1, xi = R / r0;
+  const double exact = std::sqrt(r0 * r0 * r0 / 2) * (std::sqrt(xi * (1 - xi)) + std::acos(std::sqrt(xi)));
+  for (double h : {0.1, 0.03, 0.01}) {
+    NBodySystem s;
+    s.fixed_central = true;
+    s.m = {1.0, 0.0};
+    s.x = {Eigen::Vector3d::Zero(), Eigen::Vector3d(r0, 0, 0)};
+    s.v = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+    s.central_radius = R;
+    s.prepare();
+    int steps = 0;
+    while (!s.landed[1]) {
+      step(s, h, Integrator::yoshida4);
+      ++steps;
+    }
+    std::printf("h = %g: landed at %.9f, exact %.9f (error %.2g; the step's end %.6f was %.2g late)\n", h,
+                s.landed_time[1], exact, s.landed_time[1] - exact, s.time, s.time - exact);
+    EXPECT_NEAR(s.landed_time[1], exact, 1e-3 * h);
+    EXPECT_NEAR(s.x[1].norm(), R, 1e-12);
+  }
 }
 
 }  // namespace
