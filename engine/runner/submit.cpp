@@ -1,0 +1,397 @@
+#include "submit.hpp"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <set>
+
+#include "child_process.hpp"
+#include "dispatch.hpp"
+#include "job_folder.hpp"
+#include "loom/atomic_file.hpp"
+#include "run_settings.hpp"
+#include "sweep.hpp"
+
+namespace loom::runner {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Sinks that gather a whole sequence into one file: they cannot be split into
+// chunks and run in the assemble task.
+bool is_sequence_sink(const std::string& type) { return type == "SaveVideo"; }
+
+struct SubmitRequest {
+  RunSettings run;
+  SweepRequest sweep;
+  std::string to, job_dir, cache_dir;
+  int chunk = 0, retries = 2, jobs = 0;
+  double cache_limit_mb = 10240, cache_min_seconds = 0.05;
+  bool no_cache = false, dry_run = false;
+  std::vector<std::string> slurm_args;
+};
+
+bool on_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::string dirs = path ? path : "";
+  for (std::size_t at = 0; at <= dirs.size();) {
+    const std::size_t end = std::min(dirs.find(':', at), dirs.size());
+    if (::access((fs::path(dirs.substr(at, end - at)) / program).c_str(), X_OK) == 0) return true;
+    at = end + 1;
+  }
+  return false;
+}
+
+std::string self_executable() {
+  std::error_code ec;
+  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string("loom") : p.string();
+}
+
+// The graph to bake: --set applied, input files made absolute (the job's
+// graph.json lives in the job folder, not beside the original).
+json baked_graph(const LoadedGraph& g) {
+  Graph graph = g.graph;
+  for (auto& [id, node] : graph.nodes) {
+    const NodeType* type = g.registry->find(node.type);
+    for (auto& [name, binding] : node.inputs) {
+      const InputSpec* input = type ? type->spec.find_input(name) : nullptr;
+      if (!input || input->role != InputRole::input_file || binding.link || !binding.literal.is_string()) continue;
+      const fs::path path = binding.literal.get<std::string>();
+      if (!path.empty() && path.is_relative()) binding.literal = (g.graph.dir() / path).lexically_normal().string();
+    }
+  }
+  return graph_to_json(graph);
+}
+
+// What every task's `loom run` is given; `worker`: never trims the cache.
+std::vector<std::string> common_args(const SubmitRequest& r, const fs::path& job, bool worker) {
+  std::vector<std::string> a = {"run", (job / "graph.json").string(), "--out", fs::absolute(r.run.out_dir).string()};
+  if (r.run.threads > 0) a.insert(a.end(), {"--threads", std::to_string(r.run.threads)});
+  if (r.run.allow_outside) a.push_back("--allow-outside-out");
+  if (r.no_cache) {
+    a.push_back("--no-cache");
+    return a;
+  }
+  a.insert(a.end(), {"--cache", fs::absolute(r.cache_dir).string(), "--cache-limit", std::to_string(r.cache_limit_mb)});
+  if (worker) a.push_back("--cache-no-trim");
+  return a;
+}
+
+void add_profile(std::vector<std::string>& args, const fs::path& job, int id) {
+  char name[32];
+  std::snprintf(name, sizeof name, "%04d.json", id);
+  args.insert(args.end(), {"--profile", (job / "profiles" / name).string()});
+}
+
+std::string min_seconds(double s) { return std::to_string(s); }
+
+}  // namespace
+
+namespace {
+
+struct Planner {
+  const SubmitRequest& r;
+  const LoadedGraph& g;
+  fs::path job;
+  std::vector<Task> tasks;
+
+  void add(std::string name, Stage stage, std::vector<std::string> args) {
+    const int id = static_cast<int>(tasks.size());
+    add_profile(args, job, id);
+    tasks.push_back({id, std::move(name), stage, std::move(args)});
+  }
+
+  std::vector<std::string> sweep_args(bool assemble) const {
+    std::vector<std::string> a;
+    for (const auto& s : r.sweep.axes) a.insert(a.end(), {"--sweep", s});
+    if (r.sweep.zip) a.push_back("--zip");
+    for (const auto& s : r.sweep.records) a.insert(a.end(), {"--record", s});
+    if (assemble)
+      for (const auto& s : r.sweep.plots) a.insert(a.end(), {"--plot", s});
+    if (!r.run.frames.empty()) a.insert(a.end(), {"--frames", r.run.frames});
+    for (const auto& t : r.run.targets) a.insert(a.end(), {"--target", t});
+    a.insert(a.end(), {"--cache-min-seconds", min_seconds(r.cache_min_seconds)});
+    return a;
+  }
+
+  // One task per --chunk points (default 1), then the tables.
+  void plan_points(std::size_t count) {
+    const std::size_t chunk = r.chunk > 0 ? static_cast<std::size_t>(r.chunk) : 1;
+    for (std::size_t first = 0; first < count; first += chunk) {
+      std::string list;
+      for (std::size_t i = first; i < std::min(count, first + chunk); ++i)
+        list += (list.empty() ? "" : ",") + std::to_string(i);
+      auto a = common_args(r, job, true);
+      auto s = sweep_args(false);
+      a.insert(a.end(), s.begin(), s.end());
+      a.insert(a.end(), {"--sweep-points", list});
+      add("points " + list, kWork, a);
+    }
+    auto a = common_args(r, job, false);
+    auto s = sweep_args(true);
+    a.insert(a.end(), s.begin(), s.end());
+    a.push_back("--sweep-collect");
+    add("assemble sweep tables", kAssemble, a);
+  }
+
+  void plan_frames(FrameRange range);
+};
+
+// Simulations first (each from the start frame, every state into the shared
+// cache), then contiguous chunks of --chunk frames (the last one clamped at
+// the range's end), then the sequence sinks over the whole range.
+void Planner::plan_frames(FrameRange range) {
+  std::vector<std::string> simulations, chunk_targets = r.run.targets, sequence;
+  for (const auto& [id, node] : g.graph.nodes) {
+    const NodeType* type = g.registry->find(node.type);
+    if (type->spec.simulation()) simulations.push_back(id);
+    if (r.run.targets.empty() && type->spec.sink)
+      (is_sequence_sink(node.type) ? sequence : chunk_targets).push_back(id);
+  }
+  const bool split = r.chunk > 0 ? range.last - range.first + 1 > r.chunk : range.last - range.first + 1 > 10;
+  if (!split) sequence.clear();  // one task runs everything
+  const std::string whole = std::to_string(range.first) + "-" + std::to_string(range.last);
+  if (split && !r.no_cache)
+    for (const auto& id : simulations) {
+      auto a = common_args(r, job, true);
+      a.insert(a.end(), {"--frames", whole, "--target", id, "--cache-min-seconds", "0"});
+      add("simulate " + id + " " + whole, kSimulate, a);
+    }
+  const int chunk = r.chunk > 0 ? r.chunk : 10;
+  for (long first = range.first; first <= range.last; first += chunk) {
+    const long last = std::min<long>(first + chunk - 1, range.last);
+    auto a = common_args(r, job, true);
+    const std::string frames = std::to_string(first) + "-" + std::to_string(last);
+    a.insert(a.end(), {"--frames", frames});
+    if (!sequence.empty() || !r.run.targets.empty())
+      for (const auto& t : chunk_targets) a.insert(a.end(), {"--target", t});
+    // What the sequence sinks read is kept, however cheap, for the assemble task.
+    a.insert(a.end(), {"--cache-min-seconds", sequence.empty() ? min_seconds(r.cache_min_seconds) : "0"});
+    add("frames " + frames, kWork, a);
+  }
+  if (sequence.empty()) return;
+  auto a = common_args(r, job, false);
+  a.insert(a.end(), {"--frames", whole});
+  for (const auto& id : sequence) a.insert(a.end(), {"--target", id});
+  add("assemble " + whole, kAssemble, a);
+}
+
+}  // namespace
+
+namespace {
+
+void write_slurm_scripts(const JobManifest& m) {
+  for (int stage : {kSimulate, kWork, kAssemble}) {
+    const std::string script =
+        "#!/bin/sh\n"
+        "# Stage " + std::to_string(stage) + " of a loom job: one array element per task; the element's index\n"
+        "# is the task id in manifest.json. `loom submit` passes --array and --dependency.\n"
+        "exec '" + m.loom + "' jobs task '" + m.dir.string() + "' \"$SLURM_ARRAY_TASK_ID\"\n";
+    const fs::path path = m.dir / "slurm" / ("stage" + std::to_string(stage) + ".sbatch");
+    write_file_atomic(path, script);
+    fs::permissions(path, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+  }
+}
+
+// A job folder from an earlier submit is replaced, unless one of its tasks runs.
+bool clear_job_folder(const fs::path& job) {
+  if (fs::exists(job / "manifest.json")) {
+    try {
+      const JobManifest old = load_manifest(job);
+      for (const Task& t : old.tasks)
+        if (read_status(job, t.id).state == "running") {
+          std::cerr << "error: task " << t.id << " of the job in " << job.string()
+                    << " is running: `loom jobs cancel` it first, or give another --job-dir\n";
+          return false;
+        }
+    } catch (const std::exception&) {
+    }
+  }
+  std::error_code ec;
+  for (const char* sub : {"logs", "status", "slurm", "profiles"}) fs::remove_all(job / sub, ec);
+  return true;
+}
+
+int submit(SubmitRequest& r) {
+  int exit = 0;
+  auto g = load_for_run(r.run.graph_path, r.run.sets, &exit);
+  if (!g) return exit;
+  if (r.cache_dir.empty()) r.cache_dir = (fs::path(r.run.out_dir) / ".loom-cache").string();
+  const fs::path job = fs::absolute(r.job_dir.empty() ? fs::path(r.run.out_dir) / ".loom-job" : fs::path(r.job_dir));
+  Planner plan{r, *g, job, {}};
+  std::optional<FrameRange> range;
+  if (!r.run.frames.empty() && !(range = parse_frame_range(r.run.frames))) {
+    std::cerr << "error: --frames: expected A-B or A (whole frame numbers, A <= B), got \"" << r.run.frames << "\"\n";
+    return 2;
+  }
+  if (!range && g->graph.time) range = FrameRange{g->graph.time->start, g->graph.time->end};
+  if (r.sweep.active()) {
+    const auto count = check_sweep(r.sweep, r.run, *g);
+    if (!count) return 2;
+    plan.plan_points(*count);
+  } else if (range) {
+    plan.plan_frames(*range);
+  } else {
+    auto a = common_args(r, job, false);
+    for (const auto& t : r.run.targets) a.insert(a.end(), {"--target", t});
+    plan.add("run", kWork, a);
+  }
+  if (r.to.empty()) r.to = on_path("sbatch") ? "slurm" : "local";
+  const int cores = static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));
+  JobManifest m{job, self_executable(), r.to, r.retries, r.jobs > 0 ? r.jobs : cores, r.slurm_args, plan.tasks};
+  try {
+    if (!clear_job_folder(job)) return 2;
+    save_manifest(m);
+    write_file_atomic(job / "graph.json", baked_graph(*g).dump(1) + "\n");
+    write_slurm_scripts(m);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+  std::fprintf(stderr, "job folder: %s (%zu tasks, %s)\n", job.c_str(), m.tasks.size(), m.to.c_str());
+  if (r.dry_run) return 0;
+  std::vector<int> ids;
+  for (const Task& t : m.tasks) ids.push_back(t.id);
+  return m.to == "slurm" ? submit_slurm(m, ids) : dispatch_local(m, ids);
+}
+
+}  // namespace
+
+namespace {
+
+int jobs_status(const JobManifest& m) {
+  std::map<std::string, int> counts;
+  for (const Task& t : m.tasks) {
+    const TaskStatus s = read_status(m.dir, t.id);
+    ++counts[s.state];
+    std::printf("%4d  %-9s %-28s attempts %d  %7.2f s  %s%s\n", t.id, s.state.c_str(), t.name.c_str(), s.attempts,
+                s.seconds, s.host.c_str(), s.message.empty() ? "" : ("  " + s.message).c_str());
+  }
+  std::printf("%zu tasks: %d done, %d failed, %d cancelled, %d running, %d pending (%s)\n", m.tasks.size(),
+              counts["done"], counts["failed"], counts["cancelled"], counts["running"], counts["pending"],
+              m.to.c_str());
+  return counts["done"] == static_cast<int>(m.tasks.size()) ? 0 : 1;
+}
+
+// Every task not done, again: on Slurm as new arrays, locally in the foreground.
+int jobs_resume(JobManifest& m, int jobs) {
+  std::vector<int> ids;
+  for (const Task& t : m.tasks) {
+    const std::string state = read_status(m.dir, t.id).state;
+    if (state == "running") {
+      std::cerr << "error: task " << t.id << " (" << t.name << ") is running: wait for it or `loom jobs cancel`\n";
+      return 2;
+    }
+    if (state != "done") ids.push_back(t.id);
+  }
+  if (ids.empty()) {
+    std::cerr << "every task of " << m.dir.string() << " is done\n";
+    return 0;
+  }
+  std::cerr << "resuming " << ids.size() << " of " << m.tasks.size() << " tasks\n";
+  if (jobs > 0) m.jobs = jobs;
+  return m.to == "slurm" ? submit_slurm(m, ids) : dispatch_local(m, ids);
+}
+
+int jobs_cancel(const JobManifest& m) {
+  if (m.to == "slurm") {
+    std::ifstream in(m.dir / "slurm" / "jobs");
+    std::vector<std::string> argv = {"scancel"};
+    for (std::string id; std::getline(in, id);)
+      if (!id.empty()) argv.push_back(id);
+    if (argv.size() == 1) {
+      std::cerr << "nothing submitted from " << m.dir.string() << "\n";
+      return 0;
+    }
+    int exit = 0;
+    capture_output(argv, &exit);
+    std::cerr << "scancel " << argv.size() - 1 << " Slurm job" << (argv.size() == 2 ? "" : "s") << ": exit " << exit << "\n";
+    return exit == 0 ? 0 : 3;
+  }
+  std::ifstream in(m.dir / "local.pid");
+  long pid = 0;
+  if (!(in >> pid) || pid <= 0 || !fs::exists("/proc/" + std::to_string(pid))) {
+    std::cerr << "no local dispatcher is running for " << m.dir.string() << "\n";
+    return 0;
+  }
+  ::kill(static_cast<pid_t>(pid), SIGTERM);  // it passes SIGTERM on to every running task
+  std::cerr << "sent SIGTERM to the local dispatcher (pid " << pid << ")\n";
+  return 0;
+}
+
+class Commands final : public FarmCommands {
+ public:
+  explicit Commands(CLI::App& app);
+  bool chosen() const override { return *submit_ || *jobs_; }
+  int run() override;
+
+ private:
+  CLI::App* submit_;
+  CLI::App* jobs_;
+  SubmitRequest request_;
+  std::string action_, job_dir_;
+  int task_ = -1, jobs_count_ = 0;
+};
+
+Commands::Commands(CLI::App& app) {
+  submit_ = app.add_subcommand("submit", "Run a graph's frames or sweep points as tasks: on Slurm, or locally.");
+  auto& r = request_;
+  submit_->add_option("graph", r.run.graph_path, "graph file (JSON)")->required();
+  submit_->add_option("--to", r.to, "slurm or local (default: slurm when sbatch is on PATH)")
+      ->check(CLI::IsMember({"slurm", "local"}));
+  submit_->add_option("--out", r.run.out_dir, "output folder, shared by every task")->capture_default_str();
+  submit_->add_option("--job-dir", r.job_dir, "the job folder (default: OUT/.loom-job)");
+  submit_->add_option("--frames", r.run.frames, "frames, A-B or A (default: the graph's \"time\" range)");
+  submit_->add_option("--chunk", r.chunk, "frames (or sweep points) per task (default: 10 frames, 1 point)")
+      ->check(CLI::PositiveNumber);
+  submit_->add_option("--retries", r.retries, "re-runs of a task that exits 1 or is killed by a signal")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
+  submit_->add_option("-j,--jobs", r.jobs, "local: tasks at once (default: the cores)")->check(CLI::PositiveNumber);
+  submit_->add_option("--slurm-arg", r.slurm_args, "passed to sbatch, e.g. --slurm-arg=--partition=gpu (repeatable)")
+      ->allow_extra_args(false);
+  submit_->add_flag("--dry-run", r.dry_run, "write the job folder, submit nothing");
+  submit_->add_option("--set", r.run.sets, "override an input: ID.INPUT=JSON (repeatable; baked into the job)");
+  submit_->add_option("--target", r.run.targets, "evaluate ID or ID.OUTPUT instead of the sinks (repeatable)");
+  submit_->add_option("--threads", r.run.threads, "worker threads per task (0: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  submit_->add_option("--cache", r.cache_dir, "the cache shared by the tasks (default: OUT/.loom-cache)");
+  submit_->add_option("--cache-limit", r.cache_limit_mb, "cache size limit in MB")->capture_default_str();
+  submit_->add_option("--cache-min-seconds", r.cache_min_seconds, "store only results slower than this")
+      ->capture_default_str();
+  submit_->add_flag("--no-cache", r.no_cache, "tasks share no cache (simulations then re-simulate per chunk)");
+  submit_->add_flag("--allow-outside-out", r.run.allow_outside, "as loom run");
+  add_sweep_options(submit_, r.sweep);
+
+  jobs_ = app.add_subcommand("jobs", "Status, resume or cancel of a job folder written by loom submit.");
+  jobs_->add_option("action", action_, "status, resume, cancel (task: run one task, as Slurm does)")
+      ->required()->check(CLI::IsMember({"status", "resume", "cancel", "task"}));
+  jobs_->add_option("jobdir", job_dir_, "the job folder (OUT/.loom-job)")->required();
+  jobs_->add_option("task", task_, "with `task`: the task id");
+  jobs_->add_option("-j,--jobs", jobs_count_, "local resume: tasks at once")->check(CLI::PositiveNumber);
+}
+
+int Commands::run() {
+  if (*submit_) return submit(request_);
+  JobManifest m;
+  try {
+    m = load_manifest(job_dir_);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  }
+  if (action_ == "status") return jobs_status(m);
+  if (action_ == "resume") return jobs_resume(m, jobs_count_);
+  if (action_ == "cancel") return jobs_cancel(m);
+  return run_task(m, task_);
+}
+
+}  // namespace
+
+std::unique_ptr<FarmCommands> add_farm_commands(CLI::App& app) { return std::make_unique<Commands>(app); }
+
+}  // namespace loom::runner
