@@ -77,7 +77,7 @@ std::vector<std::string> common_args(const SubmitRequest& r, const fs::path& job
     a.push_back("--no-cache");
     return a;
   }
-  a.insert(a.end(), {"--cache", fs::absolute(r.cache_dir).string(), "--cache-limit", std::to_string(r.cache_limit_mb)});
+  a.insert(a.end(), {"--cache", fs::absolute(r.cache_dir).string(), "--cache-limit", json(r.cache_limit_mb).dump()});
   if (worker) a.push_back("--cache-no-trim");
   return a;
 }
@@ -88,7 +88,7 @@ void add_profile(std::vector<std::string>& args, const fs::path& job, int id) {
   args.insert(args.end(), {"--profile", (job / "profiles" / name).string()});
 }
 
-std::string min_seconds(double s) { return std::to_string(s); }
+std::string min_seconds(double s) { return json(s).dump(); }
 
 }  // namespace
 
