@@ -184,9 +184,10 @@ TEST(DiskCache, EntriesFollowTheBuildsContentNotItsPathOrTime) {
   EXPECT_EQ(slow_status(dir / "a"), "disk");
   install(dir / "a", dir / "b");
   EXPECT_EQ(slow_status(dir / "b"), "disk");  // the same build elsewhere: shared
-  for (const auto& e : fs::directory_iterator(dir / "b"))
-    if (e.path().extension() == ".so")
-      ASSERT_EQ(std::system(("objcopy --remove-section .note.gnu.build-id " + e.path().string()).c_str()), 0);
+  for (const auto& e : fs::directory_iterator(dir / "b")) {
+    if (e.path().extension() != ".so") continue;
+    ASSERT_EQ(std::system(("objcopy --remove-section .note.gnu.build-id " + e.path().string()).c_str()), 0);
+  }
   EXPECT_EQ(slow_status(dir / "b"), "ran");  // another build: never the old results
   install(dir / "b", dir / "c");
   EXPECT_EQ(slow_status(dir / "c"), "disk");  // no build ID: the same bytes are the same build
