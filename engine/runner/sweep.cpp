@@ -15,16 +15,19 @@ namespace loom::runner {
 namespace fs = std::filesystem;
 
 void add_sweep_options(CLI::App* run, SweepRequest& r) {
-  run->add_option("--sweep", r.axes,
+  auto* sweep = run->add_option("--sweep", r.axes,
                   "run at every value: ID.INPUT=V1,V2,... (JSON values) or A:B:N or A:B:N:log (repeatable: "
                   "the Cartesian product); writes OUT/points/NNNN/, OUT/sweep.csv and OUT/sweep.json");
-  run->add_flag("--zip", r.zip, "with several --sweep: the i-th values together, not every combination");
-  run->add_option("--record", r.records, "with --sweep: keep ID.OUTPUT (or every output of ID) of each point");
-  run->add_option("--plot", r.plots, "with --sweep: draw column X against column Y of sweep.csv (X:Y) as a PNG");
+  run->add_flag("--zip", r.zip, "with several --sweep: the i-th values together, not every combination")
+      ->needs(sweep);
+  run->add_option("--record", r.records, "with --sweep: keep ID.OUTPUT (or every output of ID) of each point")
+      ->needs(sweep);
+  run->add_option("--plot", r.plots, "with --sweep: draw column X against column Y of sweep.csv (X:Y) as a PNG")
+      ->needs(sweep);
   run->add_option("--sweep-points", r.only, "with --sweep: run only these points (I,J,...; a submitted task)")
-      ->group("");
+      ->group("")->needs(sweep);
   run->add_flag("--sweep-collect", r.collect, "with --sweep: write the tables from the points' files only")
-      ->group("");
+      ->group("")->needs(sweep);
 }
 
 namespace {
@@ -48,6 +51,9 @@ int plan_sweep(const SweepRequest& r, const RunSettings& s, const LoadedGraph& g
   try {
     for (const auto& spec : r.axes) plan->axes.push_back(parse_sweep_axis(spec, g.graph, *g.registry));
     plan->points = sweep_points(plan->axes, r.zip);
+    for (const auto& p : r.plots)
+      if (p.find(':') == std::string::npos || p.front() == ':' || p.back() == ':')
+        throw Error("--plot " + p + ": expected X:Y, two columns of sweep.csv (e.g. arap.seconds:arap.energy)");
     plan->selected.assign(plan->points.size(), r.only.empty());
     std::istringstream only(r.only);
     for (std::string part; std::getline(only, part, ',');) {
