@@ -20,7 +20,7 @@
 #include "node_reference.hpp"
 #include "progress.hpp"
 #include "run_settings.hpp"
-#include "submit.hpp"
+#include "farm_commands.hpp"
 #include "sweep.hpp"
 
 namespace {

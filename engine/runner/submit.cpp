@@ -1,15 +1,11 @@
 #include "submit.hpp"
 
-#include <signal.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <map>
-#include <set>
 
-#include "child_process.hpp"
 #include "dispatch.hpp"
 #include "job_folder.hpp"
 #include "loom/atomic_file.hpp"
@@ -24,16 +20,6 @@ namespace {
 // Sinks that gather a whole sequence into one file: they cannot be split into
 // chunks and run in the assemble task.
 bool is_sequence_sink(const std::string& type) { return type == "SaveVideo"; }
-
-struct SubmitRequest {
-  RunSettings run;
-  SweepRequest sweep;
-  std::string to, job_dir, cache_dir;
-  int chunk = 0, retries = 2, jobs = 0;
-  double cache_limit_mb = 10240, cache_min_seconds = 0.05;
-  bool no_cache = false, dry_run = false;
-  std::vector<std::string> slurm_args;
-};
 
 bool on_path(const std::string& program) {
   const char* path = std::getenv("PATH");
@@ -217,6 +203,8 @@ bool clear_job_folder(const fs::path& job) {
   return true;
 }
 
+}  // namespace
+
 int submit(SubmitRequest& r) {
   int exit = 0;
   auto g = load_for_run(r.run.graph_path, r.run.sets, &exit);
@@ -259,139 +247,5 @@ int submit(SubmitRequest& r) {
   for (const Task& t : m.tasks) ids.push_back(t.id);
   return m.to == "slurm" ? submit_slurm(m, ids) : dispatch_local(m, ids);
 }
-
-}  // namespace
-
-namespace {
-
-int jobs_status(const JobManifest& m) {
-  std::map<std::string, int> counts;
-  for (const Task& t : m.tasks) {
-    const TaskStatus s = read_status(m.dir, t.id);
-    ++counts[s.state];
-    std::printf("%4d  %-9s %-28s attempts %d  %7.2f s  %s%s\n", t.id, s.state.c_str(), t.name.c_str(), s.attempts,
-                s.seconds, s.host.c_str(), s.message.empty() ? "" : ("  " + s.message).c_str());
-  }
-  std::printf("%zu tasks: %d done, %d failed, %d cancelled, %d running, %d pending (%s)\n", m.tasks.size(),
-              counts["done"], counts["failed"], counts["cancelled"], counts["running"], counts["pending"],
-              m.to.c_str());
-  return counts["done"] == static_cast<int>(m.tasks.size()) ? 0 : 1;
-}
-
-// Every task not done, again: on Slurm as new arrays, locally in the foreground.
-int jobs_resume(JobManifest& m, int jobs) {
-  std::vector<int> ids;
-  for (const Task& t : m.tasks) {
-    const std::string state = read_status(m.dir, t.id).state;
-    if (state == "running") {
-      std::cerr << "error: task " << t.id << " (" << t.name << ") is running: wait for it or `loom jobs cancel`\n";
-      return 2;
-    }
-    if (state != "done") ids.push_back(t.id);
-  }
-  if (ids.empty()) {
-    std::cerr << "every task of " << m.dir.string() << " is done\n";
-    return 0;
-  }
-  std::cerr << "resuming " << ids.size() << " of " << m.tasks.size() << " tasks\n";
-  if (jobs > 0) m.jobs = jobs;
-  return m.to == "slurm" ? submit_slurm(m, ids) : dispatch_local(m, ids);
-}
-
-int jobs_cancel(const JobManifest& m) {
-  if (m.to == "slurm") {
-    std::ifstream in(m.dir / "slurm" / "jobs");
-    std::vector<std::string> argv = {"scancel"};
-    for (std::string id; std::getline(in, id);)
-      if (!id.empty()) argv.push_back(id);
-    if (argv.size() == 1) {
-      std::cerr << "nothing submitted from " << m.dir.string() << "\n";
-      return 0;
-    }
-    int exit = 0;
-    capture_output(argv, &exit);
-    std::cerr << "scancel " << argv.size() - 1 << " Slurm job" << (argv.size() == 2 ? "" : "s") << ": exit " << exit << "\n";
-    return exit == 0 ? 0 : 3;
-  }
-  std::ifstream in(m.dir / "local.pid");
-  long pid = 0;
-  if (!(in >> pid) || pid <= 0 || !fs::exists("/proc/" + std::to_string(pid))) {
-    std::cerr << "no local dispatcher is running for " << m.dir.string() << "\n";
-    return 0;
-  }
-  ::kill(static_cast<pid_t>(pid), SIGTERM);  // it passes SIGTERM on to every running task
-  std::cerr << "sent SIGTERM to the local dispatcher (pid " << pid << ")\n";
-  return 0;
-}
-
-class Commands final : public FarmCommands {
- public:
-  explicit Commands(CLI::App& app);
-  bool chosen() const override { return *submit_ || *jobs_; }
-  int run() override;
-
- private:
-  CLI::App* submit_;
-  CLI::App* jobs_;
-  SubmitRequest request_;
-  std::string action_, job_dir_;
-  int task_ = -1, jobs_count_ = 0;
-};
-
-Commands::Commands(CLI::App& app) {
-  submit_ = app.add_subcommand("submit", "Run a graph's frames or sweep points as tasks: on Slurm, or locally.");
-  auto& r = request_;
-  submit_->add_option("graph", r.run.graph_path, "graph file (JSON)")->required();
-  submit_->add_option("--to", r.to, "slurm or local (default: slurm when sbatch is on PATH)")
-      ->check(CLI::IsMember({"slurm", "local"}));
-  submit_->add_option("--out", r.run.out_dir, "output folder, shared by every task")->capture_default_str();
-  submit_->add_option("--job-dir", r.job_dir, "the job folder (default: OUT/.loom-job)");
-  submit_->add_option("--frames", r.run.frames, "frames, A-B or A (default: the graph's \"time\" range)");
-  submit_->add_option("--chunk", r.chunk, "frames (or sweep points) per task (default: 10 frames, 1 point)")
-      ->check(CLI::PositiveNumber);
-  submit_->add_option("--retries", r.retries, "re-runs of a task that exits 1 or is killed by a signal")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
-  submit_->add_option("-j,--jobs", r.jobs, "local: tasks at once (default: the cores)")->check(CLI::PositiveNumber);
-  submit_->add_option("--slurm-arg", r.slurm_args, "passed to sbatch, e.g. --slurm-arg=--partition=gpu (repeatable)")
-      ->allow_extra_args(false);
-  submit_->add_flag("--dry-run", r.dry_run, "write the job folder, submit nothing");
-  submit_->add_option("--set", r.run.sets, "override an input: ID.INPUT=JSON (repeatable; baked into the job)");
-  submit_->add_option("--target", r.run.targets, "evaluate ID or ID.OUTPUT instead of the sinks (repeatable)");
-  submit_->add_option("--threads", r.run.threads, "worker threads per task (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
-  submit_->add_option("--cache", r.cache_dir, "the cache shared by the tasks (default: OUT/.loom-cache)");
-  submit_->add_option("--cache-limit", r.cache_limit_mb, "cache size limit in MB")->capture_default_str();
-  submit_->add_option("--cache-min-seconds", r.cache_min_seconds, "store only results slower than this")
-      ->capture_default_str();
-  submit_->add_flag("--no-cache", r.no_cache, "tasks share no cache (simulations then re-simulate per chunk)");
-  submit_->add_flag("--allow-outside-out", r.run.allow_outside, "as loom run");
-  add_sweep_options(submit_, r.sweep);
-
-  jobs_ = app.add_subcommand("jobs", "Status, resume or cancel of a job folder written by loom submit.");
-  jobs_->add_option("action", action_, "status, resume, cancel (task: run one task, as Slurm does)")
-      ->required()->check(CLI::IsMember({"status", "resume", "cancel", "task"}));
-  jobs_->add_option("jobdir", job_dir_, "the job folder (OUT/.loom-job)")->required();
-  jobs_->add_option("task", task_, "with `task`: the task id");
-  jobs_->add_option("-j,--jobs", jobs_count_, "local resume: tasks at once")->check(CLI::PositiveNumber);
-}
-
-int Commands::run() {
-  if (*submit_) return submit(request_);
-  JobManifest m;
-  try {
-    m = load_manifest(job_dir_);
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return 2;
-  }
-  if (action_ == "status") return jobs_status(m);
-  if (action_ == "resume") return jobs_resume(m, jobs_count_);
-  if (action_ == "cancel") return jobs_cancel(m);
-  return run_task(m, task_);
-}
-
-}  // namespace
-
-std::unique_ptr<FarmCommands> add_farm_commands(CLI::App& app) { return std::make_unique<Commands>(app); }
 
 }  // namespace loom::runner

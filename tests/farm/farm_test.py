@@ -289,6 +289,18 @@ class Dispatch:
         self.assertEqual(read(os.path.join(out2, "f_03.txt")), "3.000000\n")
         self.assertEqual(loom("jobs", "status", job2).returncode, 0)
 
+    def test_an_invalid_graph_is_not_retried(self):
+        g = frames_graph(self.dir, 1)
+        out = os.path.join(self.dir, "out")
+        loom("submit", g, "--to", self.to, "--out", out, "--chunk", "2", "--retries", "2", "--no-cache", "--dry-run")
+        job = os.path.join(out, ".loom-job")
+        self.assertEqual(statuses(job), {})  # --dry-run ran nothing
+        with open(os.path.join(job, "graph.json"), "w") as f:
+            f.write('{"loom": 1, "nodes": {"x": {"type": "NoSuchType"}}}')
+        self.resume(job)
+        st = statuses(job)
+        self.assertEqual([(st[i]["state"], st[i]["exit"], st[i]["attempts"]) for i in (0, 1)], [("failed", 2, 1)] * 2)
+
     def test_cancel_mid_chunk_exits_130_and_leaves_no_partial_file(self):
         g = write_graph(self.dir, {
             "s": {"type": "Sleep", "inputs": {"value": 1, "ms": 20000}},
