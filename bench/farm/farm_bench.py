@@ -4,8 +4,10 @@ only), the seconds from `loom submit` to the last task's end for
   - an empty task (one 8x8 image), against `loom run` of the same graph;
   - the 48 frames of graphs/time-twist-sequence.json in chunks of 1..48 frames
     over 2 slots, against one `loom run` of all 48 (medians of --repeats).
-Writes farm.csv and farm.png to bench/results (or $LOOM_BENCH_OUT).
-Usage: farm_bench.py LOOM SOURCE_DIR [--quick] [--repeats N]"""
+Writes farm.csv and farm.png to --out (else $LOOM_BENCH_OUT, else bench/results).
+Usage: farm_bench.py LOOM SOURCE_DIR [--quick] [--repeats N] [--out DIR]
+(build/bin/bench_farm passes LOOM and SOURCE_DIR)."""
+import argparse
 import json
 import os
 import shutil
@@ -15,9 +17,17 @@ import sys
 import tempfile
 import time
 
-LOOM, SOURCE = sys.argv[1:3]
-QUICK = "--quick" in sys.argv
-REPEATS = int(sys.argv[sys.argv.index("--repeats") + 1]) if "--repeats" in sys.argv else (1 if QUICK else 3)
+parser = argparse.ArgumentParser(
+    prog="bench_farm", description="loom submit: dispatch overhead per task and 48 frames in chunks, on the "
+    "local dispatcher and a private single-node Slurm cluster (CSV and PNG).")
+parser.add_argument("loom", help=argparse.SUPPRESS)
+parser.add_argument("source", help=argparse.SUPPRESS)
+parser.add_argument("--quick", action="store_true", help="chunks of 1, 12 and 48 only, one repeat")
+parser.add_argument("--repeats", type=int, help="timings per measure, the median kept (default 3)")
+parser.add_argument("--out", help="results folder (default: $LOOM_BENCH_OUT, else bench/results)")
+ARGS = parser.parse_args()
+LOOM, SOURCE, QUICK = ARGS.loom, ARGS.source, ARGS.quick
+REPEATS = ARGS.repeats or (1 if QUICK else 3)
 sys.path.insert(0, os.path.join(SOURCE, "tests", "farm"))
 import slurm_cluster  # noqa: E402
 
@@ -85,7 +95,7 @@ def main():
         finally:
             cluster.stop()
     shutil.rmtree(work, ignore_errors=True)
-    results = os.environ.get("LOOM_BENCH_OUT", os.path.join(SOURCE, "bench", "results"))
+    results = ARGS.out or os.environ.get("LOOM_BENCH_OUT", os.path.join(SOURCE, "bench", "results"))
     os.makedirs(results, exist_ok=True)
     load = os.getloadavg()[0]
     csv = os.path.join(results, "farm.csv")
