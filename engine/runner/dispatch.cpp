@@ -20,12 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string host_name() {
-  char name[256] = {};
-  ::gethostname(name, sizeof name - 1);
-  return name;
-}
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -162,6 +156,7 @@ int run_task(const JobManifest& m, int id) {
   TaskStatus s;
   s.state = "running";
   s.host = host_name();
+  s.pid = ::getpid();
   write_status(m.dir, id, s);
   const fs::path log = task_log(m.dir, id);
   if (task.stage == kAssemble) {

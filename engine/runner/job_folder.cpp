@@ -1,5 +1,7 @@
 #include "job_folder.hpp"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <fstream>
 
@@ -16,6 +18,12 @@ std::string number(int id) {
   return text;
 }
 }  // namespace
+
+std::string host_name() {
+  char name[256] = {};
+  ::gethostname(name, sizeof name - 1);
+  return name;
+}
 
 fs::path task_log(const fs::path& job, int id) { return job / "logs" / ("task-" + number(id) + ".log"); }
 fs::path task_status_path(const fs::path& job, int id) { return job / "status" / (number(id) + ".json"); }
@@ -68,12 +76,14 @@ TaskStatus read_status(const fs::path& job, int id) {
   s.seconds = doc.value("seconds", 0.0);
   s.host = doc.value("host", "");
   s.message = doc.value("message", "");
+  s.pid = doc.value("pid", 0L);
   return s;
 }
 
 void write_status(const fs::path& job, int id, const TaskStatus& s) {
   const json doc = {{"state", s.state},     {"exit", s.exit}, {"attempts", s.attempts},
-                    {"seconds", s.seconds}, {"host", s.host}, {"message", s.message}};
+                    {"seconds", s.seconds}, {"host", s.host}, {"message", s.message},
+                    {"pid", s.pid}};
   write_file_atomic(task_status_path(job, id), doc.dump(2) + "\n");
 }
 

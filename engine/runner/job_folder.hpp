@@ -41,7 +41,11 @@ struct TaskStatus {
   int attempts = 0;
   double seconds = 0;
   std::string host, message;
+  long pid = 0;                   // of `loom jobs task` on `host`
 };
+
+// This machine's name, as the status files record it.
+std::string host_name();
 
 std::filesystem::path task_log(const std::filesystem::path& job, int id);
 std::filesystem::path task_status_path(const std::filesystem::path& job, int id);

@@ -27,12 +27,28 @@ int jobs_status(const JobManifest& m) {
   return counts["done"] == static_cast<int>(m.tasks.size()) ? 0 : 1;
 }
 
+bool still_running(const JobManifest& m, const TaskStatus& s) {
+  if (s.host == host_name()) return s.pid > 0 && fs::exists("/proc/" + std::to_string(s.pid));
+  if (m.to != "slurm") return true;  // another machine's process: cannot tell
+  std::ifstream in(m.dir / "slurm" / "jobs");
+  std::vector<std::string> argv = {"squeue", "-h", "-o", "%i", "-j"};
+  std::string ids;
+  for (std::string id; std::getline(in, id);)
+    if (!id.empty()) ids += (ids.empty() ? "" : ",") + id;
+  if (ids.empty()) return false;
+  argv.push_back(ids);
+  int exit = 0;
+  const std::string out = capture_output(argv, &exit);
+  return out.find_first_not_of(" \n") != std::string::npos;  // squeue fails on ids it forgot
+}
+
 // On Slurm as new arrays of only those ids, locally in the foreground.
 int jobs_resume(JobManifest& m, int jobs) {
   std::vector<int> ids;
   for (const Task& t : m.tasks) {
-    const std::string state = read_status(m.dir, t.id).state;
-    if (state == "running") {
+    const TaskStatus s = read_status(m.dir, t.id);
+    const std::string& state = s.state;
+    if (state == "running" && still_running(m, s)) {
       std::cerr << "error: task " << t.id << " (" << t.name << ") is running: wait for it or `loom jobs cancel`\n";
       return 2;
     }

@@ -7,6 +7,11 @@
 
 namespace loom::runner {
 
+// Whether a task whose status says "running" still runs: false when its
+// process is gone (a node died, a SIGKILL), i.e. its pid on this machine has
+// exited, or on Slurm none of the job's Slurm jobs is queued or running.
+bool still_running(const JobManifest& m, const TaskStatus& s);
+
 // Prints every task and a summary; 0 when every task is done, else 1.
 int jobs_status(const JobManifest& m);
 // Runs every task not done again, with the job's dispatcher (`jobs` > 0:

@@ -8,6 +8,7 @@
 
 #include "dispatch.hpp"
 #include "job_folder.hpp"
+#include "jobs.hpp"
 #include "loom/atomic_file.hpp"
 #include "run_settings.hpp"
 #include "sweep.hpp"
@@ -190,7 +191,7 @@ bool clear_job_folder(const fs::path& job) {
     try {
       const JobManifest old = load_manifest(job);
       for (const Task& t : old.tasks)
-        if (read_status(job, t.id).state == "running") {
+        if (const TaskStatus s = read_status(job, t.id); s.state == "running" && still_running(old, s)) {
           std::cerr << "error: task " << t.id << " of the job in " << job.string()
                     << " is running: `loom jobs cancel` it first, or give another --job-dir\n";
           return false;

@@ -301,6 +301,20 @@ class Dispatch:
         st = statuses(job)
         self.assertEqual([(st[i]["state"], st[i]["exit"], st[i]["attempts"]) for i in (0, 1)], [("failed", 2, 1)] * 2)
 
+    def test_resume_reruns_a_task_whose_process_died_while_running(self):
+        g = frames_graph(self.dir, 1)
+        out = os.path.join(self.dir, "out")
+        loom("submit", g, "--to", self.to, "--out", out, "--chunk", "4", "--no-cache", "--dry-run")
+        job = os.path.join(out, ".loom-job")
+        dead = subprocess.Popen(["true"])
+        dead.wait()  # a pid that no longer runs: the task's node died with it
+        with open(os.path.join(job, "status", "0000.json"), "w") as f:
+            json.dump({"state": "running", "host": os.uname().nodename, "pid": dead.pid}, f)
+        p = self.resume(job)
+        self.assertIn("resuming 1 of 1 tasks", p.stderr)
+        self.assertEqual(statuses(job)[0]["state"], "done")
+        self.assertEqual(read(os.path.join(out, "f_04.txt")), "4.000000\n")
+
     def test_cancel_mid_chunk_exits_130_and_leaves_no_partial_file(self):
         g = write_graph(self.dir, {
             "s": {"type": "Sleep", "inputs": {"value": 1, "ms": 20000}},
