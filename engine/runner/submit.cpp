@@ -133,15 +133,19 @@ struct Planner {
 // cache), then contiguous chunks of --chunk frames (the last one clamped at
 // the range's end), then the sequence sinks over the whole range.
 void Planner::plan_frames(FrameRange range) {
-  std::vector<std::string> simulations, chunk_targets = r.run.targets, sequence;
-  for (const auto& [id, node] : g.graph.nodes) {
-    const NodeType* type = g.registry->find(node.type);
-    if (type->spec.simulation()) simulations.push_back(id);
-    if (r.run.targets.empty() && type->spec.sink)
-      (is_sequence_sink(node.type) ? sequence : chunk_targets).push_back(id);
-  }
+  std::vector<std::string> simulations, chunk_targets, sequence;
+  for (const auto& [id, node] : g.graph.nodes)
+    if (g.registry->find(node.type)->spec.simulation()) simulations.push_back(id);
+  for (const auto& t : r.run.targets.empty() ? sink_ids(g.graph, *g.registry) : r.run.targets)
+    (is_sequence_sink(g.graph.nodes.at(parse_target(t).node).type) ? sequence : chunk_targets).push_back(t);
   const bool split = r.chunk > 0 ? range.last - range.first + 1 > r.chunk : range.last - range.first + 1 > 10;
-  if (!split) sequence.clear();  // one task runs everything
+  if (!split) {  // one task runs everything
+    chunk_targets.insert(chunk_targets.end(), sequence.begin(), sequence.end());
+    sequence.clear();
+  }
+  for (const auto& t : sequence)  // chunks compute what the sequence sinks read
+    for (const auto& [name, binding] : g.graph.nodes.at(parse_target(t).node).inputs)
+      if (binding.link) chunk_targets.push_back(binding.link->node + "." + binding.link->output);
   const std::string whole = std::to_string(range.first) + "-" + std::to_string(range.last);
   if (split && !r.no_cache)
     for (const auto& id : simulations) {
