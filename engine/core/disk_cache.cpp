@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "build_identity.hpp"
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
 #include "loom/hash.hpp"
@@ -28,20 +29,11 @@ constexpr const char* kExtension = ".loomcache";
 // magic, format version, key, value count, payload size, payload checksum
 constexpr std::size_t kHeaderBytes = 8 + 4 + 8 + 4 + 8 + 8;
 
-std::uint64_t file_stamp(const fs::path& path) {
-  std::error_code ec;
-  const auto size = fs::file_size(path, ec);
-  const auto time = fs::last_write_time(path, ec);
-  return Hasher().str(path.string()).pod(ec ? std::uint64_t(0) : static_cast<std::uint64_t>(size))
-      .pod(static_cast<std::int64_t>(time.time_since_epoch().count()))
-      .digest();
-}
-
 // libloom's own file: the engine's build enters every key.
 std::uint64_t engine_build() {
   Dl_info info{};
-  if (::dladdr(reinterpret_cast<void*>(&file_stamp), &info) && info.dli_fname)
-    return file_stamp(info.dli_fname);
+  if (::dladdr(reinterpret_cast<void*>(&engine_build), &info) && info.dli_fname)
+    return detail::build_identity(info.dli_fname);
   return 0;
 }
 

@@ -7,6 +7,7 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include "build_identity.hpp"
 #include "loom/plugin.hpp"
 
 namespace loom {
@@ -121,15 +122,8 @@ void PluginLoader::load(PluginInfo& info) {
   Registry staged;  // register into a copy first: a failing plugin adds nothing
   entry->register_nodes(staged);
   info.node_types.clear();
-  // The library file's identity enters the disk cache's keys (NodeSpec::build).
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(info.library, ec);
-  const auto mtime = std::filesystem::last_write_time(info.library, ec);
-  const std::uint64_t build = Hasher()
-                                  .str(info.library.string())
-                                  .pod(static_cast<std::uint64_t>(ec ? 0 : size))
-                                  .pod(static_cast<std::int64_t>(mtime.time_since_epoch().count()))
-                                  .digest();
+  // The library's content identity enters the disk cache's keys (NodeSpec::build).
+  const std::uint64_t build = detail::build_identity(info.library);
   for (const NodeType* t : staged.all()) {
     NodeType copy = *t;
     copy.spec.build = build;

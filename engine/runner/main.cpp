@@ -22,17 +22,19 @@
 #include "progress.hpp"
 #include "signals.hpp"
 #include "watch.hpp"
+#include "run_settings.hpp"
+#include "farm_commands.hpp"
+#include "sweep.hpp"
 
 namespace {
 
 enum Exit { kOk = 0, kNodeFailed = 1, kInvalid = 2, kPluginError = 3, kInterrupted = 130 };
 
-std::atomic<bool> g_cancel{false};
-
 // Where the persistent cache lives and how it behaves (`--cache`, `--no-cache`).
 struct CacheSettings {
   std::string dir;  // empty: the default folder
   bool disabled = false;
+  bool no_trim = false;  // a farm worker: the assemble task trims
   double limit_mb = 10240;
   double min_seconds = 0.05;
 
@@ -41,29 +43,10 @@ struct CacheSettings {
     o.dir = dir.empty() ? loom::DiskCache::default_dir() : std::filesystem::path(dir);
     o.max_bytes = static_cast<std::uint64_t>(limit_mb * 1024 * 1024);
     o.min_seconds = min_seconds;
+    if (min_seconds == 0) o.read_mb_per_s = 1e300;  // store every result, however cheap to recompute
     return o;
   }
 };
-
-// "A-B" or "A": the frames to run.
-std::optional<loom::FrameRange> parse_frames(const std::string& text) {
-  loom::FrameRange r;
-  std::size_t dash = text.find('-', 1);  // a leading '-' is a sign
-  try {
-    std::size_t used = 0;
-    r.first = std::stoi(text.substr(0, dash), &used);
-    if (used != (dash == std::string::npos ? text.size() : dash)) return std::nullopt;
-    r.last = r.first;
-    if (dash != std::string::npos) {
-      r.last = std::stoi(text.substr(dash + 1), &used);
-      if (used != text.size() - dash - 1) return std::nullopt;
-    }
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-  if (r.last < r.first) return std::nullopt;
-  return r;
-}
 
 int cmd_run(const std::string& graph_path, const std::string& out_dir,
             const std::vector<std::string>& sets, const std::vector<std::string>& targets,
@@ -98,7 +81,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
 
   loom::EvalOptions options;
   if (!frames.empty()) {
-    options.frames = parse_frames(frames);
+    options.frames = loom::runner::parse_frame_range(frames);
     if (!options.frames) {
       std::cerr << "error: --frames: expected A-B or A (whole frame numbers, A <= B), got \"" << frames << "\"\n";
       return kInvalid;
@@ -120,7 +103,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   options.threads = threads;
   options.output_dir = std::filesystem::absolute(out_dir);
   options.allow_outside_output = allow_outside;
-  options.cancel = &g_cancel;
+  options.cancel = &loom::runner::cancel_flag();
   loom::runner::ConsoleObserver observer(quiet);
   options.observer = &observer;
   if (options.targets.empty()) {
@@ -131,7 +114,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
                 << " has no sink nodes (e.g. SaveImage): nothing to run; name outputs with --target\n";
   }
 
-  loom::runner::stop_on_signals(g_cancel);
+  loom::runner::stop_on_signals();
   loom::EvalResult result;
   try {
     result = loom::Session(registry).evaluate(graph, options);
@@ -140,7 +123,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
     return kInvalid;
   }
   observer.stop();
-  if (disk && disk->bytes_written() > 0) disk->trim();  // a run that stored nothing scans nothing
+  if (disk && !cache.no_trim && disk->bytes_written() > 0) disk->trim();  // a run that stored nothing scans nothing
 
   std::map<loom::NodeStatus, int> counts;
   for (const auto& [id, r] : result.nodes) {
@@ -335,6 +318,9 @@ int main(int argc, char** argv) {
                   "store only results whose node takes this long over the run's frames (docs/time.md)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  run->add_flag("--cache-no-trim", cache.no_trim, "never trim the cache to its limit (farm workers sharing one)");
+  loom::runner::SweepRequest sweep;
+  loom::runner::add_sweep_options(run, sweep);
 
   auto* cache_cmd = app.add_subcommand("cache", "Show or clear the persistent result cache.");
   std::string cache_action;
@@ -362,6 +348,8 @@ int main(int argc, char** argv) {
   scaffold->add_option("name", plugin_name, "plugin name: a-z, 0-9 and _, starting with a letter")->required();
   scaffold->add_option("--dir", plugin_dir, "create the plugin in DIR/NAME")->capture_default_str();
 
+  auto farm = loom::runner::add_farm_commands(app);
+
   if (auto unknown = loom::runner::unknown_command_message(app, argc, argv)) {
     std::cerr << "error: " << *unknown << "\n";
     return kInvalid;
@@ -372,11 +360,16 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? kOk : kInvalid;
   }
   if (*run && watch) {
-    std::signal(SIGINT, on_interrupt);
-    return loom::runner::watch(graph_path, g_cancel, [&] {
+    loom::runner::stop_on_signals(false);  // waiting for a change is not a run to end in 5 s
+    return loom::runner::watch(graph_path, loom::runner::cancel_flag(), [&] {
       return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside, print_json);
     });
   }
+  if (farm->chosen()) return farm->run();
+  if (*run && sweep.active())
+    return loom::runner::run_sweep(sweep, {graph_path, out_dir, sets, targets, threads, quiet, frames,
+                                           cache.disabled ? std::nullopt : std::optional(cache.options()),
+                                           cache.no_trim, allow_outside});
   if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside, print_json);
   if (*cache_cmd) return cmd_cache(cache_action, cache);
   if (*validate) return cmd_validate(graph_path);

@@ -11,7 +11,8 @@ namespace loom::runner {
 namespace {
 
 constexpr int kInterrupted = 130;
-std::atomic<bool>* g_cancel = nullptr;
+std::atomic<bool> g_cancel{false};
+bool g_leave_after_grace = true;
 
 void say(const char* text) {
   const ssize_t ignored = ::write(STDERR_FILENO, text, std::strlen(text));
@@ -31,8 +32,8 @@ extern "C" void on_alarm(int) {
 }
 
 extern "C" void on_stop_signal(int) {
-  if (g_cancel->exchange(true)) leave_now(0);  // the second signal: leave now
-  ::alarm(kGraceSeconds);
+  if (g_cancel.exchange(true)) leave_now(0);  // the second signal: leave now
+  if (g_leave_after_grace) ::alarm(kGraceSeconds);
 }
 
 // A crash (or an abort from an uncaught exception) still removes the staging
@@ -52,8 +53,10 @@ void handle(int signal, void (*handler)(int), int flags = 0) {
 
 }  // namespace
 
-void stop_on_signals(std::atomic<bool>& cancel) {
-  g_cancel = &cancel;
+std::atomic<bool>& cancel_flag() { return g_cancel; }
+
+void stop_on_signals(bool leave_after_grace) {
+  g_leave_after_grace = leave_after_grace;
   for (int s : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) handle(s, on_stop_signal);
   handle(SIGALRM, on_alarm);
   handle(SIGXFSZ, SIG_IGN);

@@ -15,6 +15,14 @@ namespace loom::runner {
 
 constexpr unsigned kGraceSeconds = 5;
 
-void stop_on_signals(std::atomic<bool>& cancel);
+// The process's cancel flag, which the signals set: `loom run`, sweeps and
+// the dispatcher all stop on it.
+std::atomic<bool>& cancel_flag();
+
+// Installs the handlers. A process that waits for children it has passed the
+// signal on to (the local dispatcher) has no grace timeout: it waits for them
+// to end (a second signal still leaves at once). The handlers do not restart
+// interrupted calls, so a wait for children wakes up to pass the signal on.
+void stop_on_signals(bool leave_after_grace = true);
 
 }  // namespace loom::runner

@@ -2,6 +2,7 @@
 // hits across processes, corrupt and truncated entries recovered, concurrent
 // runs on one cache, a rebuilt plugin missing, frame patterns, --frames,
 // SaveVideo's frame count, and cancellation mid-sequence leaving no partial file.
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -202,21 +203,40 @@ TEST(DiskCache, ConcurrentRunsOnOneCacheNeverCorruptIt) {
   }
 }
 
-TEST(DiskCache, ARebuiltPluginNeverServesItsPreviousBuildsResults) {
+// Entries are keyed by the library's content identity (its GNU build ID, else
+// its bytes), not its path or time: the same build installed elsewhere shares
+// them, another build never does. `objcopy --remove-section` makes "another
+// build" from a copy (its identity falls back to the bytes, which differ).
+TEST(DiskCache, EntriesFollowTheBuildsContentNotItsPathOrTime) {
+  if (std::system("command -v objcopy > /dev/null 2>&1") != 0) GTEST_SKIP() << "objcopy (binutils) not found";
   auto dir = test::temp_dir();
-  fs::copy(LOOM_TEST_PLUGIN_DIR, dir / "plugins", fs::copy_options::recursive);
   auto g = write_graph(dir, slow_graph(3));
   const std::string common = "run " + g.string() + " --cache " + (dir / "cache").string() + " --out " +
                              (dir / "out").string() + " --profile " + (dir / "p.json").string();
-  std::string out;
-  ASSERT_EQ(loom(common, &out, (dir / "plugins").string()), 0) << out;
-  ASSERT_EQ(loom(common, &out, (dir / "plugins").string()), 0) << out;
-  EXPECT_EQ(read_json(dir / "p.json")["nodes"]["slow"]["source"], "disk");
-  for (const auto& e : fs::directory_iterator(dir / "plugins"))  // "rebuild": a new modification time
-    if (e.path().extension() == ".so")
-      fs::last_write_time(e.path(), fs::last_write_time(e.path()) + std::chrono::seconds(5));
-  ASSERT_EQ(loom(common, &out, (dir / "plugins").string()), 0) << out;
-  EXPECT_EQ(read_json(dir / "p.json")["nodes"]["slow"]["status"], "ran");
+  auto slow_status = [&](const fs::path& plugins) {
+    std::string out;
+    EXPECT_EQ(loom(common, &out, plugins.string()), 0) << out;
+    const json p = read_json(dir / "p.json");
+    return p["nodes"]["slow"].value("source", p["nodes"]["slow"]["status"].get<std::string>());
+  };
+  auto install = [&](const fs::path& from, const fs::path& to) {  // another path, a later time
+    fs::copy(from, to, fs::copy_options::recursive);
+    for (const auto& e : fs::directory_iterator(to))
+      if (e.path().extension() == ".so")
+        fs::last_write_time(e.path(), fs::last_write_time(e.path()) + std::chrono::seconds(5));
+  };
+  install(LOOM_TEST_PLUGIN_DIR, dir / "a");
+  EXPECT_EQ(slow_status(dir / "a"), "ran");
+  EXPECT_EQ(slow_status(dir / "a"), "disk");
+  install(dir / "a", dir / "b");
+  EXPECT_EQ(slow_status(dir / "b"), "disk");  // the same build elsewhere: shared
+  for (const auto& e : fs::directory_iterator(dir / "b")) {
+    if (e.path().extension() != ".so") continue;
+    ASSERT_EQ(std::system(("objcopy --remove-section .note.gnu.build-id " + e.path().string()).c_str()), 0);
+  }
+  EXPECT_EQ(slow_status(dir / "b"), "ran");  // another build: never the old results
+  install(dir / "b", dir / "c");
+  EXPECT_EQ(slow_status(dir / "c"), "disk");  // no build ID: the same bytes are the same build
 }
 
 TEST(DiskCache, LeastRecentlyUsedEntriesGoFirstUnderTheSizeLimit) {

@@ -111,7 +111,7 @@ class LOOM_API NodeSpec {
   std::string name;
   std::string description;
   std::string plugin;  // set by the registry
-  // The identity of the plugin's library file (size and modification time),
+  // The content identity of the plugin's library (its GNU build ID),
   // set by the plugin loader: it enters the persistent cache's keys, so a
   // rebuilt plugin never serves results of its previous build.
   std::uint64_t build = 0;
