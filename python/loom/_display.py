@@ -45,10 +45,13 @@ def png_bytes(rgb8):
 
 
 def mesh_preview(mesh, width=320, height=240):
-    """The mesh drawn by Render (plugin shading) with a camera framing it."""
+    """The mesh drawn by Render (plugin shading), lit from the camera's side,
+    with a camera framing it."""
     from ._graph import Graph
     from ._session import default_session
     g = Graph()
     obj = g.add("Object", mesh=mesh)
-    render = g.add("Render", scene=obj.scene, width=width, height=height, shadows="off", extra_images=False)
+    light = g.add("Light", kind="directional", direction=[-0.4, -0.6, -1.0], intensity=3.0)
+    scene = g.add("MergeScenes", a=obj.scene, b=light.scene)
+    render = g.add("Render", scene=scene.scene, width=width, height=height, shadows="off", extra_images=False)
     return default_session().run(g, render.image)

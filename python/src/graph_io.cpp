@@ -4,6 +4,9 @@
 // engine's parser and writer, so files match the runner's and the editor's.
 #include "graph_io.hpp"
 
+#include <fstream>
+#include <sstream>
+
 #include "loom/atomic_file.hpp"
 #include <pybind11/stl.h>
 
@@ -15,16 +18,24 @@ namespace loom::python {
 
 namespace {
 
+// The document as the file holds it (fields the engine does not read, such
+// as "description" and "ui", kept), after the engine's parser accepted it.
 py::tuple load(const std::string& path) {
-  Graph g = load_graph_file(path);
-  return py::make_tuple(from_json(graph_to_json(g)), std::filesystem::absolute(path).string());
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw GraphError(path, {{"", "cannot open the file"}});
+  std::stringstream text;
+  text << in.rdbuf();
+  Graph g = parse_graph_text(text.str(), path);
+  json doc = json::parse(text.str());
+  return py::make_tuple(from_json(doc), std::filesystem::absolute(path).string());
 }
 
-// Writes the file as the editor does: the engine's JSON of the graph, one
-// space of indent, written then renamed.
+// Writes the file as the editor does: the document with one space of
+// indent, written then renamed.
 void save(const py::dict& doc, const std::string& path) {
-  Graph g = parse_graph(to_json(doc), path);
-  write_file_atomic(path, graph_to_json(g).dump(1) + "\n");
+  const json j = to_json(doc);
+  parse_graph(j, path);
+  write_file_atomic(path, j.dump(1) + "\n");
 }
 
 py::object describe(const std::string& type) { return from_json(describe_node_type(world().type(type))); }
@@ -60,7 +71,8 @@ const InputSpec& input_of(const NodeType& t, const std::string& input) {
 py::tuple check_input(const std::string& type, const std::string& input, const py::object& value) {
   const NodeType& t = world().type(type);
   const InputSpec& s = input_of(t, input);
-  if (is_held_value(value, *s.type)) return py::make_tuple("held", hold(from_python(value, *s.type)));
+  if (is_held_value(value, *s.type) || !s.type->literal())
+    return py::make_tuple("held", hold(from_python(value, *s.type)));
   json j = to_json(value);
   if (s.type->literal() && !is_any(*s.type)) s.type->from_json(j);
   if (!s.choices.empty() && std::find(s.choices.begin(), s.choices.end(), j) == s.choices.end()) {

@@ -5,11 +5,6 @@
 
 #include "graph_io.hpp"
 #include "loom/graph.hpp"
-#include "loom/image.hpp"
-#include "loom/mesh.hpp"
-#include "loom/point_set.hpp"
-#include "loom/polylines.hpp"
-#include "loom/scene.hpp"
 #include "python_nodes.hpp"
 #include "session.hpp"
 #include "values.hpp"
@@ -43,12 +38,7 @@ using ProvideFunction = void (*)(loom::Registry&, const char*);
 
 PYBIND11_MODULE(_loom, m) {
   m.doc() = "The compiled half of the loom module; use `import loom`.";
-  // The value types' names must be known before a declaration names them.
-  loom::type_of<loom::Image>();
-  loom::type_of<loom::Mesh>();
-  loom::type_of<loom::PointSet>();
-  loom::type_of<loom::Polylines>();
-  loom::type_of<loom::Scene>();
+  loom::python::register_value_types();
   py::register_exception_translator(&translate);
   loom::python::bind_values(m);
   loom::python::bind_graph_io(m);

@@ -8,8 +8,10 @@
 #include "loom/builtin_types.hpp"
 #include "loom/image.hpp"
 #include "loom/mesh.hpp"
+#include "loom/point_pairs.hpp"
 #include "loom/point_set.hpp"
 #include "loom/polylines.hpp"
+#include "loom/scene.hpp"
 
 namespace loom::python {
 
@@ -20,7 +22,7 @@ py::module_ values_module() { return py::module_::import("loom._values"); }
 // A NumPy view of `count` rows of `cols` elements of T inside a value, which
 // the array keeps alive (the capsule holds a copy of the Value).
 template <class T>
-py::array view(const Value& owner, const T* data, py::ssize_t rows, py::ssize_t cols,
+py::object view(const Value& owner, const T* data, py::ssize_t rows, py::ssize_t cols,
                py::ssize_t row_stride, py::ssize_t col_stride) {
   if (rows == 0) return py::none();
   py::capsule base(new Value(owner), [](void* p) { delete static_cast<Value*>(p); });
@@ -244,8 +246,9 @@ Value from_python(const py::handle& o, const TypeInfo& type) {
   if (s == "PointSet") return points_from_python(o);
   if (s == "Polylines") return lines_from_python(o);
   if (is_any(type)) {
-    if (py::isinstance<py::array>(o) && py::reinterpret_borrow<py::array>(o).ndim() == 3)
-      return image_from_python(o);
+    if (py::isinstance<py::array>(o) && py::reinterpret_borrow<py::array>(o).dtype().kind() == 'f' &&
+        (py::reinterpret_borrow<py::array>(o).ndim() == 2 || py::reinterpret_borrow<py::array>(o).ndim() == 3))
+      return image_from_python(o);  // a float array of 2 or 3 dimensions: an image
     if (py::hasattr(o, "vertices")) return mesh_from_python(o);
     if (py::hasattr(o, "edges")) return lines_from_python(o);
     if (py::hasattr(o, "points")) return points_from_python(o);
@@ -254,6 +257,15 @@ Value from_python(const py::handle& o, const TypeInfo& type) {
   if (!type.literal())
     throw Error("expected " + type.name + " (pass the loom.Value a node returned), got " + type_name_of(o));
   return Value(&type, type.from_json(to_json(o)));
+}
+
+void register_value_types() {
+  type_of<bool>(), type_of<int>(), type_of<double>(), type_of<std::string>();
+  type_of<Vec2i>(), type_of<Vec2>(), type_of<Vec3i>(), type_of<Vec3>(), type_of<Color>();
+  type_of<std::vector<int>>(), type_of<std::vector<double>>(), type_of<std::vector<std::string>>();
+  type_of<std::vector<Vec2>>(), type_of<std::vector<Vec3>>(), type_of<json>(), type_of<Any>(), enum_type();
+  type_of<PointPairs>(), type_of<Image>(), type_of<Mesh>(), type_of<PointSet>(), type_of<Polylines>();
+  type_of<Scene>(), type_of<Material>();
 }
 
 void bind_values(py::module_& m) {

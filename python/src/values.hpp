@@ -32,6 +32,10 @@ py::object from_json(const json& j);
 // literal: such inputs go into the graph as a held value (see graph.cpp).
 bool is_held_value(const py::handle& object, const TypeInfo& type);
 
+// Registers every value type a declaration may name (types register on first
+// use, and a Python node may name one before any plugin used it).
+void register_value_types();
+
 void bind_values(py::module_& m);
 
 }  // namespace loom::python
