@@ -283,6 +283,7 @@ int cmd_plugins(const std::string& manifest_library, const std::string& manifest
     if (!p.description.empty()) std::cout << "    " << p.description << "\n";
     std::string types;
     for (const auto& t : p.node_types) types += (types.empty() ? "" : ", ") + t;
+    if (!p.type_prefix.empty()) types += (types.empty() ? "" : ", ") + p.type_prefix + "* (provided when a graph names one)";
     std::cout << "    nodes: " << (types.empty() ? "(no manifest: loaded when needed)" : types) << "\n";
   }
   return kOk;

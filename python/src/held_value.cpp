@@ -5,6 +5,7 @@
 #include <mutex>
 
 #include "loom/builtin_types.hpp"
+#include "loom/image.hpp"
 
 namespace loom::python {
 
@@ -44,7 +45,12 @@ namespace {
 std::string content_key(const Value& value) {
   Hasher h;
   h.str(value.type()->name);
-  if (value.type()->storable()) {
+  if (value.is<Image>()) {  // the pixels in place: no serialized copy of a 100 MB image
+    const Image& image = value.as<Image>();
+    const cv::Mat& p = image.pixels;
+    h.pod(p.rows).pod(p.cols).pod(p.channels()).pod(int(image.encoding));
+    for (int y = 0; y < p.rows; ++y) h.bytes(p.ptr(y), p.elemSize() * std::size_t(p.cols));
+  } else if (value.type()->storable()) {
     ByteWriter w;
     value.type()->write(value.data(), w);
     h.bytes(w.buffer().data(), w.buffer().size());

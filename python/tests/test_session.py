@@ -2,6 +2,7 @@
 `loom run` and beside C++ nodes in parallel, errors, Ctrl-C, the GIL."""
 
 import _thread
+import os
 import threading
 import time
 
@@ -26,17 +27,34 @@ def test_python_node_matches_numpy(session):
 
 
 def test_python_node_same_in_loom_run(session, runner, tmp_path):
-    # A linear source (HeightMap), so that the float EXR holds the values as they are.
+    # Two Python nodes and a C++ node side by side on 2 threads in `loom run`,
+    # against the session's values. A linear source (HeightMap), so that the
+    # float EXR files hold the values as they are.
     g = loom.Graph()
     height = g.add("HeightMap", size=[48, 40], pattern="bricks")
-    scale = g.add("py.loomtest_nodes.Scale", id="scale", image=height.image, factor=0.5)
-    g.add("SaveImage", image=scale.image, path="scaled.exr", depth="float")
+    outs = {"half": g.add("py.loomtest_nodes.Scale", id="half", image=height.image, factor=0.5).image,
+            "double": g.add("py.loomtest_nodes.Scale", id="double", image=height.image, factor=2.0).image,
+            "warp": g.add("ImageWarp", id="warp", image=height.image, method="idw", pairs=[[5, 5, 9, 7]]).image}
+    for name, out in outs.items():
+        g.add("SaveImage", image=out, path=f"{name}.exr", depth="float")
     g.save(tmp_path / "g.json")
-    r = runner("run", tmp_path / "g.json", "--out", tmp_path / "out", "--no-cache")
+    r = runner("run", tmp_path / "g.json", "--out", tmp_path / "out", "--no-cache", "--threads", "2")
     assert r.returncode == 0, r.stderr
-    ref = loom.Graph()
-    load = ref.add("LoadImage", path=str(tmp_path / "out" / "scaled.exr"), decode="keep")
-    assert np.array_equal(np.asarray(session.run(ref, load.image)), np.asarray(session.run(g, scale.image)))
+    mine = session.run(g, list(outs.values()))
+    for name, out in outs.items():
+        ref = loom.Graph()
+        load = ref.add("LoadImage", path=str(tmp_path / "out" / f"{name}.exr"), decode="keep")
+        assert np.array_equal(np.asarray(session.run(ref, load.image)), np.asarray(mine[out])), name
+    assert np.array_equal(np.asarray(mine[outs["double"]]), np.asarray(mine[outs["half"]]) * np.float32(4.0))
+
+
+def test_graphs_without_python_nodes_never_load_python(runner, tmp_path):
+    (tmp_path / "g.json").write_text('{"loom": 1, "nodes": {"c": {"type": "FloatConstant", "inputs": {"value": 2}}}}')
+    env = dict(os.environ, LD_DEBUG="files")
+    r = runner("run", tmp_path / "g.json", "--out", tmp_path, "--no-cache", "--target", "c.value", env=env)
+    assert r.returncode == 0, r.stderr
+    assert "libloom_util.so" in r.stderr  # the dynamic loader's trace is there
+    assert "libloom_python" not in r.stderr and "libpython" not in r.stderr
 
 
 def test_runner_reports_a_missing_python_module(runner, tmp_path):
