@@ -7,7 +7,7 @@ import re
 
 from . import _loom
 from ._errors import Error, InputError
-from . import _docs
+from . import _docs, _python_nodes
 
 
 class Output:
@@ -100,6 +100,18 @@ class Graph:
             self._doc["time"] = {"start": start, "end": end, "fps": fps}
         self._held = {}
         self.file = ""
+        self._changed()
+
+    def _changed(self):
+        self._prepared = None  # validated for the engine on the next run
+
+    def _prepare(self):
+        """The graph checked and ready for Session.run, kept until it changes
+        (or a Python node is declared again)."""
+        key = _python_nodes.declarations()
+        if self._prepared is None or self._prepared[0] != key:
+            self._prepared = (key, _loom.prepare(self._doc, self.file, self._held, []))
+        return self._prepared[1]
 
     # --- nodes -----------------------------------------------------------
     def add(self, type, id=None, **inputs):
@@ -114,6 +126,7 @@ class Graph:
         elif not re.fullmatch(r"[A-Za-z0-9_\-]+", id):
             raise Error(f"/nodes/{id}: node ids are letters, digits, '_' and '-'")
         self._doc["nodes"][id] = {"type": type, "inputs": {}}
+        self._changed()
         try:
             for name, value in inputs.items():
                 self._set_input(id, name, value)
@@ -141,6 +154,7 @@ class Graph:
         self[id]
         del self._doc["nodes"][id]
         self._held.pop(id, None)
+        self._changed()
 
     @property
     def seed(self):
@@ -149,6 +163,7 @@ class Graph:
     @seed.setter
     def seed(self, value):
         self._doc["seed"] = int(value)
+        self._changed()
 
     # --- inputs ----------------------------------------------------------
     def _get_input(self, id, input):
@@ -165,6 +180,7 @@ class Graph:
 
     def _set_input(self, id, input, value):
         node = self._doc["nodes"][id]
+        self._changed()
         try:
             if isinstance(value, Node):
                 outs = value.outputs
@@ -212,4 +228,5 @@ def load(path):
     g = Graph()
     g._doc = doc
     g.file = file
+    g._changed()
     return g

@@ -66,6 +66,15 @@ def _source_hash(fn, declaration):
     return int.from_bytes(digest, "little")
 
 
+_declaration_count = 0
+
+
+def declarations():
+    """How many node declarations this process has seen (prepared graphs are
+    checked again after a new one)."""
+    return _declaration_count
+
+
 def type_name(module, name):
     return "py." + ("" if module == "__main__" else module + ".") + name
 
@@ -103,6 +112,8 @@ def node(inputs=None, outputs=None, name=None, doc=None, sink=False, time_depend
         _loom.declare_node(full, module, fn, description, ins, outs, flags, _source_hash(fn, declaration),
                            "ctx" in params)
         _docs.forget()
+        global _declaration_count
+        _declaration_count += 1
         fn.loom_type = full
         return fn
 

@@ -129,7 +129,7 @@ class Session:
         target_list = [] if targets is None else [targets] if single else list(targets)
         if set:
             graph = _with_values(graph, set)
-        prepared = _loom.prepare(graph._doc, graph.file, graph._held, [])
+        prepared = graph._prepare()
         bar = _Bar(len(graph)) if progress is True else None
         callback = None
         if bar is not None:
@@ -162,6 +162,7 @@ def _with_values(graph, values):
     g._doc = graph.to_json()
     g._held = {id: dict(inputs) for id, inputs in graph._held.items()}
     g.file = graph.file
+    g._changed()
     for key, value in values.items():
         node, _, input = key.partition(".")
         if node == "time" and "time" not in g and input in ("start", "end", "fps"):
