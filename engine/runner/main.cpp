@@ -232,6 +232,7 @@ int cmd_nodes(const std::string& type, bool as_json, bool as_markdown) {
   loom::PluginLoader loader(registry);
   try {
     loader.load_all();
+    if (!type.empty()) loader.load_for({type});  // a type provided on demand (py.MODULE.NAME)
   } catch (const loom::Error& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kPluginError;
