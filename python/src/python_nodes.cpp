@@ -1,5 +1,6 @@
 #include "python_nodes.hpp"
 
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <utility>
