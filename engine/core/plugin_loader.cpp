@@ -216,7 +216,8 @@ std::string PluginLoader::searched_description() const {
   int without_manifest = 0;
   for (const auto& p : plugins_) without_manifest += unlisted_plugin(p) && !p.loaded;
   if (without_manifest > 0)
-    text += " (" + std::to_string(without_manifest) + " without a manifest, not loaded: LOOM_LOAD_UNLISTED=1 loads them)";
+    text += " (" + std::to_string(without_manifest) +
+            " without a manifest, not loaded: LOOM_LOAD_UNLISTED=1 loads them)";
   text += "; plugin path: ";
   first = true;
   for (const auto& d : search_path_) {

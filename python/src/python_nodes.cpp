@@ -46,8 +46,9 @@ std::string python_error_text(py::error_already_set& e) {
   std::string where;
   while (!tb.is_none()) {  // the innermost frame: where it was raised
     py::object code = tb.attr("tb_frame").attr("f_code");
-    where = py::str(code.attr("co_filename")).cast<std::string>() + ":" + py::str(tb.attr("tb_lineno")).cast<std::string>() +
-            " in " + py::str(code.attr("co_name")).cast<std::string>();
+    where = py::str(code.attr("co_filename")).cast<std::string>() + ":" +
+            py::str(tb.attr("tb_lineno")).cast<std::string>() + " in " +
+            py::str(code.attr("co_name")).cast<std::string>();
     tb = tb.attr("tb_next");
   }
   return where.empty() ? text : text + " (at " + where + ")";
