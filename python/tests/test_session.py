@@ -201,3 +201,21 @@ def test_mesh_preview_is_rendered():
     f = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
     png = loom.Mesh(v, f)._repr_png_()
     assert png.startswith(b"\x89PNG") and len(png) > 1000
+
+
+def test_ctrl_c_in_loom_run_cancels_a_python_node(tmp_path):
+    runner = os.environ.get("LOOM_RUNNER")
+    if not runner or not os.path.exists(runner):
+        pytest.skip("LOOM_RUNNER is not set to the built loom runner")
+    import signal
+    import subprocess
+    (tmp_path / "g.json").write_text('{"loom": 1, "nodes": {"w": {"type": "py.loomtest_nodes.Wait", '
+                                     '"inputs": {"seconds": 40}}}}')
+    p = subprocess.Popen([runner, "run", str(tmp_path / "g.json"), "--target", "w.waited", "--no-cache"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p.stderr.readline()  # the first progress line: the node is running
+    start = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 130 and "cancelled" in err
+    assert time.monotonic() - start < 10
