@@ -47,7 +47,11 @@ class Mesh:
                 + (", " + ", ".join(extras) if extras else "") + ">")
 
     def _repr_png_(self):
-        return _display.mesh_preview(self)._repr_png_()
+        from ._errors import Error
+        try:
+            return _display.mesh_preview(self)._repr_png_()
+        except Error:  # no shading plugin, or nothing to draw: Jupyter shows the text form
+            return None
 
 
 class PointSet:
