@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -30,6 +31,8 @@ std::vector<Registry*>& registries() {
   static auto* list = new std::vector<Registry*>();
   return *list;
 }
+
+std::atomic<int> g_active_runs{0};
 
 // What a Python body sees as `ctx`: valid only during its call.
 struct PyContext {
@@ -174,8 +177,8 @@ NodeType node_type(const std::string& name, const std::string& description, cons
 void add_to(Registry& registry, const NodeType& type) {
   if (NodeType* existing = const_cast<NodeType*>(registry.find(type.spec.name))) {
     // A redeclaration (a notebook cell run again): the registry owns its
-    // types mutably; it is replaced between runs, never during one (the
-    // GIL is held and a run in progress holds its own validated graph's types).
+    // types mutably; it is replaced between runs, never during one (see
+    // ActiveRun), with the GIL held.
     const std::string plugin = existing->spec.plugin;
     *existing = type;
     existing->spec.plugin = plugin;
@@ -187,6 +190,8 @@ void add_to(Registry& registry, const NodeType& type) {
 void declare_node(const std::string& name, const std::string& module, py::object function,
                   const std::string& description, const py::list& inputs, const py::list& outputs,
                   const py::dict& flags, std::uint64_t source_hash, bool wants_context) {
+  if (g_active_runs > 0)
+    throw Error("cannot declare node type \"" + name + "\" while a Session.run is in progress");
   auto& list = nodes();
   int slot = -1;
   for (std::size_t k = 0; k < list.size(); ++k)
@@ -208,6 +213,9 @@ void declare_node(const std::string& name, const std::string& module, py::object
 }
 
 }  // namespace
+
+ActiveRun::ActiveRun() { ++g_active_runs; }
+ActiveRun::~ActiveRun() { --g_active_runs; }
 
 void register_python_nodes(Registry& registry) {
   registries().push_back(&registry);

@@ -16,6 +16,13 @@ namespace py = pybind11;
 
 constexpr int kSlots = 512;
 
+// Runs in progress in this process: node types are declared only while there
+// are none (a run reads the registry from its threads).
+struct ActiveRun {
+  ActiveRun();
+  ~ActiveRun();
+};
+
 // Adds every Python node type declared so far to a registry (and remembers
 // it, so that later declarations reach it too).
 void register_python_nodes(Registry& registry);

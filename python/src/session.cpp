@@ -12,6 +12,7 @@
 
 #include "loom/disk_cache.hpp"
 #include "held_value.hpp"
+#include "python_nodes.hpp"
 #include "values.hpp"
 #include "world.hpp"
 
@@ -100,6 +101,7 @@ py::dict SessionCore::run(const PreparedGraph& prepared_graph, const std::vector
 
   EvalResult result;
   std::exception_ptr failure;
+  const ActiveRun active;
   std::thread worker([&] {
     try {
       result = session.evaluate(prepared, options);
