@@ -58,6 +58,19 @@ EditorApp::~EditorApp() = default;
 
 void EditorApp::open(const fs::path& file) {
   doc_.load(file);
+  // Types provided on demand (the python plugin's py.MODULE.NAME): asked for
+  // once the worker is idle, since it reads the registry.
+  std::vector<std::string> missing;
+  for (const auto& t : node_types_used(parse_graph(doc_.document(), doc_.file())))
+    if (!registry_.find(t)) missing.push_back(t);
+  if (!missing.empty()) {
+    controller_->wait_idle();
+    try {
+      loader_->load_for(missing);
+    } catch (const std::exception& e) {
+      message_ += std::string(e.what()) + "\n";
+    }
+  }
   state_.selection.clear();
   state_.viewed.clear();
   state_.eval.reset();

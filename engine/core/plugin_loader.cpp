@@ -9,6 +9,7 @@
 
 #include "build_identity.hpp"
 #include "loom/plugin.hpp"
+#include "loom/plugin_provider.hpp"
 
 namespace loom {
 
@@ -49,6 +50,16 @@ const LoomPluginEntry* open_entry(const fs::path& library) {
                           "from the same install as this loom)");
   return entry;
 }
+
+// The provider of a plugin that has one (loom/plugin_provider.hpp), or null.
+const LoomPluginProvider* open_provider(const fs::path& library) {
+  void* handle = ::dlopen(library.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle) return nullptr;
+  auto fn = reinterpret_cast<const LoomPluginProvider* (*)()>(::dlsym(handle, "loom_plugin_provider"));
+  return fn ? fn() : nullptr;
+}
+
+bool unlisted_plugin(const PluginInfo& p) { return p.node_types.empty() && p.type_prefix.empty(); }
 
 }  // namespace
 
@@ -104,6 +115,8 @@ void PluginLoader::scan() {
         if (!m.is_discarded() && m.is_object()) {
           info.name = m.value("plugin", info.name);
           info.description = m.value("description", "");
+          if (m.contains("type_prefix") && m["type_prefix"].is_string())
+            info.type_prefix = m["type_prefix"].get<std::string>();
           if (m.contains("nodes") && m["nodes"].is_array())
             for (const auto& n : m["nodes"])
               if (n.is_string()) info.node_types.push_back(n.get<std::string>());
@@ -144,7 +157,14 @@ void PluginLoader::load_for(const std::vector<std::string>& node_types) {
     for (auto& p : plugins_)
       for (const auto& t : p.node_types)
         if (t == type && !provider) provider = &p;
-    if (provider) load(*provider);
+    if (provider) {
+      load(*provider);
+      continue;
+    }
+    for (auto& p : plugins_)
+      if (!provider && !p.type_prefix.empty() && type.compare(0, p.type_prefix.size(), p.type_prefix) == 0)
+        provider = &p;
+    if (provider) provide(*provider, type);
     else unknown = true;
   }
   // A library without a manifest may provide it, but loading one runs its
@@ -152,7 +172,16 @@ void PluginLoader::load_for(const std::vector<std::string>& node_types) {
   const char* unlisted = std::getenv("LOOM_LOAD_UNLISTED");
   if (unknown && unlisted && std::string(unlisted) == "1")
     for (auto& p : plugins_)
-      if (p.node_types.empty()) load(p);
+      if (unlisted_plugin(p)) load(p);
+}
+
+void PluginLoader::provide(PluginInfo& info, const std::string& type) {
+  load(info);
+  const LoomPluginProvider* provider = open_provider(info.library);
+  if (!provider)
+    throw PluginLoadError("plugin \"" + info.name + "\" (" + info.library.string() +
+                          ") has a type_prefix in its manifest but no loom_plugin_provider entry point");
+  provider->provide(registry_, type.c_str());
 }
 
 void PluginLoader::load_all() {
@@ -178,10 +207,11 @@ std::string PluginLoader::searched_description() const {
     first = false;
   }
   if (first) text += "none found";
-  int unlisted = 0;
-  for (const auto& p : plugins_) unlisted += p.node_types.empty() && !p.loaded;
-  if (unlisted > 0)
-    text += " (" + std::to_string(unlisted) + " without a manifest, not loaded: LOOM_LOAD_UNLISTED=1 loads them)";
+  int without_manifest = 0;
+  for (const auto& p : plugins_) without_manifest += unlisted_plugin(p) && !p.loaded;
+  if (without_manifest > 0)
+    text += " (" + std::to_string(without_manifest) +
+            " without a manifest, not loaded: LOOM_LOAD_UNLISTED=1 loads them)";
   text += "; plugin path: ";
   first = true;
   for (const auto& d : search_path_) {
@@ -196,10 +226,13 @@ json PluginLoader::manifest_of(const fs::path& library, Registry& scratch) {
   entry->register_nodes(scratch);
   json nodes = json::array();
   for (const NodeType* t : scratch.all()) nodes.push_back(t->spec.name);
-  return {{"plugin", entry->name},
-          {"description", entry->description},
-          {"abi", entry->abi_version},
-          {"nodes", nodes}};
+  json manifest = {{"plugin", entry->name},
+                   {"description", entry->description},
+                   {"abi", entry->abi_version},
+                   {"nodes", nodes}};
+  if (const LoomPluginProvider* provider = open_provider(library))
+    manifest["type_prefix"] = provider->type_prefix;
+  return manifest;
 }
 
 }  // namespace loom

@@ -222,6 +222,7 @@ int cmd_nodes(const std::string& type, bool as_json, bool as_markdown) {
   loom::PluginLoader loader(registry);
   try {
     loader.load_all();
+    if (!type.empty()) loader.load_for({type});  // a type provided on demand (py.MODULE.NAME)
   } catch (const loom::Error& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kPluginError;
@@ -273,6 +274,7 @@ int cmd_plugins(const std::string& manifest_library, const std::string& manifest
     if (!p.description.empty()) std::cout << "    " << p.description << "\n";
     std::string types;
     for (const auto& t : p.node_types) types += (types.empty() ? "" : ", ") + t;
+    if (!p.type_prefix.empty()) types += (types.empty() ? "" : ", ") + p.type_prefix + "* (provided when a graph names one)";
     std::cout << "    nodes: " << (types.empty() ? "(no manifest: loaded when needed)" : types) << "\n";
   }
   return kOk;

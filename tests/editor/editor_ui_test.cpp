@@ -199,6 +199,20 @@ TEST(EditorUi, WarpToolDragMovesTheWarp) {
   EXPECT_EQ(h.app.document().literal("warp", "pairs"), pairs);
 }
 
+// A graph naming a Python node type (py.MODULE.NAME): opening it asks the
+// python plugin, which imports the module; the node then runs like any other.
+TEST(EditorUi, OpensAGraphWithAPythonNode) {
+  if (!fs::exists(fs::path(LOOM_PLUGIN_DIR) / "libloom_python.so")) GTEST_SKIP() << "python plugin not built";
+  Harness h;
+  json graph = board_and_warp(32, json::array());
+  graph["nodes"]["gamma"] = {{"type", "py.image_math.Gamma"},
+                             {"inputs", {{"image", {{"from", "warp.image"}}}, {"gamma", 2.0}}}};
+  h.app.open(write_graph(graph, "python.json"));
+  ASSERT_TRUE(h.settle());
+  EXPECT_TRUE(h.app.state().issues.empty());
+  EXPECT_EQ(h.app.state().eval->result.nodes.at("gamma").status, NodeStatus::ran);
+}
+
 }  // namespace
 }  // namespace loom::editor::test
 

@@ -30,6 +30,8 @@ struct PluginInfo {
   std::string description;
   std::filesystem::path library;
   std::vector<std::string> node_types;  // from the manifest (or the library)
+  // Types with this prefix are provided on demand (loom/plugin_provider.hpp).
+  std::string type_prefix;
   bool loaded = false;
 };
 
@@ -52,7 +54,8 @@ class LOOM_API PluginLoader {
   // Entries of the search path that cannot hold plugins: missing, or files.
   std::vector<std::string> search_path_warnings() const;
 
-  // Loads the plugins that provide these node types. Types no manifest names
+  // Loads the plugins that provide these node types; a type no manifest names
+  // but a provider's prefix matches is asked of that provider. Other types
   // are left for validation to report; libraries without a manifest, which
   // may provide them, are loaded only when LOOM_LOAD_UNLISTED=1 (loading runs
   // a library's constructors before any check). Throws PluginLoadError.
@@ -69,6 +72,7 @@ class LOOM_API PluginLoader {
  private:
   void scan();
   void load(PluginInfo& info);
+  void provide(PluginInfo& info, const std::string& type);
   Registry& registry_;
   std::vector<std::filesystem::path> search_path_;
   std::vector<PluginInfo> plugins_;

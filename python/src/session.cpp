@@ -1,0 +1,167 @@
+// loom.Session: one `loom run` process kept alive. run() evaluates on a
+// thread of its own while the calling thread, without the GIL, waits for it:
+// it wakes every 50 ms to hand progress to the Python callback and to check
+// for Ctrl-C (KeyboardInterrupt cancels the running nodes, as in the runner).
+#include "session.hpp"
+
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <optional>
+#include <thread>
+
+#include "loom/disk_cache.hpp"
+#include "held_value.hpp"
+#include "python_nodes.hpp"
+#include "values.hpp"
+#include "world.hpp"
+
+namespace loom::python {
+
+namespace {
+
+struct Event {
+  std::string kind;  // "started", "progress", "message", "finished", "frame"
+  std::string node;
+  double fraction = 0;
+  std::string text;
+};
+
+// Collects what the engine reports from its threads; the caller's thread
+// drains it into Python.
+class QueueObserver : public Observer {
+ public:
+  std::mutex mutex;
+  std::condition_variable wake;
+  std::deque<Event> events;
+  bool done = false;
+
+  void push(Event e) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (e.kind == "progress" && !events.empty() && events.back().kind == "progress" && events.back().node == e.node)
+      events.back() = std::move(e);  // only the latest progress of a node is worth showing
+    else
+      events.push_back(std::move(e));
+  }
+  void node_started(const std::string& id, const std::string& type) override { push({"started", id, 0, type}); }
+  void node_progress(const std::string& id, double f, const std::string& label) override {
+    push({"progress", id, f, label});
+  }
+  void node_message(const std::string& id, bool warning, const std::string& text) override {
+    push({warning ? "warning" : "message", id, 0, text});
+  }
+  void node_finished(const std::string& id, const NodeReport& r) override {
+    push({"finished", id, r.seconds, to_string(r.status)});
+  }
+  void frame_started(int frame, int index, int count) override {
+    push({"frame", std::to_string(frame), double(index) / count, ""});
+  }
+};
+
+py::dict report_to_python(const NodeReport& r) {
+  py::dict d;
+  d["status"] = to_string(r.status);
+  d["seconds"] = r.seconds;
+  d["runs"] = r.runs;
+  d["memory_hits"] = r.memory_hits;
+  d["disk_hits"] = r.disk_hits;
+  d["error"] = r.error;
+  d["warnings"] = r.warnings;
+  return d;
+}
+
+}  // namespace
+
+SessionCore::SessionCore(int threads, std::optional<std::string> disk_cache, std::string output_dir,
+                         bool allow_outside_output)
+    : session(world().registry), threads(threads), output_dir(std::move(output_dir)),
+      allow_outside_output(allow_outside_output) {
+  if (disk_cache) {
+    DiskCache::Options o;
+    o.dir = disk_cache->empty() ? DiskCache::default_dir() : std::filesystem::path(*disk_cache);
+    disk.emplace(o);
+  }
+}
+
+py::dict SessionCore::run(const PreparedGraph& prepared_graph, const std::vector<std::string>& targets,
+                          std::optional<std::pair<int, int>> frames, const py::object& progress) {
+  const Graph& prepared = prepared_graph.graph;
+  EvalOptions options;
+  for (const auto& t : targets) options.targets.push_back(parse_target(t));
+  options.threads = threads;
+  options.output_dir = std::filesystem::absolute(output_dir);
+  options.allow_outside_output = allow_outside_output;
+  if (frames) options.frames = FrameRange{frames->first, frames->second};
+  else if (prepared.time) options.frames = FrameRange{prepared.time->start, prepared.time->end};
+  if (disk) options.disk_cache = &*disk;
+  std::atomic<bool> cancel{false};
+  options.cancel = &cancel;
+  QueueObserver observer;
+  options.observer = &observer;
+
+  EvalResult result;
+  std::exception_ptr failure;
+  const ActiveRun active;
+  std::thread worker([&] {
+    try {
+      result = session.evaluate(prepared, options);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    std::lock_guard<std::mutex> lock(observer.mutex);
+    observer.done = true;
+    observer.wake.notify_all();
+  });
+  std::optional<py::error_already_set> interrupt;
+  for (bool done = false; !done;) {
+    std::deque<Event> events;
+    {
+      py::gil_scoped_release release;
+      std::unique_lock<std::mutex> lock(observer.mutex);
+      observer.wake.wait_for(lock, std::chrono::milliseconds(50));
+      events.swap(observer.events);
+      done = observer.done;
+    }
+    try {
+      if (!progress.is_none())
+        for (const Event& e : events) progress(e.kind, e.node, e.fraction, e.text);
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    } catch (py::error_already_set& e) {  // Ctrl-C, or the callback raised: cancel, then re-raise
+      cancel = true;
+      if (!interrupt) interrupt.emplace(std::move(e));
+    }
+  }
+  {
+    py::gil_scoped_release release;
+    worker.join();
+  }
+  if (interrupt) throw std::move(*interrupt);
+  if (failure) std::rethrow_exception(failure);
+
+  py::dict out;
+  py::dict outputs;
+  for (const auto& [id, values] : result.outputs) {
+    py::list l;
+    for (const Value& v : values) l.append(to_python(v));
+    outputs[py::str(id)] = l;
+  }
+  py::dict nodes;
+  for (const auto& [id, r] : result.nodes)
+    if (prepared.nodes.at(id).type != "python.HeldValue") nodes[py::str(id)] = report_to_python(r);
+  out["outputs"] = outputs;
+  out["nodes"] = nodes;
+  out["seconds"] = result.total_seconds;
+  out["frames"] = result.frames;
+  out["cancelled"] = result.cancelled;
+  return out;
+}
+
+void bind_session(py::module_& m) {
+  py::class_<SessionCore>(m, "SessionCore")
+      .def(py::init<int, std::optional<std::string>, std::string, bool>())
+      .def("run", &SessionCore::run)
+      .def("cache_entries", [](const SessionCore& s) { return s.session.cache_entries(); })
+      .def("clear_cache", [](SessionCore& s) { s.session.clear_cache(); });
+}
+
+}  // namespace loom::python
