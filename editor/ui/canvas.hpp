@@ -34,6 +34,8 @@ class Canvas {
   // The node drawn at a screen point (the topmost), or empty.
   std::string hit_node(const EditorState& state, ImVec2 screen) const;
   const std::string& refusal() const { return refusal_; }  // the last refused link's reason
+  // Where a new node of this type goes: the free spot nearest to `at`.
+  CanvasPoint free_place(const EditorState& state, CanvasPoint at, const std::string& type) const;
 
  private:
   struct Box {
