@@ -341,7 +341,7 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
     if (detail) {
       const json literal = linked ? json() : state.doc.literal(id, in.name);
       draw->AddText(face, font, a + ImVec2(12, y + 3) * zoom_,
-                    literal.is_null() ? IM_COL32(200, 200, 200, 255) : IM_COL32(255, 255, 255, 255), in.name.c_str());
+                    literal.is_null() ? IM_COL32(215, 215, 215, 255) : IM_COL32(255, 255, 255, 255), in.name.c_str());
       // The value, as Blender shows it in the node: right-aligned, cut to fit.
       const std::string shown = linked ? std::string() : value_text(literal.is_null() ? in.default_value : literal);
       const float name_end = 12 * zoom_ + face->CalcTextSizeA(font, 1e9f, 0, in.name.c_str()).x + 10 * zoom_;

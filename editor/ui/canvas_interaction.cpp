@@ -208,7 +208,8 @@ void Canvas::handle_keys(EditorState& state) {
 }
 
 void Canvas::add_node_menu(EditorState& state) {
-  if (!ImGui::BeginPopup("add node")) return;
+  menu_open_ = ImGui::BeginPopup("add node");
+  if (!menu_open_) return;
   if (menu_focus_) {
     ImGui::SetKeyboardFocusHere();
     menu_focus_ = false;
