@@ -58,6 +58,12 @@ void EvaluationController::submit(EvalRequest request, bool cancel_running) {
   wake_.notify_all();
 }
 
+void EvaluationController::cancel() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  pending_.reset();
+  if (running_) cancel_ = true;
+}
+
 std::optional<std::shared_ptr<const Evaluation>> EvaluationController::take_finished() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (!fresh_) return std::nullopt;
@@ -134,7 +140,7 @@ std::shared_ptr<Evaluation> EvaluationController::run(const EvalRequest& request
       eval->cached_frames =
           session_.cached_frames(graph, request.frames_of, {graph.time->start, graph.time->end}, options);
   } catch (const GraphError& e) {
-    eval->issues = e.issues();
+    for (const GraphIssue& issue : e.issues()) eval->issues.push_back(locate_issue(issue));
   } catch (const std::exception& e) {
     eval->error = e.what();
   }

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "loom/evaluator.hpp"
+#include "model/node_issue.hpp"
 
 namespace loom::editor {
 
@@ -42,7 +43,7 @@ struct Evaluation {
   std::uint64_t revision = 0;
   std::vector<Target> targets;
   EvalResult result;
-  std::vector<GraphIssue> issues;  // validation: the graph did not run
+  std::vector<NodeIssue> issues;   // validation: the graph did not run
   std::string error;               // anything else that stopped the run
   double seconds = 0;              // wall time from start to finish
   int frame = 0;                   // the (last) frame evaluated; 0: no frames asked for
@@ -70,6 +71,9 @@ class EvaluationController {
   // finishes and is shown first: cancelling on every mouse move would leave a
   // drag whose solve takes longer than a frame with no result at all.
   void submit(EvalRequest request, bool cancel_running = true);
+  // Drops the pending request and cancels the running one (the editor does
+  // this before a plugin reload, then waits until !busy()).
+  void cancel();
   // The newest evaluation that finished since the last call, if any.
   std::optional<std::shared_ptr<const Evaluation>> take_finished();
   std::shared_ptr<const Evaluation> latest() const;  // the newest finished one

@@ -1,21 +1,14 @@
 #include "auto_layout.hpp"
 
+#include "input_link.hpp"
+
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
 
 namespace loom::editor {
-
-namespace {
-bool is_link(const json& value) {
-  return value.is_object() && value.contains("from") && value["from"].is_string() &&
-         value["from"].get<std::string>().find('.') != std::string::npos;
-}
-std::string linked_node(const json& value) {
-  const std::string text = value["from"].get<std::string>();
-  return text.substr(0, text.find('.'));
-}
-}  // namespace
 
 // Nodes without a position (hand-written graphs) are laid out in columns by
 // their depth along links, so a file opens readable; the placement is only
@@ -38,16 +31,18 @@ void place_unplaced_nodes_in(json& doc, const Registry& registry) {
     for (const auto& id : ids) {
       const json& n = doc["nodes"][id];
       if (!n.contains("inputs") || !n["inputs"].is_object()) continue;
-      for (const auto& [input, value] : n["inputs"].items())
-        if (is_link(value) && depth.count(linked_node(value)) && depth[linked_node(value)] + 1 > depth[id]) {
-          depth[id] = depth[linked_node(value)] + 1;
+      for (const auto& [input, value] : n["inputs"].items()) {
+        const auto link = input_link(value);
+        if (link && depth.count(link->node) && depth[link->node] + 1 > depth[id]) {
+          depth[id] = depth[link->node] + 1;
           changed = true;
         }
+      }
     }
     if (!changed) break;
   }
   // Columns by depth; in a column, nodes stacked by their height on the
-  // canvas (a header and footer of ~44 units and 20 per socket row). A column
+  // canvas (a header and footer of ~48 units and 22 per socket row). A column
   // taller than kTall wraps into another, so wide graphs stay near 16:9.
   constexpr double kTall = 1400;
   struct Place {
@@ -62,7 +57,7 @@ void place_unplaced_nodes_in(json& doc, const Registry& registry) {
     if (n.contains("ui") && n["ui"].is_object() && n["ui"].contains("pos")) continue;
     const NodeType* t = registry.find(n.value("type", ""));
     const std::size_t rows = t ? t->spec.inputs.size() + t->spec.outputs.size() : 1;
-    const double height = 44.0 + 20.0 * double(rows);
+    const double height = 48.0 + 22.0 * double(rows);
     auto& [sub, y] = cursor.emplace(depth[id], std::make_pair(0, 40.0)).first->second;
     if (y > 40.0 && y + height > kTall) {
       ++sub;
@@ -78,7 +73,30 @@ void place_unplaced_nodes_in(json& doc, const Registry& registry) {
     slot += state.first + 1;
   }
   for (const Place& p : places)
-    doc["nodes"][p.id]["ui"]["pos"] = {40.0 + 260.0 * (first_slot[p.column] + p.sub), p.y};
+    doc["nodes"][p.id]["ui"]["pos"] = {40.0 + 280.0 * (first_slot[p.column] + p.sub), p.y};
+}
+
+CanvasPoint free_spot(const std::vector<CanvasRect>& taken, CanvasPoint wanted, double width, double height) {
+  constexpr double kMargin = 16, kStep = 20;
+  constexpr int kReach = 40;  // steps each way: 800 canvas units
+  auto free = [&](double x, double y) {
+    for (const CanvasRect& r : taken)
+      if (x < r.x + r.width + kMargin && r.x < x + width + kMargin && y < r.y + r.height + kMargin &&
+          r.y < y + height + kMargin)
+        return false;
+    return true;
+  };
+  std::vector<std::pair<int, int>> steps;
+  for (int j = -kReach; j <= kReach; ++j)
+    for (int i = -kReach; i <= kReach; ++i) steps.emplace_back(i, j);
+  // Nearest first; at equal distance, right and below before left and above.
+  std::sort(steps.begin(), steps.end(), [](auto a, auto b) {
+    const int da = a.first * a.first + a.second * a.second, db = b.first * b.first + b.second * b.second;
+    return da != db ? da < db : a.second != b.second ? a.second > b.second : a.first > b.first;
+  });
+  for (const auto& [i, j] : steps)
+    if (free(wanted.x + i * kStep, wanted.y + j * kStep)) return {wanted.x + i * kStep, wanted.y + j * kStep};
+  return wanted;
 }
 
 }  // namespace loom::editor

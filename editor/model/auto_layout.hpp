@@ -3,9 +3,21 @@
 // column taller than the screen wraps into another.
 #pragma once
 
+#include <vector>
+
 #include "loom/registry.hpp"
+#include "model/graph_document.hpp"
 
 namespace loom::editor {
+
+struct CanvasRect {
+  double x = 0, y = 0, width = 0, height = 0;  // canvas units, y down
+};
+
+// Where a new node of this size goes: the free spot nearest to `wanted` (its
+// top-left corner), keeping a margin from every taken rectangle; `wanted`
+// itself when nothing is free within reach.
+CanvasPoint free_spot(const std::vector<CanvasRect>& taken, CanvasPoint wanted, double width, double height);
 
 // Gives every node of the graph JSON `doc` that has no "ui"/"pos" one.
 void place_unplaced_nodes_in(json& doc, const Registry& registry);

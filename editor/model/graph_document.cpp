@@ -1,6 +1,7 @@
 #include "graph_document.hpp"
 
 #include "auto_layout.hpp"
+#include "input_link.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -19,14 +20,6 @@ json empty_graph() { return json{{"loom", kGraphFormatVersion}, {"nodes", json::
 
 std::string link_text(const std::string& node, const std::string& output) { return node + "." + output; }
 
-std::optional<Link> parse_link(const json& value) {
-  if (!value.is_object() || !value.contains("from") || !value["from"].is_string()) return std::nullopt;
-  const std::string text = value["from"].get<std::string>();
-  const auto dot = text.find('.');
-  if (dot == std::string::npos) return std::nullopt;
-  return Link{text.substr(0, dot), text.substr(dot + 1)};
-}
-
 // "ImageWarp" -> "image_warp".
 std::string snake_case(const std::string& type) {
   std::string id;
@@ -44,6 +37,7 @@ GraphDocument::GraphDocument(const Registry& registry) : registry_(registry), do
 
 void GraphDocument::clear() {
   doc_ = empty_graph();
+  layout_ = {};
   file_.clear();
   history_.clear();
   saved_state_ = history_.state();
@@ -62,20 +56,26 @@ void GraphDocument::load(const std::filesystem::path& file) {
     throw GraphError(file.string(), {{"", std::string("not valid JSON: ") + e.what()}});
   }
   load_json(doc, std::filesystem::absolute(file));
+  layout_ = scan_json_layout(text.str());
 }
 
 void GraphDocument::load_json(const json& document, const std::filesystem::path& file) {
   parse_graph(document, file);  // structure only: a graph with unknown types still opens
   doc_ = document;
   file_ = file;
+  layout_ = {};
   place_unplaced_nodes();
   history_.clear();
   saved_state_ = history_.state();
   ++revision_;
 }
 
+std::string GraphDocument::text() const { return write_json(doc_, layout_); }
+
 void GraphDocument::save(const std::filesystem::path& file) {
-  write_file_atomic(file, doc_.dump(1) + "\n");
+  const std::string written = text();
+  write_file_atomic(file, written);
+  layout_ = scan_json_layout(written);
   file_ = std::filesystem::absolute(file);
   saved_state_ = history_.state();
 }
@@ -124,14 +124,14 @@ bool GraphDocument::collapsed(const std::string& id) const {
 std::optional<Link> GraphDocument::link(const std::string& id, const std::string& input) const {
   const json& n = node_json(id);
   if (!n.contains("inputs") || !n["inputs"].contains(input)) return std::nullopt;
-  return parse_link(n["inputs"][input]);
+  return input_link(n["inputs"][input]);
 }
 
 json GraphDocument::literal(const std::string& id, const std::string& input) const {
   const json& n = node_json(id);
   if (!n.contains("inputs") || !n["inputs"].contains(input)) return nullptr;
   const json& v = n["inputs"][input];
-  return parse_link(v) ? json() : v;
+  return input_link(v) ? json() : v;
 }
 
 void GraphDocument::begin_edit(std::string label, const std::string& merge_key) {
@@ -166,7 +166,7 @@ void GraphDocument::remove_nodes(const std::vector<std::string>& ids) {
     if (!node.contains("inputs")) continue;
     std::vector<std::string> cut;
     for (auto& [input, value] : node["inputs"].items())
-      if (auto l = parse_link(value); l && gone.count(l->node)) cut.push_back(input);
+      if (auto l = input_link(value); l && gone.count(l->node)) cut.push_back(input);
     for (const auto& input : cut) node["inputs"].erase(input);
   }
 }
@@ -182,7 +182,7 @@ bool GraphDocument::depends_on(const std::string& node, const std::string& ances
     const json& n = doc_["nodes"][id];
     if (!n.contains("inputs")) continue;
     for (const auto& [input, value] : n["inputs"].items())
-      if (auto l = parse_link(value)) stack.push_back(l->node);
+      if (auto l = input_link(value)) stack.push_back(l->node);
   }
   return false;
 }
@@ -293,7 +293,7 @@ json GraphDocument::copy(const std::vector<std::string>& ids) const {
     if (n.contains("inputs")) {
       std::vector<std::string> cut;
       for (auto& [input, value] : n["inputs"].items())
-        if (auto l = parse_link(value); l && !chosen.count(l->node)) cut.push_back(input);
+        if (auto l = input_link(value); l && !chosen.count(l->node)) cut.push_back(input);
       for (const auto& input : cut) n["inputs"].erase(input);
     }
     clip["nodes"][id] = std::move(n);
@@ -316,7 +316,7 @@ std::vector<std::string> GraphDocument::paste(const json& clip, double dx, doubl
     json n = source;
     if (n.contains("inputs"))
       for (auto& [input, value] : n["inputs"].items())
-        if (auto l = parse_link(value)) {
+        if (auto l = input_link(value)) {
           auto it = renamed.find(l->node);
           if (it != renamed.end()) value = {{"from", link_text(it->second, l->output)}};
         }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "edit_history.hpp"
+#include "json_layout.hpp"
 #include "loom/graph.hpp"
 #include "loom/registry.hpp"
 
@@ -32,8 +33,12 @@ class GraphDocument {
   // Throws GraphError (with the file's name) if the file is not a graph.
   void load(const std::filesystem::path& file);
   void load_json(const json& document, const std::filesystem::path& file = {});
-  // Atomic write; the document becomes clean and `file` its path.
+  // Atomic write in the layout of the file read (json_layout.hpp: key order,
+  // one-line arrays and objects kept); the document becomes clean and `file`
+  // its path.
   void save(const std::filesystem::path& file);
+  // The text save() writes.
+  std::string text() const;
 
   const json& document() const { return doc_; }
   const std::filesystem::path& file() const { return file_; }
@@ -120,6 +125,7 @@ class GraphDocument {
   json doc_;
   std::filesystem::path file_;
   EditHistory history_;
+  JsonLayout layout_;  // of the file read, or last written
   std::uint64_t saved_state_ = 0;
   std::uint64_t revision_ = 0;
 };

@@ -1,6 +1,8 @@
 #include "canvas.hpp"
 
 #include "canvas_geometry.hpp"
+#include "fonts.hpp"
+#include "model/auto_layout.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -38,6 +40,40 @@ std::string status_text(const NodeReport* report, const LiveNode* live) {
   if (report->status == NodeStatus::ran || report->status == NodeStatus::failed)
     std::snprintf(time, sizeof time, " %.1f ms", report->seconds * 1e3);
   return std::string(to_string(report->status)) + time;
+}
+
+// A literal as one short line: numbers and strings as they are, short
+// arrays inline, anything long left out (the properties panel shows it).
+std::string value_text(const json& v) {
+  if (v.is_null() || v.is_object()) return {};
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_number_float()) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.4g", v.get<double>());
+    return text;
+  }
+  if (v.is_array() && (v.size() > 4 || (!v.empty() && v[0].is_structured()))) return v.empty() ? "[]" : "[...]";
+  if (v.is_array()) {
+    std::string text = "[";
+    for (std::size_t i = 0; i < v.size(); ++i) text += (i ? ", " : "") + value_text(v[i]);
+    return text + "]";
+  }
+  return v.dump();
+}
+
+// The text cut with "…" to fit `room` pixels, or empty when nothing fits.
+std::string fit_text(ImFont* face, float size, const std::string& text, float room) {
+  if (text.empty() || room <= 0) return {};
+  if (face->CalcTextSizeA(size, 1e9f, 0, text.c_str()).x <= room) return text;
+  const std::string ellipsis = "\u2026";
+  std::string cut = text;
+  while (!cut.empty()) {
+    // Drop one whole UTF-8 character: its continuation bytes, then its lead byte.
+    while (!cut.empty() && (static_cast<unsigned char>(cut.back()) & 0xC0) == 0x80) cut.pop_back();
+    if (!cut.empty()) cut.pop_back();
+    if (!cut.empty() && face->CalcTextSizeA(size, 1e9f, 0, (cut + ellipsis).c_str()).x <= room) return cut + ellipsis;
+  }
+  return {};
 }
 
 }  // namespace
@@ -118,8 +154,27 @@ void Canvas::frame_all(const EditorState& state) {
     y1 = std::max(y1, float(p.y) + b.height);
   }
   const float margin = 30;
-  zoom_ = std::clamp(std::min((size_.x - 2 * margin) / (x1 - x0), (size_.y - 2 * margin) / (y1 - y0)), 0.1f, 1.5f);
-  pan_ = ImVec2((size_.x - (x1 - x0) * zoom_) * 0.5f - x0 * zoom_, (size_.y - (y1 - y0) * zoom_) * 0.5f - y0 * zoom_);
+  zoom_ = std::clamp(std::min((size_.x - 2 * margin) / (x1 - x0), (size_.y - 2 * margin) / (y1 - y0)), kMinFitZoom,
+                     1.25f);
+  // Centred when it fits; else from the top left (where the sources are),
+  // at a zoom that keeps the labels readable: the rest is a pan away.
+  auto place = [&](float view, float lo, float hi) {
+    const float extent = (hi - lo) * zoom_;
+    return extent <= view - 2 * margin ? (view - extent) * 0.5f - lo * zoom_ : margin - lo * zoom_;
+  };
+  pan_ = ImVec2(place(size_.x, x0, x1), place(size_.y, y0, y1));
+}
+
+CanvasPoint Canvas::free_place(const EditorState& state, CanvasPoint at, const std::string& type) const {
+  std::vector<CanvasRect> taken;
+  for (const auto& id : state.doc.node_ids()) {
+    const CanvasPoint p = state.doc.position(id);
+    const Box b = box(state, id);
+    taken.push_back({p.x, p.y, b.width, b.height});
+  }
+  const NodeType* t = state.doc.registry().find(type);
+  const std::size_t rows = t ? t->spec.outputs.size() + t->spec.inputs.size() : 0;
+  return free_spot(taken, at, kWidth, kHeader + kRow * float(rows) + kFooter);
 }
 
 std::string Canvas::hit_node(const EditorState& state, ImVec2 s) const {
@@ -234,14 +289,14 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
   auto live_it = state.live.find(id);
   const LiveNode* live = live_it == state.live.end() ? nullptr : &live_it->second;
   const bool selected = state.selection.count(id) > 0;
-  const float font = ImGui::GetFontSize() * zoom_;
-  ImFont* face = ImGui::GetFont();
+  const float font = kUiFontSize * zoom_;
+  ImFont* face = font_for(font);
   // Rounded corners below a pixel or two are invisible but cost a fan of
   // triangles and an anti-aliased fringe per box.
   const float rounding = zoom_ >= 0.4f ? 5 * zoom_ : 0.0f;
   // Zoomed far out, labels are unreadable: leave them out (and their
   // triangles, which llvmpipe pays for per frame) and draw plain sockets.
-  const bool detail = zoom_ >= 0.5f;
+  const bool detail = zoom_ >= kLabelZoom;
   const int segments = detail ? 0 : 6;
 
   draw->AddRectFilled(a, a + z, IM_COL32(52, 52, 58, 240), rounding);
@@ -270,7 +325,7 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
     if (detail) {
       const ImVec2 text = face->CalcTextSizeA(font, 1e9f, 0, o.name.c_str());
       draw->AddText(face, font, a + ImVec2(kWidth * zoom_ - text.x - 12 * zoom_, (y + 3) * zoom_),
-                    IM_COL32(220, 220, 220, 255), o.name.c_str());
+                    IM_COL32(235, 235, 235, 255), o.name.c_str());
     }
     y += kRow;
   }
@@ -284,9 +339,20 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
       draw->AddCircle(socket, kSocket * zoom_, type_color(*in.type), 0, 1.5f * zoom_);
     if (bad) draw->AddRect(a + ImVec2(2, y) * zoom_, a + ImVec2(kWidth - 2, y + kRow) * zoom_, IM_COL32(255, 80, 80, 255));
     if (detail) {
-      const bool set = !linked && !state.doc.literal(id, in.name).is_null();
+      const json literal = linked ? json() : state.doc.literal(id, in.name);
       draw->AddText(face, font, a + ImVec2(12, y + 3) * zoom_,
-                    set ? IM_COL32(255, 255, 255, 255) : IM_COL32(170, 170, 170, 255), in.name.c_str());
+                    literal.is_null() ? IM_COL32(215, 215, 215, 255) : IM_COL32(255, 255, 255, 255), in.name.c_str());
+      // The value, as Blender shows it in the node: right-aligned, cut to fit.
+      const std::string shown = linked ? std::string() : value_text(literal.is_null() ? in.default_value : literal);
+      const float name_end = 12 * zoom_ + face->CalcTextSizeA(font, 1e9f, 0, in.name.c_str()).x + 10 * zoom_;
+      const float room = kWidth * zoom_ - 10 * zoom_ - name_end;
+      const std::string fitted = fit_text(face, font, shown, room);
+      if (!fitted.empty()) {
+        const float w = face->CalcTextSizeA(font, 1e9f, 0, fitted.c_str()).x;
+        draw->AddText(face, font, a + ImVec2(kWidth * zoom_ - 10 * zoom_ - w, (y + 3) * zoom_),
+                      literal.is_null() ? IM_COL32(150, 190, 230, 255) : IM_COL32(170, 215, 255, 255),
+                      fitted.c_str());
+      }
     }
     y += kRow;
   }

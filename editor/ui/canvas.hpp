@@ -34,6 +34,9 @@ class Canvas {
   // The node drawn at a screen point (the topmost), or empty.
   std::string hit_node(const EditorState& state, ImVec2 screen) const;
   const std::string& refusal() const { return refusal_; }  // the last refused link's reason
+  bool menu_open() const { return menu_open_; }  // the add-node search, last frame
+  // Where a new node of this type goes: the free spot nearest to `at`.
+  CanvasPoint free_place(const EditorState& state, CanvasPoint at, const std::string& type) const;
 
  private:
   struct Box {
@@ -65,7 +68,7 @@ class Canvas {
   double refusal_until_ = 0;
   CanvasPoint menu_at_{};
   std::string menu_filter_;
-  bool menu_focus_ = false;
+  bool menu_focus_ = false, menu_open_ = false;
 };
 
 // The colour of a type's sockets and links.

@@ -9,7 +9,12 @@
 namespace loom::editor::canvas_geometry {
 
 // Node box layout in canvas units (scaled by the zoom on screen).
-constexpr float kWidth = 200, kHeader = 26, kRow = 20, kFooter = 18, kSocket = 5.5f;
+constexpr float kWidth = 220, kHeader = 28, kRow = 22, kFooter = 20, kSocket = 5.5f;
+// Below this zoom node text is left out (under ~8 px it is a grey smear).
+constexpr float kLabelZoom = 0.5f;
+// Frame-all never zooms out below this (16 px text at 0.75 is 12 px, as
+// Blender's node labels): a graph larger than the view is scrolled instead.
+constexpr float kMinFitZoom = 0.75f;
 
 inline ImVec2 operator+(ImVec2 a, ImVec2 b) { return {a.x + b.x, a.y + b.y}; }
 inline ImVec2 operator-(ImVec2 a, ImVec2 b) { return {a.x - b.x, a.y - b.y}; }

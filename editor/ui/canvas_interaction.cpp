@@ -7,22 +7,11 @@
 
 #include "canvas.hpp"
 #include "canvas_geometry.hpp"
+#include "model/node_search.hpp"
 
 namespace loom::editor {
 
 using namespace canvas_geometry;
-
-namespace {
-
-bool contains_text(const std::string& haystack, const std::string& needle) {
-  auto lower = [](std::string s) {
-    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-    return s;
-  };
-  return lower(haystack).find(lower(needle)) != std::string::npos;
-}
-
-}  // namespace
 
 void Canvas::handle_mouse(EditorState& state) {
   ImGuiIO& io = ImGui::GetIO();
@@ -168,9 +157,11 @@ void Canvas::handle_mouse(EditorState& state) {
   if (!refusal_.empty() && ImGui::GetTime() < refusal_until_) ImGui::SetTooltip("link refused: %s", refusal_.c_str());
 }
 
+// Wherever the mouse is (canvas, properties, viewer), unless a text field
+// is being edited.
 void Canvas::handle_keys(EditorState& state) {
   ImGuiIO& io = ImGui::GetIO();
-  if (!ImGui::IsWindowFocused(ImGuiFocusedFlags_RootAndChildWindows) || io.WantTextInput) return;
+  if (io.WantTextInput || ImGui::IsPopupOpen("", ImGuiPopupFlags_AnyPopupId)) return;
   GraphDocument& doc = state.doc;
   const std::vector<std::string> selected(state.selection.begin(), state.selection.end());
   if (ImGui::IsKeyPressed(GLFW_KEY_DELETE) || ImGui::IsKeyPressed(GLFW_KEY_BACKSPACE)) {
@@ -205,8 +196,11 @@ void Canvas::handle_keys(EditorState& state) {
     }
   }
   if (ImGui::IsKeyPressed(GLFW_KEY_F) && !io.KeyCtrl) frame_all(state);
-  if (ImGui::IsKeyPressed(GLFW_KEY_TAB) && ImGui::IsWindowHovered()) {
-    menu_at_ = to_canvas(io.MousePos);
+  if (ImGui::IsKeyPressed(GLFW_KEY_TAB)) {
+    // Over the canvas the new node goes to the mouse, else to the view's middle.
+    const bool over = ImGui::IsWindowHovered();
+    menu_at_ = to_canvas(over ? io.MousePos : origin_ + size_ * 0.5f);
+    if (!over) ImGui::SetNextWindowPos(origin_ + size_ * 0.5f);
     menu_filter_.clear();
     menu_focus_ = true;
     ImGui::OpenPopup("add node");
@@ -214,7 +208,8 @@ void Canvas::handle_keys(EditorState& state) {
 }
 
 void Canvas::add_node_menu(EditorState& state) {
-  if (!ImGui::BeginPopup("add node")) return;
+  menu_open_ = ImGui::BeginPopup("add node");
+  if (!menu_open_) return;
   if (menu_focus_) {
     ImGui::SetKeyboardFocusHere();
     menu_focus_ = false;
@@ -226,12 +221,8 @@ void Canvas::add_node_menu(EditorState& state) {
   menu_filter_ = buffer;
   std::string chosen;
   int shown = 0;
-  std::string plugin;
-  for (const NodeType* t : state.doc.registry().all()) {
+  for (const NodeType* t : search_node_types(state.doc.registry(), menu_filter_)) {
     const NodeSpec& s = t->spec;
-    if (!menu_filter_.empty() && !contains_text(s.name, menu_filter_) && !contains_text(s.plugin, menu_filter_) &&
-        !contains_text(s.description, menu_filter_))
-      continue;
     if (enter && shown == 0) chosen = s.name;
     ++shown;
     if (ImGui::Selectable((s.name + "  [" + s.plugin + "]").c_str())) chosen = s.name;
@@ -239,10 +230,12 @@ void Canvas::add_node_menu(EditorState& state) {
   }
   if (shown == 0) ImGui::TextDisabled("no node type matches");
   if (!chosen.empty()) {
-    const std::string id = state.doc.add_node(chosen, menu_at_);
+    const std::string id = state.doc.add_node(chosen, free_place(state, menu_at_, chosen));
     state.selection = {id};
     state.viewed = id;
     ImGui::CloseCurrentPopup();
+    // No text field keeps the keyboard: shortcuts work at once.
+    ImGui::SetWindowFocus(nullptr);
   }
   ImGui::EndPopup();
 }

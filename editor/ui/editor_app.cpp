@@ -6,6 +6,7 @@
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <imgui_internal.h>  // PushItemFlag(ImGuiItemFlags_NoTabStop)
 
 #include "loom/atomic_file.hpp"
 #include "loom/mesh.hpp"
@@ -46,6 +47,7 @@ EditorApp::EditorApp(EditorOptions options)
     }
   }
   controller_ = std::make_unique<EvaluationController>(registry_, options_.threads);
+  watcher_ = std::make_unique<PluginWatcher>(*loader_);
   if (options_.config_dir.empty()) {
     const char* xdg = std::getenv("XDG_CONFIG_HOME");
     const char* home = std::getenv("HOME");
@@ -119,6 +121,7 @@ std::vector<Target> EditorApp::preview_targets() const {
 }
 
 void EditorApp::sync_evaluation() {
+  if (!reload_pending_.empty()) return;  // the registry is about to change
   const auto range = doc_.time_range();
   const int frame = range ? doc_.frame() : 0;
   if (doc_.revision() == submitted_revision_ && frame == submitted_frame_ && state_.viewed == submitted_viewed_ &&
@@ -155,6 +158,45 @@ bool EditorApp::evaluation_current() const {
          submitted_frame_ == (doc_.time_range() ? doc_.frame() : 0) && e->frame == submitted_frame_;
 }
 
+// A rebuilt plugin is loaded again once the worker has let go of the
+// registry; the next submission then re-evaluates what uses its nodes (their
+// hashes hold the new build), while the session's cache keeps every other
+// result. The document is not touched.
+void EditorApp::hot_reload() {
+  using Clock = std::chrono::steady_clock;
+  if (reload_pending_.empty()) {
+    reload_pending_ = watcher_->rebuilt();
+    if (reload_pending_.empty()) return;
+    last_reload_.detected = Clock::now();
+    controller_->cancel();
+  }
+  if (controller_->busy()) return;
+  const auto start = Clock::now();
+  std::string failed;
+  std::vector<std::string> done;
+  for (const std::string& plugin : reload_pending_) {
+    try {
+      loader_->reload(plugin);
+      done.push_back(plugin);
+    } catch (const std::exception& e) {
+      failed += std::string(e.what()) + "\n";
+    }
+    watcher_->reloaded(plugin);  // a broken build is not retried until it changes again
+  }
+  reload_pending_.clear();
+  last_reload_.loaded = Clock::now();
+  last_reload_.load_ms = std::chrono::duration<double, std::milli>(last_reload_.loaded - start).count();
+  last_reload_.plugins = done;
+  ++last_reload_.count;
+  std::string names;
+  for (const auto& p : done) names += (names.empty() ? "" : ", ") + p;
+  char text[64];
+  std::snprintf(text, sizeof text, " in %.0f ms", last_reload_.load_ms);
+  message_ = failed + (done.empty() ? "" : "reloaded plugin " + names + text);
+  submitted_document_ = json();  // evaluate again, whatever changed
+  submitted_revision_ = ~0ull;
+}
+
 void EditorApp::take_results() {
   state_.live = controller_->live();
   auto finished = controller_->take_finished();
@@ -167,28 +209,18 @@ void EditorApp::take_results() {
     submitted_revision_ = ~0ull;
   }
   state_.issues.clear();
-  for (const GraphIssue& issue : state_.eval->issues) {
-    // "/nodes/ID/inputs/NAME[/...]" or "/nodes/ID[/...]"
-    const std::string& p = issue.pointer;
-    if (p.rfind("/nodes/", 0) != 0) {
+  for (const NodeIssue& issue : state_.eval->issues) {
+    if (issue.node.empty())
       message_ = issue.message;
-      continue;
-    }
-    const auto id_end = p.find('/', 7);
-    const std::string id = p.substr(7, id_end == std::string::npos ? std::string::npos : id_end - 7);
-    std::string input;
-    if (id_end != std::string::npos && p.compare(id_end, 8, "/inputs/") == 0) {
-      input = p.substr(id_end + 8);
-      input = input.substr(0, input.find('/'));
-    }
-    state_.issues[id][input] = issue.message;
+    else
+      state_.issues[issue.node][issue.input] = issue.message;
   }
   if (!state_.eval->error.empty()) message_ = state_.eval->error;
 }
 
-void EditorApp::request(std::string action, fs::path file) {
-  if (doc_.dirty() && action != "save") {
-    pending_action_ = std::move(action);
+void EditorApp::request(MenuAction action, fs::path file) {
+  if (doc_.dirty()) {
+    pending_action_ = action;
     pending_file_ = std::move(file);
     prompt_open_ = true;
     return;
@@ -196,22 +228,22 @@ void EditorApp::request(std::string action, fs::path file) {
   perform(action, file);
 }
 
-void EditorApp::perform(const std::string& action, const fs::path& file) {
-  if (action == "new") {
+void EditorApp::perform(MenuAction action, const fs::path& file) {
+  if (action == MenuAction::new_graph) {
     doc_.clear();
     state_.selection.clear();
     state_.viewed.clear();
     state_.eval.reset();
     state_.issues.clear();
-  } else if (action == "open" && file.empty()) {
+  } else if (action == MenuAction::open && file.empty()) {
     files_.open("open", "Open a graph", doc_.file().empty() ? fs::current_path() : doc_.file().parent_path(), false);
-  } else if (action == "open") {
+  } else if (action == MenuAction::open) {
     try {
       open(file);
     } catch (const std::exception& e) {
       message_ = e.what();
     }
-  } else if (action == "quit") {
+  } else if (action == MenuAction::quit) {
     quit_ = true;
   }
 }
@@ -239,7 +271,7 @@ void EditorApp::unsaved_prompt() {
   }
   ImGui::SameLine();
   if (ImGui::Button("Cancel")) {
-    pending_action_.clear();
+    pending_action_ = MenuAction::none;
     ImGui::CloseCurrentPopup();
   }
   ImGui::EndPopup();
@@ -248,11 +280,11 @@ void EditorApp::unsaved_prompt() {
 void EditorApp::menu_bar(Window& window) {
   if (!ImGui::BeginMainMenuBar()) return;
   if (ImGui::BeginMenu("File")) {
-    if (ImGui::MenuItem("New")) request("new");
-    if (ImGui::MenuItem("Open...", "Ctrl+O")) request("open");
+    if (ImGui::MenuItem("New")) request(MenuAction::new_graph);
+    if (ImGui::MenuItem("Open...", "Ctrl+O")) request(MenuAction::open);
     if (ImGui::BeginMenu("Open Recent", !recent_.empty())) {
       for (const auto& f : recent_)
-        if (ImGui::MenuItem(f.string().c_str())) request("open", f);
+        if (ImGui::MenuItem(f.string().c_str())) request(MenuAction::open, f);
       ImGui::EndMenu();
     }
     if (ImGui::MenuItem("Save", "Ctrl+S")) {
@@ -264,7 +296,7 @@ void EditorApp::menu_bar(Window& window) {
     if (ImGui::MenuItem("Save As..."))
       files_.open("save", "Save the graph as", doc_.file().empty() ? fs::current_path() : doc_.file(), true);
     ImGui::Separator();
-    if (ImGui::MenuItem("Quit")) request("quit");
+    if (ImGui::MenuItem("Quit")) request(MenuAction::quit);
     ImGui::EndMenu();
   }
   if (ImGui::BeginMenu("Edit")) {
@@ -294,7 +326,7 @@ void EditorApp::menu_bar(Window& window) {
   ImGui::EndMainMenuBar();
   if (window.should_close()) {
     window.set_should_close(false);
-    request("quit");
+    request(MenuAction::quit);
   }
 }
 
@@ -309,7 +341,7 @@ void EditorApp::shortcuts() {
     else
       save(doc_.file());
   }
-  if (ImGui::IsKeyPressed(GLFW_KEY_O)) request("open");
+  if (ImGui::IsKeyPressed(GLFW_KEY_O)) request(MenuAction::open);
   if (ImGui::IsKeyPressed(GLFW_KEY_R)) write_outputs();
 }
 
@@ -363,17 +395,55 @@ void EditorApp::viewer() {
   }
 }
 
+namespace {
+
+// A pane border dragged with the mouse (Debian's ImGui 1.86 has no docking):
+// a thin window on top of the border holding an invisible button. Returns the
+// border's new position in pixels, kept within [lo, hi].
+float splitter(const char* id, ImVec2 at, ImVec2 size, bool vertical, float position, float lo, float hi) {
+  ImGui::SetNextWindowPos(at);
+  ImGui::SetNextWindowSize(size);
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowMinSize, ImVec2(1, 1));
+  ImGui::Begin(id, nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoBackground | ImGuiWindowFlags_NoMove |
+                                ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
+  ImGui::InvisibleButton("border", size);
+  if (ImGui::IsItemHovered() || ImGui::IsItemActive())
+    ImGui::SetMouseCursor(vertical ? ImGuiMouseCursor_ResizeEW : ImGuiMouseCursor_ResizeNS);
+  if (ImGui::IsItemActive()) position += vertical ? ImGui::GetIO().MouseDelta.x : ImGui::GetIO().MouseDelta.y;
+  const ImU32 line = ImGui::IsItemHovered() || ImGui::IsItemActive() ? IM_COL32(120, 160, 255, 255)
+                                                                        : IM_COL32(70, 70, 80, 255);
+  const ImVec2 mid(at.x + size.x * 0.5f, at.y + size.y * 0.5f);
+  ImGui::GetWindowDrawList()->AddLine(vertical ? ImVec2(mid.x, at.y) : ImVec2(at.x, mid.y),
+                                      vertical ? ImVec2(mid.x, at.y + size.y) : ImVec2(at.x + size.x, mid.y), line,
+                                      2);
+  ImGui::End();
+  ImGui::PopStyleVar(2);
+  return std::clamp(position, lo, hi);
+}
+
+}  // namespace
+
+PaneRects EditorApp::pane_rects() const {
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  PaneRects r;
+  r.at = vp->WorkPos;
+  r.size = vp->WorkSize;
+  if (doc_.time_range()) r.size.y -= Timeline::kHeight;
+  r.left = std::floor(r.size.x * panes_.canvas);
+  r.props = std::floor(r.size.y * panes_.properties);
+  return r;
+}
+
 void EditorApp::draw(Window& window) {
+  hot_reload();
   take_results();
   shortcuts();
   menu_bar(window);
-  const ImGuiViewport* vp = ImGui::GetMainViewport();
-  const ImVec2 at = vp->WorkPos;
-  ImVec2 size = vp->WorkSize;
-  // The time slider: a pane across the bottom, for graphs with frames.
+  const PaneRects r = pane_rects();
+  const ImVec2 at = r.at, size = r.size;
+  const float left = r.left, props = r.props;
   const bool timed = doc_.time_range().has_value();
-  if (timed) size.y -= Timeline::kHeight;
-  const float left = std::floor(size.x * 0.58f);
   // The panes' backgrounds are cleared by the window, not drawn by ImGui
   // (see Backdrop): llvmpipe then shades only what is on them.
   const ImGuiWindowFlags fixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
@@ -383,6 +453,8 @@ void EditorApp::draw(Window& window) {
                         {at.x + left, at.y, size.x - left, size.y + (timed ? Timeline::kHeight : 0), panel, panel,
                          panel},
                         {at.x, at.y + size.y, left, timed ? Timeline::kHeight : 0, panel, panel, panel}});
+  // Tab is the node search here, never ImGui's "focus the next text field".
+  ImGui::PushItemFlag(ImGuiItemFlags_NoTabStop, true);
 
   ImGui::SetNextWindowPos(at);
   ImGui::SetNextWindowSize(ImVec2(left, size.y));
@@ -396,10 +468,9 @@ void EditorApp::draw(Window& window) {
   canvas_.draw(state_);
   ImGui::End();
 
-  const float props = std::floor(size.y * 0.38f);
   ImGui::SetNextWindowPos(ImVec2(at.x + left, at.y));
   ImGui::SetNextWindowSize(ImVec2(size.x - left, props));
-  ImGui::Begin("Properties", nullptr, fixed);
+  ImGui::Begin("Properties", nullptr, fixed | ImGuiWindowFlags_HorizontalScrollbar);
   properties_.draw(state_, files_);
   ImGui::End();
 
@@ -409,6 +480,13 @@ void EditorApp::draw(Window& window) {
   viewer();
   ImGui::End();
 
+  panes_.canvas = splitter("##split canvas", ImVec2(at.x + left - 4, at.y), ImVec2(8, size.y), true, left,
+                           std::min(300.0f, size.x * 0.5f), size.x - std::min(360.0f, size.x * 0.5f)) /
+                  size.x;
+  panes_.properties = splitter("##split properties", ImVec2(at.x + left + 4, at.y + props - 4),
+                               ImVec2(size.x - left - 4, 8), false, props, std::min(120.0f, size.y * 0.5f),
+                               size.y - std::min(160.0f, size.y * 0.5f)) /
+                      size.y;
   if (timed) {
     ImGui::SetNextWindowPos(ImVec2(at.x, at.y + size.y));
     ImGui::SetNextWindowSize(ImVec2(size.x, Timeline::kHeight));
@@ -416,17 +494,18 @@ void EditorApp::draw(Window& window) {
     timeline_.draw(state_, evaluation_current());
     ImGui::End();
   }
+  ImGui::PopItemFlag();
 
   files_.draw();
-  if (auto file = files_.take("open")) perform("open", *file);
+  if (auto file = files_.take("open")) perform(MenuAction::open, *file);
   if (auto file = files_.take("save")) {
     try {
       save(*file);
-      if (!pending_action_.empty()) perform(pending_action_, pending_file_);
+      perform(pending_action_, pending_file_);
     } catch (const std::exception& e) {
       message_ = e.what();
     }
-    pending_action_.clear();
+    pending_action_ = MenuAction::none;
   }
   unsaved_prompt();
   timeline_.tick(state_, evaluation_current());

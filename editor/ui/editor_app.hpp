@@ -7,6 +7,7 @@
 // `loom run` would. The UI thread never waits for an evaluation.
 #pragma once
 
+#include <chrono>
 #include <deque>
 #include <filesystem>
 #include <memory>
@@ -15,6 +16,7 @@
 
 #include "canvas.hpp"
 #include "controller/evaluation_controller.hpp"
+#include "controller/plugin_watcher.hpp"
 #include "editor_state.hpp"
 #include "file_dialog.hpp"
 #include "image_viewer.hpp"
@@ -37,6 +39,31 @@ struct EditorOptions {
   int threads = 0;
 };
 
+// The split of the window between the panes, as fractions: the canvas's
+// share of the width, the properties' share of the right column's height.
+// The borders are dragged (splitters).
+struct PaneSplit {
+  float canvas = 0.6f, properties = 0.4f;
+};
+// Those panes in pixels for the current window.
+struct PaneRects {
+  ImVec2 at, size;    // the panes' area (without the time slider)
+  float left = 0;     // the canvas's width
+  float props = 0;    // the properties pane's height
+};
+
+// The last plugin hot reload: which plugins, when the rebuilt files were
+// seen settled, and how long loading them took.
+struct HotReload {
+  std::vector<std::string> plugins;
+  std::chrono::steady_clock::time_point detected{}, loaded{};
+  double load_ms = 0;  // copying, loading and registering the new builds
+  int count = 0;       // reloads so far
+};
+
+// What a menu asks for that may drop unsaved changes (asked about first).
+enum class MenuAction { none, new_graph, open, quit };
+
 class EditorApp {
  public:
   explicit EditorApp(EditorOptions options = {});
@@ -54,6 +81,8 @@ class EditorApp {
   Canvas& canvas() { return canvas_; }
   PropertyPanel& properties() { return properties_; }
   Timeline& timeline() { return timeline_; }
+  PaneSplit& panes() { return panes_; }
+  PaneRects pane_rects() const;
   PoissonTool& poisson_tool() { return poisson_tool_; }
   DrawTool& draw_tool() { return draw_tool_; }
   // Where the viewer drew the image last frame (scale 0: no image shown).
@@ -68,6 +97,7 @@ class EditorApp {
   // Whether the shown evaluation is of the current document (and frame, and
   // viewed node) and none is running.
   bool evaluation_current() const;
+  const HotReload& last_reload() const { return last_reload_; }
   // Evaluates the sinks (writes files) on the next submission.
   void write_outputs() { write_outputs_ = true; }
 
@@ -76,10 +106,11 @@ class EditorApp {
   void take_results();
   void menu_bar(Window& window);
   void shortcuts();
+  void hot_reload();
   void viewer();
   void unsaved_prompt();
-  void request(std::string action, std::filesystem::path file = {});
-  void perform(const std::string& action, const std::filesystem::path& file);
+  void request(MenuAction action, std::filesystem::path file = {});
+  void perform(MenuAction action, const std::filesystem::path& file);
   void remember(const std::filesystem::path& file);
   void load_recent();
 
@@ -89,6 +120,9 @@ class EditorApp {
   GraphDocument doc_;
   EditorState state_;
   std::unique_ptr<EvaluationController> controller_;
+  std::unique_ptr<PluginWatcher> watcher_;
+  std::vector<std::string> reload_pending_;  // rebuilt plugins waiting for the worker to stop
+  HotReload last_reload_;
   Canvas canvas_;
   PropertyPanel properties_;
   Timeline timeline_;
@@ -104,13 +138,14 @@ class EditorApp {
   int submitted_frame_ = 0;                   // 0: the graph has no time range
   std::string submitted_viewed_;              // whose cached frames were asked for
   bool write_outputs_ = false, quit_ = false;
-  std::string pending_action_;
+  MenuAction pending_action_ = MenuAction::none;
   std::filesystem::path pending_file_;
   bool prompt_open_ = false;
   std::vector<std::filesystem::path> recent_;
   std::string message_;
   int viewed_output_ = 0;
   ImageView image_view_;
+  PaneSplit panes_;
 };
 
 }  // namespace loom::editor

@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 #include <time.h>
 
+#include "fonts.hpp"
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
 
@@ -46,6 +47,7 @@ Window::Window(const std::string& title, int width, int height, bool visible) {
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = nullptr;  // the layout is fixed; nothing to remember
   ImGui::StyleColorsDark();
+  load_fonts();
   ImGui_ImplGlfw_InitForOpenGL(window_, true);
   ImGui_ImplOpenGL3_Init("#version 130");
 }

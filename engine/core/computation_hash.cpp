@@ -1,7 +1,7 @@
 // The computation hash (Gaffer's contract): a result is reused exactly when
 // this hash is equal, so everything a node's result depends on enters it:
 //
-//   hash = H(node type name, node type version, seed,
+//   hash = H(node type name, node type version, the plugin's build, seed,
 //            for each declared input: its name, how it is bound, and
 //              a literal: its value (and, for an input file, its size and mtime)
 //              a link:    the upstream node's hash and which output,
@@ -40,7 +40,9 @@ std::uint64_t computation_hash(const NodeState& s, const std::vector<std::unique
                                std::uint64_t run_salt, const FrameTime& time) {
   const NodeSpec& spec = s.type->spec;
   Hasher h;
-  h.str(spec.name).pod(spec.version).pod(s.seed);
+  // The build (NodeSpec::build) too: a plugin rebuilt and reloaded in the
+  // editor serves no result of its old build, nor does what it feeds.
+  h.str(spec.name).pod(spec.version).pod(spec.build).pod(s.seed);
   for (std::size_t i = 0; i < s.inputs.size(); ++i) {
     const auto& b = s.inputs[i];
     h.str(spec.inputs[i].name).pod(static_cast<int>(b.kind));

@@ -1,6 +1,8 @@
 #include "loom/plugin_loader.hpp"
 
+#include <algorithm>
 #include <cstdlib>
+#include <memory>
 #include <fstream>
 #include <iostream>
 
@@ -198,6 +200,48 @@ void PluginLoader::load_library(const fs::path& library) {
 }
 
 std::vector<std::string> PluginLoader::loaded_names() const { return load_order_; }
+
+void PluginLoader::reload(const std::string& name) {
+  auto info =
+      std::find_if(plugins_.begin(), plugins_.end(), [&](const PluginInfo& p) { return p.loaded && p.name == name; });
+  if (info == plugins_.end()) throw PluginLoadError("cannot reload plugin \"" + name + "\": it is not loaded");
+  // A private copy, removed once mapped: a new path and file for dlopen.
+  std::string folder = (fs::temp_directory_path() / "loom-reload-XXXXXX").string();
+  if (!::mkdtemp(folder.data())) throw PluginLoadError("cannot reload plugin \"" + name + "\": cannot make a temporary folder");
+  const fs::path copy = fs::path(folder) / info->library.filename();
+  std::error_code ec;
+  const LoomPluginEntry* entry = nullptr;
+  try {
+    fs::copy_file(info->library, copy);
+    entry = open_entry(copy);
+  } catch (const fs::filesystem_error& e) {
+    fs::remove_all(folder, ec);
+    throw PluginLoadError("cannot reload plugin \"" + name + "\": " + e.what());
+  } catch (...) {
+    fs::remove_all(folder, ec);
+    throw;
+  }
+  fs::remove_all(folder, ec);
+  Registry staged;
+  entry->register_nodes(staged);
+  Registry fresh;
+  for (const NodeType* t : registry_.all())
+    if (t->spec.plugin != name) fresh.add(*t, t->spec.plugin);
+  const std::uint64_t build = library_build(info->library);
+  std::vector<std::string> types;
+  for (const NodeType* t : staged.all()) {
+    NodeType type = *t;
+    type.spec.build = build;
+    fresh.add(std::move(type), name);  // throws on a clash: the registry is still the old one
+    types.push_back(t->spec.name);
+  }
+  info->node_types = std::move(types);
+  // The old types stay alive (never freed, like the old library): a value or
+  // a report made by them may still point at them.
+  static std::vector<std::unique_ptr<Registry>> retired;
+  retired.push_back(std::make_unique<Registry>(std::move(registry_)));
+  registry_ = std::move(fresh);
+}
 
 std::string PluginLoader::searched_description() const {
   std::string text = "searched plugins: ";

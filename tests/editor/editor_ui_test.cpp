@@ -80,9 +80,9 @@ TEST(EditorUi, ScriptedEditingSession) {
   h.frame(2);
   auto slider = h.app.properties().widget_rect("idw_power");
   ASSERT_TRUE(slider);
-  // The item spans the slider's frame and its label.
+  // The item is the slider's frame (its name is in the table's first column).
   const ImVec2 lo = slider->first;
-  const float frame = slider->second.x - lo.x - ImGui::CalcTextSize("idw_power").x - ImGui::GetStyle().ItemInnerSpacing.x;
+  const float frame = slider->second.x - lo.x;
   h.click({lo.x + frame * 0.75f, (lo.y + slider->second.y) * 0.5f});
   const json power = h.app.document().literal("warp", "idw_power");
   ASSERT_TRUE(power.is_number()) << h.app.document().document()["nodes"]["warp"].dump();

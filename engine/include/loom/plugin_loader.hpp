@@ -66,6 +66,18 @@ class LOOM_API PluginLoader {
 
   std::vector<std::string> loaded_names() const;  // in load order
 
+  // Hot reload (a plugin author's edit-build-look loop in the editor): loads
+  // the loaded plugin `name` again from its rebuilt library file and puts the
+  // new build's node types in the registry in place of the old ones, with a
+  // new NodeSpec::build, so no cache serves the old build's results for them
+  // or for what they feed. The file is loaded from a private copy (for the
+  // same path the dynamic linker would return the old mapping); the old
+  // library stays loaded, so values it made stay valid. The other plugins'
+  // types are kept (as copies). Nothing may read the registry meanwhile (no
+  // evaluation running). Throws PluginLoadError, leaving everything as it
+  // was, when the new build does not load or clashes with another plugin.
+  void reload(const std::string& name);
+
   // The manifest of a library, read by loading it: what the build writes.
   static json manifest_of(const std::filesystem::path& library, Registry& scratch);
 
