@@ -227,7 +227,7 @@ void PluginLoader::reload(const std::string& name) {
   Registry fresh;
   for (const NodeType* t : registry_.all())
     if (t->spec.plugin != name) fresh.add(*t, t->spec.plugin);
-  const std::uint64_t build = library_build(info->library);
+  const std::uint64_t build = detail::build_identity(info->library);
   std::vector<std::string> types;
   for (const NodeType* t : staged.all()) {
     NodeType type = *t;
