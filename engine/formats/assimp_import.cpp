@@ -27,9 +27,13 @@ class RegularFilesOnly : public Assimp::DefaultIOSystem {
  public:
   bool Exists(const char* file) const override { return regular(file) && DefaultIOSystem::Exists(file); }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
-    return regular(file) ? DefaultIOSystem::Open(file, mode) : nullptr;
+    if (!regular(file)) return nullptr;
+    Assimp::IOStream* stream = DefaultIOSystem::Open(file, mode);
+    if (stream) opened.push_back(fs::absolute(file).lexically_normal());
+    return stream;
   }
   mutable std::string refused;
+  std::vector<fs::path> opened;
 
  private:
   bool regular(const char* file) const {
@@ -224,7 +228,8 @@ void check_gltf(const fs::path& path) {
 
 }  // namespace
 
-const aiScene* import_scene(Assimp::Importer& importer, const fs::path& path, unsigned extra_flags) {
+const aiScene* import_scene(Assimp::Importer& importer, const fs::path& path, unsigned extra_flags,
+                            std::vector<fs::path>* files_read) {
   require_regular_file(path, "scene");
   check_gltf(path);
   check_declared_counts(path);  // OFF/PLY/X headers: before assimp allocates what they claim
@@ -233,6 +238,7 @@ const aiScene* import_scene(Assimp::Importer& importer, const fs::path& path, un
   const aiScene* scene = importer.ReadFile(
       path.string(), aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_SortByPType | extra_flags);
   if (!io->refused.empty()) throw Error("cannot read scene " + path.string() + ": " + io->refused);
+  if (files_read) *files_read = io->opened;
   if (!scene || !scene->mRootNode) throw Error("cannot read " + path.string() + ": " + importer.GetErrorString());
   return scene;
 }

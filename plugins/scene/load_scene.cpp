@@ -56,6 +56,7 @@ class Textures {
     const std::string key = std::string(path.C_Str()) + (color ? "#color" : "#data");
     auto it = cache_.find(key);
     if (it != cache_.end()) return it->second;
+    if (!scene_->GetEmbeddedTexture(path.C_Str())) ctx.depends_on_file(folder_ / fs::path(path.C_Str()));
     cv::Mat raw;
     try {
       raw = decode(path.C_Str());
@@ -261,7 +262,9 @@ struct LoadScene {
     const fs::path path = in.get<std::string>("path");
     loom::require_input_file(path, "scene", ctx.graph_dir());
     Assimp::Importer importer;
-    const aiScene* ai = loom::formats::import_scene(importer, path, aiProcess_GenSmoothNormals);
+    std::vector<fs::path> files_read;  // the .mtl, a glTF's buffers: the result depends on them
+    const aiScene* ai = loom::formats::import_scene(importer, path, aiProcess_GenSmoothNormals, &files_read);
+    for (const fs::path& f : files_read) ctx.depends_on_file(f);
     Textures textures(ai, path.parent_path());
     std::vector<loom::Material> materials;
     for (unsigned i = 0; i < ai->mNumMaterials; ++i)

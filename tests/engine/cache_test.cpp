@@ -142,6 +142,33 @@ TEST(DiskCache, TheMemoryCacheOfASessionRereadsAChangedFileToo) {
   EXPECT_EQ(value(), 71);  // m's own entry is stale too: it carries r's files
 }
 
+// LoadScene declares the files found inside its scene file: the .mtl that
+// assimp opens and the textures the materials name.
+TEST(DiskCache, ASceneIsReadAgainWhenItsMaterialLibraryOrATextureChanges) {
+  auto dir = test::temp_dir();
+  std::ofstream(dir / "quad.obj") << "mtllib quad.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                                     "vt 0 1\nusemtl m\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n";
+  std::ofstream(dir / "quad.mtl") << "newmtl m\nKd 0.8 0.2 0.2\nmap_Kd tex.ppm\n";
+  std::ofstream(dir / "tex.ppm") << "P3\n1 1\n255\n10 20 30\n";
+  auto g = write_graph(dir, graph({{"s", {{"type", "LoadScene"}, {"inputs", {{"path", "quad.obj"}}}}},
+                                   {"p", {{"type", "Print"}, {"inputs", {{"value", from("s.scene")}}}}}}));
+  const std::string run = "run " + g.string() + " --cache " + (dir / "cache").string() + " --cache-min-seconds 0" +
+                          " --out " + (dir / "out").string() + " --profile " + (dir / "p.json").string();
+  auto status = [&] {
+    std::string out;
+    EXPECT_EQ(loom(run, &out, LOOM_PLUGIN_DIR), 0) << out;
+    return read_json(dir / "p.json")["nodes"]["s"]["status"].get<std::string>();
+  };
+  EXPECT_EQ(status(), "ran");
+  EXPECT_EQ(status(), "cached");
+  std::ofstream(dir / "quad.mtl") << "newmtl m\nKd 0.2 0.8 0.2\nmap_Kd tex.ppm\n";  // same size, new colour
+  fs::last_write_time(dir / "quad.mtl", fs::last_write_time(dir / "quad.mtl") + std::chrono::seconds(2));
+  EXPECT_EQ(status(), "ran");
+  EXPECT_EQ(status(), "cached");
+  std::ofstream(dir / "tex.ppm") << "P3\n1 1\n255\n200 20 30\n";
+  EXPECT_EQ(status(), "ran");
+}
+
 TEST(DiskCache, CorruptAndTruncatedEntriesAreDeletedRecomputedAndReported) {
   for (const char* damage : {"flip", "truncate", "empty"}) {
     auto dir = test::temp_dir();
