@@ -289,6 +289,17 @@ class Dispatch:
         self.assertEqual(read(os.path.join(out2, "f_03.txt")), "3.000000\n")
         self.assertEqual(loom("jobs", "status", job2).returncode, 0)
 
+    def test_a_node_failure_is_retried_up_to_retries_times(self):
+        g = write_graph(self.dir, {
+            "bad": {"type": "Fail"},
+            "w": {"type": "WriteText", "inputs": {"value": {"from": "bad.value"}, "path": "v.txt"}}})
+        out = os.path.join(self.dir, "out")
+        code, _ = self.submit(g, out, "--retries", "2", "--no-cache")
+        if self.to == "local":
+            self.assertEqual(code, 1)
+        st = statuses(os.path.join(out, ".loom-job"))[0]
+        self.assertEqual((st["state"], st["exit"], st["attempts"]), ("failed", 1, 3))
+
     def test_an_invalid_graph_is_not_retried(self):
         g = frames_graph(self.dir, 1)
         out = os.path.join(self.dir, "out")
