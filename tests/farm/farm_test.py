@@ -145,6 +145,17 @@ class SweepTest(unittest.TestCase):
         self.assertEqual(p.returncode, 2)
         self.assertIn("--zip", p.stderr)
 
+    def test_list_values_are_json_and_keep_their_commas(self):
+        g = write_graph(self.dir, {
+            "board": {"type": "Checkerboard", "inputs": {"size": [4, 4], "cells": 2}},
+            "save": {"type": "SaveImage", "inputs": {"image": {"from": "board.image"}, "path": "b.png"}}})
+        out = os.path.join(self.dir, "l")
+        loom("run", g, "--out", out, "--no-cache", "-q", "--sweep", "board.size=[8,6],[16,12]")
+        for i, (w, h) in enumerate(((8, 6), (16, 12))):
+            png = read(os.path.join(out, "points", f"{i:04}", "b.png"), "rb")
+            self.assertEqual((int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")), (w, h))
+        self.assertEqual([r["board.size"] for r in csv_rows(os.path.join(out, "sweep.csv"))], ["[8,6]", "[16,12]"])
+
     def test_a_failing_point_does_not_stop_the_others(self):
         g = write_graph(self.dir, {
             "ok": {"type": "Sleep", "inputs": {"value": 4, "ms": 1}},
