@@ -32,12 +32,13 @@ void flatten(const std::string& name, const json& v, std::vector<std::pair<std::
   else if (v.is_array() && !v.empty() && v.back().is_number()) cells.emplace_back(name, v.back());
 }
 
+// RFC 4180: a cell with a comma, quote or line break is quoted, quotes doubled.
 std::string csv_cell(const json& v) {
   if (v.is_null()) return "";
-  if (!v.is_string()) return v.dump();
-  if (v.get<std::string>().find_first_of(",\"\n\r") == std::string::npos) return v.get<std::string>();
+  const std::string plain = v.is_string() ? v.get<std::string>() : v.dump();
+  if (plain.find_first_of(",\"\n\r") == std::string::npos) return plain;
   std::string text = "\"";
-  for (char c : v.get<std::string>()) text += c == '"' ? std::string("\"\"") : std::string(1, c);
+  for (char c : plain) text += c == '"' ? std::string("\"\"") : std::string(1, c);
   return text + "\"";
 }
 

@@ -145,6 +145,17 @@ class SweepTest(unittest.TestCase):
         self.assertEqual(p.returncode, 2)
         self.assertIn("--zip", p.stderr)
 
+    def test_list_values_are_json_and_keep_their_commas(self):
+        g = write_graph(self.dir, {
+            "board": {"type": "Checkerboard", "inputs": {"size": [4, 4], "cells": 2}},
+            "save": {"type": "SaveImage", "inputs": {"image": {"from": "board.image"}, "path": "b.png"}}})
+        out = os.path.join(self.dir, "l")
+        loom("run", g, "--out", out, "--no-cache", "-q", "--sweep", "board.size=[8,6],[16,12]")
+        for i, (w, h) in enumerate(((8, 6), (16, 12))):
+            png = read(os.path.join(out, "points", f"{i:04}", "b.png"), "rb")
+            self.assertEqual((int.from_bytes(png[16:20], "big"), int.from_bytes(png[20:24], "big")), (w, h))
+        self.assertEqual([r["board.size"] for r in csv_rows(os.path.join(out, "sweep.csv"))], ["[8,6]", "[16,12]"])
+
     def test_a_failing_point_does_not_stop_the_others(self):
         g = write_graph(self.dir, {
             "ok": {"type": "Sleep", "inputs": {"value": 4, "ms": 1}},
@@ -288,6 +299,17 @@ class Dispatch:
         self.assertEqual(before, {i: os.path.getmtime(os.path.join(job2, "status", f"{i:04}.json")) for i in (0, 1, 3)})
         self.assertEqual(read(os.path.join(out2, "f_03.txt")), "3.000000\n")
         self.assertEqual(loom("jobs", "status", job2).returncode, 0)
+
+    def test_a_node_failure_is_retried_up_to_retries_times(self):
+        g = write_graph(self.dir, {
+            "bad": {"type": "Fail"},
+            "w": {"type": "WriteText", "inputs": {"value": {"from": "bad.value"}, "path": "v.txt"}}})
+        out = os.path.join(self.dir, "out")
+        code, _ = self.submit(g, out, "--retries", "2", "--no-cache")
+        if self.to == "local":
+            self.assertEqual(code, 1)
+        st = statuses(os.path.join(out, ".loom-job"))[0]
+        self.assertEqual((st["state"], st["exit"], st["attempts"]), ("failed", 1, 3))
 
     def test_an_invalid_graph_is_not_retried(self):
         g = frames_graph(self.dir, 1)

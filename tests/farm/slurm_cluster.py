@@ -3,6 +3,7 @@ started in a temporary folder with their own ports, socket, state and spool,
 and stopped by their PIDs whatever happens (docs/farm.md, "Testing")."""
 import atexit
 import os
+import pwd
 import shutil
 import signal
 import socket
@@ -23,11 +24,15 @@ def _free_ports(n):
 
 def unavailable_reason():
     """Why a private cluster cannot start here, or None."""
-    for program in ("munged", "slurmctld", "slurmd", "sbatch", "runuser"):
+    for program in ("munged", "mungekey", "slurmctld", "slurmd", "sbatch", "runuser"):
         if not shutil.which(program, path=os.environ.get("PATH", "") + ":/usr/sbin:/sbin"):
             return f"{program} not found (scripts/install-deps installs slurm-wlm and munge)"
     if os.geteuid() != 0:
         return "slurmd and munged (as user munge) need root"
+    try:
+        pwd.getpwnam("munge")
+    except KeyError:
+        return "no user munge (the munge package creates it)"
     return None
 
 
@@ -48,10 +53,10 @@ class SlurmCluster:
         os.chmod(d, 0o711)  # clients reach the socket; only munge writes here
         key = os.path.join(d, "munge.key")
         # A key of our own, made as the package's postinst makes /etc/munge/munge.key.
-        subprocess.run(["runuser", "-u", "munge", "--", self._sbin("mungekey"), "--create", "--keyfile", key],
+        subprocess.run([self._sbin("runuser"), "-u", "munge", "--", self._sbin("mungekey"), "--create", "--keyfile", key],
                        check=True, capture_output=True)
         self.munge_socket = os.path.join(d, "munge.socket")
-        subprocess.run(["runuser", "-u", "munge", "--", self._sbin("munged"), "--socket", self.munge_socket,
+        subprocess.run([self._sbin("runuser"), "-u", "munge", "--", self._sbin("munged"), "--socket", self.munge_socket,
                         "--key-file", key, "--pid-file", os.path.join(d, "munged.pid"),
                         "--log-file", os.path.join(d, "munged.log"), "--seed-file", os.path.join(d, "seed")],
                        check=True, capture_output=True)
