@@ -28,7 +28,8 @@
 
 namespace {
 
-enum Exit { kOk = 0, kNodeFailed = 1, kInvalid = 2, kPluginError = 3, kInterrupted = 130 };
+using loom::runner::kOk, loom::runner::kNodeFailed, loom::runner::kInvalid, loom::runner::kPluginError,
+    loom::runner::kInterrupted;
 
 // Where the persistent cache lives and how it behaves (`--cache`, `--no-cache`).
 struct CacheSettings {
@@ -53,31 +54,12 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
             int threads, const std::string& profile_path, bool quiet, const std::string& frames,
             const CacheSettings& cache, bool allow_outside, bool print_json) {
   auto start = std::chrono::steady_clock::now();
-  loom::Registry registry;
-  loom::PluginLoader loader(registry);
-  loom::Graph graph;
-  try {
-    graph = loom::load_graph_file(graph_path);
-    for (const auto& s : sets) loom::set_input(graph, s);
-  } catch (const std::exception& e) {  // GraphError, or anything from reading the file
-    std::cerr << "error: " << e.what() << "\n";
-    return kInvalid;
-  }
-  try {
-    loader.load_for(loom::node_types_used(graph));
-  } catch (const loom::PluginLoadError& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return kPluginError;
-  } catch (const loom::Error& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return kPluginError;
-  }
-  try {
-    loom::validate_graph(graph, registry, loader.searched_description(), loader.known_node_types());
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return kInvalid;
-  }
+  int exit = kOk;
+  auto loaded = loom::runner::load_for_run(graph_path, sets, &exit);
+  if (!loaded) return exit;
+  const loom::Registry& registry = *loaded->registry;
+  const loom::PluginLoader& loader = *loaded->loader;
+  const loom::Graph& graph = loaded->graph;
 
   loom::EvalOptions options;
   if (!frames.empty()) {
@@ -107,9 +89,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   loom::runner::ConsoleObserver observer(quiet);
   options.observer = &observer;
   if (options.targets.empty()) {
-    bool any_sink = false;
-    for (const auto& [id, n] : graph.nodes) any_sink = any_sink || registry.find(n.type)->spec.sink;
-    if (!any_sink)
+    if (loom::runner::sink_ids(graph, registry).empty())
       std::cerr << "warning: " << graph_path
                 << " has no sink nodes (e.g. SaveImage): nothing to run; name outputs with --target\n";
   }
