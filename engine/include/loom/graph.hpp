@@ -38,7 +38,7 @@ LOOM_API std::optional<Link> parse_link(std::string_view text);
 struct InputBinding {
   std::optional<Link> link;  // set: linked; unset: literal
   json literal;
-  std::string set_by;  // the --set assignment that gave this value, for messages; empty: the file
+  std::string set_by = {};  // the --set assignment that gave this value, for messages; empty: the file
 };
 
 struct GraphNode {
