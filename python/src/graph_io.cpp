@@ -76,8 +76,11 @@ py::tuple check_input(const std::string& type, const std::string& input, const p
   json j = to_json(value);
   if (s.type->literal() && !is_any(*s.type)) s.type->from_json(j);
   if (!s.choices.empty() && std::find(s.choices.begin(), s.choices.end(), j) == s.choices.end()) {
-    throw Error("\"" + (j.is_string() ? j.get<std::string>() : j.dump()) + "\" is not one of " + input + "'s choices" +
-                near_text(j.is_string() ? j.get<std::string>() : j.dump(), s.choices));
+    const std::string given = j.is_string() ? j.get<std::string>() : j.dump();
+    std::string choices;
+    for (const auto& c : s.choices) choices += (choices.empty() ? "" : ", ") + c;
+    throw Error("\"" + given + "\" is not one of " + input + "'s choices (" + choices + ")" +
+                near_text(given, s.choices));
   }
   return py::make_tuple("literal", from_json(j));
 }

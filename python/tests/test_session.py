@@ -219,3 +219,10 @@ def test_ctrl_c_in_loom_run_cancels_a_python_node(tmp_path):
     _, err = p.communicate(timeout=60)
     assert p.returncode == 130 and "cancelled" in err
     assert time.monotonic() - start < 10
+
+
+def test_no_declarations_during_a_run(session):
+    g = loom.Graph()
+    g.add("py.loomtest_nodes.DeclareInside", id="d")
+    with pytest.raises(loom.NodeError, match="while a Session.run is in progress"):
+        session.run(g, "d.value")

@@ -55,3 +55,13 @@ def Stats(image):
     """Mean of each channel, and the size."""
     a = np.asarray(image)
     return {"mean": a.reshape(-1, a.shape[2]).mean(axis=0).tolist(), "size": [a.shape[1], a.shape[0]]}
+
+
+@loom.node(outputs={"value": "Float"})
+def DeclareInside():
+    """Declares a node type while it runs (refused: a run reads the registry)."""
+    @loom.node(outputs={"v": "Float"}, name="Inner")
+    def inner():
+        return 1.0
+
+    return 0.0
