@@ -298,8 +298,8 @@ double DiskCache::expected_read_seconds(std::uint64_t bytes) const {
 
 bool DiskCache::worth_storing(std::uint64_t bytes, double compute_seconds, int frames) const {
   const double n = std::max(frames, 1);
-  return n * compute_seconds >= options_.min_seconds &&              // the run's time is worth files
-         2 * expected_read_seconds(bytes) <= compute_seconds &&                // each frame reads back clearly faster
+  return n * compute_seconds >= options_.min_seconds &&          // the run's time is worth files
+         2 * expected_read_seconds(bytes) <= compute_seconds &&  // each frame reads back clearly faster
          n * static_cast<double>(bytes) <= options_.max_sequence_share * static_cast<double>(options_.max_bytes);
 }
 

@@ -158,7 +158,7 @@ TEST(RunnerMessages, WatchKeepsWatchingAfterABrokenEdit) {
   std::ofstream(dir / "fixed.json") << fixed.dump(2);
   const fs::path out_dir = dir / "out";
   const std::string then = wait_for(out_dir / "n.txt", "1.000000") + "; echo '{\"loom\": 1, \"nodes\": ' > " +
-                           g.string() + "; sleep 1; cat " + (dir / "fixed.json").string() + " > " + g.string() +
+                           g.string() + "; sleep 2; cat " + (dir / "fixed.json").string() + " > " + g.string() +
                            "; " + wait_for(out_dir / "n.txt", "2.000000");
   std::string out;
   EXPECT_EQ(watch_while(g, out_dir, then, &out), 0) << out;
