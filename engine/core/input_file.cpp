@@ -35,11 +35,19 @@ std::string resolution_note(const fs::path& path, const fs::path& graph_dir) {
 
 void require_input_file(const fs::path& path, const std::string& what, const fs::path& graph_dir) {
   std::error_code ec;
-  if (fs::is_regular_file(path, ec)) return;
+  const fs::file_status st = fs::status(path, ec);
+  if (st.type() == fs::file_type::regular) return;
   const std::string head = "cannot read " + what + " " + path.string() + ": ";
   const fs::path folder = path.parent_path();
-  if (fs::is_directory(path, ec))
-    throw Error(head + "it is a folder, not a file" + resolution_note(path, graph_dir));
+  switch (st.type()) {
+    case fs::file_type::directory: throw Error(head + "it is a folder, not a file" + resolution_note(path, graph_dir));
+    case fs::file_type::fifo: throw Error(head + "it is a FIFO (named pipe), not a regular file");
+    case fs::file_type::socket: throw Error(head + "it is a socket, not a regular file");
+    case fs::file_type::block:
+    case fs::file_type::character: throw Error(head + "it is a device, not a regular file");
+    case fs::file_type::not_found: break;
+    default: throw Error(head + (ec ? ec.message() : std::string("not a regular file")));
+  }
   if (!folder.empty() && !fs::is_directory(folder, ec))
     throw Error(head + "no such folder " + folder.string() +
                 near_entries(folder.parent_path(), folder.filename().string()) + resolution_note(path, graph_dir));

@@ -12,7 +12,7 @@
 
 #include "loom/error.hpp"
 #include "loom/formats/mesh_file_counts.hpp"
-#include "loom/formats/regular_file.hpp"
+#include "loom/input_file.hpp"
 
 namespace loom::formats {
 namespace fs = std::filesystem;
@@ -40,7 +40,7 @@ class RegularFilesOnly : public Assimp::DefaultIOSystem {
     std::error_code ec;
     if (!fs::exists(file, ec)) return false;  // a missing file is assimp's to report
     try {
-      require_regular_file(file, "file");
+      require_input_file(file, "file");
       return true;
     } catch (const Error& e) {
       if (refused.empty()) refused = e.what();
@@ -190,7 +190,7 @@ void check_buffers(const nlohmann::json& gltf, const GltfParts& parts, const fs:
         available = static_cast<double>(uri.size()) * 3 / 4;
       } else {
         const fs::path file = path.parent_path() / uri;
-        require_regular_file(file, "the buffer of " + path.string() + ",");
+        require_input_file(file, "the buffer of " + path.string() + ",");
         std::error_code ec;
         available = static_cast<double>(fs::file_size(file, ec));
       }
@@ -230,7 +230,7 @@ void check_gltf(const fs::path& path) {
 
 const aiScene* import_scene(Assimp::Importer& importer, const fs::path& path, unsigned extra_flags,
                             std::vector<fs::path>* files_read) {
-  require_regular_file(path, "scene");
+  require_input_file(path, "scene");
   check_gltf(path);
   check_declared_counts(path);  // OFF/PLY/X headers: before assimp allocates what they claim
   auto* io = new RegularFilesOnly;

@@ -9,7 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "loom/formats/image_header.hpp"
-#include "loom/formats/regular_file.hpp"
+#include "loom/input_file.hpp"
 #include "loom/atomic_file.hpp"
 
 namespace loom::io {
@@ -38,7 +38,7 @@ void swap_red_blue(cv::Mat& m) {
 
 Image read_image(const std::filesystem::path& path, Decode decode, std::uint64_t max_pixels) {
   (void)kExrEnabled;
-  formats::require_regular_file(path, "image");
+  require_input_file(path, "image");
   std::ifstream in(path, std::ios::binary);
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.empty()) throw Error("cannot decode image " + path.string() + ": the file is empty");

@@ -12,7 +12,7 @@
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
 #include "loom/formats/assimp_import.hpp"
-#include "loom/formats/regular_file.hpp"
+#include "loom/input_file.hpp"
 
 namespace loom::io {
 
@@ -94,7 +94,7 @@ void require_finite_attributes(const Mesh& mesh, const std::string& what) {
 }  // namespace
 
 Mesh read_mesh(const fs::path& path, MeshNotes* notes) {
-  formats::require_regular_file(path, "mesh");
+  require_input_file(path, "mesh");
   MeshNotes local;
   MeshNotes& n = notes ? *notes : local;
   const std::string ext = lower_extension(path), name = path.string();

@@ -19,7 +19,7 @@
 
 #include "loom/formats/assimp_import.hpp"
 #include "loom/formats/image_header.hpp"
-#include "loom/formats/regular_file.hpp"
+#include "loom/input_file.hpp"
 #include "loom/image.hpp"
 #include "loom/input_file.hpp"
 #include "loom/plugin.hpp"
@@ -108,7 +108,7 @@ class Textures {
       return bgra.clone();
     }
     const fs::path file = folder_ / fs::path(name);
-    loom::formats::require_regular_file(file, "texture");
+    loom::require_input_file(file, "texture");
     std::string head(kHeaderBytes, '\0');
     std::ifstream in(file, std::ios::binary);
     in.read(head.data(), static_cast<std::streamsize>(head.size()));

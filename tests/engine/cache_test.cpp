@@ -143,30 +143,33 @@ TEST(DiskCache, TheMemoryCacheOfASessionRereadsAChangedFileToo) {
 }
 
 // LoadScene declares the files found inside its scene file: the .mtl that
-// assimp opens and the textures the materials name.
+// assimp opens and the textures the materials name. (A Scene is not stored on
+// disk; a session's memory cache keeps the same stamps as a disk entry.)
 TEST(DiskCache, ASceneIsReadAgainWhenItsMaterialLibraryOrATextureChanges) {
   auto dir = test::temp_dir();
   std::ofstream(dir / "quad.obj") << "mtllib quad.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
                                      "vt 0 1\nusemtl m\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n";
   std::ofstream(dir / "quad.mtl") << "newmtl m\nKd 0.8 0.2 0.2\nmap_Kd tex.ppm\n";
   std::ofstream(dir / "tex.ppm") << "P3\n1 1\n255\n10 20 30\n";
-  auto g = write_graph(dir, graph({{"s", {{"type", "LoadScene"}, {"inputs", {{"path", "quad.obj"}}}}},
-                                   {"p", {{"type", "Print"}, {"inputs", {{"value", from("s.scene")}}}}}}));
-  const std::string run = "run " + g.string() + " --cache " + (dir / "cache").string() + " --cache-min-seconds 0" +
-                          " --out " + (dir / "out").string() + " --profile " + (dir / "p.json").string();
-  auto status = [&] {
-    std::string out;
-    EXPECT_EQ(loom(run, &out, LOOM_PLUGIN_DIR), 0) << out;
-    return read_json(dir / "p.json")["nodes"]["s"]["status"].get<std::string>();
+  test::Engine e;
+  Graph g = e.graph(graph({{"s", {{"type", "LoadScene"}, {"inputs", {{"path", "quad.obj"}}}}}}), dir / "g.json");
+  auto run = [&] {
+    EvalResult r = e.run(g, {"s.scene"});
+    EXPECT_TRUE(r.ok());
+    return r;
   };
-  EXPECT_EQ(status(), "ran");
-  EXPECT_EQ(status(), "cached");
+  auto color = [](const EvalResult& r) { return r.outputs.at("s.scene").at(0).as<Scene>().objects.at(0).material.base_color; };
+  EvalResult first = run();
+  EXPECT_EQ(first.nodes.at("s").status, NodeStatus::ran);
+  EXPECT_EQ(run().nodes.at("s").status, NodeStatus::cached);
   std::ofstream(dir / "quad.mtl") << "newmtl m\nKd 0.2 0.8 0.2\nmap_Kd tex.ppm\n";  // same size, new colour
   fs::last_write_time(dir / "quad.mtl", fs::last_write_time(dir / "quad.mtl") + std::chrono::seconds(2));
-  EXPECT_EQ(status(), "ran");
-  EXPECT_EQ(status(), "cached");
+  EvalResult recoloured = run();
+  EXPECT_EQ(recoloured.nodes.at("s").status, NodeStatus::ran);
+  EXPECT_NE(color(first), color(recoloured));
+  EXPECT_EQ(run().nodes.at("s").status, NodeStatus::cached);
   std::ofstream(dir / "tex.ppm") << "P3\n1 1\n255\n200 20 30\n";
-  EXPECT_EQ(status(), "ran");
+  EXPECT_EQ(run().nodes.at("s").status, NodeStatus::ran);
 }
 
 TEST(DiskCache, CorruptAndTruncatedEntriesAreDeletedRecomputedAndReported) {

@@ -96,10 +96,12 @@ TEST(Reliability, TrimAndClearDeleteOnlyTheCachesEntriesAndStagingFiles) {
   age(write_file(cache / "notes" / ".keep", ""));
   age(write_file(cache / "ab" / "abcdef0123456789.loomcache.bak", "mine"));
   // The cache's own: an entry and abandoned staging files of both namings.
-  write_file(cache / "ab" / "abcdef0123456789.loomcache", "not even a valid entry");
+  write_file(cache / "ab" / "abcdef0123456789.loomcache", std::string(10000, 'x'));  // not even a valid entry
   age(write_file(cache / "ab" / ".loomtmp-99-0.loomcache", ""));
   age(write_file(cache / "ab" / ".abcdef0123456789.loomcache.tmp99.0", ""));
-  ASSERT_EQ(test::run_shell(loom_cmd(run + " --set s.ms=301 --cache-limit 0.000001"), &out), 0) << out;
+  // A limit the new entry fits in (a quarter of it: the storage rule) and the
+  // old one does not: storing triggers the trim.
+  ASSERT_EQ(test::run_shell(loom_cmd(run + " --set s.ms=301 --cache-limit 0.005"), &out), 0) << out;
   EXPECT_FALSE(fs::exists(cache / "ab" / ".loomtmp-99-0.loomcache"));
   EXPECT_FALSE(fs::exists(cache / "ab" / ".abcdef0123456789.loomcache.tmp99.0"));
   EXPECT_FALSE(fs::exists(cache / "ab" / "abcdef0123456789.loomcache"));  // least recently used, over the limit

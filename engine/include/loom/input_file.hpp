@@ -11,12 +11,14 @@
 namespace loom {
 
 // Throws loom::Error unless `path` (an input_file input as the node receives
-// it: already resolved) is a regular file:
+// it: already resolved, or a file named inside another) is a regular file:
 //   cannot read mesh /g/balls.obj: no such file; did you mean "Balls.obj"?
 //   (a relative path is resolved against the graph file's folder, /g)
-// `what` names the kind of file ("mesh"); `graph_dir` is Context::graph_dir().
-// A missing folder is named as such, with the near names of that folder.
+// `what` names the kind of file ("mesh"); `graph_dir` is Context::graph_dir()
+// (empty: no note on how the path was resolved). A missing folder is named as
+// such, with the near names of that folder; a FIFO, socket or device is
+// refused before anything opens it (open() on a FIFO blocks forever).
 LOOM_API void require_input_file(const std::filesystem::path& path, const std::string& what,
-                                 const std::filesystem::path& graph_dir);
+                                 const std::filesystem::path& graph_dir = {});
 
 }  // namespace loom
