@@ -10,6 +10,7 @@
 #include <opencv2/videoio.hpp>
 
 #include "loom/disk_cache.hpp"
+#include "loom/scene.hpp"
 #include "loom_test.hpp"
 
 namespace loom {
@@ -149,7 +150,7 @@ TEST(DiskCache, ASceneIsReadAgainWhenItsMaterialLibraryOrATextureChanges) {
   auto dir = test::temp_dir();
   std::ofstream(dir / "quad.obj") << "mtllib quad.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
                                      "vt 0 1\nusemtl m\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n";
-  std::ofstream(dir / "quad.mtl") << "newmtl m\nKd 0.8 0.2 0.2\nmap_Kd tex.ppm\n";
+  std::ofstream(dir / "quad.mtl") << "newmtl m\nKd 0.8 0.2 0.2\n";
   std::ofstream(dir / "tex.ppm") << "P3\n1 1\n255\n10 20 30\n";
   test::Engine e;
   Graph g = e.graph(graph({{"s", {{"type", "LoadScene"}, {"inputs", {{"path", "quad.obj"}}}}}}), dir / "g.json");
@@ -158,18 +159,26 @@ TEST(DiskCache, ASceneIsReadAgainWhenItsMaterialLibraryOrATextureChanges) {
     EXPECT_TRUE(r.ok());
     return r;
   };
-  auto color = [](const EvalResult& r) { return r.outputs.at("s.scene").at(0).as<Scene>().objects.at(0).material.base_color; };
+  auto material = [](const EvalResult& r) { return r.outputs.at("s.scene").at(0).as<Scene>().objects.at(0).material; };
   EvalResult first = run();
   EXPECT_EQ(first.nodes.at("s").status, NodeStatus::ran);
   EXPECT_EQ(run().nodes.at("s").status, NodeStatus::cached);
-  std::ofstream(dir / "quad.mtl") << "newmtl m\nKd 0.2 0.8 0.2\nmap_Kd tex.ppm\n";  // same size, new colour
+  std::ofstream(dir / "quad.mtl") << "newmtl m\nKd 0.2 0.8 0.2\n";  // same size, new colour
   fs::last_write_time(dir / "quad.mtl", fs::last_write_time(dir / "quad.mtl") + std::chrono::seconds(2));
   EvalResult recoloured = run();
   EXPECT_EQ(recoloured.nodes.at("s").status, NodeStatus::ran);
-  EXPECT_NE(color(first), color(recoloured));
+  EXPECT_NEAR(material(first).base_color.x(), 0.8, 1e-6);
+  EXPECT_NEAR(material(recoloured).base_color.x(), 0.2, 1e-6);
+  std::ofstream(dir / "quad.mtl") << "newmtl m\nKd 0.2 0.8 0.2\nmap_Kd tex.ppm\n";
+  EvalResult textured = run();
+  EXPECT_EQ(textured.nodes.at("s").status, NodeStatus::ran);
   EXPECT_EQ(run().nodes.at("s").status, NodeStatus::cached);
   std::ofstream(dir / "tex.ppm") << "P3\n1 1\n255\n200 20 30\n";
-  EXPECT_EQ(run().nodes.at("s").status, NodeStatus::ran);
+  EvalResult retextured = run();
+  EXPECT_EQ(retextured.nodes.at("s").status, NodeStatus::ran);
+  ASSERT_TRUE(material(textured).base_color_map && material(retextured).base_color_map);
+  EXPECT_LT(material(textured).base_color_map->pixels.at<cv::Vec3f>(0, 0)[0],
+            material(retextured).base_color_map->pixels.at<cv::Vec3f>(0, 0)[0]);
 }
 
 TEST(DiskCache, CorruptAndTruncatedEntriesAreDeletedRecomputedAndReported) {
