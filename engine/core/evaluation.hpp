@@ -20,6 +20,24 @@
 
 namespace loom {
 
+namespace detail {
+
+// A file a result depends on, as it was when the result was computed: its
+// size and modification time (the rule make and the literal input files'
+// hash use). A result whose files changed is not reused.
+struct FileStamp {
+  std::string path;
+  std::int64_t size = -1;
+  std::int64_t mtime = -1;
+  bool operator==(const FileStamp& o) const { return path == o.path && size == o.size && mtime == o.mtime; }
+};
+FileStamp stamp_of(const std::string& path);
+bool still_current(const std::vector<FileStamp>& files);
+json stamps_to_json(const std::vector<FileStamp>& files);
+std::optional<std::vector<FileStamp>> stamps_from_json(const json& j);
+
+}  // namespace detail
+
 struct Session::State {
   explicit State(const Registry& r) : registry(r) {}
   const Registry& registry;
@@ -29,6 +47,7 @@ struct Session::State {
   // the state memory budget, least recently used first out.
   struct CacheEntry {
     std::vector<Value> outputs;
+    std::vector<detail::FileStamp> files;  // what the result read, its upstream's included
     std::uint64_t generation = 0;
     bool state = false;
     std::size_t bytes = 0;  // states only
@@ -44,6 +63,7 @@ struct Session::State {
   struct LatestState {
     int frame = 0;
     std::vector<Value> outputs;
+    std::vector<detail::FileStamp> files;
     std::uint64_t generation = 0;  // last used
   };
   std::unordered_map<std::uint64_t, LatestState> latest_states;
@@ -91,6 +111,12 @@ struct NodeState {
   bool ok = false;  // ran or cached
   NodeReport report;
   std::vector<Value> outputs;
+  // The files the result depends on beyond its hash: linked input files,
+  // files the body declared (Context::depends_on_file), and its linked
+  // upstream results' files. Kept with the result; see FileStamp.
+  std::mutex files_mutex;
+  std::vector<FileStamp> files;
+  void add_files(const std::vector<FileStamp>& more);
 };
 
 // "input "NAME": node "ID" failed": why a node cannot use an input whose
@@ -133,10 +159,20 @@ struct Evaluation {
   // the memory cache, then the simulation chain's latest state, then the disk
   // cache (asked, not read).
   Kept kept(const NodeState& s, std::uint64_t hash);
-  const std::vector<Value>* memory_entry(const NodeState& s, std::uint64_t hash, bool touch);
-  // The kept result, read from where kept() finds it (a disk entry that fails
-  // to read or does not fit the node's outputs is a miss).
-  std::optional<std::vector<Value>> cache_find(const NodeState& s, std::uint64_t hash, bool* from_disk);
+  struct MemoryHit {
+    const std::vector<Value>* outputs = nullptr;  // null: not in memory
+    const std::vector<FileStamp>* files = nullptr;
+  };
+  MemoryHit memory_entry(const NodeState& s, std::uint64_t hash, bool touch);
+  // The kept result, read from where kept() finds it, with the files it
+  // depends on (a disk entry that fails to read or does not fit the node's
+  // outputs is a miss, and so is a result whose files changed).
+  struct Found {
+    std::vector<Value> outputs;
+    std::vector<FileStamp> files;
+    bool from_disk = false;
+  };
+  std::optional<Found> cache_find(const NodeState& s, std::uint64_t hash);
   void cache_put(NodeState& s, double seconds);
 
   // plan.cpp: node states, input bindings, topological order, hashes.

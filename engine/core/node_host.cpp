@@ -31,10 +31,18 @@ Value Host::fetch_input(int i) {
     --lazy_depth;
   }
   if (!up.ok) throw UpstreamFailed(upstream_failure(spec, up));
+  s_.add_files(up.files);
   Value bound = bind_value(spec, up.outputs[static_cast<std::size_t>(b.output)], e_.place);
   if (spec.role == InputRole::value) return bound;
+  // A linked path's file is not in the hash (the path was not known when
+  // hashing): the result keeps the file's stamp instead.
+  if (spec.role == InputRole::input_file) s_.add_files({stamp_of(bound.as<std::string>())});
   std::lock_guard lock(mutex_);
   return resolved_paths_.emplace_back(std::move(bound));  // in.get returns a reference into it
+}
+
+void Host::depends_on_file(const std::filesystem::path& path) {
+  s_.add_files({stamp_of(std::filesystem::absolute(path).lexically_normal().string())});
 }
 
 bool Host::input_set(int i) const {

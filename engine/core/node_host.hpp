@@ -23,6 +23,7 @@ class Host final : public NodeHost {
   std::shared_ptr<void> scratch(std::uint64_t key,
                                 const std::function<std::shared_ptr<void>()>& make) override;
   std::shared_ptr<void> sequence_state(const std::function<std::shared_ptr<void>()>& make) override;
+  void depends_on_file(const std::filesystem::path& path) override;
 
  private:
   Evaluation& e_;

@@ -77,13 +77,13 @@ bool Evaluation::settled_without_running(int n) {
 }
 
 bool Evaluation::take_cached(NodeState& s) {
-  bool from_disk = false;
-  auto v = cache_find(s, s.hash, &from_disk);
-  if (!v) return false;
-  s.outputs = std::move(*v);
+  auto found = cache_find(s, s.hash);
+  if (!found) return false;
+  s.outputs = std::move(found->outputs);
+  s.files = std::move(found->files);
   s.ok = true;
   s.report.status = NodeStatus::cached;
-  (from_disk ? s.report.disk_hits : s.report.memory_hits) += 1;
+  (found->from_disk ? s.report.disk_hits : s.report.memory_hits) += 1;
   return true;
 }
 

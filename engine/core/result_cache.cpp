@@ -1,6 +1,8 @@
 // What is kept and where: the memory cache (ordinary results for two frames,
 // simulation states under a budget, each chain's latest state) and the
 // persistent disk cache (results slow to compute and quick to read back).
+#include <sys/stat.h>
+
 #include <algorithm>
 
 #include "computation_hash.hpp"
@@ -32,55 +34,108 @@ std::size_t bytes_of(const std::vector<Value>& values) {
 
 }  // namespace
 
-// The memory entry of `hash`, or a simulation chain's latest state when it is
-// that hash: the lookup both kept() and cache_find() make. The caller holds
-// the cache mutex; `touch` marks the entry used in this frame.
-const std::vector<Value>* Evaluation::memory_entry(const NodeState& s, std::uint64_t hash, bool touch) {
-  auto it = session.cache.find(hash);
-  if (it != session.cache.end()) {
-    if (touch) it->second.generation = session.generation;
-    return &it->second.outputs;
+FileStamp stamp_of(const std::string& path) {
+  FileStamp f;
+  f.path = path;
+  struct stat st;
+  if (::stat(path.c_str(), &st) == 0) {
+    f.size = static_cast<std::int64_t>(st.st_size);
+    f.mtime = static_cast<std::int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
   }
-  if (!s.type->spec.simulation()) return nullptr;
-  auto latest = session.latest_states.find(s.chain);
-  if (latest == session.latest_states.end() || state_hash(s.chain, latest->second.frame) != hash) return nullptr;
-  if (touch) latest->second.generation = session.generation;
-  return &latest->second.outputs;
+  return f;
 }
 
+bool still_current(const std::vector<FileStamp>& files) {
+  for (const FileStamp& f : files)
+    if (!(stamp_of(f.path) == f)) return false;
+  return true;
+}
+
+json stamps_to_json(const std::vector<FileStamp>& files) {
+  json j = json::array();
+  for (const FileStamp& f : files) j.push_back({f.path, f.size, f.mtime});
+  return json{{"files", j}};
+}
+
+std::optional<std::vector<FileStamp>> stamps_from_json(const json& j) {
+  if (!j.is_object() || !j.contains("files") || !j["files"].is_array()) return std::nullopt;
+  std::vector<FileStamp> files;
+  for (const json& f : j["files"]) {
+    if (!f.is_array() || f.size() != 3 || !f[0].is_string() || !f[1].is_number_integer() ||
+        !f[2].is_number_integer())
+      return std::nullopt;
+    files.push_back({f[0].get<std::string>(), f[1].get<std::int64_t>(), f[2].get<std::int64_t>()});
+  }
+  return files;
+}
+
+void NodeState::add_files(const std::vector<FileStamp>& more) {
+  if (more.empty()) return;
+  std::lock_guard lock(files_mutex);
+  for (const FileStamp& f : more)
+    if (std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
+}
+
+// The memory entry of `hash`, or a simulation chain's latest state when it is
+// that hash, and only while the files it depends on are unchanged: the lookup
+// both kept() and cache_find() make. The caller holds the cache mutex; `touch`
+// marks the entry used in this frame.
+Evaluation::MemoryHit Evaluation::memory_entry(const NodeState& s, std::uint64_t hash, bool touch) {
+  auto it = session.cache.find(hash);
+  if (it != session.cache.end()) {
+    if (!still_current(it->second.files)) return {};
+    if (touch) it->second.generation = session.generation;
+    return {&it->second.outputs, &it->second.files};
+  }
+  if (!s.type->spec.simulation()) return {};
+  auto latest = session.latest_states.find(s.chain);
+  if (latest == session.latest_states.end() || state_hash(s.chain, latest->second.frame) != hash ||
+      !still_current(latest->second.files))
+    return {};
+  if (touch) latest->second.generation = session.generation;
+  return {&latest->second.outputs, &latest->second.files};
+}
+
+// A disk entry is counted as kept without reading it; whether its files are
+// unchanged is known only when cache_find reads it (a stale one is then a
+// miss, and the node runs its inputs as for a corrupt entry).
 Kept Evaluation::kept(const NodeState& s, std::uint64_t hash) {
   {
     std::lock_guard lock(session.cache_mutex);
-    if (memory_entry(s, hash, false)) return Kept::memory;
+    if (memory_entry(s, hash, false).outputs) return Kept::memory;
   }
   DiskCache* disk = options.disk_cache;
   return disk && disk->contains(disk->key(hash, s.type->spec.build)) ? Kept::disk : Kept::nowhere;
 }
 
-std::optional<std::vector<Value>> Evaluation::cache_find(const NodeState& s, std::uint64_t hash, bool* from_disk) {
-  *from_disk = false;
+// On disk an entry holds the outputs, then one Json value with the files'
+// stamps (stamps_to_json).
+std::optional<Evaluation::Found> Evaluation::cache_find(const NodeState& s, std::uint64_t hash) {
   {
     std::lock_guard lock(session.cache_mutex);
-    if (const auto* outputs = memory_entry(s, hash, true)) return *outputs;
+    if (auto hit = memory_entry(s, hash, true); hit.outputs) return Found{*hit.outputs, *hit.files, false};
   }
   if (!options.disk_cache) return std::nullopt;
+  const TypeInfo& stamps_type = type_of<json>();  // registered before the entry names it
   std::string problem;
   auto values = options.disk_cache->load(options.disk_cache->key(hash, s.type->spec.build), &problem);
   if (!problem.empty() && options.observer) options.observer->node_message(s.node->id, true, problem);
-  if (!values) return std::nullopt;
-  *from_disk = true;
   const auto& outputs = s.type->spec.outputs;
-  if (values->size() != outputs.size()) return std::nullopt;
+  if (!values || values->size() != outputs.size() + 1 || values->back().type()->storage != stamps_type.storage) return std::nullopt;
+  auto files = stamps_from_json(values->back().as<json>());
+  if (!files || !still_current(*files)) return std::nullopt;
+  values->pop_back();
   for (std::size_t o = 0; o < outputs.size(); ++o)
     if (!is_any(*outputs[o].type) && (*values)[o].type()->storage != outputs[o].type->storage)
       return std::nullopt;
   std::lock_guard lock(session.cache_mutex);
   auto& entry = session.cache[hash];
   entry.outputs = *values;
+  entry.files = *files;
   entry.generation = session.generation;
   entry.state = s.type->spec.simulation();
   entry.bytes = entry.state ? bytes_of(entry.outputs) : 0;
-  return values;
+  return Found{std::move(*values), std::move(*files), true};
 }
 
 // Keeps a result that just ran: in memory, and on disk when it was slow to
@@ -91,6 +146,7 @@ void Evaluation::cache_put(NodeState& s, double seconds) {
     std::lock_guard lock(session.cache_mutex);
     auto& entry = session.cache[s.hash];
     entry.outputs = s.outputs;
+    entry.files = s.files;
     entry.generation = session.generation;
     entry.state = simulation;
     entry.bytes = simulation ? bytes_of(s.outputs) : 0;
@@ -99,6 +155,7 @@ void Evaluation::cache_put(NodeState& s, double seconds) {
       if (latest.outputs.empty() || time.frame >= latest.frame) {
         latest.frame = time.frame;
         latest.outputs = s.outputs;
+        latest.files = s.files;
       }
       latest.generation = session.generation;
     }
@@ -110,7 +167,9 @@ void Evaluation::cache_put(NodeState& s, double seconds) {
     std::lock_guard lock(session.cache_mutex);
     slow = session.unsaved_seconds[s.chain] += seconds;
   }
-  if (disk->store(disk->key(s.hash, s.type->spec.build), s.outputs, slow) > 0 && simulation) {
+  std::vector<Value> stored = s.outputs;
+  stored.push_back(Value::make<json>(stamps_to_json(s.files)));
+  if (disk->store(disk->key(s.hash, s.type->spec.build), stored, slow) > 0 && simulation) {
     std::lock_guard lock(session.cache_mutex);
     session.unsaved_seconds[s.chain] = 0;
   }

@@ -14,9 +14,9 @@ bool Evaluation::step_to_previous(int n) {
     return true;
   }
   const int want = time.frame - 1;
-  bool from_disk = false;
-  if (auto v = cache_find(s, state_hash(s.chain, want), &from_disk)) {
-    s.previous = std::move(*v);
+  if (auto found = cache_find(s, state_hash(s.chain, want))) {
+    s.previous = std::move(found->outputs);
+    s.add_files(found->files);
     return true;
   }
   // The latest frame before `want` that is kept, then step on from there,
@@ -24,8 +24,9 @@ bool Evaluation::step_to_previous(int n) {
   int next = time.start;
   std::vector<Value> previous;
   for (int k = want - 1; k >= time.start; --k)
-    if (auto v = cache_find(s, state_hash(s.chain, k), &from_disk)) {
-      previous = std::move(*v);
+    if (auto found = cache_find(s, state_hash(s.chain, k))) {
+      previous = std::move(found->outputs);
+      s.add_files(found->files);
       next = k + 1;
       break;
     }
@@ -53,6 +54,7 @@ bool Evaluation::step_to_previous(int n) {
       return false;
     }
     previous = step.outputs;
+    s.add_files(step.files);
   }
   s.previous = std::move(previous);
   return true;

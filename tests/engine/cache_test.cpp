@@ -96,6 +96,51 @@ TEST(DiskCache, ASecondProcessReadsTheSlowResultFromDisk) {
   EXPECT_TRUE(entries(dir / "cache").empty());
 }
 
+// Every file a result depends on is part of what decides its reuse, however
+// its path arrived: literal, through a link, or named inside another file.
+TEST(DiskCache, AChangedFileIsReadAgainWhetherItsPathIsLinkedOrNamedInAnotherFile) {
+  auto dir = test::temp_dir();
+  std::ofstream(dir / "number.txt") << "1\n";
+  std::ofstream(dir / "list.txt") << "@number.txt\n";
+  const json read = {{"type", "ReadNumber"}, {"inputs", {{"path", from("p.value")}, {"ms", 120}}}};
+  for (const std::string named : {"number.txt", "list.txt"}) {
+    auto g = write_graph(dir, graph({{"p", {{"type", "StringConstant"}, {"inputs", {{"value", named}}}}},
+                                     {"r", read},
+                                     {"w", {{"type", "WriteText"}, {"inputs", {{"value", from("r.value")}, {"path", "x.txt"}}}}}}));
+    const std::string common = "run " + g.string() + " --cache " + (dir / ("cache-" + named)).string() + " --out " +
+                               (dir / "out").string() + " --profile " + (dir / "p.json").string();
+    std::ofstream(dir / "number.txt") << "1\n";
+    std::string out;
+    ASSERT_EQ(loom(common, &out), 0) << out;
+    EXPECT_EQ(read_text(dir / "out" / "x.txt"), "1.000000\n") << named;
+    ASSERT_EQ(loom(common, &out), 0) << out;
+    EXPECT_EQ(read_json(dir / "p.json")["nodes"]["r"]["source"], "disk") << named;
+    std::ofstream(dir / "number.txt") << "22\n";  // another size: another stamp
+    ASSERT_EQ(loom(common, &out), 0) << out;
+    EXPECT_EQ(read_json(dir / "p.json")["nodes"]["r"]["status"], "ran") << named;
+    EXPECT_EQ(read_text(dir / "out" / "x.txt"), "22.000000\n") << named;
+  }
+}
+
+TEST(DiskCache, TheMemoryCacheOfASessionRereadsAChangedFileToo) {
+  auto dir = test::temp_dir();
+  std::ofstream(dir / "number.txt") << "5\n";
+  std::ofstream(dir / "list.txt") << "@number.txt\n";
+  test::Engine e;
+  Graph g = e.graph(graph({{"p", {{"type", "StringConstant"}, {"inputs", {{"value", "list.txt"}}}}},
+                           {"r", {{"type", "ReadNumber"}, {"inputs", {{"path", from("p.value")}}}}},
+                           {"m", {{"type", "Math"}, {"inputs", {{"a", from("r.value")}, {"b", 1}}}}}}),
+                    dir / "g.json");
+  auto value = [&] {
+    EvalResult r = e.run(g, {"m.result"});
+    return r.outputs.at("m.result").at(0).as<double>();
+  };
+  EXPECT_EQ(value(), 6);
+  EXPECT_EQ(e.run(g, {"m.result"}).nodes.at("m").status, NodeStatus::cached);
+  std::ofstream(dir / "number.txt") << "70\n";
+  EXPECT_EQ(value(), 71);  // m's own entry is stale too: it carries r's files
+}
+
 TEST(DiskCache, CorruptAndTruncatedEntriesAreDeletedRecomputedAndReported) {
   for (const char* damage : {"flip", "truncate", "empty"}) {
     auto dir = test::temp_dir();

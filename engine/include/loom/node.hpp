@@ -214,6 +214,7 @@ class NodeHost {
   virtual std::shared_ptr<void> scratch(std::uint64_t key,
                                         const std::function<std::shared_ptr<void>()>& make) = 0;
   virtual std::shared_ptr<void> sequence_state(const std::function<std::shared_ptr<void>()>& make) = 0;
+  virtual void depends_on_file(const std::filesystem::path& path) { (void)path; }
 };
 
 class LOOM_API Inputs {
@@ -337,6 +338,13 @@ class LOOM_API Context {
 
   const std::filesystem::path& graph_dir() const { return graph_dir_; }
   const std::filesystem::path& output_dir() const { return output_dir_; }
+
+  // Declares that the result depends on a file the node found by itself (a
+  // material library or texture named inside a scene file). Files given to
+  // input_file inputs, literal or linked, are declared by the engine. The
+  // engine keeps each file's size and modification time with the result (in
+  // memory and on disk) and recomputes when one of them changed.
+  void depends_on_file(const std::filesystem::path& path) { host_.depends_on_file(path); }
 
  private:
   NodeHost& host_;
