@@ -26,9 +26,12 @@ class RegularFilesOnly : public Assimp::DefaultIOSystem {
  public:
   bool Exists(const char* file) const override { return regular(file) && DefaultIOSystem::Exists(file); }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
-    return regular(file) ? DefaultIOSystem::Open(file, mode) : nullptr;
+    if (!regular(file)) return nullptr;
+    opened.emplace_back(file);
+    return DefaultIOSystem::Open(file, mode);
   }
   mutable std::string refused;
+  std::vector<fs::path> opened;
 
  private:
   bool regular(const char* file) const {
@@ -223,13 +226,18 @@ void check_gltf(const fs::path& path) {
 
 }  // namespace
 
-const aiScene* import_scene(Assimp::Importer& importer, const fs::path& path, unsigned extra_flags) {
+const aiScene* import_scene(Assimp::Importer& importer, const fs::path& path, unsigned extra_flags,
+                            std::vector<fs::path>* opened) {
   require_regular_file(path, "scene");
   check_gltf(path);
+  std::error_code ec;
   auto* io = new RegularFilesOnly;
   importer.SetIOHandler(io);  // the importer owns it
   const aiScene* scene = importer.ReadFile(
       path.string(), aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_SortByPType | extra_flags);
+  if (opened)
+    for (const fs::path& f : io->opened)
+      if (!fs::equivalent(f, path, ec)) opened->push_back(f);
   if (!io->refused.empty()) throw Error("cannot read scene " + path.string() + ": " + io->refused);
   if (!scene || !scene->mRootNode) throw Error("cannot read " + path.string() + ": " + importer.GetErrorString());
   return scene;

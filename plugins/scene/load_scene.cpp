@@ -86,6 +86,9 @@ class Textures {
     return cache_[key] = std::make_shared<const loom::Image>(std::move(image));
   }
 
+  // The texture files looked for, read or not: the node's result depends on them.
+  const std::vector<fs::path>& files() const { return files_; }
+
  private:
   // The texture's pixels as OpenCV decodes them, after its header's size is
   // checked against the pixel limit (a small file may declare a huge image)
@@ -106,6 +109,7 @@ class Textures {
       return bgra.clone();
     }
     const fs::path file = folder_ / fs::path(name);
+    files_.push_back(file);
     loom::formats::require_regular_file(file, "texture");
     std::string head(kHeaderBytes, '\0');
     std::ifstream in(file, std::ios::binary);
@@ -120,6 +124,7 @@ class Textures {
   const aiScene* scene_;
   fs::path folder_;
   std::map<std::string, std::shared_ptr<const loom::Image>> cache_;
+  mutable std::vector<fs::path> files_;
 };
 
 loom::Material material_of(const aiMaterial* m, Textures& textures, double bump_scale, loom::Context& ctx) {
@@ -259,11 +264,14 @@ struct LoadScene {
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     const fs::path path = in.get<std::string>("path");
     Assimp::Importer importer;
-    const aiScene* ai = loom::formats::import_scene(importer, path, aiProcess_GenSmoothNormals);
+    std::vector<fs::path> opened;  // .mtl files, glTF buffers: the result depends on them too
+    const aiScene* ai = loom::formats::import_scene(importer, path, aiProcess_GenSmoothNormals, &opened);
     Textures textures(ai, path.parent_path());
     std::vector<loom::Material> materials;
     for (unsigned i = 0; i < ai->mNumMaterials; ++i)
       materials.push_back(material_of(ai->mMaterials[i], textures, in.get<double>("bump_scale"), ctx));
+    for (const fs::path& f : opened) ctx.depends_on_file(f);
+    for (const fs::path& f : textures.files()) ctx.depends_on_file(f);
     loom::Scene scene;
     const auto transforms = place_objects(*ai, triangle_meshes(*ai), materials, scene);
     if (scene.objects.empty()) throw loom::Error(path.string() + " has no triangle meshes");
