@@ -29,7 +29,9 @@ void write_staging(const TemporaryFile& tmp, std::string_view bytes) {
   auto fail = [&](int error) {
     throw Error("cannot write " + tmp.target().string() + ": " + std::strerror(error ? error : EIO));
   };
-  const int fd = ::open(tmp.path().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  // O_TRUNC, not O_EXCL: a staging file of a killed process whose pid came
+  // back may hold this name. O_NOFOLLOW: a link planted there is not followed.
+  const int fd = ::open(tmp.path().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
   if (fd < 0) fail(errno);
   std::size_t done = 0;
   while (done < bytes.size()) {

@@ -28,9 +28,8 @@ class RegularFilesOnly : public Assimp::DefaultIOSystem {
   bool Exists(const char* file) const override { return regular(file) && DefaultIOSystem::Exists(file); }
   Assimp::IOStream* Open(const char* file, const char* mode) override {
     if (!regular(file)) return nullptr;
-    Assimp::IOStream* stream = DefaultIOSystem::Open(file, mode);
-    if (stream) opened.push_back(fs::absolute(file).lexically_normal());
-    return stream;
+    opened.emplace_back(file);
+    return DefaultIOSystem::Open(file, mode);
   }
   mutable std::string refused;
   std::vector<fs::path> opened;
@@ -229,16 +228,19 @@ void check_gltf(const fs::path& path) {
 }  // namespace
 
 const aiScene* import_scene(Assimp::Importer& importer, const fs::path& path, unsigned extra_flags,
-                            std::vector<fs::path>* files_read) {
+                            std::vector<fs::path>* opened) {
   require_input_file(path, "scene");
   check_gltf(path);
   check_declared_counts(path);  // OFF/PLY/X headers: before assimp allocates what they claim
+  std::error_code ec;
   auto* io = new RegularFilesOnly;
   importer.SetIOHandler(io);  // the importer owns it
   const aiScene* scene = importer.ReadFile(
       path.string(), aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_SortByPType | extra_flags);
+  if (opened)
+    for (const fs::path& f : io->opened)
+      if (!fs::equivalent(f, path, ec)) opened->push_back(f);
   if (!io->refused.empty()) throw Error("cannot read scene " + path.string() + ": " + io->refused);
-  if (files_read) *files_read = io->opened;
   if (!scene || !scene->mRootNode) throw Error("cannot read " + path.string() + ": " + importer.GetErrorString());
   return scene;
 }

@@ -31,7 +31,7 @@ void VideoSequence::open(int width, int height) {
   if (ec) throw Error("cannot create folder " + path_.parent_path().string() + ": " + ec.message());
   // OpenCV says only "cannot open" for any failure: try the folder first, so
   // a read-only or missing one is named as such, not as a missing codec.
-  const int fd = ::open(temp_->path().c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  const int fd = ::open(temp_->path().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
   if (fd < 0) throw Error("cannot write " + path_.string() + ": " + std::strerror(errno));
   ::close(fd);
   struct Choice {

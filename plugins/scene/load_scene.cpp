@@ -56,7 +56,6 @@ class Textures {
     const std::string key = std::string(path.C_Str()) + (color ? "#color" : "#data");
     auto it = cache_.find(key);
     if (it != cache_.end()) return it->second;
-    if (!scene_->GetEmbeddedTexture(path.C_Str())) ctx.depends_on_file(folder_ / fs::path(path.C_Str()));
     cv::Mat raw;
     try {
       raw = decode(path.C_Str());
@@ -88,6 +87,9 @@ class Textures {
     return cache_[key] = std::make_shared<const loom::Image>(std::move(image));
   }
 
+  // The texture files looked for, read or not: the node's result depends on them.
+  const std::vector<fs::path>& files() const { return files_; }
+
  private:
   // The texture's pixels as OpenCV decodes them, after its header's size is
   // checked against the pixel limit (a small file may declare a huge image)
@@ -108,6 +110,7 @@ class Textures {
       return bgra.clone();
     }
     const fs::path file = folder_ / fs::path(name);
+    files_.push_back(file);
     loom::require_input_file(file, "texture");
     std::string head(kHeaderBytes, '\0');
     std::ifstream in(file, std::ios::binary);
@@ -122,6 +125,7 @@ class Textures {
   const aiScene* scene_;
   fs::path folder_;
   std::map<std::string, std::shared_ptr<const loom::Image>> cache_;
+  mutable std::vector<fs::path> files_;
 };
 
 loom::Material material_of(const aiMaterial* m, Textures& textures, double bump_scale, loom::Context& ctx) {
@@ -262,13 +266,14 @@ struct LoadScene {
     const fs::path path = in.get<std::string>("path");
     loom::require_input_file(path, "scene", ctx.graph_dir());
     Assimp::Importer importer;
-    std::vector<fs::path> files_read;  // the .mtl, a glTF's buffers: the result depends on them
-    const aiScene* ai = loom::formats::import_scene(importer, path, aiProcess_GenSmoothNormals, &files_read);
-    for (const fs::path& f : files_read) ctx.depends_on_file(f);
+    std::vector<fs::path> opened;  // .mtl files, glTF buffers: the result depends on them too
+    const aiScene* ai = loom::formats::import_scene(importer, path, aiProcess_GenSmoothNormals, &opened);
     Textures textures(ai, path.parent_path());
     std::vector<loom::Material> materials;
     for (unsigned i = 0; i < ai->mNumMaterials; ++i)
       materials.push_back(material_of(ai->mMaterials[i], textures, in.get<double>("bump_scale"), ctx));
+    for (const fs::path& f : opened) ctx.depends_on_file(f);
+    for (const fs::path& f : textures.files()) ctx.depends_on_file(f);
     loom::Scene scene;
     const auto transforms = place_objects(*ai, triangle_meshes(*ai), materials, scene);
     if (scene.objects.empty()) throw loom::Error(path.string() + " has no triangle meshes");

@@ -1,7 +1,10 @@
 // Background evaluation without a window: results reach the caller, a new
 // request cancels the running one, the session cache is kept across requests,
 // and validation errors come back with their JSON pointers.
+#include <sys/stat.h>
+
 #include <chrono>
+#include <fstream>
 #include <thread>
 
 #include "controller/evaluation_controller.hpp"
@@ -137,6 +140,38 @@ TEST_F(EvaluationControllerTest, DestroyingWhileRunningCancels) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   EXPECT_LT(seconds_since(start), 5.0);
+}
+
+// Issue 30 items 5a and 7 in the editor: a scene file naming a FIFO (it blocked
+// open() forever: "running 0%") and a glTF whose nodes list the next twice
+// (7.3 GB) end promptly with the scene's error, through the same background
+// evaluation the editor draws from.
+TEST_F(EvaluationControllerTest, HostileSceneFilesEndWithAnErrorNotAHangOrABomb) {
+  engine.loader.load_for({"LoadScene"});
+  const auto dir = test::temp_dir();
+  ASSERT_EQ(::mkfifo((dir / "fifo.mtl").c_str(), 0600), 0);
+  std::ofstream(dir / "fifo.obj") << "mtllib fifo.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  json nodes = json::array();
+  for (int i = 0; i < 40; ++i) nodes.push_back({{"children", {i + 1, i + 1}}});
+  nodes.push_back({{"mesh", 0}});
+  std::ofstream(dir / "tree.gltf") << json{{"asset", {{"version", "2.0"}}}, {"nodes", nodes},
+                                           {"scenes", {{{"nodes", {0}}}}}}.dump();
+  EvaluationController controller(engine.registry, 2);
+  std::uint64_t revision = 0;
+  for (const auto& [file, expected] : {std::pair<const char*, const char*>{"fifo.obj", "FIFO"},
+                                       {"tree.gltf", "node instances"}}) {
+    const auto start = Clock::now();
+    controller.submit(request({{"loom", 1}, {"nodes", {{"load", {{"type", "LoadScene"},
+                                                                  {"inputs", {{"path", (dir / file).string()}}}}}}}},
+                              ++revision, {"load.scene"}));
+    controller.wait_idle();
+    EXPECT_LT(seconds_since(start), 10) << file;
+    auto done = controller.take_finished();
+    ASSERT_TRUE(done.has_value()) << file;
+    const NodeReport& load = (*done)->result.nodes.at("load");
+    EXPECT_EQ(load.status, NodeStatus::failed) << file;
+    EXPECT_NE(load.error.find(expected), std::string::npos) << load.error;
+  }
 }
 
 }  // namespace

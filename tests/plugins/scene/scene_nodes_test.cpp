@@ -1,5 +1,6 @@
 // The scene assembly nodes through the engine: transforms against hand-built
 // matrices, merging rules, and refusals of bad input.
+#include <chrono>
 #include <cmath>
 #include <fstream>
 
@@ -188,6 +189,42 @@ TEST(SceneNodes, LoadSceneKeepsACutSeamAndTheFilesOwnVertices) {
   EXPECT_EQ(shared.vertices(), 4);
   EXPECT_EQ(shared.F.row(0), Eigen::RowVector3i(0, 1, 2));
   EXPECT_EQ(shared.F.row(1), Eigen::RowVector3i(1, 3, 2));
+}
+
+// Issue 30 item 3 for LoadScene: the .mtl and the textures it reads are part of
+// its result's identity (declared with Context::depends_on_file), so a changed
+// material colour or texture is read again, not served from the cache.
+TEST(SceneNodes, LoadSceneRereadsAChangedMtlOrTexture) {
+  namespace fs = std::filesystem;
+  const auto dir = loom::test::temp_dir();
+  auto write = [&](const char* name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    static int tick = 0;  // a later modification time each write, whatever the clock's resolution
+    fs::last_write_time(dir / name, fs::file_time_type::clock::now() + std::chrono::seconds(++tick));
+  };
+  write("s.obj", "mtllib s.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nv 3 0 0\nv 2 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                 "o a\nusemtl plain\nf 1/1 2/2 3/3\no b\nusemtl textured\nf 4/1 5/2 6/3\n");
+  write("s.mtl", "newmtl plain\nKd 0.8 0.1 0.1\nnewmtl textured\nKd 1 1 1\nmap_Kd t.ppm\n");
+  write("t.ppm", "P3\n1 1\n255\n255 255 255\n");
+  loom::test::Engine engine;
+  const loom::Graph g = engine.graph(
+      {{"loom", 1}, {"nodes", {{"load", {{"type", "LoadScene"}, {"inputs", {{"path", "s.obj"}}}}}}}}, dir / "g.json");
+  auto colours = [&] {  // the plain material's red, the texture's red
+    const loom::EvalResult r = engine.run(g, {"load.scene"});
+    const auto& scene = r.outputs.at("load.scene").at(0).as<loom::Scene>();
+    double plain = -1, texel = -1;
+    for (const auto& o : scene.objects)
+      if (o.material.base_color_map) texel = o.material.base_color_map->pixels.at<cv::Vec3f>(0, 0)[0];
+      else plain = o.material.base_color.x();
+    return std::pair<double, double>(plain, texel);
+  };
+  EXPECT_NEAR(colours().first, 0.8, 1e-6);
+  EXPECT_EQ(engine.run(g, {"load.scene"}).nodes.at("load").status, loom::NodeStatus::cached);
+  write("s.mtl", "newmtl plain\nKd 0.2 0.1 0.1\nnewmtl textured\nKd 1 1 1\nmap_Kd t.ppm\n");
+  EXPECT_NEAR(colours().first, 0.2, 1e-6);
+  EXPECT_NEAR(colours().second, 1.0, 1e-6);
+  write("t.ppm", "P3\n1 1\n255\n0 0 0\n");
+  EXPECT_NEAR(colours().second, 0.0, 1e-6);
 }
 
 }  // namespace

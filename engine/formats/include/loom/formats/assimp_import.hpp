@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <vector>
 #include <string>
+#include <vector>
 
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
@@ -26,10 +27,10 @@ constexpr std::uint64_t kMaxSceneNodeInstances = 100'000;
 // forever); a GLB's chunks must fit in the file; a glTF's buffers may not
 // claim more bytes than their source holds, and its node tree may not expand
 // beyond kMaxSceneNodeInstances. Throws loom::Error naming the file.
-// `files_read`, when given, receives every file assimp opened (the scene's
-// own, its .mtl, a glTF's buffers): what the result depends on.
+// `opened`, when given, receives every other file assimp opened for it (an
+// .mtl, a glTF's buffers): a node declares them (Context::depends_on_file).
 const aiScene* import_scene(Assimp::Importer& importer, const std::filesystem::path& path,
-                            unsigned extra_flags = 0, std::vector<std::filesystem::path>* files_read = nullptr);
+                            unsigned extra_flags = 0, std::vector<std::filesystem::path>* opened = nullptr);
 
 // One triangle mesh of an imported scene with its own vertex list, as assimp
 // holds it (nothing joined: a cut stays cut), UVs, normals and colours where
