@@ -33,6 +33,10 @@ NodeSpec& NodeSpec::set_sink() {
   sink = true;
   return *this;
 }
+NodeSpec& NodeSpec::set_sequence_sink() {
+  sink = sequence = true;
+  return *this;
+}
 NodeSpec& NodeSpec::set_nondeterministic() {
   nondeterministic = true;
   return *this;

@@ -70,6 +70,7 @@ json describe_node_type(const NodeType& type) {
     outputs.push_back({{"name", o.name}, {"type", o.type->name}, {"description", o.description}});
   json flags = json::array();
   if (s.sink) flags.push_back("sink");
+  if (s.sequence) flags.push_back("sequence");
   if (s.nondeterministic) flags.push_back("nondeterministic");
   if (s.time_dependent) flags.push_back("time_dependent");
   if (s.simulation()) flags.push_back("simulation");

@@ -49,6 +49,7 @@ std::string node_text(const NodeType& type, bool detailed) {
   std::string text = s.name + "  (plugin " + s.plugin + ", version " + std::to_string(s.version) + ")\n  " +
                      s.description + "\n";
   if (s.sink) text += "  sink: writes files, always runs\n";
+  if (s.sequence) text += "  sequence: gathers every frame of a run into one file (one task after all frames)\n";
   if (s.nondeterministic) text += "  nondeterministic: never cached\n";
   if (s.simulation())
     text += "  simulation: steps " + s.state_input + " (frame f-1) to " + s.state_output + " (frame f)\n";
@@ -85,6 +86,7 @@ std::string nodes_markdown(const std::vector<const NodeType*>& all, bool whole_p
       md += "Version " + std::to_string(s.version);
       if (!whole_page) md += " · plugin `" + plugin + "`";
       if (s.sink) md += " · sink (writes files; always runs)";
+      if (s.sequence) md += " · sequence (every frame of a run into one file)";
       if (s.nondeterministic) md += " · nondeterministic (never cached)";
       if (s.simulation())
         md += " · simulation (`" + s.state_input + "` at frame f-1 → `" + s.state_output + "` at frame f)";

@@ -18,10 +18,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Sinks that gather a whole sequence into one file: they cannot be split into
-// chunks and run in the assemble task.
-bool is_sequence_sink(const std::string& type) { return type == "SaveVideo"; }
-
 bool on_path(const std::string& program) {
   const char* path = std::getenv("PATH");
   std::string dirs = path ? path : "";
@@ -137,7 +133,10 @@ void Planner::plan_frames(FrameRange range) {
   for (const auto& [id, node] : g.graph.nodes)
     if (g.registry->find(node.type)->spec.simulation()) simulations.push_back(id);
   for (const auto& t : r.run.targets.empty() ? sink_ids(g.graph, *g.registry) : r.run.targets)
-    (is_sequence_sink(g.graph.nodes.at(parse_target(t).node).type) ? sequence : chunk_targets).push_back(t);
+    // Sinks that gather a whole sequence into one file cannot be split into
+    // chunks: they run in the assemble task.
+    (g.registry->find(g.graph.nodes.at(parse_target(t).node).type)->spec.sequence ? sequence : chunk_targets)
+        .push_back(t);
   const bool split = r.chunk > 0 ? range.last - range.first + 1 > r.chunk : range.last - range.first + 1 > 10;
   if (!split) {  // one task runs everything
     chunk_targets.insert(chunk_targets.end(), sequence.begin(), sequence.end());

@@ -11,7 +11,7 @@ struct SaveVideo {
     s.describe("Writes the image of every frame of the run, in order, as one MP4 video: H.264 (avc1) "
                "where OpenCV's FFmpeg can encode it, else MPEG-4 Part 2 (mp4v). The file appears at the "
                "run's last frame (a temporary file renamed); a cancelled or failed run leaves none.")
-        .set_sink()
+        .set_sequence_sink()
         .input<loom::Image>("image", "this frame's image (every frame the same size)")
         .input<std::string>("path", "the .mp4 file to write, relative to the output folder").output_file()
         .input<double>("fps", 0.0, "frames per second; 0: the graph's rate").range(0, 1000)

@@ -117,6 +117,7 @@ class LOOM_API NodeSpec {
   std::uint64_t build = 0;
   int version = 1;     // bump when results change: it enters the cache hash
   bool sink = false;   // has side effects (writes files); always runs, never cached
+  bool sequence = false;  // a sink that gathers every frame of a run into one file (set_sequence_sink)
   bool nondeterministic = false;  // never cached, nor is anything downstream
   bool time_dependent = false;    // reads ctx.time(): evaluated once per frame
   // A simulation step (set_simulation): the names of its state input and output.
@@ -127,6 +128,10 @@ class LOOM_API NodeSpec {
   NodeSpec& describe(std::string text);
   NodeSpec& set_version(int v);
   NodeSpec& set_sink();
+  // A sink that gathers the frames of one run, in order, into one file
+  // (SaveVideo, with Context::sequence_state): a run split into chunks of
+  // frames (loom submit, MPI) runs it once, after every frame, not per chunk.
+  NodeSpec& set_sequence_sink();
   NodeSpec& set_nondeterministic();
   // The node reads ctx.time(). Nodes that do not are evaluated once and shared
   // by every frame; what depends on a time-dependent node is evaluated per
