@@ -86,28 +86,12 @@ struct NBody {
         bodies[k]["velocity"].push_back({s.v[k].x(), s.v[k].y(), s.v[k].z()});
       }
     };
-    // Energy bookkeeping: the total energy, and with body 0 the only mass
-    // (ships about a planet, where the total is 0 and says nothing) each
-    // ship's specific orbital energy about it, until it lands.
-    const bool ships = s.central_only_mass();
-    std::vector<double> ship_e0(static_cast<std::size_t>(n), 0), ship_scale(static_cast<std::size_t>(n), 0),
-        ship_worst(static_cast<std::size_t>(n), 0);
-    for (int b = 1; ships && b < n; ++b) {
-      ship_e0[static_cast<std::size_t>(b)] = specific_energy(s, b);
-      ship_scale[static_cast<std::size_t>(b)] = specific_energy_scale(s, b);
-    }
-    const double e0 = total_energy(s);
-    double worst = 0;
+    EnergyDrift energy(s);
     record(0);
     int next_sample = 1;
     for (long k = 1; k <= steps; ++k) {
       step(s, std::min(h, duration - (k - 1) * h), integrator);
-      if (e0 != 0) worst = std::max(worst, std::abs(total_energy(s) - e0) / std::abs(e0));
-      for (int b = 1; ships && b < n; ++b) {
-        const auto i = static_cast<std::size_t>(b);
-        if (!s.landed[i])
-          ship_worst[i] = std::max(ship_worst[i], std::abs(specific_energy(s, b) - ship_e0[i]) / ship_scale[i]);
-      }
+      energy.observe(s);
       // Samples evenly spaced in steps.
       while (next_sample < samples && k * (samples - 1) >= static_cast<long>(next_sample) * steps)
         record(next_sample++);
@@ -127,19 +111,16 @@ struct NBody {
     for (int b = 0; b < n; ++b)
       if (s.landed[static_cast<std::size_t>(b)])
         events["landed"].push_back({{"body", b}, {"time", s.landed_time[static_cast<std::size_t>(b)]}});
-    if (ships) {
+    if (energy.ships()) {
       events["ship_energy_error"] = loom::json::array();
-      for (int b = 1; b < n; ++b) {
-        events["ship_energy_error"].push_back({{"body", b}, {"error", ship_worst[static_cast<std::size_t>(b)]}});
-        worst = std::max(worst, ship_worst[static_cast<std::size_t>(b)]);
-      }
+      for (int b = 1; b < n; ++b) events["ship_energy_error"].push_back({{"body", b}, {"error", energy.ship(b)}});
     }
-    events["energy_error"] = worst;
+    events["energy_error"] = energy.worst();
     if (!events["landed"].empty()) ctx.log("landed: " + events["landed"].dump());
     out.set("table", loom::json{{"time", std::move(times)}, {"bodies", std::move(bodies)}});
     out.set("trajectories", std::move(lines));
     out.set("events", std::move(events));
-    out.set("energy_error", worst);
+    out.set("energy_error", energy.worst());
   }
 };
 LOOM_NODE(NBody);

@@ -1,5 +1,6 @@
 #include "orbits.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -172,6 +173,33 @@ double specific_energy_scale(const NBodySystem& s, int body) {
   const auto k = static_cast<std::size_t>(body);
   return 0.5 * (s.v[k] - s.v[0]).squaredNorm() +
          s.G * s.m[0] / std::sqrt((s.x[k] - s.x[0]).squaredNorm() + s.softening * s.softening);
+}
+
+EnergyDrift::EnergyDrift(const NBodySystem& s)
+    : ships_(s.central_only_mass()),
+      e0_(total_energy(s)),
+      ship_e0_(static_cast<std::size_t>(s.size()), 0),
+      ship_scale_(static_cast<std::size_t>(s.size()), 1),
+      ship_worst_(static_cast<std::size_t>(s.size()), 0) {
+  for (int b = 1; ships_ && b < s.size(); ++b) {
+    ship_e0_[static_cast<std::size_t>(b)] = specific_energy(s, b);
+    ship_scale_[static_cast<std::size_t>(b)] = specific_energy_scale(s, b);
+  }
+}
+
+void EnergyDrift::observe(const NBodySystem& s) {
+  if (e0_ != 0) total_worst_ = std::max(total_worst_, std::abs(total_energy(s) - e0_) / std::abs(e0_));
+  for (int b = 1; ships_ && b < s.size(); ++b) {
+    const auto i = static_cast<std::size_t>(b);
+    if (!s.landed[i])
+      ship_worst_[i] = std::max(ship_worst_[i], std::abs(specific_energy(s, b) - ship_e0_[i]) / ship_scale_[i]);
+  }
+}
+
+double EnergyDrift::worst() const {
+  double w = total_worst_;
+  for (double e : ship_worst_) w = std::max(w, e);
+  return w;
 }
 
 double escape_speed(double G, double M, double r) { return std::sqrt(2 * G * M / r); }

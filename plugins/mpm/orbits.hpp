@@ -51,6 +51,25 @@ double total_energy(const NBodySystem& s);
 double specific_energy(const NBodySystem& s, int body);
 double specific_energy_scale(const NBodySystem& s, int body);
 
+// The energy bookkeeping of a run: the total energy's largest relative
+// drift, and when body 0 is the only mass (ships about a planet, where the
+// total is 0 and says nothing) each massless body's specific-energy drift
+// |ε(t) − ε(0)| / specific_energy_scale(0) until it lands.
+class EnergyDrift {
+ public:
+  explicit EnergyDrift(const NBodySystem& s);
+  void observe(const NBodySystem& s);  // after each step
+  bool ships() const { return ships_; }
+  double ship(int body) const { return ship_worst_[static_cast<std::size_t>(body)]; }
+  // The total's drift, or with ships the largest of theirs.
+  double worst() const;
+
+ private:
+  bool ships_;
+  double e0_, total_worst_ = 0;
+  std::vector<double> ship_e0_, ship_scale_, ship_worst_;
+};
+
 // Escape speed √(2GM/r) from distance r of mass M.
 double escape_speed(double G, double M, double r);
 

@@ -108,5 +108,22 @@ TEST(NumbersOut, RunnerPrintsTargetsAsJsonInFull) {
   EXPECT_GT(printed.dump().size(), 2000u);
 }
 
+TEST(NumbersOut, SaveJsonRefusesValuesWithoutAJsonFormAndOtherExtensions) {
+  test::Engine e;
+  json doc = {{"loom", 1},
+              {"nodes",
+               {{"orbit", circular_orbit(0)},
+                {"save", {{"type", "SaveJSON"}, {"inputs", {{"value", {{"from", "orbit.trajectories"}}}, {"path", "t.json"}}}}}}}};
+  const auto out = test::temp_dir();
+  EvalResult r = e.run(e.graph(doc), {"save"}, 0, out);
+  EXPECT_EQ(r.nodes.at("save").status, NodeStatus::failed);
+  EXPECT_NE(r.nodes.at("save").error.find("has no JSON form"), std::string::npos) << r.nodes.at("save").error;
+  doc["nodes"]["save"]["inputs"]["value"] = {{"from", "orbit.energy_error"}};
+  doc["nodes"]["save"]["inputs"]["path"] = "t.txt";
+  r = e.run(e.graph(doc), {"save"}, 0, out);
+  EXPECT_NE(r.nodes.at("save").error.find("writes .json files"), std::string::npos) << r.nodes.at("save").error;
+  EXPECT_TRUE(std::filesystem::is_empty(out));
+}
+
 }  // namespace
 }  // namespace loom
