@@ -337,7 +337,8 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
       draw->AddCircleFilled(socket, kSocket * zoom_, type_color(*in.type), segments);
     else
       draw->AddCircle(socket, kSocket * zoom_, type_color(*in.type), 0, 1.5f * zoom_);
-    if (bad) draw->AddRect(a + ImVec2(2, y) * zoom_, a + ImVec2(kWidth - 2, y + kRow) * zoom_, IM_COL32(255, 80, 80, 255));
+    if (bad)
+      draw->AddRect(a + ImVec2(2, y) * zoom_, a + ImVec2(kWidth - 2, y + kRow) * zoom_, IM_COL32(255, 80, 80, 255));
     if (detail) {
       const json literal = linked ? json() : state.doc.literal(id, in.name);
       draw->AddText(face, font, a + ImVec2(12, y + 3) * zoom_,
