@@ -115,7 +115,7 @@ class Writer {
     if (!v.is_structured()) return scalar(v, pointer);
     auto known = layout_.containers.find(pointer);
     if (known != layout_.containers.end() && !known->second.leads.empty())
-      return write_known(v, pointer, known->second, indent);
+      return write_known(v, pointer, known->second);
     // A new file's root and node table are never one line: a node a line at least.
     const bool one_line = !indent || v.empty() ||
                           (!pointer.empty() && pointer != "/nodes" &&
@@ -135,8 +135,7 @@ class Writer {
 
  private:
   // In the file's spacing; a new member is spaced like its last sibling.
-  std::string write_known(const json& v, const std::string& pointer, const JsonLayout::Container& c,
-                          const std::optional<std::string>& indent) const {
+  std::string write_known(const json& v, const std::string& pointer, const JsonLayout::Container& c) const {
     const std::vector<Member> list = members(v, pointer);
     std::string out = v.is_object() ? "{" : "[";
     bool first = true;
@@ -144,13 +143,13 @@ class Writer {
       const std::size_t k = m.known >= 0 ? std::size_t(m.known) : c.leads.size() - 1;
       const std::string& lead = c.leads[k];
       const auto line = lead.rfind('\n');
+      // A member on a line of its own is indented as its lead says; one
+      // sharing a line stays on it (a one-line context).
       const std::optional<std::string> here =
-          line == std::string::npos ? (indent && lead.empty() && first ? indent : std::nullopt)
-                                    : std::optional<std::string>(lead.substr(line + 1));
+          line == std::string::npos ? std::nullopt : std::optional<std::string>(lead.substr(line + 1));
       const std::string head = (first ? "" : ",") + lead + (v.is_object() ? json(m.key).dump() + c.colons[k] : "");
       first = false;
-      out += head + write(*m.value, pointer + "/" + escape_token(m.key), line == std::string::npos ? std::nullopt : here,
-                          line_column(head)) +
+      out += head + write(*m.value, pointer + "/" + escape_token(m.key), here, line_column(head)) +
              (m.known >= 0 ? c.trails[k] : std::string());
     }
     return out + (list.empty() ? "" : c.close) + (v.is_object() ? "}" : "]");

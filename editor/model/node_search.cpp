@@ -12,7 +12,9 @@ std::string lower(std::string s) {
   return s;
 }
 
-bool starts_with(const std::string& text, const std::string& prefix) { return text.compare(0, prefix.size(), prefix) == 0; }
+bool starts_with(const std::string& text, const std::string& prefix) {
+  return text.compare(0, prefix.size(), prefix) == 0;
+}
 
 // Where the words of a CamelCase or snake_case name start: "MPMEmitBox" -> 0, 3, 7.
 std::vector<std::size_t> word_starts(const std::string& name) {

@@ -280,6 +280,19 @@ void Canvas::draw_links(EditorState& state, ImDrawList* draw) {
   }
 }
 
+// An input's value on its row, as Blender shows it in the node: right-aligned
+// after the name (`row` is the row's top left on screen), cut to fit.
+void Canvas::draw_value(ImDrawList* draw, ImFont* face, float font, ImVec2 row, const InputSpec& in,
+                        const json& literal) const {
+  const std::string shown = value_text(literal.is_null() ? in.default_value : literal);
+  const float name_end = 12 * zoom_ + face->CalcTextSizeA(font, 1e9f, 0, in.name.c_str()).x + 10 * zoom_;
+  const std::string fitted = fit_text(face, font, shown, kWidth * zoom_ - 10 * zoom_ - name_end);
+  if (fitted.empty()) return;
+  const float w = face->CalcTextSizeA(font, 1e9f, 0, fitted.c_str()).x;
+  draw->AddText(face, font, row + ImVec2(kWidth * zoom_ - 10 * zoom_ - w, 0),
+                literal.is_null() ? IM_COL32(150, 190, 230, 255) : IM_COL32(170, 215, 255, 255), fitted.c_str());
+}
+
 void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& id) {
   const ImVec2 a = to_screen(state.doc.position(id));
   const Box b = box(state, id);
@@ -337,22 +350,13 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
       draw->AddCircleFilled(socket, kSocket * zoom_, type_color(*in.type), segments);
     else
       draw->AddCircle(socket, kSocket * zoom_, type_color(*in.type), 0, 1.5f * zoom_);
-    if (bad) draw->AddRect(a + ImVec2(2, y) * zoom_, a + ImVec2(kWidth - 2, y + kRow) * zoom_, IM_COL32(255, 80, 80, 255));
+    if (bad)
+      draw->AddRect(a + ImVec2(2, y) * zoom_, a + ImVec2(kWidth - 2, y + kRow) * zoom_, IM_COL32(255, 80, 80, 255));
     if (detail) {
       const json literal = linked ? json() : state.doc.literal(id, in.name);
       draw->AddText(face, font, a + ImVec2(12, y + 3) * zoom_,
                     literal.is_null() ? IM_COL32(215, 215, 215, 255) : IM_COL32(255, 255, 255, 255), in.name.c_str());
-      // The value, as Blender shows it in the node: right-aligned, cut to fit.
-      const std::string shown = linked ? std::string() : value_text(literal.is_null() ? in.default_value : literal);
-      const float name_end = 12 * zoom_ + face->CalcTextSizeA(font, 1e9f, 0, in.name.c_str()).x + 10 * zoom_;
-      const float room = kWidth * zoom_ - 10 * zoom_ - name_end;
-      const std::string fitted = fit_text(face, font, shown, room);
-      if (!fitted.empty()) {
-        const float w = face->CalcTextSizeA(font, 1e9f, 0, fitted.c_str()).x;
-        draw->AddText(face, font, a + ImVec2(kWidth * zoom_ - 10 * zoom_ - w, (y + 3) * zoom_),
-                      literal.is_null() ? IM_COL32(150, 190, 230, 255) : IM_COL32(170, 215, 255, 255),
-                      fitted.c_str());
-      }
+      if (!linked) draw_value(draw, face, font, a + ImVec2(0, (y + 3) * zoom_), in, literal);
     }
     y += kRow;
   }

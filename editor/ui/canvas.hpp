@@ -45,6 +45,8 @@ class Canvas {
   Box box(const EditorState& state, const std::string& id) const;
   void draw_links(EditorState& state, ImDrawList* draw);
   void draw_node(EditorState& state, ImDrawList* draw, const std::string& id);
+  void draw_value(ImDrawList* draw, ImFont* face, float font, ImVec2 row, const InputSpec& in,
+                  const json& literal) const;
   void handle_mouse(EditorState& state);
   void handle_keys(EditorState& state);
   void add_node_menu(EditorState& state);

@@ -32,6 +32,69 @@ void tooltip(const InputSpec& spec) {
 // so a picked colour reads "0.8", not "0.800000011920929".
 double picked(float c) { return std::round(double(c) * 1e6) / 1e6; }
 
+// Ints and doubles (never through a float: a typed value is kept exactly).
+bool edit_number(InputWidget widget, const InputSpec& spec, const json& value, json& next) {
+  const double lo = spec.min.value_or(0), hi = spec.max.value_or(0);
+  switch (widget) {
+    case InputWidget::int_slider:
+    case InputWidget::int_drag: {
+      int v = value.is_number() ? value.get<int>() : 0;
+      const int ilo = int(lo), ihi = int(hi);
+      const bool edited = widget == InputWidget::int_slider
+                              ? ImGui::SliderInt("##v", &v, ilo, ihi)
+                              : ImGui::DragScalar("##v", ImGuiDataType_S32, &v, 0.25f, spec.min ? &ilo : nullptr,
+                                                  spec.max ? &ihi : nullptr);
+      return edited && (next = v, true);
+    }
+    case InputWidget::number_slider:
+    case InputWidget::number_drag: {
+      double v = value.is_number() ? value.get<double>() : 0.0;
+      const bool edited = widget == InputWidget::number_slider
+                              ? ImGui::SliderScalar("##v", ImGuiDataType_Double, &v, &lo, &hi, "%.6g")
+                              : ImGui::DragScalar("##v", ImGuiDataType_Double, &v, 0.01f, spec.min ? &lo : nullptr,
+                                                  spec.max ? &hi : nullptr, "%.6g");
+      return edited && (next = v, true);
+    }
+    default: return false;
+  }
+}
+
+bool edit_vector(InputWidget widget, const InputSpec& spec, const json& value, json& next) {
+  const double lo = spec.min.value_or(0), hi = spec.max.value_or(0);
+  const bool clamped = spec.min && spec.max;
+  switch (widget) {
+    case InputWidget::color: {
+      float c[4] = {0, 0, 0, 1};
+      numbers(value, c, 4);
+      const bool alpha = value.is_array() && value.size() == 4;
+      const bool edited = alpha ? ImGui::ColorEdit4("##v", c, ImGuiColorEditFlags_Float)
+                                : ImGui::ColorEdit3("##v", c, ImGuiColorEditFlags_Float);
+      if (edited) next = alpha ? json{picked(c[0]), picked(c[1]), picked(c[2]), picked(c[3])}
+                               : json{picked(c[0]), picked(c[1]), picked(c[2])};
+      return edited;
+    }
+    case InputWidget::int_vector: {
+      int v[3] = {0, 0, 0};
+      const int n = vector_size(spec);
+      numbers(value, v, n);
+      if (!ImGui::DragScalarN("##v", ImGuiDataType_S32, v, n, 0.5f)) return false;
+      next = json(std::vector<int>(v, v + n));
+      return true;
+    }
+    case InputWidget::number_vector: {
+      double v[3] = {0, 0, 0};
+      const int n = vector_size(spec);
+      numbers(value, v, n);
+      if (!ImGui::DragScalarN("##v", ImGuiDataType_Double, v, n, 0.01f, clamped ? &lo : nullptr,
+                              clamped ? &hi : nullptr, "%.6g"))
+        return false;
+      next = json(std::vector<double>(v, v + n));
+      return true;
+    }
+    default: return false;
+  }
+}
+
 }  // namespace
 
 void PropertyPanel::draw(EditorState& state, FileDialog& files) {
@@ -145,32 +208,15 @@ bool PropertyPanel::edit_literal(EditorState& state, FileDialog& files, const st
     return false;
   }
   ImGui::SetNextItemWidth(-FLT_MIN);
-  const double lo = spec.min.value_or(0), hi = spec.max.value_or(0);
-  const bool clamped = spec.min && spec.max;
   switch (widget) {
     case InputWidget::checkbox: {
       bool b = value.is_boolean() && value.get<bool>();
       return ImGui::Checkbox("##v", &b) && (next = b, true);
     }
     case InputWidget::int_slider:
-    case InputWidget::int_drag: {
-      int v = value.is_number() ? value.get<int>() : 0;
-      const int ilo = int(lo), ihi = int(hi);
-      const bool edited = widget == InputWidget::int_slider
-                              ? ImGui::SliderInt("##v", &v, ilo, ihi)
-                              : ImGui::DragScalar("##v", ImGuiDataType_S32, &v, 0.25f, spec.min ? &ilo : nullptr,
-                                                  spec.max ? &ihi : nullptr);
-      return edited && (next = v, true);
-    }
+    case InputWidget::int_drag:
     case InputWidget::number_slider:
-    case InputWidget::number_drag: {
-      double v = value.is_number() ? value.get<double>() : 0.0;
-      const bool edited = widget == InputWidget::number_slider
-                              ? ImGui::SliderScalar("##v", ImGuiDataType_Double, &v, &lo, &hi, "%.6g")
-                              : ImGui::DragScalar("##v", ImGuiDataType_Double, &v, 0.01f, spec.min ? &lo : nullptr,
-                                                  spec.max ? &hi : nullptr, "%.6g");
-      return edited && (next = v, true);
-    }
+    case InputWidget::number_drag: return edit_number(widget, spec, value, next);
     case InputWidget::choice: {
       const std::string current = value.is_string() ? value.get<std::string>() : "";
       bool edited = false;
@@ -206,34 +252,9 @@ bool PropertyPanel::edit_literal(EditorState& state, FileDialog& files, const st
       }
       return edited && (next = s, true);
     }
-    case InputWidget::color: {
-      float c[4] = {0, 0, 0, 1};
-      numbers(value, c, 4);
-      const bool alpha = value.is_array() && value.size() == 4;
-      const bool edited = alpha ? ImGui::ColorEdit4("##v", c, ImGuiColorEditFlags_Float)
-                                : ImGui::ColorEdit3("##v", c, ImGuiColorEditFlags_Float);
-      if (edited) next = alpha ? json{picked(c[0]), picked(c[1]), picked(c[2]), picked(c[3])}
-                               : json{picked(c[0]), picked(c[1]), picked(c[2])};
-      return edited;
-    }
-    case InputWidget::int_vector: {
-      int v[3] = {0, 0, 0};
-      const int n = vector_size(spec);
-      numbers(value, v, n);
-      if (!ImGui::DragScalarN("##v", ImGuiDataType_S32, v, n, 0.5f)) return false;
-      next = json(std::vector<int>(v, v + n));
-      return true;
-    }
-    case InputWidget::number_vector: {
-      double v[3] = {0, 0, 0};
-      const int n = vector_size(spec);
-      numbers(value, v, n);
-      if (!ImGui::DragScalarN("##v", ImGuiDataType_Double, v, n, 0.01f, clamped ? &lo : nullptr,
-                              clamped ? &hi : nullptr, "%.6g"))
-        return false;
-      next = json(std::vector<double>(v, v + n));
-      return true;
-    }
+    case InputWidget::color:
+    case InputWidget::int_vector:
+    case InputWidget::number_vector: return edit_vector(widget, spec, value, next);
     case InputWidget::json_text: return edit_json_text(id + "." + spec.name, value, next);
     case InputWidget::link_only: break;
   }

@@ -207,7 +207,8 @@ void PluginLoader::reload(const std::string& name) {
   if (info == plugins_.end()) throw PluginLoadError("cannot reload plugin \"" + name + "\": it is not loaded");
   // A private copy, removed once mapped: a new path and file for dlopen.
   std::string folder = (fs::temp_directory_path() / "loom-reload-XXXXXX").string();
-  if (!::mkdtemp(folder.data())) throw PluginLoadError("cannot reload plugin \"" + name + "\": cannot make a temporary folder");
+  if (!::mkdtemp(folder.data()))
+    throw PluginLoadError("cannot reload plugin \"" + name + "\": cannot make a temporary folder");
   const fs::path copy = fs::path(folder) / info->library.filename();
   std::error_code ec;
   const LoomPluginEntry* entry = nullptr;

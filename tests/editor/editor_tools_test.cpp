@@ -11,12 +11,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path write_graph(const json& doc, const std::string& name) {
-  const fs::path file = loom::test::temp_dir() / name;
-  std::ofstream(file) << doc.dump(1);
-  return file;
-}
-
 cv::Vec3f at(const Image& image, int x, int y) { return image.pixels.at<cv::Vec3f>(y, x); }
 
 json poisson_graph() {

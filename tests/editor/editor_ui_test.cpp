@@ -13,12 +13,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path write_graph(const json& doc, const std::string& name) {
-  const fs::path file = loom::test::temp_dir() / name;
-  std::ofstream(file) << doc.dump(1);
-  return file;
-}
-
 json board_and_warp(int size, json pairs) {
   return {{"loom", 1},
           {"nodes",

@@ -19,12 +19,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path write_graph(const json& doc, const std::string& name) {
-  const fs::path file = loom::test::temp_dir() / name;
-  std::ofstream(file) << doc.dump(1);
-  return file;
-}
-
 // A graph of `chains` image chains (Checkerboard -> ImageWarp -> ... ), no
 // positions: laid out on opening as a user's hand-written file would be.
 json image_chains(int chains, int length) {
@@ -217,7 +211,8 @@ TEST(EditorUsability, PanesResizeAndPropertiesCutNothingOff) {
   h.drag({before.at.x + before.left, before.at.y + 400}, {before.at.x + before.left + 250, before.at.y + 400});
   const PaneRects after = h.app.pane_rects();
   EXPECT_NEAR(after.left, before.left + 250, 2);
-  h.drag({after.at.x + after.left + 200, after.at.y + after.props}, {after.at.x + after.left + 200, after.at.y + after.props + 150});
+  const ImVec2 border(after.at.x + after.left + 200, after.at.y + after.props);
+  h.drag(border, {border.x, border.y + 150});
   EXPECT_NEAR(h.app.pane_rects().props, after.props + 150, 2);
   h.frame(3);
   check("narrow: ");

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <GLFW/glfw3.h>
@@ -14,6 +15,13 @@
 #include "ui/editor_app.hpp"
 
 namespace loom::editor::test {
+
+// A graph written to a file of the test's temporary folder.
+inline std::filesystem::path write_graph(const json& doc, const std::string& name) {
+  const std::filesystem::path file = loom::test::temp_dir() / name;
+  std::ofstream(file) << doc.dump(1);
+  return file;
+}
 
 struct Harness {
   Window window;
