@@ -203,8 +203,12 @@ TEST(Reliability, ASignalEndsARunWhoseNodeIgnoresCancellationWithinTheGrace) {
                              {"w", {{"type", "WriteText"}, {"inputs", {{"value", from("stuck.value")}, {"path", "x.txt"}}}}}});
   std::string out;
   const auto start = std::chrono::steady_clock::now();
-  const int code = test::run_shell(loom_cmd("run " + g.string() + " --out " + (dir / "o").string()) +
-                                       " & pid=$!; sleep 0.5; kill -TERM $pid; wait $pid", &out);
+  // The signal goes once the node is running (its log line is out), not while plugins load.
+  const std::string log = (dir / "log.txt").string();
+  const int code = test::run_shell(loom_cmd("run " + g.string() + " --out " + (dir / "o").string()) + " > " + log +
+                                       " 2>&1 & pid=$!; for i in $(seq 400); do grep -q sleeping " + log +
+                                       " && break; sleep 0.05; done; kill -TERM $pid; wait $pid; rc=$?; cat " + log +
+                                       "; exit $rc", &out);
   const double took = seconds_since(start);
   EXPECT_EQ(code, 130) << out;
   EXPECT_LT(took, 15) << out;   // 5 s of grace, not the node's 60 s
