@@ -123,7 +123,7 @@ void claim_folder(const fs::path& dir) {
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end && stranger.empty(); it.increment(ec)) {
       const std::string name = it->path().filename().string();
       std::error_code e;
-      if (is_staging_name(name)) continue;  // another process writing the tag right now
+      if (is_staging_name(name) || name == kTagName) continue;  // another process claiming it right now
       if (!is_hex(name, 2) || !fs::is_directory(it->symlink_status(e))) {
         stranger = name;
         break;
