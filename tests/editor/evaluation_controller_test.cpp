@@ -118,6 +118,26 @@ TEST_F(EvaluationControllerTest, ValidationIssuesComeBackWithPointers) {
   EXPECT_TRUE(e.result.nodes.empty());
 }
 
+// Issue 30.1: a chain of 2,000 Switch nodes crashed the editor (lazy inputs
+// nested on the stack); now it is a validation issue on the node past the limit.
+TEST_F(EvaluationControllerTest, ADeepChainOfLazyInputsIsAnIssueNotACrash) {
+  engine.loader.load_for({"Switch", "FloatConstant"});
+  json nodes = {{"c", {{"type", "FloatConstant"}, {"inputs", {{"value", 1.0}}}}}};
+  std::string up = "c.value";
+  for (int i = 1; i <= 2000; ++i) {
+    nodes["s" + std::to_string(i)] = {{"type", "Switch"}, {"inputs", {{"index", 0}, {"in0", {{"from", up}}}}}};
+    up = "s" + std::to_string(i) + ".value";
+  }
+  EvaluationController controller(engine.registry, 2);
+  controller.submit(request({{"loom", 1}, {"nodes", nodes}}, 1, {"s2000.value"}));
+  controller.wait_idle();
+  const Evaluation& e = *controller.latest();
+  ASSERT_EQ(e.issues.size(), 1u);
+  EXPECT_EQ(e.issues[0].node, "s" + std::to_string(kMaxLazyChain + 1));
+  EXPECT_NE(e.issues[0].message.find("lazy inputs"), std::string::npos) << e.issues[0].message;
+  EXPECT_TRUE(e.result.nodes.empty());
+}
+
 TEST_F(EvaluationControllerTest, FailuresAreReportedPerNode) {
   EvaluationController controller(engine.registry, 2);
   json doc = {{"loom", 1},
