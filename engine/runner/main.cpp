@@ -262,6 +262,8 @@ int cmd_plugins(const std::string& manifest_library, const std::string& manifest
 
 }  // namespace
 
+// Longer than our ~80-line rule on purpose: it is the command line's
+// declaration, one option per line, read top to bottom like `loom --help`.
 int main(int argc, char** argv) {
   CLI::App app{"loom: run graphs of computer-graphics nodes.\n"
                "Exit codes: 0 ok, 1 a node failed, 2 invalid graph or usage, 3 plugin load error, "
