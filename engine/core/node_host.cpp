@@ -21,14 +21,11 @@ Value Host::fetch_input(int i) {
     if (lazy_depth >= kMaxLazyChain)
       throw Error("input \"" + spec.name + "\": more than " + std::to_string(kMaxLazyChain) +
                   " lazy inputs are nested in one another (a chain of Switch nodes?): split the chain");
-    ++lazy_depth;
-    try {
-      e_.execute({b.upstream});
-    } catch (...) {
-      --lazy_depth;
-      throw;
-    }
-    --lazy_depth;
+    struct Nested {  // one level deeper while the upstream runs, however it ends
+      Nested() { ++lazy_depth; }
+      ~Nested() { --lazy_depth; }
+    } nested;
+    e_.execute({b.upstream});
   }
   if (!up.ok) throw UpstreamFailed(upstream_failure(spec, up));
   s_.add_files(up.files);
