@@ -16,7 +16,7 @@ schema = json.loads((source / "docs/graph.schema.json").read_text())
 validator = jsonschema.Draft202012Validator(schema)
 failures = []
 
-graphs = sorted((source / "graphs").glob("*.json"))
+graphs = sorted((source / "graphs").glob("*.json")) + sorted((source / "graphs" / "lib").glob("*.json"))
 for path in graphs:
     for error in validator.iter_errors(json.loads(path.read_text())):
         failures.append(f"{path.name}: {'/'.join(map(str, error.path))}: {error.message}")
@@ -37,7 +37,11 @@ for md in sorted((source / "docs").glob("*.md")):
 node = {"type": "FloatConstant"}
 wrong = {
     "no version": {"nodes": {}},
-    "version 2": {"loom": 2, "nodes": {}},
+    "version 3": {"loom": 3, "nodes": {}},
+    "groups in version 1": {"loom": 1, "groups": {}, "nodes": {}},
+    "Repeat without body": {"loom": 2, "nodes": {"r": {"type": "Repeat"}}},
+    "body on another node": {"loom": 2, "nodes": {"a": dict(node, body="G")}},
+    "interface input without to": {"loom": 2, "inputs": {"x": {"type": "Float"}}, "nodes": {}},
     "unknown top key": {"loom": 1, "nodes": {}, "extra": 1},
     "negative seed": {"loom": 1, "seed": -1, "nodes": {}},
     "nodes not an object": {"loom": 1, "nodes": []},

@@ -46,7 +46,9 @@ std::uint64_t computation_hash(const NodeState& s, const std::vector<std::unique
   for (std::size_t i = 0; i < s.inputs.size(); ++i) {
     const auto& b = s.inputs[i];
     h.str(spec.inputs[i].name).pod(static_cast<int>(b.kind));
-    if (b.kind == NodeState::Binding::literal) {
+    if (b.kind == NodeState::Binding::literal && b.fed_hash != 0) {
+      h.pod(b.fed_hash);  // a value fed by Repeat stands for the computation that made it
+    } else if (b.kind == NodeState::Binding::literal) {
       hash_json(h, b.literal_value.to_json());
       if (spec.inputs[i].role == InputRole::input_file) hash_file_stamp(h, b.literal_value.as<std::string>());
     } else if (b.kind == NodeState::Binding::link) {

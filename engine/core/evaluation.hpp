@@ -91,6 +91,7 @@ struct NodeState {
   struct Binding {
     enum Kind { unset, literal, link } kind = unset;
     Value literal_value;
+    std::uint64_t fed_hash = 0;  // a value fed in by Repeat: hashed by this, not by its JSON
     int upstream = -1;
     int output = -1;
   };
@@ -139,6 +140,9 @@ struct Evaluation {
   // with its previous outputs handed in here (see step_to in evaluator.cpp).
   int fed_node = -1;
   std::vector<Value> fed_previous;
+  // A Repeat body's iteration: values fed to inner inputs (node id, input) with
+  // the hash each stands for (repeat.cpp).
+  const std::map<std::pair<std::string, std::string>, std::pair<Value, std::uint64_t>>* fed_inputs = nullptr;
 
   Evaluation(Session::State& s, const Graph& g, const EvalOptions& o, FrameTime t)
       : session(s), graph(g), options(o), graph_dir(g.dir()), time(t),
@@ -178,8 +182,10 @@ struct Evaluation {
   // plan.cpp: node states, input bindings, topological order, hashes.
   void build();
   void bind_inputs();
+  bool bind_fed(const NodeState& s, const InputSpec& spec, NodeState::Binding& b);
   std::vector<int> topological_order() const;
   void hash_nodes(const std::vector<int>& order);
+  void share_equal_results(const std::vector<int>& order);
 
   // evaluator.cpp: runs the closure of `roots` on the TBB arena.
   void execute(const std::vector<int>& roots);
@@ -214,6 +220,9 @@ struct Evaluation {
     if (options.observer) options.observer->node_finished(s.node->id, s.report);
   }
 };
+
+// repeat.cpp: a Repeat node's body, run `count` times.
+void run_repeat(Evaluation& outer, NodeState& s, Inputs& in, Outputs& out, Context& ctx);
 
 // End of a frame: drops ordinary entries unused for two frames, simulation
 // states beyond the budget (least recently used first) and unused chains.

@@ -11,6 +11,7 @@
 #include <tbb/task_group.h>
 
 #include "evaluation.hpp"
+#include "graph_groups.hpp"
 #include "graph_time.hpp"
 
 namespace loom {
@@ -152,10 +153,45 @@ void merge(NodeReport& into, NodeReport&& frame) {
       into.warnings.push_back(std::move(w));
 }
 
+// A target naming a group instance ("look", "look.image") is its inner
+// nodes' outputs, reported under the name asked for ("look.image"). Every
+// output of a node inside a group or of a Repeat node ("look.render") is
+// reported as "ID.OUTPUT" each, since such ids hold dots themselves.
+struct InnerTarget {
+  Target target;  // a node of the flat graph
+  std::string name;  // what EvalResult::outputs calls it
+};
+
+std::vector<InnerTarget> inner_targets(const Graph& g, const Registry& registry, const std::vector<Target>& targets) {
+  std::vector<InnerTarget> out;
+  for (const Target& t : targets) {
+    auto inst = g.instances.find(t.node);
+    auto node = g.nodes.find(t.node);
+    if (inst != g.instances.end()) {
+      const auto& outputs = inst->second.interface.outputs;
+      if (!t.output.empty() && !outputs.count(t.output))
+        throw Error("--target: group instance \"" + t.node + "\" (" + inst->second.type + ") has no output \"" +
+                    t.output + "\"");
+      for (const auto& [name, unused] : outputs)
+        if (t.output.empty() || t.output == name) {
+          const Link l = *detail::follow_instance_outputs(g, {t.node, name});
+          out.push_back({{l.node, l.output}, t.node + "." + name});
+        }
+    } else if (t.output.empty() && node != g.nodes.end() && (node->second.repeat || t.node.find('.') != std::string::npos)) {
+      if (const NodeType* type = detail::node_type_of(node->second, registry))
+        for (const auto& o : type->spec.outputs) out.push_back({{t.node, o.name}, t.node + "." + o.name});
+    } else {
+      out.push_back({t, t.output.empty() ? t.node : t.node + "." + t.output});
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
   auto start = std::chrono::steady_clock::now();
+  const std::vector<InnerTarget> targets = inner_targets(graph, state_->registry, options.targets);
   State& st = *state_;
   FrameTime time = detail::graph_time(graph);
   const FrameRange range = options.frames ? *options.frames : FrameRange{time.start, time.start};
@@ -185,11 +221,11 @@ EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
     e.build();
 
     std::vector<int> roots;
-    if (options.targets.empty()) {
+    if (targets.empty()) {
       for (std::size_t i = 0; i < e.nodes.size(); ++i)
         if (e.nodes[i]->type->spec.sink) roots.push_back(static_cast<int>(i));
     } else {
-      for (const Target& t : options.targets) {
+      for (const auto& [t, name] : targets) {
         auto it = e.index.find(t.node);
         if (it == e.index.end()) throw Error("--target names unknown node \"" + t.node + "\"");
         const detail::NodeState& s = *e.nodes[static_cast<std::size_t>(it->second)];
@@ -207,13 +243,13 @@ EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
       merge(result.nodes[sp->node->id], std::move(sp->report));
     }
     result.outputs.clear();  // the targets' values at the latest frame
-    for (const Target& t : options.targets) {
+    for (const auto& [t, name] : targets) {
       const detail::NodeState& s = *e.nodes[static_cast<std::size_t>(e.index.at(t.node))];
       if (!s.ok) continue;
       if (t.output.empty()) {
-        result.outputs[t.node] = s.outputs;
+        result.outputs[name] = s.outputs;
       } else {
-        result.outputs[t.node + "." + t.output] = {
+        result.outputs[name] = {
             s.outputs[static_cast<std::size_t>(s.type->spec.output_index(t.output))]};
       }
     }

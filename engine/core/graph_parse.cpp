@@ -4,9 +4,11 @@
 #include <set>
 #include <sstream>
 
+#include "graph_groups.hpp"
 #include "graph_time.hpp"
 #include "json_text.hpp"
 #include "loom/graph.hpp"
+#include "repeat.hpp"
 
 namespace loom {
 
@@ -29,14 +31,38 @@ std::string issues_text(const std::string& file, const std::vector<GraphIssue>& 
 
 using Issues = std::vector<GraphIssue>;
 
+// The format version: 1, or 2 for a file that uses groups.
+int parse_version(const json& doc, Issues& issues) {
+  if (!doc.contains("loom")) {
+    issues.push_back({"/loom", "missing: a graph file starts with {\"loom\": 1, ...}"});
+    return kGraphFormatVersion;
+  }
+  const json& v = doc["loom"];
+  if (v.is_number_integer() && (v.get<long long>() == kGraphFormatVersion || v.get<long long>() == kGroupsFormatVersion))
+    return v.get<int>();
+  issues.push_back({"/loom", "expected format version 1 or 2, got " + describe_json(v) +
+                                 (v.is_number_integer() && v.get<long long>() > kGroupsFormatVersion
+                                      ? ": this file is from a newer Loom"
+                                      : "")});
+  return kGraphFormatVersion;
+}
+
 void parse_header(const json& doc, Graph& g, Issues& issues) {
   auto fail = [&](std::string pointer, std::string message) {
     issues.push_back({std::move(pointer), std::move(message)});
   };
-  for (const auto& [key, value] : doc.items())
-    if (key != "loom" && key != "seed" && key != "nodes" && key != "description" && key != "time" && key != "ui")
+  g.version = parse_version(doc, issues);
+  const bool v2 = g.version == kGroupsFormatVersion;
+  for (const auto& [key, value] : doc.items()) {
+    const bool group_key = key == "groups" || key == "inputs" || key == "outputs";
+    if (group_key && !v2)
+      fail("/" + key, "\"" + key + "\" needs format version 2: write \"loom\": 2");
+    else if (!group_key && key != "loom" && key != "seed" && key != "nodes" && key != "description" && key != "time" &&
+             key != "ui")
       fail("/" + detail::pointer_escape(key),
-           "unknown key (expected \"loom\", \"seed\", \"time\", \"nodes\", \"description\" or \"ui\")");
+           std::string("unknown key (expected \"loom\", \"seed\", \"time\", \"nodes\", \"description\"") +
+               (v2 ? ", \"groups\", \"inputs\", \"outputs\"" : "") + " or \"ui\")");
+  }
   if (doc.contains("ui")) g.ui = doc["ui"];
   if (doc.contains("time")) {
     try {
@@ -45,13 +71,6 @@ void parse_header(const json& doc, Graph& g, Issues& issues) {
       for (const auto& i : e.issues()) issues.push_back(i);
     }
   }
-  if (!doc.contains("loom"))
-    fail("/loom", "missing: a graph file starts with {\"loom\": 1, ...}");
-  else if (!doc["loom"].is_number_integer() || doc["loom"].get<long long>() != kGraphFormatVersion)
-    fail("/loom", "expected format version 1, got " + describe_json(doc["loom"]) +
-                      (doc["loom"].is_number_integer() && doc["loom"].get<long long>() > 1
-                           ? ": this file is from a newer Loom"
-                           : ""));
   if (doc.contains("seed")) {
     const json& seed = doc["seed"];
     if (!seed.is_number_unsigned() && !(seed.is_number_integer() && seed.get<long long>() >= 0))
@@ -81,7 +100,9 @@ std::optional<InputBinding> parse_input(const std::string& id, const std::string
   return b;
 }
 
-std::optional<GraphNode> parse_node(const std::string& id, const json& node, Issues& issues) {
+}  // namespace
+
+std::optional<GraphNode> detail::parse_node(const std::string& id, const json& node, Issues& issues, bool repeat) {
   const std::string np = detail::node_pointer(id);
   auto fail = [&](std::string pointer, std::string message) {
     issues.push_back({std::move(pointer), std::move(message)});
@@ -97,8 +118,10 @@ std::optional<GraphNode> parse_node(const std::string& id, const json& node, Iss
   GraphNode n;
   n.id = id;
   for (const auto& [key, value] : node.items())
-    if (key != "type" && key != "inputs" && key != "ui")
-      fail(np + "/" + detail::pointer_escape(key), "unknown key (expected \"type\", \"inputs\" or \"ui\")");
+    if (key != "type" && key != "inputs" && key != "ui" && !(repeat && (key == "body" || key == "cache_iterations")))
+      fail(np + "/" + detail::pointer_escape(key),
+           repeat ? "unknown key (expected \"type\", \"body\", \"inputs\", \"cache_iterations\" or \"ui\")"
+                  : "unknown key (expected \"type\", \"inputs\" or \"ui\")");
   if (!node.contains("type") || !node["type"].is_string())
     fail(np + "/type", node.contains("type") ? "expected a node type name, got " + describe_json(node["type"])
                                              : "missing: every node needs a \"type\"");
@@ -114,8 +137,6 @@ std::optional<GraphNode> parse_node(const std::string& id, const json& node, Iss
     if (auto b = parse_input(id, input, value, issues)) n.inputs.emplace(input, std::move(*b));
   return n;
 }
-
-}  // namespace
 
 std::optional<Link> parse_link(std::string_view text) {
   const auto dot = text.rfind('.');
@@ -139,8 +160,12 @@ Graph parse_graph(const json& doc, const std::filesystem::path& file) {
                                     : "missing: the nodes, as {\"ID\": {\"type\": ...}}"});
     throw GraphError(name, issues);
   }
-  for (const auto& [id, node] : doc["nodes"].items())
-    if (auto n = parse_node(id, node, issues)) g.nodes.emplace(id, std::move(*n));
+  if (g.version == kGroupsFormatVersion) {
+    detail::expand_groups(doc, g, issues);
+  } else {
+    for (const auto& [id, node] : doc["nodes"].items())
+      if (auto n = detail::parse_node(id, node, issues)) g.nodes.emplace(id, std::move(*n));
+  }
   if (!issues.empty()) throw GraphError(name, issues);
   return g;
 }
@@ -185,7 +210,13 @@ bool link_compatible(const TypeInfo& from, const TypeInfo& to) {
 
 std::vector<std::string> node_types_used(const Graph& g) {
   std::set<std::string> types;
-  for (const auto& [id, n] : g.nodes) types.insert(n.type);
+  for (const auto& [id, n] : g.nodes) {
+    if (!n.repeat) {
+      types.insert(n.type);
+      continue;
+    }
+    for (const auto& t : node_types_used(*n.repeat->body)) types.insert(t);
+  }
   return {types.begin(), types.end()};
 }
 

@@ -1,4 +1,5 @@
 // --set ID.INPUT=VALUE: an input's value given on the command line.
+#include "graph_groups.hpp"
 #include "graph_time.hpp"
 #include "json_text.hpp"
 #include "loom/graph.hpp"
@@ -18,6 +19,37 @@ json set_value(const std::string& assignment, const std::string& pointer, const 
       first != std::string::npos && std::string("[{\"-0123456789").find(text[first]) != std::string::npos;
   if (looks_json) throw GraphError("--set " + detail::cut(assignment, 80), {{pointer, *problem}});
   return text;
+}
+
+// The value as an input binding: a literal, or a link {"from": "ID.OUTPUT"}
+// (which may name a group instance's output).
+InputBinding binding(const Graph& g, const std::string& source, const json& value, const std::string& text) {
+  InputBinding b;
+  b.set_by = source;
+  if (value.is_object() && value.contains("from") && value["from"].is_string()) {
+    auto link = parse_link(value["from"].get<std::string>());
+    if (link) link = detail::follow_instance_outputs(g, *link);
+    if (!link) throw GraphError(source, {{"", "expected {\"from\": \"ID.OUTPUT\"}, got " + detail::cut(text, 80)}});
+    b.link = std::move(*link);
+  } else {
+    b.literal = value;
+  }
+  return b;
+}
+
+// --set look.width=640: an instance's interface input, fed to the inner
+// inputs it names (replacing what the file gave them).
+void set_interface_input(Graph& g, const std::string& id, const std::string& input, const std::string& source,
+                         const json& value, const std::string& text) {
+  const GroupInstance& inst = g.instances.at(id);
+  if (!inst.interface.inputs.count(input)) {
+    std::string known;
+    for (const auto& [name, unused] : inst.interface.inputs) known += (known.empty() ? "" : ", ") + name;
+    throw GraphError(source, {{inst.place.pointer + "/inputs/" + detail::pointer_escape(input),
+                               "group instance \"" + id + "\" (" + inst.type + ") has no input \"" + input +
+                                   "\" (its inputs: " + (known.empty() ? "none" : known) + ")"}});
+  }
+  detail::feed_input(g, {id, input}, binding(g, source, value, text), true);
 }
 
 }  // namespace
@@ -43,19 +75,11 @@ void set_input(Graph& g, const std::string& assignment) {
     }
     return;
   }
+  if (it == g.nodes.end() && g.instances.count(id)) return set_interface_input(g, id, input, source, value, text);
   if (it == g.nodes.end())
     throw GraphError(source, {{detail::node_pointer(id), "--set names unknown node \"" + detail::cut(id, 80) +
                                                              "\" in " + g.file.string()}});
-  InputBinding b;
-  b.set_by = source;
-  if (value.is_object() && value.contains("from") && value["from"].is_string()) {
-    auto link = parse_link(value["from"].get<std::string>());
-    if (!link) throw GraphError(source, {{"", "expected {\"from\": \"ID.OUTPUT\"}, got " + detail::cut(text, 80)}});
-    b.link = std::move(*link);
-  } else {
-    b.literal = value;
-  }
-  it->second.inputs[input] = std::move(b);
+  it->second.inputs[input] = binding(g, source, value, text);
 }
 
 }  // namespace loom

@@ -1,9 +1,12 @@
 // Graph files against the registry: types, inputs, links, literal values,
 // cycles and the depth of lazy chains. Every issue found is reported at once.
 #include <map>
+#include <set>
 
+#include "graph_groups.hpp"
 #include "input_binding.hpp"
 #include "json_text.hpp"
+#include "repeat.hpp"
 #include "loom/graph.hpp"
 #include "loom/suggest.hpp"
 
@@ -13,59 +16,85 @@ namespace {
 
 using Issues = std::vector<GraphIssue>;
 
+// Where a node was written: /nodes/ID of the graph, or its place in a group.
+std::string node_base(const GraphNode& n) {
+  return n.place.pointer.empty() ? detail::node_pointer(n.id) : n.place.pointer;
+}
+std::string input_base(const GraphNode& n, const std::string& input) {
+  return node_base(n) + "/inputs/" + detail::pointer_escape(input);
+}
+// An issue at node n; inside a group the message names the node's path.
+GraphIssue at_node(const GraphNode& n, std::string pointer, std::string message, std::string set_by = {}) {
+  if (!n.place.pointer.empty()) message += " (node \"" + n.id + "\")";
+  return {std::move(pointer), std::move(message), set_by.empty() ? n.place.file : set_by};
+}
+
 std::string names_of(const std::vector<InputSpec>& specs) {
   std::string known;
   for (const auto& s : specs) known += (known.empty() ? "" : ", ") + s.name;
   return known;
 }
 
-void validate_link(const Graph& g, const Registry& registry, const std::string& ip, const InputSpec& spec,
+void validate_link(const Graph& g, const Registry& registry, const GraphNode& n, const InputSpec& spec,
                    const Link& link, Issues& issues) {
+  const std::string ip = input_base(n, spec.name);
   auto up = g.nodes.find(link.node);
   if (up == g.nodes.end()) {
-    issues.push_back({ip + "/from", "links to unknown node \"" + link.node + "\""});
+    issues.push_back(at_node(n, ip + "/from", "links to unknown node \"" + link.node + "\""));
     return;
   }
-  const NodeType* ut = registry.find(up->second.type);
+  const NodeType* ut = detail::node_type_of(up->second, registry);
   if (!ut) return;  // reported at that node
   const int o = ut->spec.output_index(link.output);
   if (o < 0) {
     std::string known;
     for (const auto& s : ut->spec.outputs) known += (known.empty() ? "" : ", ") + s.name;
-    issues.push_back({ip + "/from", "node \"" + link.node + "\" (" + ut->spec.name + ") has no output \"" +
-                                        link.output + "\" (its outputs: " + (known.empty() ? "none" : known) + ")"});
+    issues.push_back(at_node(n, ip + "/from", "node \"" + link.node + "\" (" + ut->spec.name + ") has no output \"" +
+                                        link.output + "\" (its outputs: " + (known.empty() ? "none" : known) + ")"));
     return;
   }
   const TypeInfo* have = ut->spec.outputs[static_cast<std::size_t>(o)].type;
   if (!link_compatible(*have, *spec.type))
-    issues.push_back({ip + "/from", "type mismatch: " + link.node + "." + link.output + " is " + have->name +
-                                        " but input \"" + spec.name + "\" expects " + spec.type->name});
+    issues.push_back(at_node(n, ip + "/from", "type mismatch: " + link.node + "." + link.output + " is " + have->name +
+                                        " but input \"" + spec.name + "\" expects " + spec.type->name));
 }
 
-void validate_node(const Graph& g, const Registry& registry, const GraphNode& n, const NodeType& t, Issues& issues) {
+// The inner inputs a group's own interface feeds (a group file validated on
+// its own, a Repeat body): given when the group is used, not in the file.
+std::set<std::pair<std::string, std::string>> fed_by_interface(const Graph& g) {
+  std::set<std::pair<std::string, std::string>> fed;
+  if (!g.interface) return fed;
+  for (const auto& [name, input] : g.interface->inputs)
+    for (const Link& t : detail::interface_targets(g, input)) fed.insert({t.node, t.output});
+  return fed;
+}
+
+void validate_node(const Graph& g, const Registry& registry, const GraphNode& n, const NodeType& t,
+                   const std::set<std::pair<std::string, std::string>>& fed, Issues& issues) {
   for (const auto& [input, b] : n.inputs) {
     const InputSpec* spec = t.spec.find_input(input);
-    const std::string ip = detail::input_pointer(n.id, input);
+    const std::string ip = input_base(n, input);
     if (!spec) {
       const std::string known = names_of(t.spec.inputs);
-      issues.push_back({ip, "unknown input \"" + input + "\" of " + n.type +
+      issues.push_back(at_node(n, ip, "unknown input \"" + input + "\" of " + n.type +
                                 (known.empty() ? " (it has no inputs)" : " (its inputs: " + known + ")"),
-                        b.set_by});
+                        b.set_by));
     } else if (b.link) {
-      validate_link(g, registry, ip, *spec, *b.link, issues);
-      if (!b.set_by.empty()) issues.back().source = b.set_by;
+      const std::size_t before = issues.size();
+      validate_link(g, registry, n, *spec, *b.link, issues);
+      if (!b.set_by.empty() && issues.size() > before) issues.back().source = b.set_by;
     } else {
       try {
         detail::literal_value(*spec, b.literal);
       } catch (const Error& e) {
-        issues.push_back({ip, e.what(), b.set_by});
+        issues.push_back(at_node(n, ip, e.what(), b.set_by));
       }
     }
   }
   for (const InputSpec& spec : t.spec.inputs)
-    if (spec.required() && !n.inputs.count(spec.name))
-      issues.push_back({detail::node_pointer(n.id) + "/inputs", "missing required input \"" + spec.name + "\" (" +
-                                                                    spec.type->name + ": " + spec.description + ")"});
+    if (spec.required() && !n.inputs.count(spec.name) && !fed.count({n.id, spec.name}))
+      issues.push_back(at_node(n, node_base(n) + "/inputs", "missing required input \"" + spec.name + "\" (" +
+                                                                spec.type->name + ": " + spec.description + ")"));
 }
 
 // Cycles: an iterative DFS over links. Each link that closes a cycle is
@@ -93,8 +122,9 @@ std::size_t find_cycles(const Graph& g, Issues& issues) {
       path += " → " + detail::cut(stack[k].node->id, 60);
     }
     path += " → " + detail::cut(to, 60);
-    issues.push_back({detail::input_pointer(stack.back().node->id, input) + "/from",
-                      "cycle of " + std::to_string(length) + " node" + (length == 1 ? "" : "s") + ": " + path});
+    const GraphNode& n = *stack.back().node;
+    issues.push_back(at_node(n, input_base(n, input) + "/from",
+                             "cycle of " + std::to_string(length) + " node" + (length == 1 ? "" : "s") + ": " + path));
   };
   for (const auto& [root, unused] : g.nodes) {
     if (mark[root] != unseen) continue;
@@ -139,7 +169,7 @@ void check_lazy_depth(const Graph& g, const Registry& registry, Issues& issues) 
       auto [n, expanded] = stack.back();
       stack.pop_back();
       if (lazy_depth.count(n->id)) continue;
-      const NodeType* t = registry.find(n->type);
+      const NodeType* t = detail::node_type_of(*n, registry);
       if (!expanded) {
         stack.push_back({n, true});
         for (const auto& [input, b] : n->inputs)
@@ -155,12 +185,42 @@ void check_lazy_depth(const Graph& g, const Registry& registry, Issues& issues) 
       }
       lazy_depth[n->id] = deepest;
       if (deepest == kMaxLazyChain + 1)
-        issues.push_back({detail::node_pointer(n->id),
+        issues.push_back(at_node(*n, node_base(*n),
                           "more than " + std::to_string(kMaxLazyChain) + " lazy inputs (e.g. Switch) are chained "
                           "up to this node: each nests one evaluation in another; split the chain or link fewer "
-                          "lazy inputs in a row"});
+                          "lazy inputs in a row"));
     }
   }
+}
+
+}  // namespace
+
+namespace {
+
+// Every issue of g, and of the bodies of its Repeat nodes (each body once).
+void collect_issues(const Graph& g, const Registry& registry, const std::string& searched,
+                    const std::vector<std::string>& known_types, Issues& issues, std::set<const Graph*>& bodies) {
+  const auto fed = fed_by_interface(g);
+  for (const auto& [id, n] : g.nodes) {
+    const NodeType* t = nullptr;
+    try {
+      t = detail::node_type_of(n, registry);
+    } catch (const Error& e) {  // a Repeat whose body's interface is invalid
+      issues.push_back(at_node(n, node_base(n) + "/body", e.what()));
+    }
+    if (n.repeat && bodies.insert(n.repeat->body.get()).second)
+      collect_issues(*n.repeat->body, registry, searched, known_types, issues, bodies);
+    if (t) {
+      validate_node(g, registry, n, *t, fed, issues);
+      continue;
+    }
+    if (n.repeat) continue;  // reported above
+    std::vector<std::string> known = known_types;
+    for (const NodeType* r : registry.all()) known.push_back(r->spec.name);
+    issues.push_back(at_node(n, node_base(n) + "/type", unknown_node_type_message(n.type, known, searched)));
+  }
+  detail::validate_groups(g, registry, issues);
+  if (find_cycles(g, issues) == 0) check_lazy_depth(g, registry, issues);
 }
 
 }  // namespace
@@ -168,16 +228,8 @@ void check_lazy_depth(const Graph& g, const Registry& registry, Issues& issues) 
 void validate_graph(const Graph& g, const Registry& registry, const std::string& searched,
                     const std::vector<std::string>& known_types) {
   Issues issues;
-  for (const auto& [id, n] : g.nodes) {
-    if (const NodeType* t = registry.find(n.type)) {
-      validate_node(g, registry, n, *t, issues);
-      continue;
-    }
-    std::vector<std::string> known = known_types;
-    for (const NodeType* r : registry.all()) known.push_back(r->spec.name);
-    issues.push_back({detail::node_pointer(id) + "/type", unknown_node_type_message(n.type, known, searched)});
-  }
-  if (find_cycles(g, issues) == 0) check_lazy_depth(g, registry, issues);
+  std::set<const Graph*> bodies;
+  collect_issues(g, registry, searched, known_types, issues, bodies);
   if (!issues.empty()) throw GraphError(g.file.empty() ? "<graph>" : g.file.string(), issues);
 }
 

@@ -126,7 +126,10 @@ Evaluation::Outcome Evaluation::invoke(NodeState& s) {
     // not the body reads it (the binding checks ranges, choices and paths).
     for (std::size_t i = 0; i < s.inputs.size(); ++i)
       if (links_upstream(s, i) && !spec.inputs[i].lazy) host.fetch_input(static_cast<int>(i));
-    tbb::this_task_arena::isolate([&] { s.type->run(in, out, ctx); });
+    tbb::this_task_arena::isolate([&] {
+      if (s.node->repeat) run_repeat(*this, s, in, out, ctx);
+      else s.type->run(in, out, ctx);
+    });
     o.seconds = elapsed();  // the body's time, not the output checks'
     check_outputs(spec, out.values());
     o.outputs = std::move(out.values());

@@ -2,6 +2,7 @@
 // topological order, computation hashes.
 #include "computation_hash.hpp"
 #include "evaluation.hpp"
+#include "graph_groups.hpp"
 
 namespace loom::detail {
 
@@ -11,12 +12,36 @@ void Evaluation::build() {
     index.emplace(id, static_cast<int>(nodes.size()));
     auto s = std::make_unique<NodeState>();
     s->node = &n;
-    s->type = session.registry.find(n.type);
+    s->type = node_type_of(n, session.registry);
     if (!s->type) throw Error("node \"" + id + "\": unknown type " + n.type + " (graph not validated)");
     nodes.push_back(std::move(s));
   }
   bind_inputs();
-  hash_nodes(topological_order());
+  const std::vector<int> order = topological_order();
+  hash_nodes(order);
+  share_equal_results(order);
+}
+
+// Equal computations run once: a link to a cacheable node whose hash an
+// earlier node (in topological order) has reads that node instead. Node ids
+// are in every top-level node's seed, so only the inner nodes of two group
+// instances fed equal values meet here; the second instance's copies are left
+// without dependents and are pruned unless asked for.
+void Evaluation::share_equal_results(const std::vector<int>& order) {
+  std::unordered_map<std::uint64_t, int> first;
+  std::vector<int> same(nodes.size(), -1);
+  bool any = false;
+  for (int n : order) {
+    const NodeState& s = at(n);
+    if (!s.cacheable || s.type->spec.simulation()) continue;
+    auto [it, fresh] = first.emplace(s.hash, n);
+    if (!fresh) same[static_cast<std::size_t>(n)] = it->second, any = true;
+  }
+  if (!any) return;
+  for (auto& sp : nodes)
+    for (auto& b : sp->inputs)
+      if (b.kind == NodeState::Binding::link && same[static_cast<std::size_t>(b.upstream)] >= 0)
+        b.upstream = same[static_cast<std::size_t>(b.upstream)];
 }
 
 // Each declared input: a link, a literal (from the graph or the default,
@@ -30,6 +55,7 @@ void Evaluation::bind_inputs() {
       const InputSpec& spec = specs[i];
       auto& b = s.inputs[i];
       auto it = s.node->inputs.find(spec.name);
+      if (fed_inputs && bind_fed(s, spec, b)) continue;
       if (it != s.node->inputs.end() && it->second.link) {
         b.kind = NodeState::Binding::link;
         b.upstream = index.at(it->second.link->node);
@@ -49,6 +75,20 @@ void Evaluation::bind_inputs() {
       }
     }
   }
+}
+
+// A Repeat body's input fed with a value: bound by the same rule as a linked value.
+bool Evaluation::bind_fed(const NodeState& s, const InputSpec& spec, NodeState::Binding& b) {
+  auto fed = fed_inputs->find({s.node->id, spec.name});
+  if (fed == fed_inputs->end()) return false;
+  b.kind = NodeState::Binding::literal;
+  b.fed_hash = fed->second.second;
+  try {
+    b.literal_value = bind_value(spec, fed->second.first, place);
+  } catch (const Error& e) {
+    throw Error("node \"" + s.node->id + "\": " + e.what());
+  }
+  return true;
 }
 
 // Upstream before downstream: an iterative post-order DFS over links.
@@ -85,7 +125,7 @@ void Evaluation::hash_nodes(const std::vector<int>& order) {
   for (int n : order) {
     NodeState& s = at(n);
     const NodeSpec& spec = s.type->spec;
-    s.seed = Hasher(graph.seed).str(s.node->id).digest();
+    s.seed = Hasher(graph.seed).str(s.node->seed_key()).digest();
     s.cacheable = !spec.sink && !spec.nondeterministic;
     s.time_dependent = spec.time_dependent;
     for (const auto& b : s.inputs)

@@ -24,6 +24,7 @@
 #include "watch.hpp"
 #include "run_settings.hpp"
 #include "farm_commands.hpp"
+#include "group_listing.hpp"
 #include "sweep.hpp"
 
 namespace {
@@ -208,10 +209,15 @@ int cmd_nodes(const std::string& type, bool as_json, bool as_markdown) {
     return kPluginError;
   }
   std::vector<const loom::NodeType*> types;
+  const std::vector<loom::NodeType> groups = loom::runner::library_node_types(registry);
   if (type.empty()) {
     types = registry.all();
+    for (const auto& g : groups) types.push_back(&g);
   } else if (const auto* t = registry.find(type)) {
     types.push_back(t);
+  } else if (auto g = std::find_if(groups.begin(), groups.end(), [&](const auto& g) { return g.spec.name == type; });
+             g != groups.end()) {
+    types.push_back(&*g);
   } else {
     std::cerr << "error: " << loom::unknown_node_type_message(type, loader.known_node_types(),
                                                               loader.searched_description())

@@ -80,7 +80,7 @@ TEST(GraphValidation, LinkToUnknownNodeOrOutput) {
 
 TEST(GraphValidation, StructureErrors) {
   EXPECT_THROW(parse_graph(json{{"nodes", json::object()}}, "x.json"), GraphError);       // no version
-  EXPECT_THROW(parse_graph(json{{"loom", 2}, {"nodes", json::object()}}, "x.json"), GraphError);
+  EXPECT_THROW(parse_graph(json{{"loom", 3}, {"nodes", json::object()}}, "x.json"), GraphError);
   EXPECT_THROW(parse_graph(json{{"loom", 1}, {"nodes", json::array()}}, "x.json"), GraphError);
   try {
     parse_graph(json{{"loom", 1}, {"nodes", {{"a", {{"type", "Math"}, {"inputs", {{"a", {{"from", "bad"}}}}}}}}}},

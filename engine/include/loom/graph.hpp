@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -19,7 +20,10 @@
 
 namespace loom {
 
+// Files without groups are written as version 1; a file that uses groups
+// (docs/graph-format.md, "Groups") says "loom": 2. Version 1 is a subset of 2.
 constexpr int kGraphFormatVersion = 1;
+constexpr int kGroupsFormatVersion = 2;
 // Graph files and --set values nested deeper than this are refused when
 // parsed (a deeper document would exhaust the stack of any recursive walk).
 constexpr std::size_t kMaxJsonDepth = 256;
@@ -41,11 +45,52 @@ struct InputBinding {
   std::string set_by = {};  // the --set assignment that gave this value, for messages; empty: the file
 };
 
+// Where something was written: its file (empty: the graph's own file) and
+// its JSON pointer there. Nodes of a group keep the place of their definition,
+// so errors point into the group's file.
+struct SourcePlace {
+  std::string file;
+  std::string pointer;
+};
+
+struct RepeatBody;  // a Repeat node's body (engine/core/repeat.hpp)
+
 struct GraphNode {
-  std::string id;
+  std::string id;  // inside a group instance, a path: "look.render"
   std::string type;
   std::map<std::string, InputBinding> inputs;
   json ui;  // editor layout, kept as is
+  SourcePlace place = {};  // empty pointer: /nodes/ID of the graph's own file
+  // What seeds the node's random numbers (with the graph seed): its id, or
+  // for a node of a group "GROUP/INNER", so two instances of a group with
+  // equal inputs compute, hash and share the same results.
+  std::string seed_name = {};
+  std::shared_ptr<const RepeatBody> repeat = {};  // set for a node of type "Repeat"
+
+  const std::string& seed_key() const { return seed_name.empty() ? id : seed_name; }
+};
+
+// A group's interface: inputs declared like a C++ node's (type, default,
+// min, max, choices, optional, description) and the inner NODE.INPUTs each
+// feeds; outputs taken from inner NODE.OUTPUTs. Paths are flat ids.
+struct GroupInput {
+  json declaration;
+  std::vector<Link> to;
+  SourcePlace place;  // of the declaration
+};
+struct GroupInterface {
+  std::string description;
+  std::map<std::string, GroupInput> inputs;
+  std::map<std::string, Link> outputs;
+  std::map<std::string, SourcePlace> output_places;
+};
+// A node of a group type, expanded: its inner nodes are in Graph::nodes as
+// "PATH.INNER"; this keeps its interface and the values given to it.
+struct GroupInstance {
+  std::string type;
+  SourcePlace place;  // the instance's node
+  GroupInterface interface;
+  std::map<std::string, InputBinding> given;
 };
 
 // Frame numbers, in graph files and in every run, lie within
@@ -66,10 +111,14 @@ struct TimeRange {
 
 struct Graph {
   std::filesystem::path file;  // for messages and relative input paths
+  int version = kGraphFormatVersion;
   std::uint64_t seed = 0;
   std::optional<TimeRange> time;
-  std::map<std::string, GraphNode> nodes;  // by id, sorted
+  std::map<std::string, GraphNode> nodes;  // by id, sorted; groups expanded (flat)
   json ui;  // editor state (e.g. the current frame), kept as is
+  // Version 2: the group instances by path, and a group file's own interface.
+  std::map<std::string, GroupInstance> instances;
+  std::optional<GroupInterface> interface;
 
   std::filesystem::path dir() const { return file.empty() ? std::filesystem::current_path()
                                                             : file.parent_path(); }
@@ -111,8 +160,28 @@ LOOM_API void validate_graph(const Graph& graph, const Registry& registry,
                              const std::string& searched = {},
                              const std::vector<std::string>& known_types = {});
 
+// Where a group type named by a node of `file` is found: a ".json" path
+// relative to the file's folder; else NAME.json in the folders of
+// LOOM_GRAPH_PATH (':'-separated), then in Loom's shipped graphs/lib. Empty
+// when not found.
+LOOM_API std::filesystem::path find_group_file(const std::string& type, const std::filesystem::path& file);
+// The folders searched for group files by name, in order.
+LOOM_API std::vector<std::filesystem::path> graph_search_path();
+
+// The group files found by name: NAME.json in each folder of
+// graph_search_path() holding "inputs" or "outputs" (the first of a name wins).
+LOOM_API std::vector<std::filesystem::path> library_group_files();
+// A group's interface as a node declaration (what `loom nodes` prints): its
+// inputs as declared, its outputs with the types of the inner outputs they
+// come from. `group` is a loaded group file (Graph::interface set), `plugin`
+// says where it came from. Throws Error for an invalid interface.
+LOOM_API NodeType group_node_type(const Graph& group, const std::string& name, const std::string& plugin,
+                                  const Registry& registry);
+
 // Applies `--set ID.INPUT=JSON`; a value that is not valid JSON is taken as a
-// string. Throws GraphError for an unknown node. `time.start`, `time.end` and
+// string. Throws GraphError for an unknown node. ID may be a path into a
+// group instance (look.render.width), and INPUT an instance's interface
+// input (look.width). `time.start`, `time.end` and
 // `time.fps` set the graph's time (unless a node is named "time").
 LOOM_API void set_input(Graph& graph, const std::string& assignment);
 

@@ -1,0 +1,341 @@
+// Groups and Repeat (issue 25). References are independent of the group
+// code: the same computation wired by hand as a flat graph (version 1, ids
+// written out), hand-written loops, and counts of the runs the engine reports.
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "loom/image.hpp"
+#include "loom/mesh.hpp"
+#include "loom/testing.hpp"
+
+namespace loom {
+namespace {
+
+namespace fs = std::filesystem;
+
+json link(const std::string& from) { return {{"from", from}}; }
+
+// A folder of group files, removed at the end.
+struct Folder {
+  fs::path dir;
+  Folder() {
+    std::string pattern = (fs::temp_directory_path() / "loom-groups-XXXXXX").string();
+    dir = ::mkdtemp(pattern.data());
+  }
+  ~Folder() {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+  fs::path write(const std::string& name, const json& doc) const {
+    fs::create_directories((dir / name).parent_path());
+    std::ofstream(dir / name) << doc.dump(2);
+    return dir / name;
+  }
+};
+
+// A graph loaded and validated, evaluated by a session of its own at each
+// frame of `frames`; returns target -> value (as JSON) per frame.
+std::vector<json> values_per_frame(testing::Engine& engine, const json& doc, const fs::path& file,
+                                   const std::vector<std::string>& targets, int first, int last) {
+  const Graph g = engine.load(doc, file);
+  Session session(engine.registry());
+  std::vector<json> frames;
+  for (int f = first; f <= last; ++f) {
+    EvalOptions o;
+    for (const auto& t : targets) o.targets.push_back(parse_target(t));
+    o.frames = FrameRange{f, f};
+    const EvalResult r = session.evaluate(g, o);
+    EXPECT_TRUE(r.ok());
+    json row = json::object();
+    for (const auto& [name, values] : r.outputs) row[name] = values.at(0).to_json();
+    frames.push_back(row);
+  }
+  return frames;
+}
+
+// Inline group "Drift": a simulation (x += v·step) plus a time-dependent
+// offset, inside a group used twice with different velocities.
+json drift_grouped() {
+  json group = {{"description", "x(t) + frame * scale"},
+                {"inputs", {{"v", {{"type", "Float"}, {"default", 1.0}, {"to", {"sim.v"}}}},
+                            {"scale", {{"type", "Float"}, {"default", 0.5}, {"to", {"clock.scale"}}}}}},
+                {"outputs", {{"x", {{"from", "sum.result"}}}}},
+                {"nodes", {{"sim", {{"type", "Integrate"}}},
+                           {"clock", {{"type", "FrameNumber"}}},
+                           {"sum", {{"type", "Math"}, {"inputs", {{"a", link("sim.x")}, {"b", link("clock.value")}}}}}}}};
+  return {{"loom", 2}, {"time", {{"start", 1}, {"end", 6}, {"fps", 4}}},
+          {"groups", {{"Drift", group}}},
+          {"nodes", {{"slow", {{"type", "Drift"}, {"inputs", {{"v", 0.25}}}}},
+                     {"fast", {{"type", "Drift"}, {"inputs", {{"v", 3.0}, {"scale", 2.0}}}}},
+                     {"both", {{"type", "Math"}, {"inputs", {{"a", link("slow.x")}, {"b", link("fast.x")}, {"op", "multiply"}}}}}}}};
+}
+
+json drift_flat() {
+  json nodes = json::object();
+  for (const auto& [id, v, scale] : {std::tuple{"slow", 0.25, 0.5}, std::tuple{"fast", 3.0, 2.0}}) {
+    const std::string p = id;
+    nodes[p + "_sim"] = {{"type", "Integrate"}, {"inputs", {{"v", v}}}};
+    nodes[p + "_clock"] = {{"type", "FrameNumber"}, {"inputs", {{"scale", scale}}}};
+    nodes[p + "_sum"] = {{"type", "Math"}, {"inputs", {{"a", link(p + "_sim.x")}, {"b", link(p + "_clock.value")}}}};
+  }
+  nodes["both"] = {{"type", "Math"}, {"inputs", {{"a", link("slow_sum.result")}, {"b", link("fast_sum.result")}, {"op", "multiply"}}}};
+  return {{"loom", 1}, {"time", {{"start", 1}, {"end", 6}, {"fps", 4}}}, {"nodes", nodes}};
+}
+
+TEST(Groups, AGroupedGraphEqualsItsFlatFormOverATimeRangeWithASimulationInside) {
+  testing::Engine engine({LOOM_TEST_PLUGIN_DIR});
+  const auto grouped = values_per_frame(engine, drift_grouped(), "g.json", {"both.result", "slow.x"}, 1, 6);
+  const auto flat = values_per_frame(engine, drift_flat(), "f.json", {"both.result", "slow_sum.result"}, 1, 6);
+  for (int f = 0; f < 6; ++f) {
+    // x at frame f (1-based) = v (f-1)/fps + f scale, by hand:
+    const double slow = 0.25 * f / 4 + (f + 1) * 0.5, fast = 3.0 * f / 4 + (f + 1) * 2.0;
+    EXPECT_EQ(grouped[f]["both.result"], flat[f]["both.result"]) << "frame " << f + 1;
+    EXPECT_DOUBLE_EQ(grouped[f]["both.result"].get<double>(), slow * fast);
+    EXPECT_EQ(grouped[f]["slow.x"], flat[f]["slow_sum.result"]);  // an instance output, by its name
+  }
+}
+
+TEST(Groups, AGroupedImageIsByteIdenticalToTheFlatOne) {
+  testing::Engine engine;
+  const json group = {{"inputs", {{"image", {{"type", "Image"}, {"to", {"p.image"}}}},
+                                  {"levels", {{"type", "Int"}, {"default", 3}, {"min", 2}, {"max", 8}, {"to", {"p.levels"}}}}}},
+                      {"outputs", {{"image", {{"from", "p.image"}}}}},
+                      {"nodes", {{"p", {{"type", "Posterize"}}}}}};
+  const json grouped = {{"loom", 2}, {"groups", {{"Poster", group}}},
+                        {"nodes", {{"board", {{"type", "Checkerboard"}, {"inputs", {{"size", {64, 48}}, {"cells", 5}}}}},
+                                   {"look", {{"type", "Poster"}, {"inputs", {{"image", link("board.image")}}}}}}}};
+  const json flat = {{"loom", 1},
+                     {"nodes", {{"board", {{"type", "Checkerboard"}, {"inputs", {{"size", {64, 48}}, {"cells", 5}}}}},
+                                {"look_p", {{"type", "Posterize"}, {"inputs", {{"image", link("board.image")}, {"levels", 3}}}}}}}};
+  const Image a = engine.output<Image>(grouped, "look.image");
+  const Image b = engine.output<Image>(flat, "look_p.image");
+  ASSERT_EQ(a.pixels.total() * a.pixels.elemSize(), b.pixels.total() * b.pixels.elemSize());
+  EXPECT_EQ(0, std::memcmp(a.pixels.data, b.pixels.data, a.pixels.total() * a.pixels.elemSize()));
+}
+
+// Sleep passes its value on after `ms`: the group's inner node runs once for
+// two instances fed equal values, twice for different values.
+json two_instances(double a, double b) {
+  const json group = {{"inputs", {{"value", {{"type", "Float"}, {"to", {"nap.value"}}}}}},
+                      {"outputs", {{"value", {{"from", "nap.value"}}}}},
+                      {"nodes", {{"nap", {{"type", "Sleep"}, {"inputs", {{"ms", 5}}}}}}}};
+  return {{"loom", 2}, {"groups", {{"Nap", group}}},
+          {"nodes", {{"one", {{"type", "Nap"}, {"inputs", {{"value", a}}}}},
+                     {"two", {{"type", "Nap"}, {"inputs", {{"value", b}}}}},
+                     {"sum", {{"type", "Math"}, {"inputs", {{"a", link("one.value")}, {"b", link("two.value")}}}}}}}};
+}
+
+TEST(Groups, TwoInstancesWithEqualInputsShareTheirInnerResults) {
+  testing::Engine engine({LOOM_TEST_PLUGIN_DIR});
+  testing::Run same = engine.run(two_instances(2, 2), {"sum.result"});
+  ASSERT_TRUE(same.ok()) << same.errors();
+  EXPECT_EQ(same.output<double>("sum.result"), 4.0);
+  const auto& nodes = same.result().nodes;
+  EXPECT_EQ(nodes.at("one.nap").runs + nodes.at("two.nap").runs, 1);
+  testing::Run different = engine.run(two_instances(2, 5), {"sum.result"});
+  EXPECT_EQ(different.output<double>("sum.result"), 7.0);
+  // one.nap (value 2) was computed by the first run; two.nap (5) is new.
+  EXPECT_EQ(different.status("one.nap"), NodeStatus::cached);
+  EXPECT_EQ(different.result().nodes.at("two.nap").runs, 1);
+}
+
+TEST(Groups, SelfReferenceThroughFilesIsRefusedWithTheChainNamed) {
+  Folder f;
+  const json a = {{"loom", 2}, {"outputs", {{"x", {{"from", "b.x"}}}}}, {"nodes", {{"b", {{"type", "b.json"}}}}}};
+  const json b = {{"loom", 2}, {"outputs", {{"x", {{"from", "a.x"}}}}}, {"nodes", {{"a", {{"type", "lib/../a.json"}}}}}};
+  f.write("a.json", a);
+  f.write("b.json", b);
+  f.write("lib/keep.json", json::object());
+  try {
+    (void)load_graph_file(f.dir / "a.json");
+    FAIL() << "no error";
+  } catch (const GraphError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("uses itself"), std::string::npos) << what;
+    EXPECT_NE(what.find("b.json → "), std::string::npos) << what;
+    EXPECT_NE(what.find("/nodes/a/type"), std::string::npos) << what;
+  }
+}
+
+TEST(Groups, ErrorsPointIntoTheGroupFile) {
+  testing::Engine engine;
+  Folder f;
+  const json lib = {{"loom", 2},
+                    {"inputs", {{"x", {{"type", "Float"}, {"min", 0}, {"to", {"m.a"}}}},
+                                {"img", {{"type", "Image"}, {"to", {"m.b"}}}}}},
+                    {"outputs", {{"y", {{"from", "m.result"}}}}},
+                    {"nodes", {{"m", {{"type", "Math"}, {"inputs", {{"op", "modulo"}}}}}}}};
+  f.write("lib/calc.json", lib);
+  json top = {{"loom", 2},
+              {"nodes", {{"board", {{"type", "Checkerboard"}}},
+                         {"c", {{"type", "lib/calc.json"}, {"inputs", {{"x", -1}, {"img", link("board.image")}}}}}}}};
+  const fs::path file = f.write("top.json", top);
+  try {
+    (void)engine.load(top, file);
+    FAIL() << "no error";
+  } catch (const GraphError& e) {
+    const std::string what = e.what();
+    // An inner node's value, in the group file:
+    EXPECT_NE(what.find("lib/calc.json: /nodes/m/inputs/op: \"modulo\" is not one of the choices"), std::string::npos) << what;
+    // A mistyped binding, at its declaration:
+    EXPECT_NE(what.find("lib/calc.json: /inputs/img/type: interface input \"img\" is Image but it feeds c.m.b, which expects Float"),
+              std::string::npos) << what;
+    // What the instance gives, in the top file, checked by the interface's declaration:
+    EXPECT_NE(what.find("top.json: /nodes/c/inputs/x: "), std::string::npos) << what;
+  }
+  top["nodes"]["c"]["inputs"]["z"] = 2;  // not an input of the group: refused at load
+  try {
+    (void)engine.load(top, f.write("top.json", top));
+    FAIL() << "no error";
+  } catch (const GraphError& e) {
+    EXPECT_NE(std::string(e.what()).find("top.json: /nodes/c/inputs/z: unknown input \"z\" of group lib/calc.json (its inputs: img, x)"),
+              std::string::npos) << e.what();
+  }
+}
+
+TEST(Groups, SetAndTargetReachInnerNodesByPath) {
+  testing::Engine engine({LOOM_TEST_PLUGIN_DIR});
+  Graph g = engine.load(two_instances(2, 3), "t.json");
+  set_input(g, "one.value=10");        // the interface input
+  set_input(g, "two.nap.value=20");    // the inner node itself
+  Session session(engine.registry());
+  EvalOptions o;
+  o.targets = {parse_target("sum.result"), parse_target("one.value")};
+  const EvalResult r = session.evaluate(g, o);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.outputs.at("sum.result").at(0).as<double>(), 30.0);
+  EXPECT_EQ(r.outputs.at("one.value").at(0).as<double>(), 10.0);
+  EXPECT_THROW(set_input(g, "one.nothing=1"), GraphError);
+}
+
+// Body "Step": x -> x * 1.5 + iteration.
+json step_group() {
+  return {{"inputs", {{"x", {{"type", "Float"}, {"to", {"times.a"}}}},
+                      {"iteration", {{"type", "Float"}, {"to", {"plus.b"}}}}}},
+          {"outputs", {{"x", {{"from", "plus.result"}}}}},
+          {"nodes", {{"times", {{"type", "Math"}, {"inputs", {{"b", 1.5}, {"op", "multiply"}}}}},
+                     {"plus", {{"type", "Math"}, {"inputs", {{"a", link("times.result")}}}}}}}};
+}
+
+json repeated(const json& count, bool cache = false) {
+  json r = {{"type", "Repeat"}, {"body", "Step"}, {"inputs", {{"count", count}, {"x", 2.0}}}};
+  if (cache) r["cache_iterations"] = true;
+  return {{"loom", 2}, {"groups", {{"Step", step_group()}}}, {"nodes", {{"loop", r}, {"clock", {{"type", "Time"}}}}}};
+}
+
+TEST(Repeat, NIterationsEqualNCopiesWiredByHand) {
+  testing::Engine engine;
+  for (int n : {1, 2, 7}) {
+    json nodes = json::object();
+    std::string x = "";
+    for (int i = 0; i < n; ++i) {
+      const std::string t = "times" + std::to_string(i), p = "plus" + std::to_string(i);
+      nodes[t] = {{"type", "Math"}, {"inputs", {{"a", x.empty() ? json(2.0) : link(x)}, {"b", 1.5}, {"op", "multiply"}}}};
+      nodes[p] = {{"type", "Math"}, {"inputs", {{"a", link(t + ".result")}, {"b", i}}}};
+      x = p + ".result";
+    }
+    const double by_hand = engine.output<double>(json{{"loom", 1}, {"nodes", nodes}}, x);
+    EXPECT_EQ(engine.output<double>(repeated(n), "loop.x"), by_hand) << n;
+    EXPECT_EQ(engine.output<double>(repeated(n, true), "loop.x"), by_hand) << n;
+  }
+  // count from a link: the frame number (Time.frame is 1 without "time").
+  EXPECT_EQ(engine.output<double>(repeated(link("clock.frame")), "loop.x"), 3.0);
+}
+
+// SmoothMesh's own loop of `steps` is the reference for 12 iterations of one step.
+TEST(Repeat, TwelveIterationsOfOneSmoothingStepEqualSmoothMeshsOwnTwelveSteps) {
+  testing::Engine engine;
+  const json once = {{"inputs", {{"mesh", {{"type", "Mesh"}, {"to", {"smooth.mesh"}}}}}},
+                     {"outputs", {{"mesh", {{"from", "smooth.mesh"}}}}},
+                     {"nodes", {{"smooth", {{"type", "SmoothMesh"}, {"inputs", {{"steps", 1}}}}}}}};
+  const json dome = {{"type", "HemisphereMesh"}, {"inputs", {{"rings", 12}, {"segments", 40}, {"noise", 0.06}}}};
+  const json repeat = {{"loom", 2}, {"seed", 3}, {"groups", {{"SmoothOnce", once}}},
+                       {"nodes", {{"dome", dome},
+                                  {"loop", {{"type", "Repeat"}, {"body", "SmoothOnce"},
+                                            {"inputs", {{"count", 12}, {"mesh", link("dome.mesh")}}}}}}}};
+  const json direct = {{"loom", 1}, {"seed", 3},
+                       {"nodes", {{"dome", dome},
+                                  {"s", {{"type", "SmoothMesh"}, {"inputs", {{"mesh", link("dome.mesh")}, {"steps", 12}}}}}}}};
+  const Mesh a = engine.output<Mesh>(repeat, "loop.mesh"), b = engine.output<Mesh>(direct, "s.mesh");
+  const Mesh raw = engine.output<Mesh>(direct, "dome.mesh");
+  ASSERT_EQ(a.V.rows(), b.V.rows());
+  EXPECT_TRUE(a.V == b.V);  // bit for bit
+  EXPECT_FALSE(a.V == raw.V);
+}
+
+TEST(Repeat, ZeroIterationsPassTheThreadedInputThrough) {
+  testing::Engine engine;
+  EXPECT_EQ(engine.output<double>(repeated(0), "loop.x"), 2.0);
+  json body = step_group();
+  body["outputs"]["other"] = {{"from", "times.result"}};  // no input "other": not threaded
+  json doc = repeated(0);
+  doc["groups"]["Step"] = body;
+  testing::Run run = engine.run(doc, {"loop.other"});
+  EXPECT_EQ(run.status("loop"), NodeStatus::failed);
+  EXPECT_NE(run.error("loop").find("not threaded"), std::string::npos) << run.error("loop");
+}
+
+TEST(Repeat, IterationsAreNotCachedUnlessAsked) {
+  testing::Engine engine;
+  Session session(engine.registry());
+  EvalOptions o;
+  o.targets = {parse_target("loop.x")};
+  session.evaluate(engine.load(repeated(5), "r.json"), o);
+  const std::size_t plain = session.cache_entries();
+  session.clear_cache();
+  session.evaluate(engine.load(repeated(5, true), "r.json"), o);
+  EXPECT_EQ(plain, 1u);  // the Repeat node's own result
+  EXPECT_GE(session.cache_entries(), 1u + 5u * 2u);  // and every inner node of every iteration
+}
+
+TEST(Repeat, CancelInsideTheBodyEndsTheRun) {
+  testing::Engine engine({LOOM_TEST_PLUGIN_DIR});
+  const json body = {{"inputs", {{"value", {{"type", "Float"}, {"to", {"nap.value"}}}}}},
+                     {"outputs", {{"value", {{"from", "nap.value"}}}}},
+                     {"nodes", {{"nap", {{"type", "Sleep"}, {"inputs", {{"ms", 20}}}}}}}};
+  const json doc = {{"loom", 2}, {"groups", {{"Nap", body}}},
+                    {"nodes", {{"loop", {{"type", "Repeat"}, {"body", "Nap"}, {"inputs", {{"count", 100000}, {"value", 1.0}}}}}}}};
+  const Graph g = engine.load(doc, "c.json");
+  Session session(engine.registry());
+  std::atomic<bool> cancel{false};
+  EvalOptions o;
+  o.targets = {parse_target("loop.value")};
+  o.cancel = &cancel;
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    cancel = true;
+  });
+  const auto start = std::chrono::steady_clock::now();
+  const EvalResult r = session.evaluate(g, o);
+  stopper.join();
+  EXPECT_TRUE(r.cancelled);
+  EXPECT_NE(r.nodes.at("loop").status, NodeStatus::ran);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
+  EXPECT_EQ(session.cache_entries(), 0u);
+}
+
+TEST(GraphFormat, EveryExampleGraphLoadsTheSameAsVersion1AndVersion2) {
+  int graphs = 0;
+  for (const auto& e : fs::directory_iterator(fs::path(LOOM_SOURCE_DIR) / "graphs")) {
+    if (e.path().extension() != ".json") continue;
+    std::ifstream in(e.path());
+    json doc = json::parse(in);
+    if (doc["loom"] != 1) continue;  // the examples of groups are version 2 already
+    const Graph v1 = parse_graph(doc, e.path());
+    doc["loom"] = 2;
+    const Graph v2 = parse_graph(doc, e.path());
+    EXPECT_EQ(graph_to_json(v1), graph_to_json(v2)) << e.path();
+    EXPECT_TRUE(v2.instances.empty());
+    ++graphs;
+  }
+  EXPECT_GT(graphs, 30);
+}
+
+}  // namespace
+}  // namespace loom
