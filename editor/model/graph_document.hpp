@@ -156,6 +156,8 @@ class GraphDocument {
   std::string promote(const std::string& id, const std::string& input);
   // The interface input bound to node.input, or "".
   std::string promoted_as(const std::string& id, const std::string& input) const;
+  // The interface output that node.output is, or "".
+  std::string exported_as(const std::string& id, const std::string& output) const;
 
   // Group types for the node search: this file's inline groups and the library's.
   std::vector<const NodeType*> group_types() const;

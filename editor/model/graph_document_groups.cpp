@@ -152,8 +152,13 @@ std::vector<const NodeType*> GraphDocument::group_types() const {
 // the consumers of the group's outputs rewired to it.
 std::string GraphDocument::add_group_node(const std::string& type, const std::vector<std::string>& ids,
                                           const json& inputs) {
-  const CanvasPoint at = centre_of(*this, ids);
+  const CanvasPoint centre = centre_of(*this, ids);
   for (const auto& id : ids) nodes().erase(id);
+  // At the free spot nearest the selection's centre, never on another node.
+  std::vector<CanvasRect> taken;
+  for (const auto& other : node_ids())
+    taken.push_back({position(other).x, position(other).y, kNodeWidth, node_height(node_type(other))});
+  const CanvasPoint at = free_spot(taken, centre, kNodeWidth, node_height(find_type(type)));
   const std::string id = unique_id(type);
   nodes()[id] = {{"type", type}, {"ui", {{"pos", {at.x, at.y}}}}};
   if (!inputs.empty()) nodes()[id]["inputs"] = inputs;
@@ -220,8 +225,15 @@ std::vector<std::string> GraphDocument::ungroup(const std::string& id) {
     definition = read_group_file(file);
   else
     throw Error(id + " is not a group node");
+  // A group file's own inline groups come along (the same name must mean the same group).
+  const json file_groups = is_object_with(definition, "groups") && !groups().contains(type) ? definition["groups"]
+                                                                                           : empty_object();
+  for (const auto& [name, group] : file_groups.items())
+    if (registry_.find(name) || (groups().contains(name) && groups()[name] != group))
+      throw Error("cannot ungroup " + id + ": its file's group \"" + name + "\" differs from this graph's");
   const Ungrouping u = dissolve_group(id, node_json(id), definition, [&](const std::string& n) { return has_node(n); });
   begin_edit("ungroup " + id);
+  for (const auto& [name, group] : file_groups.items()) doc_["groups"][name] = group;
   const CanvasPoint at = position(id);
   nodes().erase(id);
   std::vector<std::string> added;
@@ -266,6 +278,14 @@ std::string GraphDocument::promote(const std::string& id, const std::string& inp
   if (!promoted_as(id, input).empty()) throw Error(id + "." + input + " is already an input of the group");
   begin_edit("promote " + id + "." + input);
   return promote_input(level(), id, input, *declared);
+}
+
+std::string GraphDocument::exported_as(const std::string& id, const std::string& output) const {
+  const json& level = this->level();
+  if (!is_object_with(level, "outputs")) return {};
+  for (const auto& [name, entry] : level["outputs"].items())
+    if (entry.is_object() && entry.value("from", std::string()) == id + "." + output) return name;
+  return {};
 }
 
 std::string GraphDocument::promoted_as(const std::string& id, const std::string& input) const {

@@ -53,7 +53,23 @@ void add_interface_inputs(Grouping& g, const std::set<std::string>& chosen,
   }
 }
 
+// The inner outputs read outside the selection, "NODE.OUTPUT", in order.
+std::vector<Link> outputs_read_outside(const json& nodes, const std::set<std::string>& chosen) {
+  std::vector<Link> read;
+  std::set<std::string> seen;
+  for (const auto& [id, node] : nodes.items()) {
+    if (chosen.count(id) || !within(node, "inputs")) continue;
+    for (const auto& [input, value] : node["inputs"].items())
+      if (const auto link = input_link(value); link && chosen.count(link->node))
+        if (seen.insert(dotted(link->node, link->output)).second) read.push_back(*link);
+  }
+  return read;
+}
+
 void add_interface_outputs(Grouping& g, const json& nodes, const std::set<std::string>& chosen) {
+  // An output keeps its name unless two inner nodes' outputs of that name leave the group.
+  std::map<std::string, int> uses;
+  for (const Link& l : outputs_read_outside(nodes, chosen)) ++uses[l.output];
   std::map<std::string, std::string> by_source;  // "INNER.OUTPUT" -> interface output
   json& outputs = g.definition["outputs"];
   for (const auto& [id, node] : nodes.items()) {
@@ -64,7 +80,7 @@ void add_interface_outputs(Grouping& g, const json& nodes, const std::set<std::s
       const std::string source = dotted(link->node, link->output);
       auto known = by_source.find(source);
       if (known == by_source.end()) {
-        const std::string base = within(outputs, link->output) ? link->node + "_" + link->output : link->output;
+        const std::string base = uses[link->output] > 1 ? link->node + "_" + link->output : link->output;
         const std::string name = unique_name(base, [&](const std::string& n) { return within(outputs, n); });
         outputs[name] = {{"from", source}};
         known = by_source.emplace(source, name).first;

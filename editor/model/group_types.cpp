@@ -63,8 +63,18 @@ GroupTypes::GroupTypes(const Registry& registry) : registry_(registry), folders_
 const NodeType* GroupTypes::find(const std::string& type, const json& groups, const fs::path& dir) const {
   if (const NodeType* t = registry_.find(type)) return t;
   if (groups.is_object() && groups.contains(type) && groups[type].is_object()) return inline_type(type, groups, dir);
-  if (auto file = resolve_group_file(type, dir, folders_)) return file_type(*file);
+  if (const fs::path* file = resolved(type, dir)) return file_type(*file);
   return nullptr;
+}
+
+const fs::path* GroupTypes::resolved(const std::string& type, const fs::path& dir) const {
+  const std::string key = dir.string() + "\n" + type;
+  auto it = resolved_.find(key);
+  if (it == resolved_.end()) {
+    const auto file = resolve_group_file(type, dir, folders_);
+    it = resolved_.emplace(key, file ? fs::weakly_canonical(*file) : fs::path()).first;
+  }
+  return it->second.empty() ? nullptr : &it->second;
 }
 
 bool GroupTypes::is_group(const std::string& type, const json& groups, const fs::path& dir) const {
@@ -82,7 +92,7 @@ const NodeType* GroupTypes::inline_type(const std::string& name, const json& gro
 }
 
 const NodeType* GroupTypes::file_type(const fs::path& file) const {
-  const std::string key = fs::weakly_canonical(file).string();
+  const std::string key = file.string();  // canonical (resolved())
   if (auto it = files_.find(key); it != files_.end()) return it->second.get();
   if (!resolving_.insert(key).second) return nullptr;
   std::unique_ptr<NodeType> t;
@@ -100,11 +110,13 @@ const NodeType* GroupTypes::file_type(const fs::path& file) const {
 
 std::vector<const NodeType*> GroupTypes::library() const {
   std::vector<const NodeType*> types;
-  for (const LibraryGroup& g : list_library_groups(folders_)) {
+  if (!library_) library_ = list_library_groups(folders_);
+  for (const LibraryGroup& g : *library_) {
     if (registry_.find(g.name)) continue;  // a registered type takes the name
-    if (const NodeType* t = file_type(g.file)) {
-      files_[fs::weakly_canonical(g.file).string()]->spec.plugin = "library";
-      types.push_back(t);
+    const fs::path file = fs::weakly_canonical(g.file);
+    if (file_type(file)) {
+      files_[file.string()]->spec.plugin = "library";
+      types.push_back(files_[file.string()].get());
     }
   }
   return types;
@@ -121,6 +133,8 @@ void GroupTypes::rescan() {
   for (auto& [file, t] : files_)
     if (t) retired_.push_back(std::move(t));
   files_.clear();
+  resolved_.clear();
+  library_.reset();
   folders_ = group_library_folders();
 }
 

@@ -12,6 +12,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -51,8 +52,14 @@ class GroupTypes {
   const NodeType* inline_type(const std::string& name, const json& groups, const std::filesystem::path& dir) const;
   const NodeType* file_type(const std::filesystem::path& file) const;
 
+  // Where a type names a file, by "DIR\nTYPE" (empty: nowhere): the canvas
+  // asks for a node's type many times a frame, the disk is asked once.
+  const std::filesystem::path* resolved(const std::string& type, const std::filesystem::path& dir) const;
+
   const Registry& registry_;
   std::vector<std::filesystem::path> folders_;
+  mutable std::map<std::string, std::filesystem::path> resolved_;
+  mutable std::optional<std::vector<LibraryGroup>> library_;
   mutable std::map<std::string, std::unique_ptr<NodeType>> inline_, files_;
   mutable std::vector<std::unique_ptr<NodeType>> retired_;
   mutable std::set<std::string> resolving_;  // guards a group that uses itself
