@@ -55,9 +55,7 @@ void place_unplaced_nodes_in(json& doc, const Registry& registry) {
   for (const auto& id : ids) {
     const json& n = doc["nodes"][id];
     if (n.contains("ui") && n["ui"].is_object() && n["ui"].contains("pos")) continue;
-    const NodeType* t = registry.find(n.value("type", ""));
-    const std::size_t rows = t ? t->spec.inputs.size() + t->spec.outputs.size() : 1;
-    const double height = 48.0 + 22.0 * double(rows);
+    const double height = node_height(registry.find(n.value("type", "")));
     auto& [sub, y] = cursor.emplace(depth[id], std::make_pair(0, 40.0)).first->second;
     if (y > 40.0 && y + height > kTall) {
       ++sub;
@@ -74,6 +72,11 @@ void place_unplaced_nodes_in(json& doc, const Registry& registry) {
   }
   for (const Place& p : places)
     doc["nodes"][p.id]["ui"]["pos"] = {40.0 + 280.0 * (first_slot[p.column] + p.sub), p.y};
+}
+
+double node_height(const NodeType* type) {
+  const std::size_t rows = type ? type->spec.inputs.size() + type->spec.outputs.size() : 1;
+  return 48.0 + 22.0 * double(rows);
 }
 
 CanvasPoint free_spot(const std::vector<CanvasRect>& taken, CanvasPoint wanted, double width, double height) {

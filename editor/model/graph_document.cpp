@@ -1,6 +1,7 @@
 #include "graph_document.hpp"
 
 #include "auto_layout.hpp"
+#include "group_library.hpp"
 #include "input_link.hpp"
 
 #include <algorithm>
@@ -33,12 +34,15 @@ std::string snake_case(const std::string& type) {
 
 }  // namespace
 
-GraphDocument::GraphDocument(const Registry& registry) : registry_(registry), doc_(empty_graph()) {}
+GraphDocument::GraphDocument(const Registry& registry)
+    : registry_(registry), doc_(empty_graph()), group_types_(registry) {}
 
 void GraphDocument::clear() {
   doc_ = empty_graph();
   layout_ = {};
   file_.clear();
+  path_.clear();
+  group_types_.rescan();
   history_.clear();
   saved_state_ = history_.state();
   ++revision_;
@@ -60,17 +64,25 @@ void GraphDocument::load(const std::filesystem::path& file) {
 }
 
 void GraphDocument::load_json(const json& document, const std::filesystem::path& file) {
-  parse_graph(document, file);  // structure only: a graph with unknown types still opens
+  check_graph_structure(document, file);  // structure only: a graph with unknown types still opens
   doc_ = document;
   file_ = file;
   layout_ = {};
+  path_.clear();
+  group_types_.rescan();
   place_unplaced_nodes();
   history_.clear();
   saved_state_ = history_.state();
   ++revision_;
 }
 
-std::string GraphDocument::text() const { return write_json(doc_, layout_); }
+std::string GraphDocument::text() const {
+  const int version = format_version();
+  if (doc_.value("loom", json()) == version) return write_json(doc_, layout_);
+  json versioned = doc_;
+  versioned["loom"] = version;
+  return write_json(versioned, layout_);
+}
 
 void GraphDocument::save(const std::filesystem::path& file) {
   const std::string written = text();
@@ -82,21 +94,21 @@ void GraphDocument::save(const std::filesystem::path& file) {
 
 std::vector<std::string> GraphDocument::node_ids() const {
   std::vector<std::string> ids;
-  for (const auto& [id, node] : doc_["nodes"].items()) ids.push_back(id);
+  for (const auto& [id, node] : nodes().items()) ids.push_back(id);
   std::sort(ids.begin(), ids.end());
   return ids;
 }
 
-bool GraphDocument::has_node(const std::string& id) const { return doc_["nodes"].contains(id); }
+bool GraphDocument::has_node(const std::string& id) const { return nodes().contains(id); }
 
 json& GraphDocument::node_json(const std::string& id) {
   if (!has_node(id)) throw Error("no node \"" + id + "\" in the graph");
-  return doc_["nodes"][id];
+  return nodes()[id];
 }
 
 const json& GraphDocument::node_json(const std::string& id) const {
   if (!has_node(id)) throw Error("no node \"" + id + "\" in the graph");
-  return doc_["nodes"][id];
+  return nodes()[id];
 }
 
 std::string GraphDocument::type_name(const std::string& id) const {
@@ -104,7 +116,11 @@ std::string GraphDocument::type_name(const std::string& id) const {
   return n.contains("type") && n["type"].is_string() ? n["type"].get<std::string>() : std::string();
 }
 
-const NodeType* GraphDocument::node_type(const std::string& id) const { return registry_.find(type_name(id)); }
+const NodeType* GraphDocument::node_type(const std::string& id) const { return find_type(type_name(id)); }
+
+const NodeType* GraphDocument::find_type(const std::string& type) const {
+  return group_types_.find(type, groups(), dir());
+}
 
 CanvasPoint GraphDocument::position(const std::string& id) const {
   const json& n = node_json(id);
@@ -136,21 +152,24 @@ json GraphDocument::literal(const std::string& id, const std::string& input) con
 
 void GraphDocument::begin_edit(std::string label, const std::string& merge_key) {
   history_.record(doc_, std::move(label), merge_key);
+  group_types_.edited();
   ++revision_;
 }
 
 std::string GraphDocument::unique_id(const std::string& type) const {
-  const std::string base = snake_case(type);
+  const std::string base = snake_case(std::filesystem::path(type).extension() == ".json"
+                                          ? std::filesystem::path(type).stem().string()
+                                          : type);
   if (!has_node(base)) return base;
   for (int i = 2;; ++i)
     if (!has_node(base + std::to_string(i))) return base + std::to_string(i);
 }
 
 std::string GraphDocument::add_node(const std::string& type, CanvasPoint at) {
-  if (!registry_.find(type)) throw Error("unknown node type \"" + type + "\"");
+  if (!find_type(type)) throw Error("unknown node type \"" + type + "\"");
   const std::string id = unique_id(type);
   begin_edit("add " + id);
-  doc_["nodes"][id] = {{"type", type}, {"ui", {{"pos", {at.x, at.y}}}}};
+  nodes()[id] = {{"type", type}, {"ui", {{"pos", {at.x, at.y}}}}};
   return id;
 }
 
@@ -160,9 +179,9 @@ void GraphDocument::remove_nodes(const std::vector<std::string>& ids) {
     if (has_node(id)) gone.insert(id);
   if (gone.empty()) return;
   begin_edit(gone.size() == 1 ? "delete " + *gone.begin() : "delete " + std::to_string(gone.size()) + " nodes");
-  for (const auto& id : gone) doc_["nodes"].erase(id);
+  for (const auto& id : gone) nodes().erase(id);
   // Inputs fed by a removed node fall back to their defaults.
-  for (auto& [id, node] : doc_["nodes"].items()) {
+  for (auto& [id, node] : nodes().items()) {
     if (!node.contains("inputs")) continue;
     std::vector<std::string> cut;
     for (auto& [input, value] : node["inputs"].items())
@@ -179,7 +198,7 @@ bool GraphDocument::depends_on(const std::string& node, const std::string& ances
     stack.pop_back();
     if (id == ancestor) return true;
     if (!seen.insert(id).second || !has_node(id)) continue;
-    const json& n = doc_["nodes"][id];
+    const json& n = nodes()[id];
     if (!n.contains("inputs")) continue;
     for (const auto& [input, value] : n["inputs"].items())
       if (auto l = input_link(value)) stack.push_back(l->node);
@@ -249,9 +268,16 @@ void GraphDocument::set_inputs(const std::string& id, const json& values, const 
 
 json GraphDocument::evaluated_part() const {
   json doc = doc_;
+  doc["loom"] = format_version();
   doc.erase("ui");
-  for (auto& [id, node] : doc["nodes"].items())
-    if (node.is_object()) node.erase("ui");
+  auto strip = [](json& level) {
+    if (level.is_object() && level.contains("nodes") && level["nodes"].is_object())
+      for (auto& [id, node] : level["nodes"].items())
+        if (node.is_object()) node.erase("ui");
+  };
+  strip(doc);
+  if (doc.contains("groups") && doc["groups"].is_object())
+    for (auto& [name, group] : doc["groups"].items()) strip(group);
   return doc;
 }
 
@@ -289,7 +315,7 @@ json GraphDocument::copy(const std::vector<std::string>& ids) const {
   json clip = empty_graph();
   for (const auto& id : chosen) {
     if (!has_node(id)) continue;
-    json n = doc_["nodes"][id];
+    json n = nodes()[id];
     if (n.contains("inputs")) {
       std::vector<std::string> cut;
       for (auto& [input, value] : n["inputs"].items())
@@ -309,7 +335,7 @@ std::vector<std::string> GraphDocument::paste(const json& clip, double dx, doubl
   for (const auto& [id, n] : clip["nodes"].items()) {
     std::string fresh = has_node(id) ? unique_id(n.value("type", id)) : id;
     renamed[id] = fresh;
-    doc_["nodes"][fresh] = json::object();  // reserve the id for the next unique_id
+    nodes()[fresh] = json::object();  // reserve the id for the next unique_id
   }
   std::vector<std::string> added;
   for (const auto& [id, source] : clip["nodes"].items()) {
@@ -325,7 +351,7 @@ std::vector<std::string> GraphDocument::paste(const json& clip, double dx, doubl
         n["ui"]["pos"].size() == 2)
       p = {n["ui"]["pos"][0].get<double>(), n["ui"]["pos"][1].get<double>()};
     n["ui"]["pos"] = {p.x + dx, p.y + dy};
-    doc_["nodes"][renamed[id]] = std::move(n);
+    nodes()[renamed[id]] = std::move(n);
     added.push_back(renamed[id]);
   }
   return added;
@@ -363,6 +389,8 @@ void GraphDocument::set_frame(int frame) {
 bool GraphDocument::step_history(bool (EditHistory::*step)(json&)) {
   const json ui = doc_.value("ui", json());
   if (!(history_.*step)(doc_)) return false;
+  group_types_.edited();
+  trim_path();
   if (ui.is_null())
     doc_.erase("ui");
   else

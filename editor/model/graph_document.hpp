@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "edit_history.hpp"
+#include "group_types.hpp"
 #include "json_layout.hpp"
 #include "loom/graph.hpp"
 #include "loom/registry.hpp"
@@ -47,11 +48,15 @@ class GraphDocument {
   std::uint64_t revision() const { return revision_; }
   const Registry& registry() const { return registry_; }
 
-  // Queries. Node ids are sorted.
+  // Queries, of the level being edited (the top graph, or the group entered:
+  // see "Groups" below). Node ids are sorted.
   std::vector<std::string> node_ids() const;
   bool has_node(const std::string& id) const;
   std::string type_name(const std::string& id) const;
-  const NodeType* node_type(const std::string& id) const;  // null if unknown
+  // Null if unknown. A group node's type is its interface (group_types.hpp).
+  const NodeType* node_type(const std::string& id) const;
+  // What a "type" names here: a registered type or a group; null if neither.
+  const NodeType* find_type(const std::string& type) const;
   CanvasPoint position(const std::string& id) const;
   bool collapsed(const std::string& id) const;
   std::optional<Link> link(const std::string& id, const std::string& input) const;
@@ -113,10 +118,74 @@ class GraphDocument {
   // A fresh id for a node of this type: "image_warp", "image_warp2", ...
   std::string unique_id(const std::string& type) const;
 
+  // Groups (issue 25; the format is docs/graph-format.md's "Composition").
+  // Editing happens one level at a time: the top graph, or an inline group
+  // entered through a path of group nodes. Every query and edit above works
+  // on that level; entering and leaving are not edits.
+  const std::vector<std::string>& path() const { return path_; }  // group node ids, outermost first
+  // "look.inner." for the path [look, inner]: how the engine names inner nodes.
+  std::string path_prefix() const;
+  // Enters group node `id` of this level; false unless it uses an inline group.
+  bool enter(const std::string& id);
+  // Leaves to the first `depth` levels of the path (0: the top graph).
+  void leave(std::size_t depth);
+  // The inline group being edited, or "" at the top.
+  std::string group_name() const;
+  bool is_group_node(const std::string& id) const;
+  // The group file a node's type names, or empty (not a group file).
+  std::filesystem::path group_file(const std::string& id) const;
+  // Whether this level has an interface to promote to (a group, or a group file's top).
+  bool has_interface() const;
+  // This level's interface inputs ({} when none).
+  json interface_inputs() const;
+
+  // Replaces the nodes `ids` with a node of a new inline group `name` (a
+  // fresh name when empty) whose interface carries the links crossing the
+  // selection; returns the new node's id. One undo step.
+  std::string group(const std::vector<std::string>& ids, const std::string& name = {});
+  // The same, the group written as a group file `file` (the node's type is
+  // its path relative to this graph's folder). The file is written at once
+  // (atomically); undo restores the graph, not the file.
+  std::string group_to_file(const std::vector<std::string>& ids, const std::filesystem::path& file);
+  // Puts a group node's inner nodes in its place (ids ID_INNER, made unique)
+  // wired as the group wired them; an inline group no node uses any more is
+  // dropped. Returns the new ids.
+  std::vector<std::string> ungroup(const std::string& id);
+  // Adds an interface input feeding node.input of this level (which must have
+  // an interface); returns its name.
+  std::string promote(const std::string& id, const std::string& input);
+  // The interface input bound to node.input, or "".
+  std::string promoted_as(const std::string& id, const std::string& input) const;
+  // The interface output that node.output is, or "".
+  std::string exported_as(const std::string& id, const std::string& output) const;
+
+  // Group types for the node search: this file's inline groups and the library's.
+  std::vector<const NodeType*> group_types() const;
+  // Reads the group files again (the library may have changed).
+  void rescan_group_files() { group_types_.rescan(); }
+  // The top graph's node ids (what the engine evaluates and targets).
+  std::vector<std::string> root_node_ids() const;
+  // The "type" of every node of the file, inner nodes of inline groups included.
+  std::vector<std::string> types_used() const;
+  // 2 when the file uses groups (inline, group files, an interface), else 1:
+  // what save() writes as "loom".
+  int format_version() const;
+
  private:
   bool step_history(bool (EditHistory::*step)(json&));
   json& node_json(const std::string& id);
   const json& node_json(const std::string& id) const;
+  // The object holding the level's "nodes": the document or an inline group.
+  json& level();
+  const json& level() const;
+  const json* level_at(std::size_t depth) const;
+  json& nodes() { return level()["nodes"]; }
+  const json& nodes() const { return level()["nodes"]; }
+  std::filesystem::path dir() const;
+  const json& groups() const;
+  void trim_path();
+  void drop_unused_groups();
+  std::string add_group_node(const std::string& type, const std::vector<std::string>& ids, const json& inputs);
   void begin_edit(std::string label, const std::string& merge_key = {});
   void place_unplaced_nodes();
   bool depends_on(const std::string& node, const std::string& ancestor) const;
@@ -126,6 +195,8 @@ class GraphDocument {
   std::filesystem::path file_;
   EditHistory history_;
   JsonLayout layout_;  // of the file read, or last written
+  std::vector<std::string> path_;
+  GroupTypes group_types_;
   std::uint64_t saved_state_ = 0;
   std::uint64_t revision_ = 0;
 };

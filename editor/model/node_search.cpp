@@ -50,12 +50,18 @@ SearchMatch match_node_type(const NodeSpec& spec, const std::string& query) {
 }
 
 std::vector<const NodeType*> search_node_types(const Registry& registry, const std::string& query) {
+  return search_node_types(registry.all(), query);
+}
+
+std::vector<const NodeType*> search_node_types(std::vector<const NodeType*> candidates, const std::string& query) {
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const NodeType* a, const NodeType* b) { return a->spec.name < b->spec.name; });
   std::vector<std::pair<SearchMatch, const NodeType*>> found;
-  for (const NodeType* t : registry.all()) {
+  for (const NodeType* t : candidates) {
     const SearchMatch m = match_node_type(t->spec, query);
     if (m != SearchMatch::none) found.emplace_back(m, t);
   }
-  // registry.all() is sorted by name, and the sort is stable: by name within a rank.
+  // Sorted by name above, and this sort is stable: by name within a rank.
   std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<const NodeType*> types;
   for (const auto& [match, t] : found) types.push_back(t);

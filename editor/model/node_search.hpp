@@ -20,5 +20,7 @@ enum class SearchMatch { exact, prefix, word, inside, plugin, description, none 
 SearchMatch match_node_type(const NodeSpec& spec, const std::string& query);
 // The matching types, best first (then by name); an empty query lists all.
 std::vector<const NodeType*> search_node_types(const Registry& registry, const std::string& query);
+// The same over any types (the registry's and the groups', graph_document.hpp).
+std::vector<const NodeType*> search_node_types(std::vector<const NodeType*> candidates, const std::string& query);
 
 }  // namespace loom::editor

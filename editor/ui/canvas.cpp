@@ -172,7 +172,7 @@ CanvasPoint Canvas::free_place(const EditorState& state, CanvasPoint at, const s
     const Box b = box(state, id);
     taken.push_back({p.x, p.y, b.width, b.height});
   }
-  const NodeType* t = state.doc.registry().find(type);
+  const NodeType* t = state.doc.find_type(type);
   const std::size_t rows = t ? t->spec.outputs.size() + t->spec.inputs.size() : 0;
   return free_spot(taken, at, kWidth, kHeader + kRow * float(rows) + kFooter);
 }
@@ -205,9 +205,10 @@ void Canvas::draw(EditorState& state) {
   size_ = ImGui::GetContentRegionAvail();
   size_.x = std::max(size_.x, 50.0f);
   size_.y = std::max(size_.y, 50.0f);
-  if (!framed_once_) {
+  if (!framed_once_ || state.level_changed) {
     frame_all(state);
     framed_once_ = true;
+    state.level_changed = false;
   }
   // The canvas colour is cleared by the window (EditorApp's backdrops): a
   // full-size rectangle would cost llvmpipe a layer of shading per frame.
@@ -293,6 +294,13 @@ void Canvas::draw_value(ImDrawList* draw, ImFont* face, float font, ImVec2 row, 
                 literal.is_null() ? IM_COL32(150, 190, 230, 255) : IM_COL32(170, 215, 255, 255), fitted.c_str());
 }
 
+// "<- NAME" on the row of an input the group's interface feeds, right-aligned.
+void Canvas::draw_group_input(ImDrawList* draw, ImFont* face, float font, ImVec2 row, const std::string& name) const {
+  const std::string shown = "\u2190 " + name;
+  const float w = face->CalcTextSizeA(font, 1e9f, 0, shown.c_str()).x;
+  draw->AddText(face, font, row + ImVec2(kWidth * zoom_ - 10 * zoom_ - w, 0), kGroupColor, shown.c_str());
+}
+
 void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& id) {
   const ImVec2 a = to_screen(state.doc.position(id));
   const Box b = box(state, id);
@@ -317,6 +325,9 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
                       state.doc.collapsed(id) ? ImDrawFlags_RoundCornersAll : ImDrawFlags_RoundCornersTop);
   draw->AddRect(a, a + z, selected ? IM_COL32(255, 220, 120, 255) : IM_COL32(20, 20, 24, 255), rounding, 0,
                 selected ? 2.5f : 1.0f);
+  // A group node: a band under its header, and "double-click to enter" on hover.
+  if (state.doc.is_group_node(id))
+    draw->AddRectFilled(a + ImVec2(0, (kHeader - 4) * zoom_), a + ImVec2(z.x, kHeader * zoom_), kGroupColor);
   if (state.viewed == id) draw->AddCircleFilled(a + ImVec2(z.x - 10 * zoom_, 13 * zoom_), 4 * zoom_, IM_COL32_WHITE);
   const std::string title = state.doc.collapsed(id) ? "> " + id : id;
   draw->AddText(face, font, a + ImVec2(8, 5) * zoom_, IM_COL32_WHITE, title.c_str());
@@ -335,6 +346,8 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
   for (const auto& o : t->spec.outputs) {
     const ImVec2 socket = *output_socket(state, id, o.name);
     draw->AddCircleFilled(socket, kSocket * zoom_, type_color(*o.type), segments);
+    if (!state.doc.exported_as(id, o.name).empty())  // an output of the group being edited
+      draw->AddCircle(socket, kSocket * 1.9f * zoom_, kGroupColor, 0, 2 * zoom_);
     if (detail) {
       const ImVec2 text = face->CalcTextSizeA(font, 1e9f, 0, o.name.c_str());
       draw->AddText(face, font, a + ImVec2(kWidth * zoom_ - text.x - 12 * zoom_, (y + 3) * zoom_),
@@ -344,9 +357,12 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
   }
   for (const auto& in : t->spec.inputs) {
     const ImVec2 socket = *input_socket(state, id, in.name);
-    const bool linked = state.doc.link(id, in.name).has_value();
+    const std::string promoted = state.doc.promoted_as(id, in.name);  // fed by the group's interface
+    const bool linked = state.doc.link(id, in.name).has_value() || !promoted.empty();
     const bool bad = node_issues != state.issues.end() && node_issues->second.count(in.name);
-    if (linked || !detail)
+    if (!promoted.empty())
+      draw->AddCircleFilled(socket, kSocket * zoom_, kGroupColor, segments);
+    else if (linked || !detail)
       draw->AddCircleFilled(socket, kSocket * zoom_, type_color(*in.type), segments);
     else
       draw->AddCircle(socket, kSocket * zoom_, type_color(*in.type), 0, 1.5f * zoom_);
@@ -357,6 +373,7 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
       draw->AddText(face, font, a + ImVec2(12, y + 3) * zoom_,
                     literal.is_null() ? IM_COL32(215, 215, 215, 255) : IM_COL32(255, 255, 255, 255), in.name.c_str());
       if (!linked) draw_value(draw, face, font, a + ImVec2(0, (y + 3) * zoom_), in, literal);
+      if (!promoted.empty()) draw_group_input(draw, face, font, a + ImVec2(0, (y + 3) * zoom_), promoted);
     }
     y += kRow;
   }

@@ -47,6 +47,7 @@ class Canvas {
   void draw_node(EditorState& state, ImDrawList* draw, const std::string& id);
   void draw_value(ImDrawList* draw, ImFont* face, float font, ImVec2 row, const InputSpec& in,
                   const json& literal) const;
+  void draw_group_input(ImDrawList* draw, ImFont* face, float font, ImVec2 row, const std::string& name) const;
   void handle_mouse(EditorState& state);
   void handle_keys(EditorState& state);
   void add_node_menu(EditorState& state);
@@ -72,6 +73,9 @@ class Canvas {
   std::string menu_filter_;
   bool menu_focus_ = false, menu_open_ = false;
 };
+
+// Replaces every selected group node by its inner nodes (one undo step each).
+void ungroup_selection(EditorState& state);
 
 // The colour of a type's sockets and links.
 ImU32 type_color(const TypeInfo& type);

@@ -16,6 +16,9 @@ constexpr float kLabelZoom = 0.5f;
 // Blender's node labels): a graph larger than the view is scrolled instead.
 constexpr float kMinFitZoom = 0.75f;
 
+// Groups: the band under a group node's header, the interface's inputs and outputs inside.
+constexpr ImU32 kGroupColor = IM_COL32(175, 130, 235, 255);
+
 inline ImVec2 operator+(ImVec2 a, ImVec2 b) { return {a.x + b.x, a.y + b.y}; }
 inline ImVec2 operator-(ImVec2 a, ImVec2 b) { return {a.x - b.x, a.y - b.y}; }
 inline ImVec2 operator*(ImVec2 a, float s) { return {a.x * s, a.y * s}; }

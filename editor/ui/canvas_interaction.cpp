@@ -2,6 +2,7 @@
 // a reason), box selection, pan and zoom, shortcuts and the add-node menu.
 #include <algorithm>
 #include <cctype>
+#include <set>
 
 #include <GLFW/glfw3.h>
 
@@ -42,7 +43,19 @@ void Canvas::handle_mouse(EditorState& state) {
       }
     } else if (std::string id = hit_node(state, mouse); !id.empty()) {
       const NodeReport* r = state.report(id);
-      if (r && !r->error.empty()) ImGui::SetTooltip("%s", r->error.c_str());
+      if (r && !r->error.empty())
+        ImGui::SetTooltip("%s", r->error.c_str());
+      else if (doc.is_group_node(id))
+        ImGui::SetTooltip("group %s: double-click to %s", doc.type_name(id).c_str(),
+                          doc.group_file(id).empty() ? "enter it" : "open its file");
+    }
+  }
+
+  if (hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) {
+    if (std::string id = hit_node(state, mouse); !id.empty() && doc.is_group_node(id)) {
+      gesture_ = Gesture::none;
+      state.enter(id);
+      return;
     }
   }
 
@@ -172,6 +185,14 @@ void Canvas::handle_keys(EditorState& state) {
     auto added = doc.duplicate(selected);
     state.selection = {added.begin(), added.end()};
   }
+  try {
+    if (io.KeyCtrl && !io.KeyShift && ImGui::IsKeyPressed(GLFW_KEY_G) && !selected.empty())
+      state.selection = {doc.group(selected)};
+    if (io.KeyCtrl && io.KeyShift && ImGui::IsKeyPressed(GLFW_KEY_G)) ungroup_selection(state);
+  } catch (const std::exception& e) {
+    refusal_ = e.what();
+    refusal_until_ = ImGui::GetTime() + 3;
+  }
   if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_C) && !selected.empty())
     ImGui::SetClipboardText(doc.copy(selected).dump(1).c_str());
   if (io.KeyCtrl && ImGui::IsKeyPressed(GLFW_KEY_V)) {
@@ -207,6 +228,15 @@ void Canvas::handle_keys(EditorState& state) {
   }
 }
 
+// Every selected group node replaced by its inner nodes (selected then).
+void ungroup_selection(EditorState& state) {
+  std::set<std::string> added;
+  for (const auto& id : state.selection)
+    if (state.doc.has_node(id) && state.doc.is_group_node(id))
+      for (const auto& inner : state.doc.ungroup(id)) added.insert(inner);
+  if (!added.empty()) state.selection = added;
+}
+
 void Canvas::add_node_menu(EditorState& state) {
   menu_open_ = ImGui::BeginPopup("add node");
   if (!menu_open_) return;
@@ -214,6 +244,7 @@ void Canvas::add_node_menu(EditorState& state) {
     ImGui::SetKeyboardFocusHere();
     menu_focus_ = false;
   }
+  if (menu_focus_) state.doc.rescan_group_files();  // the library may have changed
   char buffer[128];
   std::snprintf(buffer, sizeof buffer, "%s", menu_filter_.c_str());
   const bool enter = ImGui::InputTextWithHint("##filter", "search node types", buffer, sizeof buffer,
@@ -221,7 +252,9 @@ void Canvas::add_node_menu(EditorState& state) {
   menu_filter_ = buffer;
   std::string chosen;
   int shown = 0;
-  for (const NodeType* t : search_node_types(state.doc.registry(), menu_filter_)) {
+  std::vector<const NodeType*> types = state.doc.registry().all();
+  for (const NodeType* g : state.doc.group_types()) types.push_back(g);
+  for (const NodeType* t : search_node_types(types, menu_filter_)) {
     const NodeSpec& s = t->spec;
     if (enter && shown == 0) chosen = s.name;
     ++shown;

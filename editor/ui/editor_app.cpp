@@ -20,7 +20,7 @@ Value EditorState::upstream_value(const std::string& id, const std::string& inpu
   auto l = doc.link(id, input);
   if (!eval || !l || !doc.has_node(l->node)) return {};
   const NodeType* t = doc.node_type(l->node);
-  auto it = eval->result.outputs.find(l->node);
+  auto it = eval->result.outputs.find(engine_id(l->node));
   if (!t || it == eval->result.outputs.end()) return {};
   const int o = t->spec.output_index(l->output);
   return o >= 0 && o < int(it->second.size()) ? it->second[std::size_t(o)] : Value();
@@ -28,7 +28,7 @@ Value EditorState::upstream_value(const std::string& id, const std::string& inpu
 
 Value EditorState::viewed_output(int index) const {
   if (!eval || viewed.empty()) return {};
-  auto it = eval->result.outputs.find(viewed);
+  auto it = eval->result.outputs.find(engine_id(viewed));
   if (it == eval->result.outputs.end() || index < 0 || index >= int(it->second.size())) return {};
   return it->second[std::size_t(index)];
 }
@@ -63,8 +63,8 @@ void EditorApp::open(const fs::path& file) {
   // Types provided on demand (the python plugin's py.MODULE.NAME): asked for
   // once the worker is idle, since it reads the registry.
   std::vector<std::string> missing;
-  for (const auto& t : node_types_used(parse_graph(doc_.document(), doc_.file())))
-    if (!registry_.find(t)) missing.push_back(t);
+  for (const auto& t : doc_.types_used())
+    if (!doc_.find_type(t)) missing.push_back(t);
   if (!missing.empty()) {
     controller_->wait_idle();
     try {
@@ -111,12 +111,19 @@ void EditorApp::remember(const fs::path& file) {
   }
 }
 
+// Every non-sink node of the top graph and, inside a group, of the level
+// shown (by their paths, as the engine names inner nodes).
 std::vector<Target> EditorApp::preview_targets() const {
   std::vector<Target> targets;
-  for (const auto& id : doc_.node_ids()) {
-    const NodeType* t = doc_.node_type(id);
+  for (const auto& id : doc_.root_node_ids()) {
+    const NodeType* t = doc_.find_type(doc_.document()["nodes"][id].value("type", std::string()));
     if (t && !t->spec.sink) targets.push_back({id, ""});
   }
+  if (!doc_.path().empty())
+    for (const auto& id : doc_.node_ids()) {
+      const NodeType* t = doc_.node_type(id);
+      if (t && !t->spec.sink) targets.push_back({state_.engine_id(id), ""});
+    }
   return targets;
 }
 
@@ -143,7 +150,7 @@ void EditorApp::sync_evaluation() {
   r.output_dir = options_.output_dir;
   r.revision = doc_.revision();
   if (range) r.frames = write_outputs_ ? FrameRange{range->start, range->end} : FrameRange{frame, frame};
-  r.frames_of = state_.viewed;
+  r.frames_of = state_.viewed.empty() ? std::string() : state_.engine_id(state_.viewed);
   if (!write_outputs_) r.targets = preview_targets();
   // Viewing another node changes nothing evaluated (every non-sink node is
   // already), only whose cached frames are marked: it waits for the run.
@@ -303,6 +310,8 @@ void EditorApp::menu_bar(Window& window) {
     if (ImGui::MenuItem(("Undo " + doc_.undo_label()).c_str(), "Ctrl+Z", false, doc_.can_undo())) doc_.undo();
     if (ImGui::MenuItem(("Redo " + doc_.redo_label()).c_str(), "Ctrl+Shift+Z", false, doc_.can_redo())) doc_.redo();
     ImGui::Separator();
+    group_menu();
+    ImGui::Separator();
     if (ImGui::MenuItem("Frame all", "F")) canvas_.frame_all(state_);
     ImGui::EndMenu();
   }
@@ -327,6 +336,31 @@ void EditorApp::menu_bar(Window& window) {
   if (window.should_close()) {
     window.set_should_close(false);
     request(MenuAction::quit);
+  }
+}
+
+void EditorApp::group_menu() {
+  const std::vector<std::string> selected(state_.selection.begin(), state_.selection.end());
+  try {
+    if (ImGui::MenuItem("Group", "Ctrl+G", false, !selected.empty())) state_.selection = {doc_.group(selected)};
+    if (ImGui::MenuItem("Group into a file...", nullptr, false, !selected.empty()))
+      files_.open("group-file", "Write the group as", doc_.file().empty() ? fs::current_path() / "group.json"
+                                                                          : doc_.file().parent_path() / "group.json",
+                  true);
+    if (ImGui::MenuItem("Ungroup", "Ctrl+Shift+G", false, !selected.empty())) ungroup_selection(state_);
+  } catch (const std::exception& e) {
+    message_ = e.what();
+  }
+  if (ImGui::MenuItem("Leave group", nullptr, false, !doc_.path().empty())) state_.leave(doc_.path().size() - 1);
+}
+
+void EditorApp::group_into_file(const fs::path& file) {
+  try {
+    const std::vector<std::string> selected(state_.selection.begin(), state_.selection.end());
+    state_.selection = {doc_.group_to_file(selected, file)};
+    message_ = "wrote the group " + file.string();
+  } catch (const std::exception& e) {
+    message_ = e.what();
   }
 }
 
@@ -465,8 +499,10 @@ void EditorApp::draw(Window& window) {
     ImGui::SameLine();
     if (ImGui::SmallButton("x")) message_.clear();
   }
+  breadcrumbs_.draw(state_, doc_.file().empty() ? "untitled" : doc_.file().filename().string());
   canvas_.draw(state_);
   ImGui::End();
+  if (!state_.open_request.empty()) request(MenuAction::open, std::exchange(state_.open_request, {}));
 
   ImGui::SetNextWindowPos(ImVec2(at.x + left, at.y));
   ImGui::SetNextWindowSize(ImVec2(size.x - left, props));
@@ -498,6 +534,7 @@ void EditorApp::draw(Window& window) {
 
   files_.draw();
   if (auto file = files_.take("open")) perform(MenuAction::open, *file);
+  if (auto file = files_.take("group-file")) group_into_file(*file);
   if (auto file = files_.take("save")) {
     try {
       save(*file);

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "breadcrumbs.hpp"
 #include "canvas.hpp"
 #include "controller/evaluation_controller.hpp"
 #include "controller/plugin_watcher.hpp"
@@ -79,6 +80,7 @@ class EditorApp {
   GraphDocument& document() { return doc_; }
   EditorState& state() { return state_; }
   Canvas& canvas() { return canvas_; }
+  Breadcrumbs& breadcrumbs() { return breadcrumbs_; }
   PropertyPanel& properties() { return properties_; }
   Timeline& timeline() { return timeline_; }
   PaneSplit& panes() { return panes_; }
@@ -103,6 +105,8 @@ class EditorApp {
 
  private:
   std::vector<Target> preview_targets() const;
+  void group_menu();
+  void group_into_file(const std::filesystem::path& file);
   void take_results();
   void menu_bar(Window& window);
   void shortcuts();
@@ -124,6 +128,7 @@ class EditorApp {
   std::vector<std::string> reload_pending_;  // rebuilt plugins waiting for the worker to stop
   HotReload last_reload_;
   Canvas canvas_;
+  Breadcrumbs breadcrumbs_;
   PropertyPanel properties_;
   Timeline timeline_;
   ImageViewer image_viewer_;

@@ -2,6 +2,7 @@
 // node being viewed and the newest evaluation. Owned by EditorApp.
 #pragma once
 
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <set>
@@ -22,10 +23,35 @@ struct EditorState {
   // Validation issues by node, then by input ("" for the node itself).
   std::map<std::string, std::map<std::string, std::string>> issues;
 
+  // Set when the canvas shows another level (a group entered or left): the
+  // canvas frames it once. A group file to open instead of entering.
+  bool level_changed = false;
+  std::filesystem::path open_request;
+
+  // The engine names a node inside the group entered by its path ("look.render").
+  std::string engine_id(const std::string& id) const { return doc.path_prefix() + id; }
   const NodeReport* report(const std::string& id) const {
     if (!eval) return nullptr;
-    auto it = eval->result.nodes.find(id);
+    auto it = eval->result.nodes.find(engine_id(id));
     return it == eval->result.nodes.end() ? nullptr : &it->second;
+  }
+  // Enters a group node (an inline group), or asks to open its group file.
+  void enter(const std::string& id) {
+    if (doc.enter(id)) {
+      show_level();
+    } else if (auto file = doc.group_file(id); !file.empty()) {
+      open_request = file;
+    }
+  }
+  void leave(std::size_t depth) {
+    if (depth >= doc.path().size()) return;
+    doc.leave(depth);
+    show_level();
+  }
+  void show_level() {
+    selection.clear();
+    viewed.clear();
+    level_changed = true;
   }
   // The newest evaluated value of an output of the viewed node, or empty.
   Value viewed_output(int index) const;

@@ -122,6 +122,7 @@ void PropertyPanel::draw(EditorState& state, FileDialog& files) {
     return;
   }
   ImGui::TextWrapped("%s", t->spec.description.c_str());
+  group_actions(state, id);
   if (const NodeReport* r = state.report(id)) {
     if (!r->error.empty()) ImGui::TextColored(kError, "%s", r->error.c_str());
     for (const auto& w : r->warnings) ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "warning: %s", w.c_str());
@@ -153,6 +154,7 @@ void PropertyPanel::draw(EditorState& state, FileDialog& files) {
       ImGui::TextDisabled("%s", spec.name.c_str());
     labels_[spec.name] = {ImGui::GetItemRectMin(), ImGui::GetItemRectMax()};
     tooltip(spec);
+    promote_menu(state, id, spec);
     draw_input(state, files, id, spec);
     if (node_issues != state.issues.end() && node_issues->second.count(spec.name)) {
       ImGui::TableSetColumnIndex(1);
@@ -163,11 +165,44 @@ void PropertyPanel::draw(EditorState& state, FileDialog& files) {
   ImGui::EndTable();
 }
 
+// For a group node: enter it (or open its file) and ungroup it. Inside a
+// group: how to promote an input.
+void PropertyPanel::group_actions(EditorState& state, const std::string& id) {
+  GraphDocument& doc = state.doc;
+  if (doc.is_group_node(id)) {
+    const bool file = !doc.group_file(id).empty();
+    if (ImGui::SmallButton(file ? "open group file" : "enter group")) state.enter(id);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("ungroup")) {
+      const auto added = doc.ungroup(id);
+      state.selection = {added.begin(), added.end()};
+    }
+  } else if (doc.has_interface()) {
+    ImGui::TextDisabled("right-click an input's name to make it an input of the group");
+  }
+}
+
+// Right-click on an input's name inside a group: "promote to group input".
+void PropertyPanel::promote_menu(EditorState& state, const std::string& id, const InputSpec& spec) {
+  GraphDocument& doc = state.doc;
+  if (!doc.has_interface() || doc.link(id, spec.name) || !doc.promoted_as(id, spec.name).empty()) return;
+  if (ImGui::BeginPopupContextItem("promote")) {
+    if (ImGui::MenuItem("Promote to group input")) doc.promote(id, spec.name);
+    ImGui::EndPopup();
+  }
+}
+
 void PropertyPanel::draw_input(EditorState& state, FileDialog& files, const std::string& id,
                                const InputSpec& spec) {
   GraphDocument& doc = state.doc;
   ImGui::TableSetColumnIndex(1);
   buttons_.erase(spec.name);
+  if (const std::string promoted = doc.promoted_as(id, spec.name); !promoted.empty()) {
+    ImGui::AlignTextToFramePadding();
+    ImGui::TextColored(ImVec4(0.8f, 0.65f, 1, 1), "<- group input %s", promoted.c_str());
+    widgets_[spec.name] = {ImGui::GetItemRectMin(), ImGui::GetItemRectMax()};
+    return;
+  }
   if (auto l = doc.link(id, spec.name)) {
     ImGui::AlignTextToFramePadding();
     ImGui::TextColored(ImVec4(0.6f, 0.8f, 1, 1), "<- %s.%s", l->node.c_str(), l->output.c_str());

@@ -43,6 +43,8 @@ class PropertyPanel {
     return it->second;
   }
   void draw_input(EditorState& state, FileDialog& files, const std::string& id, const InputSpec& spec);
+  void group_actions(EditorState& state, const std::string& id);
+  void promote_menu(EditorState& state, const std::string& id, const InputSpec& spec);
   bool edit_literal(EditorState& state, FileDialog& files, const std::string& id, const InputSpec& spec,
                     const json& value, json& next);
   bool edit_json_text(const std::string& key, const json& value, json& next);

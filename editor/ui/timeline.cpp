@@ -8,7 +8,7 @@
 namespace loom::editor {
 
 std::vector<int> Timeline::marks(const EditorState& state) const {
-  if (!state.eval || state.eval->frames_of != state.viewed) return {};
+  if (!state.eval || state.eval->frames_of != state.engine_id(state.viewed)) return {};
   return state.eval->cached_frames;
 }
 

@@ -1,0 +1,295 @@
+// GraphDocument's groups: the level being edited, grouping, ungrouping,
+// promoting, and the format version they call for.
+#include "graph_document.hpp"
+
+#include "auto_layout.hpp"
+#include "group_edit.hpp"
+#include "input_link.hpp"
+
+#include <algorithm>
+#include <set>
+#include <utility>
+
+#include "loom/atomic_file.hpp"
+
+namespace loom::editor {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const json& empty_object() {
+  static const json object = json::object();
+  return object;
+}
+
+bool is_object_with(const json& j, const char* key) { return j.is_object() && j.contains(key) && j[key].is_object(); }
+
+CanvasPoint centre_of(const GraphDocument& doc, const std::vector<std::string>& ids) {
+  CanvasPoint c;
+  for (const auto& id : ids) {
+    c.x += doc.position(id).x / double(ids.size());
+    c.y += doc.position(id).y / double(ids.size());
+  }
+  return c;
+}
+
+}  // namespace
+
+const json& GraphDocument::groups() const { return is_object_with(doc_, "groups") ? doc_["groups"] : empty_object(); }
+
+fs::path GraphDocument::dir() const { return file_.empty() ? fs::current_path() : file_.parent_path(); }
+
+const json* GraphDocument::level_at(std::size_t depth) const {
+  const json* level = &doc_;
+  for (std::size_t i = 0; i < depth && i < path_.size(); ++i) {
+    if (!is_object_with(*level, "nodes") || !(*level)["nodes"].contains(path_[i])) return nullptr;
+    const json& node = (*level)["nodes"][path_[i]];
+    const json type = node.is_object() ? node.value("type", json()) : json();
+    if (!type.is_string() || !is_object_with(doc_, "groups") || !doc_["groups"].contains(type.get<std::string>()))
+      return nullptr;
+    level = &doc_["groups"][type.get<std::string>()];
+    if (!is_object_with(*level, "nodes")) return nullptr;
+  }
+  return level;
+}
+
+const json& GraphDocument::level() const {
+  const json* level = level_at(path_.size());
+  return level ? *level : doc_;
+}
+
+json& GraphDocument::level() { return const_cast<json&>(std::as_const(*this).level()); }
+
+// After undo or redo the group entered may be gone: edit the deepest level left.
+void GraphDocument::trim_path() {
+  std::size_t depth = 0;
+  while (depth < path_.size() && level_at(depth + 1)) ++depth;
+  path_.resize(depth);
+}
+
+std::string GraphDocument::path_prefix() const {
+  std::string prefix;
+  for (const auto& id : path_) prefix += id + ".";
+  return prefix;
+}
+
+bool GraphDocument::enter(const std::string& id) {
+  if (!has_node(id) || !groups().contains(type_name(id))) return false;
+  path_.push_back(id);
+  if (!level_at(path_.size())) {
+    path_.pop_back();
+    return false;
+  }
+  // Hand-written groups without positions are laid out once, as files are.
+  place_unplaced_nodes_in(level(), registry_);
+  return true;
+}
+
+void GraphDocument::leave(std::size_t depth) {
+  if (depth < path_.size()) path_.resize(depth);
+}
+
+std::string GraphDocument::group_name() const {
+  if (path_.empty()) return {};
+  const json* parent = level_at(path_.size() - 1);
+  return parent ? (*parent)["nodes"][path_.back()].value("type", std::string()) : std::string();
+}
+
+bool GraphDocument::is_group_node(const std::string& id) const {
+  const NodeType* t = has_node(id) ? node_type(id) : nullptr;
+  return t && !t->run;
+}
+
+fs::path GraphDocument::group_file(const std::string& id) const {
+  const std::string type = type_name(id);
+  if (registry_.find(type) || groups().contains(type)) return {};
+  return resolve_group_file(type, dir(), group_library_folders()).value_or(fs::path());
+}
+
+bool GraphDocument::has_interface() const {
+  return !path_.empty() || doc_.contains("inputs") || doc_.contains("outputs");
+}
+
+json GraphDocument::interface_inputs() const {
+  return is_object_with(level(), "inputs") ? level()["inputs"] : empty_object();
+}
+
+std::vector<std::string> GraphDocument::root_node_ids() const {
+  std::vector<std::string> ids;
+  for (const auto& [id, node] : doc_["nodes"].items()) ids.push_back(id);
+  return ids;  // a json object's keys are sorted
+}
+
+std::vector<std::string> GraphDocument::types_used() const {
+  std::set<std::string> types;
+  auto collect = [&](const json& level) {
+    if (!is_object_with(level, "nodes")) return;
+    for (const auto& [id, node] : level["nodes"].items())
+      if (node.is_object() && node.contains("type") && node["type"].is_string()) types.insert(node["type"]);
+  };
+  collect(doc_);
+  for (const auto& [name, group] : groups().items()) collect(group);
+  return {types.begin(), types.end()};
+}
+
+int GraphDocument::format_version() const {
+  if (!groups().empty() || doc_.contains("inputs") || doc_.contains("outputs")) return 2;
+  for (const auto& type : types_used())
+    if (!registry_.find(type) && group_types_.is_group(type, groups(), dir())) return 2;
+  return kGraphFormatVersion;
+}
+
+std::vector<const NodeType*> GraphDocument::group_types() const {
+  std::vector<const NodeType*> types;
+  for (const auto& [name, group] : groups().items())
+    if (const NodeType* t = find_type(name)) types.push_back(t);
+  for (const NodeType* t : group_types_.library()) types.push_back(t);
+  return types;
+}
+
+// The group node replacing `ids`: its inputs linked as the interface needs,
+// the consumers of the group's outputs rewired to it.
+std::string GraphDocument::add_group_node(const std::string& type, const std::vector<std::string>& ids,
+                                          const json& inputs) {
+  const CanvasPoint centre = centre_of(*this, ids);
+  for (const auto& id : ids) nodes().erase(id);
+  // At the free spot nearest the selection's centre, never on another node.
+  std::vector<CanvasRect> taken;
+  for (const auto& other : node_ids())
+    taken.push_back({position(other).x, position(other).y, kNodeWidth, node_height(node_type(other))});
+  const CanvasPoint at = free_spot(taken, centre, kNodeWidth, node_height(find_type(type)));
+  const std::string id = unique_id(type);
+  nodes()[id] = {{"type", type}, {"ui", {{"pos", {at.x, at.y}}}}};
+  if (!inputs.empty()) nodes()[id]["inputs"] = inputs;
+  return id;
+}
+
+namespace {
+
+Grouping grouping_of(const GraphDocument& doc, const json& nodes, const std::vector<std::string>& ids) {
+  std::set<std::string> chosen;
+  for (const auto& id : ids)
+    if (doc.has_node(id)) chosen.insert(id);
+  if (chosen.empty()) throw Error("nothing to group: select nodes first");
+  return make_grouping(nodes, chosen, [&](const std::string& id) { return doc.node_type(id); });
+}
+
+void rewire(json& nodes, const std::map<std::pair<std::string, std::string>, std::string>& consumers,
+            const std::string& group_node) {
+  for (const auto& [consumer, output] : consumers)
+    nodes[consumer.first]["inputs"][consumer.second] = {{"from", group_node + "." + output}};
+}
+
+}  // namespace
+
+std::string GraphDocument::group(const std::vector<std::string>& ids, const std::string& name) {
+  const Grouping g = grouping_of(*this, nodes(), ids);
+  const std::string type = name.empty() ? unique_name("Group", [&](const std::string& n) {
+    return groups().contains(n) || registry_.find(n) != nullptr;
+  }) : name;
+  if (registry_.find(type) || groups().contains(type))
+    throw Error("cannot name the group \"" + type + "\": a node type or group of that name exists");
+  begin_edit("group " + std::to_string(g.definition["nodes"].size()) + " nodes as " + type);
+  doc_["groups"][type] = g.definition;
+  const std::string id = add_group_node(type, ids, g.instance_inputs);
+  rewire(nodes(), g.consumers, id);
+  return id;
+}
+
+std::string GraphDocument::group_to_file(const std::vector<std::string>& ids, const fs::path& file) {
+  const Grouping g = grouping_of(*this, nodes(), ids);
+  json contents = {{"loom", 2}};
+  contents.update(g.definition);
+  // Inline groups the selection uses go with it: the file must stand alone.
+  json used = json::object();
+  for (const auto& [id, node] : g.definition["nodes"].items())
+    if (const std::string t = node.value("type", std::string()); groups().contains(t)) used[t] = groups()[t];
+  if (!used.empty()) contents["groups"] = used;
+  write_file_atomic(file, write_json(contents, JsonLayout{}));
+  const fs::path absolute = fs::absolute(file);
+  const std::string type = absolute.lexically_relative(fs::absolute(dir())).generic_string();
+  begin_edit("group " + std::to_string(g.definition["nodes"].size()) + " nodes into " + file.filename().string());
+  group_types_.rescan();
+  const std::string id = add_group_node(type, ids, g.instance_inputs);
+  rewire(nodes(), g.consumers, id);
+  return id;
+}
+
+std::vector<std::string> GraphDocument::ungroup(const std::string& id) {
+  const std::string type = type_name(id);
+  json definition;
+  if (groups().contains(type))
+    definition = groups()[type];
+  else if (const fs::path file = group_file(id); !file.empty())
+    definition = read_group_file(file);
+  else
+    throw Error(id + " is not a group node");
+  // A group file's own inline groups come along (the same name must mean the same group).
+  const json file_groups = is_object_with(definition, "groups") && !groups().contains(type) ? definition["groups"]
+                                                                                           : empty_object();
+  for (const auto& [name, group] : file_groups.items())
+    if (registry_.find(name) || (groups().contains(name) && groups()[name] != group))
+      throw Error("cannot ungroup " + id + ": its file's group \"" + name + "\" differs from this graph's");
+  const Ungrouping u = dissolve_group(id, node_json(id), definition, [&](const std::string& n) { return has_node(n); });
+  begin_edit("ungroup " + id);
+  for (const auto& [name, group] : file_groups.items()) doc_["groups"][name] = group;
+  const CanvasPoint at = position(id);
+  nodes().erase(id);
+  std::vector<std::string> added;
+  for (const auto& [new_id, node] : u.nodes.items()) {
+    nodes()[new_id] = node;
+    added.push_back(new_id);
+  }
+  const CanvasPoint centre = centre_of(*this, added);
+  for (const auto& new_id : added) {
+    const CanvasPoint p = position(new_id);
+    nodes()[new_id]["ui"]["pos"] = {p.x + at.x - centre.x, p.y + at.y - centre.y};
+  }
+  for (auto& [other, node] : nodes().items()) {
+    if (!node.is_object() || !node.contains("inputs")) continue;
+    for (auto& [input, value] : node["inputs"].items())
+      if (auto l = input_link(value); l && l->node == id && u.outputs.count(l->output))
+        value = {{"from", u.outputs.at(l->output)}};
+  }
+  drop_unused_groups();
+  return added;
+}
+
+// Inline groups that no node of the file uses any more.
+void GraphDocument::drop_unused_groups() {
+  for (bool dropped = true; dropped && doc_.contains("groups");) {
+    const std::vector<std::string> used = types_used();
+    std::vector<std::string> unused;
+    for (const auto& [name, group] : doc_["groups"].items())
+      if (!std::binary_search(used.begin(), used.end(), name)) unused.push_back(name);
+    for (const auto& name : unused) doc_["groups"].erase(name);
+    if (doc_["groups"].empty()) doc_.erase("groups");
+    dropped = !unused.empty();
+  }
+}
+
+std::string GraphDocument::promote(const std::string& id, const std::string& input) {
+  if (!has_interface()) throw Error("promote works inside a group: enter one first");
+  const NodeType* t = node_type(id);
+  const InputSpec* declared = t ? t->spec.find_input(input) : nullptr;
+  if (!declared) throw Error(id + " has no input \"" + input + "\"");
+  if (link(id, input)) throw Error(id + "." + input + " is linked: only an unlinked input can be promoted");
+  if (!promoted_as(id, input).empty()) throw Error(id + "." + input + " is already an input of the group");
+  begin_edit("promote " + id + "." + input);
+  return promote_input(level(), id, input, *declared);
+}
+
+std::string GraphDocument::exported_as(const std::string& id, const std::string& output) const {
+  const json& level = this->level();
+  if (!is_object_with(level, "outputs")) return {};
+  for (const auto& [name, entry] : level["outputs"].items())
+    if (entry.is_object() && entry.value("from", std::string()) == id + "." + output) return name;
+  return {};
+}
+
+std::string GraphDocument::promoted_as(const std::string& id, const std::string& input) const {
+  return has_interface() ? interface_input_of(level(), id, input) : std::string();
+}
+
+}  // namespace loom::editor

@@ -1,0 +1,123 @@
+#include "group_library.hpp"
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace loom::editor {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+bool ends_with(const std::string& text, const std::string& tail) {
+  return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+fs::path shipped_library() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path installed = exe.parent_path().parent_path() / "share" / "loom" / "graphs" / "lib";
+    if (fs::is_directory(installed, ec)) return installed;
+  }
+  return LOOM_SOURCE_GRAPH_LIB;
+}
+
+}  // namespace
+
+std::vector<fs::path> group_library_folders() {
+  std::vector<fs::path> folders;
+  if (const char* path = std::getenv("LOOM_GRAPH_PATH")) {
+    std::stringstream list(path);
+    for (std::string entry; std::getline(list, entry, ':');)
+      if (!entry.empty()) folders.emplace_back(entry);
+  }
+  folders.push_back(shipped_library());
+  return folders;
+}
+
+std::vector<LibraryGroup> list_library_groups(const std::vector<fs::path>& folders) {
+  std::map<std::string, fs::path> found;
+  for (const fs::path& folder : folders) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(folder, ec)) {
+      const fs::path& file = entry.path();
+      if (file.extension() == ".json" && entry.is_regular_file(ec))
+        found.emplace(file.stem().string(), file);  // the first folder wins
+    }
+  }
+  std::vector<LibraryGroup> groups;
+  for (const auto& [name, file] : found) groups.push_back({name, file});
+  return groups;
+}
+
+std::optional<fs::path> resolve_group_file(const std::string& type, const fs::path& graph_dir,
+                                           const std::vector<fs::path>& folders) {
+  std::error_code ec;
+  if (ends_with(type, ".json")) {
+    const fs::path file = fs::path(type).is_absolute() ? fs::path(type) : graph_dir / type;
+    if (fs::is_regular_file(file, ec)) return file;
+    return std::nullopt;
+  }
+  if (type.empty() || type.find('/') != std::string::npos) return std::nullopt;
+  for (const fs::path& folder : folders)
+    if (fs::is_regular_file(folder / (type + ".json"), ec)) return folder / (type + ".json");
+  return std::nullopt;
+}
+
+namespace {
+
+void check_level(const json& nodes, const fs::path& file, const std::string& pointer) {
+  try {
+    parse_graph({{"loom", kGraphFormatVersion}, {"nodes", nodes}}, file);
+  } catch (const GraphError& e) {
+    std::vector<GraphIssue> issues = e.issues();
+    for (GraphIssue& issue : issues) issue.pointer = pointer + issue.pointer;
+    throw GraphError(e.file(), issues);
+  }
+}
+
+}  // namespace
+
+void check_graph_structure(const json& document, const fs::path& file) {
+  const json version = document.is_object() ? document.value("loom", json()) : json();
+  if (!version.is_number_integer() || version.get<long long>() <= kGraphFormatVersion || version.get<long long>() > 2) {
+    parse_graph(document, file);
+    return;
+  }
+  json top = document;
+  top["loom"] = kGraphFormatVersion;
+  for (const char* key : {"groups", "inputs", "outputs"}) top.erase(key);
+  parse_graph(top, file);
+  const json groups = document.value("groups", json::object());
+  if (!groups.is_object()) throw GraphError(file.string(), {{"/groups", "expected an object of group definitions"}});
+  for (const auto& [name, group] : groups.items()) {
+    const std::string pointer = (json::json_pointer("/groups") / name).to_string();
+    if (!group.is_object() || !group.contains("nodes"))
+      throw GraphError(file.string(), {{pointer, "expected a group: {\"inputs\", \"outputs\", \"nodes\"}"}});
+    check_level(group["nodes"], file, pointer);
+  }
+}
+
+json read_group_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw GraphError(file.string(), {{"", "cannot open the group file"}});
+  std::stringstream text;
+  text << in.rdbuf();
+  json doc;
+  try {
+    doc = json::parse(text.str());
+  } catch (const json::parse_error& e) {
+    throw GraphError(file.string(), {{"", std::string("not valid JSON: ") + e.what()}});
+  }
+  if (!doc.is_object() || !doc.contains("nodes") || !doc["nodes"].is_object())
+    throw GraphError(file.string(), {{"/nodes", "missing: a group file has a \"nodes\" object"}});
+  for (const char* key : {"inputs", "outputs"})
+    if (doc.contains(key) && !doc[key].is_object())
+      throw GraphError(file.string(), {{std::string("/") + key, "expected an object of interface entries"}});
+  return doc;
+}
+
+}  // namespace loom::editor
