@@ -211,6 +211,7 @@ struct Evaluation {
     double seconds = 0;
   };
   Outcome invoke(NodeState& s);
+  void gather_parts(NodeState& s, Outputs& out);
   void record(NodeState& s, Outcome outcome);
   // Simulations past the start frame: fills s.previous with the outputs at
   // frame - 1, stepping from the latest cached frame. False if it could not.

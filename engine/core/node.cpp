@@ -37,6 +37,11 @@ NodeSpec& NodeSpec::set_sequence_sink() {
   sink = sequence = true;
   return *this;
 }
+NodeSpec& NodeSpec::set_pixel_independent(SummarizeFunction summarize_outputs) {
+  pixel_independent = true;
+  summarize = summarize_outputs;
+  return *this;
+}
 NodeSpec& NodeSpec::set_nondeterministic() {
   nondeterministic = true;
   return *this;
@@ -171,6 +176,13 @@ std::int64_t Inputs::enum_value(std::string_view input_name, const char* cpp_typ
 }
 
 bool Inputs::has(std::string_view input_name) const { return host_.input_set(index(input_name)); }
+
+const Value& Outputs::value(std::string_view output_name) const {
+  int i = spec_.output_index(output_name);
+  if (i < 0)
+    throw Error("node type " + spec_.name + " has no output \"" + std::string(output_name) + "\"");
+  return values_[static_cast<std::size_t>(i)];
+}
 
 void Outputs::set_value(std::string_view output_name, Value value) {
   int i = spec_.output_index(output_name);

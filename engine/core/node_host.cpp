@@ -42,6 +42,11 @@ void Host::depends_on_file(const std::filesystem::path& path) {
   s_.add_files({stamp_of(std::filesystem::absolute(path).lexically_normal().string())});
 }
 
+PixelRegion Host::pixel_region() const {
+  const PixelSplit* split = e_.options.pixel_split;
+  return split && s_.type->spec.pixel_independent ? split->region(s_.node->id) : PixelRegion{};
+}
+
 bool Host::input_set(int i) const {
   return e_.fed_state(s_, static_cast<std::size_t>(i)) ||
          s_.inputs[static_cast<std::size_t>(i)].kind != NodeState::Binding::unset;

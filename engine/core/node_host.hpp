@@ -24,6 +24,7 @@ class Host final : public NodeHost {
                                 const std::function<std::shared_ptr<void>()>& make) override;
   std::shared_ptr<void> sequence_state(const std::function<std::shared_ptr<void>()>& make) override;
   void depends_on_file(const std::filesystem::path& path) override;
+  PixelRegion pixel_region() const override;
 
  private:
   Evaluation& e_;

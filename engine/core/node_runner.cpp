@@ -58,6 +58,15 @@ void check_outputs(const NodeSpec& spec, const std::vector<Value>& values) {
 
 }  // namespace
 
+// An image split over processes: this one's part is replaced by the whole,
+// gathered from every part, and the node's summaries are recomputed from it.
+void Evaluation::gather_parts(NodeState& s, Outputs& out) {
+  const NodeSpec& spec = s.type->spec;
+  if (options.pixel_split->region(s.node->id).whole()) return;
+  options.pixel_split->combine(s.node->id, spec, out.values());
+  if (spec.summarize) spec.summarize(out);
+}
+
 void Evaluation::run_node(int n) {
   NodeState& s = at(n);
   if (!settled_without_running(n)) record(s, invoke(s));
@@ -132,6 +141,7 @@ Evaluation::Outcome Evaluation::invoke(NodeState& s) {
     });
     o.seconds = elapsed();  // the body's time, not the output checks'
     check_outputs(spec, out.values());
+    if (options.pixel_split && spec.pixel_independent) gather_parts(s, out);
     o.outputs = std::move(out.values());
     o.status = NodeStatus::ran;
   } catch (...) {

@@ -71,6 +71,7 @@ json describe_node_type(const NodeType& type) {
   json flags = json::array();
   if (s.sink) flags.push_back("sink");
   if (s.sequence) flags.push_back("sequence");
+  if (s.pixel_independent) flags.push_back("pixel_independent");
   if (s.nondeterministic) flags.push_back("nondeterministic");
   if (s.time_dependent) flags.push_back("time_dependent");
   if (s.simulation()) flags.push_back("simulation");

@@ -26,6 +26,7 @@
 #include "farm_commands.hpp"
 #include "group_listing.hpp"
 #include "sweep.hpp"
+#include "mpi_run.hpp"
 
 namespace {
 
@@ -55,6 +56,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
             int threads, const std::string& profile_path, bool quiet, const std::string& frames,
             const CacheSettings& cache, bool allow_outside, bool print_json) {
   auto start = std::chrono::steady_clock::now();
+  quiet = quiet || loom::runner::mpi_rank() > 0;  // an MPI run's summary is rank 0's
   int exit = kOk;
   auto loaded = loom::runner::load_for_run(graph_path, sets, &exit);
   if (!loaded) return exit;
@@ -98,7 +100,8 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   loom::runner::stop_on_signals();
   loom::EvalResult result;
   try {
-    result = loom::Session(registry).evaluate(graph, options);
+    loom::Session session(registry);
+    result = loom::runner::evaluate_on_ranks(session, graph, registry, options);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return kInvalid;
@@ -113,8 +116,9 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
       std::cerr << "error: node \"" << id << "\" (" << graph.nodes.at(id).type << ") failed: " << r.error
                 << "\n";
   }
-  std::cout << (print_json ? loom::runner::target_json(graph, registry, result)
-                           : loom::runner::target_lines(graph, registry, result));
+  if (loom::runner::mpi_rank() == 0)  // an MPI run prints rank 0's
+    std::cout << (print_json ? loom::runner::target_json(graph, registry, result)
+                             : loom::runner::target_lines(graph, registry, result));
   double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!quiet) {
     std::string over = result.frames > 1 ? " over " + std::to_string(result.frames) + " frames" : "";
@@ -311,6 +315,7 @@ int main(int argc, char** argv) {
   run->add_flag("--cache-no-trim", cache.no_trim, "never trim the cache to its limit (farm workers sharing one)");
   loom::runner::SweepRequest sweep;
   loom::runner::add_sweep_options(run, sweep);
+  loom::runner::add_mpi_options(run);
 
   auto* cache_cmd = app.add_subcommand("cache", "Show or clear the persistent result cache.");
   std::string cache_action;
@@ -349,6 +354,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? kOk : kInvalid;
   }
+  if (*run)
+    if (int refused = loom::runner::start_mpi_if_launched(watch)) return refused;
   if (*run && watch) {
     loom::runner::stop_on_signals(false);  // waiting for a change is not a run to end in 5 s
     return loom::runner::watch(graph_path, loom::runner::cancel_flag(), [&] {
@@ -357,7 +364,7 @@ int main(int argc, char** argv) {
   }
   if (farm->chosen()) return farm->run();
   if (*run && sweep.active())
-    return loom::runner::run_sweep(sweep, {graph_path, out_dir, sets, targets, threads, quiet, frames,
+    return loom::runner::run_sweep_on_ranks(sweep, {graph_path, out_dir, sets, targets, threads, quiet, frames,
                                            cache.disabled ? std::nullopt : std::optional(cache.options()),
                                            cache.no_trim, allow_outside});
   if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside, print_json);

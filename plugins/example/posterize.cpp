@@ -4,7 +4,8 @@
 //
 // What this file shows a plugin author: declaring typed inputs with defaults
 // and ranges, reading them, a clear error for bad input, a TBB loop over rows
-// with progress and cancellation, and an output that keeps the input's tag.
+// with progress and cancellation, an output that keeps the input's tag, and a
+// per-pixel node that lets the engine split its image (set_pixel_independent).
 // Progress and cancellation are checked on the calling thread between bands
 // of rows, never inside the parallel_for body (the host is not called from
 // TBB workers).
@@ -26,7 +27,8 @@ struct Posterize {
     s.describe("Rounds each color channel to one of `levels` values (alpha is kept).")
         .input<loom::Image>("image", "the image to posterize")
         .input<int>("levels", 4, "values per channel").range(2, 256)
-        .output<loom::Image>("image", "the posterized image, with the input's encoding tag");
+        .output<loom::Image>("image", "the posterized image, with the input's encoding tag")
+        .set_pixel_independent();
   }
 
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
@@ -40,6 +42,8 @@ struct Posterize {
     // Pixels are float32, channels interleaved in RGB(A) order, values in the
     // image's encoding: posterizing never needs to convert.
     cv::Mat result = image.pixels.clone();
+    // Split over processes, only this part's tiles (the engine gathers the rest).
+    const loom::PixelRegion region = ctx.region();
     constexpr int kBand = 64;  // rows between progress reports
     for (int band = 0; band < result.rows; band += kBand) {
       ctx.check_cancelled();
@@ -48,7 +52,8 @@ struct Posterize {
         for (int y = rows.begin(); y < rows.end(); ++y) {
           float* p = result.ptr<float>(y);
           for (int x = 0; x < result.cols; ++x)
-            for (int c = 0; c < color; ++c) p[x * channels + c] = std::round(p[x * channels + c] * steps) / steps;
+            if (region.contains(x, y, result.cols))
+              for (int c = 0; c < color; ++c) p[x * channels + c] = std::round(p[x * channels + c] * steps) / steps;
         }
       });
       ctx.progress(end, result.rows, "rows");

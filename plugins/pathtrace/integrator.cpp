@@ -342,7 +342,7 @@ RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, in
     for (int x = x0; x < std::min(W, x0 + Film::kTile); ++x) {
       const std::size_t index = std::size_t(y) * W + x;
       PixelAccumulator& a = film.pixels[index];
-      if (a.done) continue;
+      if (a.done || !c.settings.region.contains(x, y, W)) continue;
       for (int k = 0; k < pass; ++k) {
         Rng rng(c.settings.seed, index, std::uint64_t(a.n));
         const Vec2f j = rng.uniform2();

@@ -15,6 +15,7 @@
 
 #include "embree_scene.hpp"
 #include "environment_light.hpp"
+#include "loom/node.hpp"
 #include "loom/scene.hpp"
 
 namespace loom::pathtrace {
@@ -34,6 +35,8 @@ struct RenderSettings {
   double adaptive_threshold = 0;
   int adaptive_min_spp = 16;
   std::uint64_t seed = 1;
+  // The pixels to trace (Context::region()); the others stay black.
+  PixelRegion region;
 };
 
 struct RenderResult {

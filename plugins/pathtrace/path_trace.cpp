@@ -71,7 +71,23 @@ struct PathTrace {
         .output<loom::Image>("depth", "first-hit distance along the camera ray (0: nothing hit)")
         .output<loom::Image>("samples", "samples taken per pixel")
         .output<double>("spp", "mean samples per pixel actually taken")
-        .output<loom::json>("stats", "paths, rays, seconds, throughput, BVH build time and reuse");
+        .output<loom::json>("stats", "paths, rays, seconds, throughput, BVH build time and reuse")
+        .set_pixel_independent(&summarize);
+  }
+
+  // After the engine gathers an image split over processes: the mean spp and
+  // the paths counted over every pixel (rays and seconds stay the first part's).
+  static void summarize(loom::Outputs& out) {
+    const cv::Mat& samples = out.value("samples").as<loom::Image>().pixels;
+    double sum = 0;
+    for (int y = 0; y < samples.rows; ++y)
+      for (int x = 0; x < samples.cols; ++x) sum += samples.at<float>(y, x);
+    const double mean_spp = sum / (double(samples.rows) * samples.cols);
+    loom::json stats = out.value("stats").as<loom::json>();
+    stats["mean_spp"] = mean_spp;
+    stats["paths"] = std::uint64_t(sum);
+    out.set("spp", mean_spp);
+    out.set("stats", stats);
   }
 
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
@@ -100,6 +116,7 @@ struct PathTrace {
     s.adaptive_threshold = in.get<double>("adaptive_threshold");
     s.adaptive_min_spp = in.get<int>("adaptive_min_spp");
     s.seed = ctx.seed();
+    s.region = ctx.region();
 
     bool built = false;
     const auto traced = ctx.scratch<EmbreeScene>(geometry_key(*scene, displacement_level), [&] {

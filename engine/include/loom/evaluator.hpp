@@ -72,6 +72,20 @@ struct FrameRange {
 
 class DiskCache;
 
+// One image computed in parts by several processes (MPI ranks, engine/runner):
+// a node declared set_pixel_independent() computes region(node) in every
+// process, and combine() replaces its outputs with the whole images, gathered
+// from every part. Called from a worker thread of the evaluation; combine()
+// waits for the other processes. See docs/architecture.md.
+class PixelSplit {
+ public:
+  virtual ~PixelSplit() = default;
+  // The part of `node`'s images this process computes (whole: not split).
+  virtual PixelRegion region(const std::string& node) const = 0;
+  // `outputs` hold this process's part on entry and the whole on return.
+  virtual void combine(const std::string& node, const NodeSpec& spec, std::vector<Value>& outputs) const = 0;
+};
+
 struct EvalOptions {
   std::vector<Target> targets;  // empty: every sink in the graph
   int threads = 0;              // 0: all cores
@@ -90,6 +104,9 @@ struct EvalOptions {
   // Memory kept for simulation states (besides each simulation's latest
   // state); older states beyond it are dropped (the disk cache may hold them).
   std::size_t state_memory_budget = std::size_t(2) << 30;
+  // Set when this process computes only a part of pixel-independent nodes'
+  // images (an MPI run); null: every node computes every pixel.
+  const PixelSplit* pixel_split = nullptr;
 };
 
 struct EvalResult {

@@ -101,10 +101,30 @@ struct FrameTime {
 template <class E>
 using EnumChoices = std::vector<std::pair<E, std::string>>;
 
+// The pixels that a node declared set_pixel_independent() computes in one
+// evaluation. The image is cut into tiles of tile x tile pixels, numbered row
+// by row from the top left (the last column and row of tiles may be cut
+// short), and the evaluation computes the tiles t with t % parts == part:
+// interleaved tiles, OSPRay's static balancing, so every part gets a share of
+// every region of the image. parts == 1 (the default): every pixel. The
+// engine splits one image over processes (MPI ranks) this way and gathers the
+// parts; a node only skips the pixels outside its part.
+struct PixelRegion {
+  int tile = 32;
+  int part = 0, parts = 1;
+
+  bool whole() const { return parts <= 1; }
+  int tile_of(int x, int y, int width) const { return (y / tile) * ((width + tile - 1) / tile) + x / tile; }
+  bool contains(int x, int y, int width) const { return whole() || tile_of(x, y, width) % parts == part; }
+};
+
 class Inputs;
 class Outputs;
 class Context;
 using RunFunction = void (*)(Inputs&, Outputs&, Context&);
+// Recomputes outputs that summarize a whole image (a mean) once the engine has
+// gathered the parts of a pixel-independent node's images (set_pixel_independent).
+using SummarizeFunction = void (*)(Outputs&);
 
 class LOOM_API NodeSpec {
  public:
@@ -120,6 +140,10 @@ class LOOM_API NodeSpec {
   bool sequence = false;  // a sink that gathers every frame of a run into one file (set_sequence_sink)
   bool nondeterministic = false;  // never cached, nor is anything downstream
   bool time_dependent = false;    // reads ctx.time(): evaluated once per frame
+  // Every Image output's pixel depends on nothing but the inputs and its own
+  // position (set_pixel_independent): the engine may split the image.
+  bool pixel_independent = false;
+  SummarizeFunction summarize = nullptr;
   // A simulation step (set_simulation): the names of its state input and output.
   std::string state_input, state_output;
   std::vector<InputSpec> inputs;
@@ -133,6 +157,15 @@ class LOOM_API NodeSpec {
   // frames (loom submit, MPI) runs it once, after every frame, not per chunk.
   NodeSpec& set_sequence_sink();
   NodeSpec& set_nondeterministic();
+  // Each pixel of every Image output is computed from the inputs and its own
+  // position alone, so the engine may compute the image in parts
+  // (Context::region(), e.g. over MPI ranks) and gather them: the node
+  // computes only the pixels of its region (the others are overwritten). The
+  // gathered image must equal the whole one bit for bit, so a pixel's random
+  // numbers must come from (seed, pixel, sample), never from a shared stream.
+  // Outputs of other types are taken from the first part, unless `summarize`
+  // recomputes them from the gathered images (a mean over the pixels).
+  NodeSpec& set_pixel_independent(SummarizeFunction summarize = nullptr);
   // The node reads ctx.time(). Nodes that do not are evaluated once and shared
   // by every frame; what depends on a time-dependent node is evaluated per
   // frame through its hash.
@@ -220,6 +253,7 @@ class NodeHost {
                                         const std::function<std::shared_ptr<void>()>& make) = 0;
   virtual std::shared_ptr<void> sequence_state(const std::function<std::shared_ptr<void>()>& make) = 0;
   virtual void depends_on_file(const std::filesystem::path& path) { (void)path; }
+  virtual PixelRegion pixel_region() const { return {}; }
 };
 
 class LOOM_API Inputs {
@@ -266,6 +300,8 @@ class LOOM_API Outputs {
     set_value(output_name, Value::share<T>(std::move(value)));
   }
   void set_value(std::string_view output_name, Value value);
+  // An output set already (empty until set), e.g. by a SummarizeFunction.
+  const Value& value(std::string_view output_name) const;
 
   std::vector<Value>& values() { return values_; }
 
@@ -343,6 +379,10 @@ class LOOM_API Context {
 
   const std::filesystem::path& graph_dir() const { return graph_dir_; }
   const std::filesystem::path& output_dir() const { return output_dir_; }
+
+  // The pixels to compute, for a node declared set_pixel_independent(); the
+  // whole image for every other node and in a run that is not split.
+  PixelRegion region() const { return host_.pixel_region(); }
 
   // Declares that the result depends on a file the node found by itself (a
   // material library or texture named inside a scene file). Files given to

@@ -1,0 +1,161 @@
+"""`loom run` over MPI ranks (docs/farm.md, "MPI"): on the Cornell box
+(graphs/pathtrace-cornell-box.json's blocks), medians of --repeats, the
+configurations alternated so that the machine's load spoils them alike:
+  - the cost of distribution: 1 rank x 2 threads against 2 ranks x 1 thread
+    (and 1 rank x 1 thread: the per-sample cost), wall time of the command;
+  - the gather: a 3840x2160 float RGB image (Checkerboard -> Posterize, split
+    in tiles) gathered on 2 and 4 ranks, as `loom` reports it;
+  - the static split's imbalance: the slowest rank's time in PathTrace over
+    the mean, for tile edges 8..128 on 2 and 4 ranks;
+  - mpiexec's start-up: 4 ranks of a one-node graph against one `loom run`.
+Writes mpi.csv and mpi.png to --out (else $LOOM_BENCH_OUT, else bench/results).
+Usage: mpi_bench.py LOOM SOURCE_DIR [--quick] [--repeats N] [--out DIR]."""
+import argparse
+import csv
+import json
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+parser = argparse.ArgumentParser(prog="bench_mpi", description=__doc__.split("\n")[0])
+parser.add_argument("loom", help=argparse.SUPPRESS)
+parser.add_argument("source", help=argparse.SUPPRESS)
+parser.add_argument("--quick", action="store_true", help="smaller image and fewer samples, one repeat")
+parser.add_argument("--repeats", type=int, help="timings per measure, the median kept (default 3)")
+parser.add_argument("--out", help="results folder (default: $LOOM_BENCH_OUT, else bench/results)")
+ARGS = parser.parse_args()
+LOOM, SOURCE, QUICK = ARGS.loom, ARGS.source, ARGS.quick
+REPEATS = ARGS.repeats or (1 if QUICK else 3)
+OUT = ARGS.out or os.environ.get("LOOM_BENCH_OUT") or os.path.join(SOURCE, "bench", "results")
+MPIEXEC = shutil.which("mpiexec")
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+MPI_ARGS = ["--oversubscribe", "--bind-to", "none", "--mca", "btl", "self,vader", "--mca", "oob_tcp_if_include", "lo",
+            "--mca", "btl_vader_single_copy_mechanism", "none"]
+SIZE, SPP = ([128, 128], 16) if QUICK else ([256, 256], 64)
+
+
+def write(folder, name, nodes):
+    path = os.path.join(folder, name)
+    with open(path, "w") as f:
+        json.dump({"loom": 1, "seed": 13, "nodes": nodes}, f)
+    return path
+
+
+def command(ranks, threads, *args):
+    run = [LOOM, "run", *map(str, args), "--threads", str(threads), "--no-cache"]
+    return run if ranks == 0 else [MPIEXEC, "-n", str(ranks), *MPI_ARGS, *run]
+
+
+def timed(cmd):
+    start = time.time()
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=1800, env=ENV)
+    if p.returncode != 0:
+        sys.exit(f"bench_mpi: {' '.join(cmd)}: exit {p.returncode}\n{p.stderr}")
+    return time.time() - start, p.stderr
+
+
+def alternate(configs):
+    """{name: [seconds...]} with every configuration run once per round."""
+    times = {name: [] for name in configs}
+    logs = {name: [] for name in configs}
+    for _ in range(REPEATS):
+        for name, cmd in configs.items():
+            t, err = timed(cmd)
+            times[name].append(t)
+            logs[name].append(err)
+    return times, logs
+
+
+def main():
+    if not MPIEXEC:
+        print("bench_mpi: skipped: mpiexec is not installed (openmpi-bin)")
+        sys.exit(77)
+    os.makedirs(OUT, exist_ok=True)
+    tmp = tempfile.mkdtemp(prefix="loom-bench-mpi-")
+    rows = []
+    load = open("/proc/loadavg").read().split()[0]
+    box = write(tmp, "box.json", {
+        "box": {"type": "CornellBox", "inputs": {"contents": "blocks"}},
+        "trace": {"type": "PathTrace", "inputs": {"scene": {"from": "box.scene"}, "size": SIZE, "spp": SPP,
+                                                  "max_depth": 8}},
+        "save": {"type": "SaveImage", "inputs": {"image": {"from": "trace.image"}, "path": "box.exr"}}})
+    out = os.path.join(tmp, "out")
+
+    times, _ = alternate({"1 rank x 1 thread": command(0, 1, box, "--out", out),
+                          "1 rank x 2 threads": command(0, 2, box, "--out", out),
+                          "2 ranks x 1 thread": command(2, 1, box, "--out", out, "--mpi-tile", 16)})
+    paths = SIZE[0] * SIZE[1] * SPP
+    for name, ts in times.items():
+        rows.append({"measure": "cornell box " + name, "seconds": statistics.median(ts),
+                     "detail": f"{SIZE[0]}x{SIZE[1]} at {SPP} spp"})
+    one = statistics.median(times["1 rank x 1 thread"])
+    rows.append({"measure": "seconds per path, 1 thread (whole command)", "seconds": one / paths, "detail": ""})
+    rows.append({"measure": "ratio 2 ranks x 1 thread / 1 rank x 2 threads",
+                 "seconds": statistics.median(times["2 ranks x 1 thread"]) /
+                 statistics.median(times["1 rank x 2 threads"]), "detail": "ratio"})
+
+    big = write(tmp, "big.json", {
+        "board": {"type": "Checkerboard", "inputs": {"size": [3840, 2160], "cells": 27}},
+        "poster": {"type": "Posterize", "inputs": {"image": {"from": "board.image"}, "levels": 3}}})
+    for ranks in (2, 4):
+        gathers = []
+        for _ in range(REPEATS):
+            _, err = timed(command(ranks, 1, big, "--out", out, "--target", "poster.image", "-q"))
+            gathers.append(float(re.search(r"mpi: poster: .* in ([0-9.]+) s", err).group(1)))
+        rows.append({"measure": f"gather 3840x2160 float RGB, {ranks} ranks", "seconds": statistics.median(gathers),
+                     "detail": "99.5 MB"})
+
+    for ranks in (2, 4):
+        for tile in (8, 16, 32, 64, 128):
+            imbalance = []
+            for _ in range(REPEATS):
+                _, err = timed(command(ranks, 1, box, "--out", out, "--mpi-tile", tile))
+                imbalance.append(float(re.search(r"mpi: trace: .*imbalance ([0-9.]+)", err).group(1)))
+            rows.append({"measure": f"imbalance {ranks} ranks tile {tile}", "seconds": statistics.median(imbalance),
+                         "detail": "slowest / mean rank time"})
+
+    tiny = write(tmp, "tiny.json", {"v": {"type": "Math", "inputs": {"a": 1, "b": 2, "op": "add"}}})
+    times, _ = alternate({"loom run": command(0, 1, tiny, "--out", out, "--target", "v.result"),
+                          "mpiexec -n 4 loom run": command(4, 1, tiny, "--out", out, "--target", "v.result")})
+    for name, ts in times.items():
+        rows.append({"measure": "start-up: " + name + " of a one-node graph", "seconds": statistics.median(ts),
+                     "detail": ""})
+
+    csv_path = os.path.join(OUT, "mpi.csv")
+    with open(csv_path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=["measure", "seconds", "detail", "load"])
+        w.writeheader()
+        for r in rows:
+            w.writerow({**r, "load": load})
+    for r in rows:
+        print(f"{r['measure']:55s} {r['seconds']:.6g} {r['detail']}")
+    print(f"load average at the start: {load}; {csv_path}")
+    plot(rows)
+    shutil.rmtree(tmp, ignore_errors=True)
+
+
+def plot(rows):
+    """Imbalance against tile edge, one line per rank count (gnuplot, as the other benchmarks)."""
+    data = os.path.join(OUT, "mpi_imbalance.dat")
+    with open(data, "w") as f:
+        for ranks in (2, 4):
+            for r in rows:
+                m = re.match(rf"imbalance {ranks} ranks tile (\d+)", r["measure"])
+                if m:
+                    f.write(f"{m.group(1)} {r['seconds']}\n")
+            f.write("\n\n")
+    script = (f"set terminal pngcairo size 640,420; set output '{os.path.join(OUT, 'mpi.png')}';"
+              "set logscale x 2; set xlabel 'tile edge (pixels)'; set ylabel 'slowest rank / mean';"
+              "set title 'Static interleaved tiles on the Cornell box: imbalance';"
+              f"plot '{data}' index 0 with linespoints title '2 ranks', '' index 1 with linespoints title '4 ranks'")
+    if shutil.which("gnuplot"):
+        subprocess.run(["gnuplot", "-e", script], check=False)
+    os.remove(data)
+
+
+main()

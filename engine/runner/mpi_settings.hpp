@@ -1,0 +1,14 @@
+// What `loom run --mpi-split/--mpi-tile` asked (mpi_launch.cpp reads them).
+#pragma once
+
+#include <string>
+
+namespace loom::runner {
+
+struct MpiSettings {
+  std::string split = "auto";  // auto, frames, tiles
+  int tile = 32;               // tile edge in pixels (PixelRegion::tile)
+};
+MpiSettings& mpi_settings();
+
+}  // namespace loom::runner

@@ -1,0 +1,38 @@
+// The MPI calls of an MPI run, behind an interface without <mpi.h>: they live
+// in libloom_mpi.so (mpi_world.cpp), which `loom` opens only when mpirun or
+// srun started it (mpi_launch.cpp), so a plain run never loads libmpi.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "loom/evaluator.hpp"
+
+namespace loom::runner {
+
+class MpiWorld {
+ public:
+  virtual ~MpiWorld() = default;  // MPI_Finalize
+  virtual int rank() const = 0;
+  virtual int size() const = 0;
+  virtual std::string library() const = 0;  // MPI_Get_library_version's first line
+  virtual void barrier() = 0;
+  virtual int max_over_ranks(int value) = 0;
+  virtual int min_over_ranks(int value) = 0;
+  // Every rank's value, by rank.
+  virtual std::vector<double> gather_all(double value) = 0;
+  // Ends the job: every rank, with this exit code (MPI_Abort).
+  [[noreturn]] virtual void abort(int exit_code) = 0;
+  // A PixelSplit for `node`: this rank computes the interleaved tiles
+  // t % size == rank of tile x tile pixels; combine() gathers every rank's
+  // tiles of each Image output into the whole image on every rank.
+  virtual std::unique_ptr<PixelSplit> tile_split(const std::string& node, int tile) = 0;
+};
+
+}  // namespace loom::runner
+
+// libloom_mpi.so's entry point, `loom_mpi_world`: calls MPI_Init_thread and
+// returns the world, or null with *error set when MPI cannot start.
+using LoomMpiWorldEntry = loom::runner::MpiWorld* (*)(std::string* error);

@@ -1,0 +1,278 @@
+"""`loom run` under mpiexec: each test compares against the same graph run by
+one plain `loom run` (and, where there is one, an exact value), byte for byte.
+Usage: mpi_test.py LOOM SOURCE_DIR TEST_PLUGIN_DIR [unittest arguments].
+Exits 77 (ctest's skip) when Open MPI or loom's MPI library is missing."""
+import filecmp
+import glob
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+LOOM, SOURCE, TEST_PLUGINS = sys.argv[1:4]
+del sys.argv[1:4]
+os.environ["LOOM_PLUGIN_PATH"] = TEST_PLUGINS  # Sleep, WriteText, Integrate, FrameNumber
+MPIEXEC = shutil.which("mpiexec")
+MPI_LIBRARY = os.path.join(os.path.dirname(os.path.dirname(os.path.realpath(LOOM))), "lib", "libloom_mpi.so")
+# As root in a container: shared memory and self transports only, the
+# out-of-band channel on loopback, no single-copy (needs ptrace rights).
+MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+MPI_ARGS = ["--oversubscribe", "--bind-to", "none", "--mca", "btl", "self,vader", "--mca", "oob_tcp_if_include", "lo",
+            "--mca", "btl_vader_single_copy_mechanism", "none"]
+
+
+def loom(*args, check=True):
+    p = subprocess.run([LOOM, *map(str, args)], capture_output=True, text=True, timeout=300)
+    if check and p.returncode != 0:
+        raise AssertionError(f"loom {' '.join(map(str, args))}: exit {p.returncode}\n{p.stdout}\n{p.stderr}")
+    return p
+
+
+def mpi_command(ranks, *args):
+    return [MPIEXEC, "-n", str(ranks), *MPI_ARGS, LOOM, *map(str, args)]
+
+
+def mpi_loom(ranks, *args, check=True):
+    p = subprocess.run(mpi_command(ranks, *args), capture_output=True, text=True, timeout=240, env=MPI_ENV)
+    if check and p.returncode != 0:
+        raise AssertionError(f"mpiexec -n {ranks} loom {' '.join(map(str, args))}: exit {p.returncode}\n"
+                             f"{p.stdout}\n{p.stderr}")
+    return p
+
+
+def write_graph(folder, nodes, time_range=None, name="graph.json"):
+    g = {"loom": 1, "seed": 3, "nodes": nodes}
+    if time_range:
+        g["time"] = {"start": time_range[0], "end": time_range[1], "fps": 24}
+    path = os.path.join(folder, name)
+    with open(path, "w") as f:
+        json.dump(g, f)
+    return path
+
+
+def read(path):
+    with open(path) as f:
+        return f.read()
+
+
+def files_under(folder):
+    return sorted(os.path.relpath(p, folder) for p in glob.glob(os.path.join(folder, "**", "*"), recursive=True)
+                  if os.path.isfile(p))
+
+
+class MpiCase(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="loom-mpi-test-")
+
+    def tearDown(self):
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+    def assertSameFiles(self, expected_dir, got_dir, names):
+        for name in names:
+            self.assertTrue(os.path.exists(os.path.join(got_dir, name)), name)
+            self.assertTrue(filecmp.cmp(os.path.join(expected_dir, name), os.path.join(got_dir, name), shallow=False),
+                            f"{name} differs from one process's")
+
+
+def traced_graph(folder, size, spp=4, adaptive=0.0):
+    """The Cornell box path traced, its AOVs and a posterized copy saved as EXR."""
+    nodes = {
+        "box": {"type": "CornellBox", "inputs": {"contents": "spheres"}},
+        "trace": {"type": "PathTrace", "inputs": {"scene": {"from": "box.scene"}, "size": size, "spp": spp,
+                                                  "max_depth": 4, "adaptive_threshold": adaptive,
+                                                  "adaptive_min_spp": 4}},
+        "poster": {"type": "Posterize", "inputs": {"image": {"from": "trace.image"}, "levels": 5}},
+        "save_poster": {"type": "SaveImage", "inputs": {"image": {"from": "poster.image"}, "path": "poster.exr"}},
+    }
+    for aov in ("image", "albedo", "normal", "depth", "samples"):
+        nodes["save_" + aov] = {"type": "SaveImage", "inputs": {"image": {"from": "trace." + aov},
+                                                                "path": aov + ".exr"}}
+    return write_graph(folder, nodes)
+
+
+class TileTest(MpiCase):
+    """One image in interleaved tiles over ranks, gathered: bit-identical."""
+
+    def check_tiles(self, ranks, size, tile, **kw):
+        g = traced_graph(self.dir, size, **kw)
+        one, many = os.path.join(self.dir, "one"), os.path.join(self.dir, f"many{ranks}")
+        loom("run", g, "--out", one, "--no-cache")
+        p = mpi_loom(ranks, "run", g, "--out", many, "--no-cache", "--mpi-tile", tile)
+        self.assertIn(f"mpi: trace: ", p.stderr)  # the image was split and gathered...
+        self.assertIn(f"gathered from {ranks} ranks", p.stderr)
+        self.assertIn("mpi: poster: ", p.stderr)  # ...and the posterized one too
+        names = ["image.exr", "albedo.exr", "normal.exr", "depth.exr", "samples.exr", "poster.exr"]
+        self.assertSameFiles(one, many, names)
+        self.assertEqual(files_under(many), sorted(names))  # nothing else, no staging file left
+
+    def test_pathtrace_and_posterize_in_tiles_that_do_not_divide_the_image_2_ranks(self):
+        self.check_tiles(2, [37, 29], 8)
+
+    def test_4_ranks_with_more_ranks_than_some_rows_of_tiles(self):
+        self.check_tiles(4, [45, 19], 16)
+
+    def test_adaptive_sampling_in_tiles_4_ranks(self):
+        self.check_tiles(4, [40, 33], 7, spp=16, adaptive=0.2)
+
+    def test_one_tile_more_than_the_image_leaves_ranks_idle(self):
+        self.check_tiles(2, [20, 12], 32)  # one tile: rank 1 computes nothing and still gathers
+
+
+def integrate_graph(folder):
+    """A simulation (x' = v, exact in frames) written each frame."""
+    return write_graph(folder, {
+        "sim": {"type": "Integrate", "inputs": {"x": 0, "v": 24, "ms": 20}},
+        "w": {"type": "WriteText", "inputs": {"value": {"from": "sim.x"}, "path": "x_{frame:02}.txt"}}}, (1, 9))
+
+
+class FrameTest(MpiCase):
+    """Frames and sweep points dealt to ranks write what one process writes."""
+
+    def test_frames_and_the_video_assembled_on_rank_0_equal_one_process(self):
+        g = os.path.join(SOURCE, "graphs", "time-twist-sequence.json")
+        one = os.path.join(self.dir, "one")
+        loom("run", g, "--out", one, "--frames", "1-8", "--no-cache")
+        names = [f"frames/twist_{f:04}.png" for f in range(1, 9)] + ["twist.mp4"]
+        for ranks in (2, 4):
+            many = os.path.join(self.dir, f"many{ranks}")
+            mpi_loom(ranks, "run", g, "--out", many, "--frames", "1-8", "--no-cache")
+            self.assertSameFiles(one, many, names)
+            self.assertEqual(files_under(many), sorted(names))  # the run's own cache folder is gone
+
+    def test_a_simulation_over_ranks_equals_one_process_and_the_exact_integral(self):
+        g = integrate_graph(self.dir)
+        one = os.path.join(self.dir, "one")
+        loom("run", g, "--out", one, "--no-cache")
+        names = [f"x_{f:02}.txt" for f in range(1, 10)]
+        for ranks in (2, 4):
+            many = os.path.join(self.dir, f"many{ranks}")
+            mpi_loom(ranks, "run", g, "--out", many, "--cache", os.path.join(self.dir, f"cache{ranks}"))
+            self.assertSameFiles(one, many, names)
+        for f in range(1, 10):  # x(f) = v (f - 1) / fps
+            self.assertEqual(read(os.path.join(one, f"x_{f:02}.txt")), f"{(f - 1) * 1.0:.6f}\n")
+
+    def test_sweep_points_dealt_to_ranks_equal_one_process(self):
+        g = write_graph(self.dir, {
+            "s": {"type": "Sleep", "inputs": {"value": 0, "ms": 100}},
+            "w": {"type": "WriteText", "inputs": {"value": {"from": "s.value"}, "path": "v.txt"}}})
+        sweep = ["--sweep", "s.value=1,2,3,5,8", "--no-cache"]
+        one = os.path.join(self.dir, "one")
+        loom("run", g, "--out", one, *sweep)
+        for ranks in (2, 4):
+            many = os.path.join(self.dir, f"many{ranks}")
+            mpi_loom(ranks, "run", g, "--out", many, *sweep)
+            self.assertSameFiles(one, many, [f"points/{i:04}/v.txt" for i in range(5)])
+            rows = lambda d: [line.split(",")[:3] for line in read(os.path.join(d, "sweep.csv")).splitlines()]
+            self.assertEqual(rows(one), rows(many))  # point, value, status of every point, in rank 0's table
+        for i, v in enumerate((1, 2, 3, 5, 8)):
+            self.assertEqual(read(os.path.join(one, f"points/{i:04}/v.txt")), f"{v:.6f}\n")
+
+
+def sleepy_frames_graph(folder, ms, frames=4):
+    return write_graph(folder, {
+        "f": {"type": "FrameNumber"},
+        "s": {"type": "Sleep", "inputs": {"value": {"from": "f.value"}, "ms": ms}},
+        "w": {"type": "WriteText", "inputs": {"value": {"from": "s.value"}, "path": "d_{frame}/f.txt"}}},
+        (1, frames))
+
+
+def rank_pids(launcher_pid, timeout=30):
+    """The `loom` ranks started by this mpiexec, by rank."""
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        ranks = {}
+        for environ in glob.glob("/proc/[0-9]*/environ"):
+            try:
+                pid = int(environ.split("/")[2])
+                cmd = open(f"/proc/{pid}/cmdline", "rb").read().split(b"\0")
+                env = open(environ, "rb").read().split(b"\0")
+            except OSError:
+                continue
+            if not cmd or os.path.basename(cmd[0]) != b"loom":
+                continue
+            rank = [e for e in env if e.startswith(b"OMPI_COMM_WORLD_RANK=")]
+            if rank and parent_chain_has(pid, launcher_pid):
+                ranks[int(rank[0].split(b"=")[1])] = pid
+        if len(ranks) >= 2:
+            return ranks
+        time.sleep(0.05)
+    raise TimeoutError("the ranks did not start")
+
+
+def parent_chain_has(pid, ancestor):
+    while pid > 1:
+        if pid == ancestor:
+            return True
+        try:
+            pid = int(open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[1])
+        except OSError:
+            return False
+    return False
+
+
+def leftovers(folder):
+    return [n for n in files_under(folder) if os.path.basename(n).startswith(".")]
+
+
+class FailureTest(MpiCase):
+    """A rank that dies or fails ends every rank within seconds, non-zero."""
+
+    def test_a_node_failing_on_one_rank_ends_every_rank(self):
+        g = sleepy_frames_graph(self.dir, 1500)
+        out = os.path.join(self.dir, "out")
+        os.makedirs(out)
+        open(os.path.join(out, "d_3"), "w").close()  # frame 3 (rank 1's) cannot make its folder
+        start = time.time()
+        p = mpi_loom(2, "run", g, "--out", out, "--no-cache", check=False)
+        seconds = time.time() - start
+        self.assertNotEqual(p.returncode, 0, p.stderr)
+        self.assertIn("rank 1: a node failed: ending every rank", p.stderr)
+        self.assertLess(seconds, 5.5, p.stderr)  # 4 frames of 1.5 s would take 3 s per rank and more
+        self.assertFalse(os.path.exists(os.path.join(out, "d_4", "f.txt")))  # rank 1 never reached frame 4
+        self.assertEqual(leftovers(out), [])
+
+    def test_a_killed_rank_ends_every_rank(self):
+        g = sleepy_frames_graph(self.dir, 4000)
+        out = os.path.join(self.dir, "out")
+        proc = subprocess.Popen(mpi_command(2, "run", g, "--out", out, "--no-cache"), env=MPI_ENV,
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        ranks = rank_pids(proc.pid)
+        time.sleep(0.5)
+        os.kill(ranks[1], signal.SIGKILL)
+        killed = time.time()
+        _, err = proc.communicate(timeout=60)
+        self.assertNotEqual(proc.returncode, 0, err)
+        self.assertLess(time.time() - killed, 3.0, err)
+        self.assertFalse(os.path.exists(os.path.join(out, "d_1", "f.txt")))  # rank 0's first frame: 4 s
+        self.assertEqual(leftovers(out), [])
+
+    def test_sigterm_ends_every_rank_with_130(self):
+        g = sleepy_frames_graph(self.dir, 4000)
+        out = os.path.join(self.dir, "out")
+        proc = subprocess.Popen(mpi_command(2, "run", g, "--out", out, "--no-cache"), env=MPI_ENV,
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        ranks = rank_pids(proc.pid)
+        time.sleep(0.5)
+        for pid in ranks.values():  # as Slurm's scancel does: every process of the step
+            os.kill(pid, signal.SIGTERM)
+        _, err = proc.communicate(timeout=60)
+        self.assertEqual(proc.returncode, 130, err)
+        self.assertFalse(os.path.exists(os.path.join(out, "d_1", "f.txt")))
+        self.assertEqual(leftovers(out), [])
+
+
+if __name__ == "__main__":
+    missing = None
+    if not MPIEXEC:
+        missing = "mpiexec is not installed (openmpi-bin; scripts/install-deps)"
+    elif not os.path.exists(MPI_LIBRARY):
+        missing = f"loom was built without MPI ({MPI_LIBRARY} is missing: libopenmpi-dev, then configure again)"
+    if missing:
+        print(f"skipped: {missing}")
+        sys.exit(77)
+    sys.exit(0 if unittest.main(exit=False).result.wasSuccessful() else 1)
