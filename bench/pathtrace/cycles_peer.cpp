@@ -73,6 +73,8 @@ nlohmann::json cycles_spec(const Scene& scene, const RenderSettings& s, const st
           {"objects", objects}};
 }
 
+std::string sampling_pattern;  // Cycles' own default, as its last run reported it
+
 struct Render {
   int spp;
   double seconds;
@@ -98,9 +100,11 @@ std::vector<Render> run_cycles(const Scene& scene, const RenderSettings& s, cons
   for (std::string line; std::getline(times, line);) {
     const auto j = nlohmann::json::parse(line);
     const int n = j.at("spp").get<int>();
-    cv::Mat image = read_pfm(dir / ("cycles_" + std::to_string(n) + ".pfm"));
-    if (image.empty()) throw Error("cycles peer: no image for " + std::to_string(n) + " spp in " + dir.string());
+    const fs::path pfm = dir / ("cycles_" + std::to_string(j.at("index").get<int>()) + ".pfm");
+    cv::Mat image = read_pfm(pfm);
+    if (image.empty()) throw Error("cycles peer: cannot read " + pfm.string());
     out.push_back({n, j.at("seconds").get<double>(), image});
+    sampling_pattern = j.value("sampling_pattern", "");
   }
   if (out.size() != spp.size())
     throw Error("cycles peer: Blender stopped early: see " + (dir / "blender.log").string());
@@ -162,30 +166,38 @@ void compare_references(const std::string& name, const cv::Mat& loom_ref, const 
 }
 
 // Rounds alternate which renderer goes first; every round has its own seeds.
+// The time of N spp is the marginal cost (t(N) - t(1)) · N / (N - 1), with
+// t(1) a 1-spp render of the same round, for both renderers: Cycles spends
+// ~0.3 s per render call outside its sample loop (sync, film), which this
+// takes out as it took out the model loading of Embree's tutorial.
 Measured measure_rounds(const Scene& scene, const EmbreeScene& traced, const RenderSettings& s,
                         const std::vector<int>& spp, int rounds, const cv::Mat& loom_ref, const cv::Mat& cycles_ref,
                         Csv& raw, const std::string& name) {
   Measured m;
-  auto record = [&](const std::string& who, int round, const Render& r, const cv::Mat& ref) {
+  auto record = [&](const std::string& who, int round, const Render& r, double one_spp, const cv::Mat& ref) {
     const double e = rel_mse(r.image, ref);
-    m.seconds[who][r.spp].push_back(r.seconds);
+    const double marginal = (r.seconds - one_spp) * r.spp / (r.spp - 1);
+    m.seconds[who][r.spp].push_back(marginal);
     m.relmse[who][r.spp].push_back(e);
-    raw.row({name, who, (long long)round, (long long)r.spp, r.seconds, e, loom::bench::load_average()});
+    raw.row({name, who, (long long)round, (long long)r.spp, r.seconds, marginal, e, loom::bench::load_average()});
   };
   for (int round = 0; round < rounds; ++round) {
+    const std::uint64_t seed = 100 + std::uint64_t(round);
     auto loom_runs = [&] {
       for (const auto& [who, kind] : {std::pair<std::string, SamplerKind>{"loom", SamplerKind::sobol},
                                       {"loom-independent", SamplerKind::independent}}) {
         RenderSettings t = s;
         t.sampler = kind;
-        for (int n : spp) record(who, round, run_loom(scene, traced, t, n, 100 + std::uint64_t(round)), loom_ref);
+        const double one_spp = run_loom(scene, traced, t, 1, seed).seconds;
+        for (int n : spp) record(who, round, run_loom(scene, traced, t, n, seed), one_spp, loom_ref);
       }
     };
     auto cycles_runs = [&] {
-      std::vector<int> list{1};  // warm-up
+      std::vector<int> list{1, 1};  // a warm-up (sync, BVH), then t(1)
       list.insert(list.end(), spp.begin(), spp.end());
-      const auto renders = run_cycles(scene, s, list, 100 + std::uint64_t(round));
-      for (std::size_t i = 1; i < renders.size(); ++i) record("cycles", round, renders[i], cycles_ref);
+      const auto renders = run_cycles(scene, s, list, seed);
+      for (std::size_t i = 2; i < renders.size(); ++i)
+        record("cycles", round, renders[i], renders[1].seconds, cycles_ref);
     };
     if (round % 2 == 0)
       loom_runs(), cycles_runs();
@@ -256,7 +268,7 @@ void bench_cycles(bool quick) {
     std::cout << "cycles: Blender is not installed (scripts/bench --cycles installs it): skipped\n";
     return;
   }
-  Csv raw("pathtrace_cycles", {"scene", "renderer", "round", "spp", "seconds", "relmse", "load1"});
+  Csv raw("pathtrace_cycles", {"scene", "renderer", "round", "spp", "seconds", "marginal_seconds", "relmse", "load1"});
   Csv ratios("pathtrace_cycles_ratios", {"scene", "renderer", "cycles_spp", "cycles_seconds", "cycles_relmse",
                                          "time_ratio_at_equal_error", "slope", "cycles_slope", "load1"});
   Csv references("pathtrace_cycles_references", {"scene", "what", "loom", "cycles", "difference_percent", "load1"});
@@ -270,6 +282,7 @@ void bench_cycles(bool quick) {
   raw.save();
   ratios.save();
   references.save();
+  std::cout << "cycles: sampling pattern " << sampling_pattern << " (Blender's default)\n";
 }
 
 }  // namespace loom::pathtrace::bench

@@ -143,19 +143,20 @@ def main():
     settings(scene, spec)
     build(scene, spec)
     with open(out_dir + '/times.jsonl', 'w') as log:
-        for spp in spec['spp']:
+        for index, spp in enumerate(spec['spp']):
             scene.cycles.samples = spp
             start = time.perf_counter()
             bpy.ops.render.render(write_still=False)
             seconds = time.perf_counter() - start
-            exr = '%s/cycles_%d.exr' % (out_dir, spp)
+            exr = '%s/cycles_%d.exr' % (out_dir, index)
             bpy.data.images['Render Result'].save_render(exr, scene=scene)
             image = bpy.data.images.load(exr)
             pixels = np.empty(len(image.pixels), dtype=np.float32)
             image.pixels.foreach_get(pixels)
-            write_pfm('%s/cycles_%d.pfm' % (out_dir, spp), pixels, spec['width'], spec['height'])
+            write_pfm('%s/cycles_%d.pfm' % (out_dir, index), pixels, spec['width'], spec['height'])
             bpy.data.images.remove(image)
-            log.write(json.dumps({'spp': spp, 'seconds': seconds}) + '\n')
+            log.write(json.dumps({'index': index, 'spp': spp, 'seconds': seconds,
+                                  'sampling_pattern': scene.cycles.sampling_pattern}) + '\n')
             log.flush()
 
 

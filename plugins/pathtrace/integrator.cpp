@@ -165,10 +165,9 @@ bool occluded(const EmbreeScene& traced, const SurfaceHit& hit, const LightSampl
 template <class Bsdf>
 void sample_direct(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, const Vec3f& beta,
                    bool use_mis, PixelSampler& sampler, PathResult& r) {
-  const float uc = sampler.uniform();
   const Vec2f u = sampler.uniform2();
   const float ue = sampler.uniform();
-  const auto ls = c.lights.sample(hit.p, uc, u, ue);
+  const auto ls = c.lights.sample(hit.p, u, ue);
   if (!ls) return;
   const auto t = bsdf.direct(ls->wi);
   if (!t.nonzero || !(wo_side * ls->wi.dot(hit.ng) >= 0)) return;

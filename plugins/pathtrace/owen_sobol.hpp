@@ -88,7 +88,7 @@ class PixelSampler {
         sobol_(kind == SamplerKind::sobol) {}
 
   // Dimension pairs: 1 for the camera, then kPairsPerBounce per bounce.
-  static constexpr std::uint32_t kPairsPerBounce = 6;
+  static constexpr std::uint32_t kPairsPerBounce = 5;
   void start_bounce(int depth) { pair_ = 1 + std::uint32_t(depth) * kPairsPerBounce; }
 
   float uniform() {
