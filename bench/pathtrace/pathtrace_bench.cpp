@@ -7,6 +7,7 @@
 //   environment  a map with one bright pixel: importance vs uniform sampling, MIS vs not
 //   adaptive     relMSE against time, adaptive thresholds vs uniform spp
 //   bvh          BVH build time of a 1M-triangle mesh
+//   cycles       Blender's Cycles side by side (cycles_peer.hpp)
 // relMSE = mean over pixels and channels of (x - ref)² / (ref² + 0.01).
 #include <chrono>
 #include <cmath>
@@ -20,9 +21,11 @@
 #include <tbb/global_control.h>
 
 #include "bench_harness.hpp"
+#include "cycles_peer.hpp"
 #include "cornell_box_scene.hpp"
 #include "embree_scene.hpp"
 #include "image_codec.hpp"
+#include "image_error.hpp"
 #include "integrator.hpp"
 #include "scenes.hpp"
 #include "sphere_mesh.hpp"
@@ -30,6 +33,8 @@
 namespace fs = std::filesystem;
 using namespace loom::pathtrace;
 using loom::bench::Csv;
+using loom::pathtrace::bench::read_pfm;
+using loom::pathtrace::bench::rel_mse;
 
 namespace {
 
@@ -46,15 +51,6 @@ double cpu_seconds(int who) {
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-double rel_mse(const cv::Mat& x, const cv::Mat& ref) {
-  cv::Mat a, b;
-  x.convertTo(a, CV_64F);
-  ref.convertTo(b, CV_64F);
-  cv::Mat d = a - b;
-  cv::Mat r = d.mul(d) / (b.mul(b) + cv::Scalar::all(0.01));
-  return cv::mean(r.reshape(1))[0];
 }
 
 cv::Mat clamp01(const cv::Mat& m) {
@@ -109,19 +105,6 @@ void bench_throughput() {
 }
 
 // ---- Embree's tutorial path tracer --------------------------------------------------
-
-cv::Mat read_pfm(const fs::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::string magic;
-  int w = 0, h = 0;
-  double scale = 0;
-  f >> magic >> w >> h >> scale;
-  f.get();
-  if (magic != "PF" || w <= 0 || h <= 0) return {};
-  cv::Mat m(h, w, CV_32FC3);
-  for (int y = h - 1; y >= 0; --y) f.read(reinterpret_cast<char*>(m.ptr<float>(y)), std::streamsize(w) * 12);
-  return m;
-}
 
 // Runs `pathtracer`; returns wall seconds (negative when it could not run) and
 // its CPU seconds in *cpu.
@@ -424,6 +407,7 @@ int main(int argc, char** argv) {
               {"environment", "a one-pixel environment map: importance against uniform sampling"},
               {"adaptive", "adaptive thresholds against uniform spp"},
               {"bvh", "BVH build time of a 1M-triangle mesh"},
+              {"cycles", "against Blender's Cycles (2 threads): relMSE per second, time to equal error"},
               {"throughput", "paths per second, 1 thread (only when asked for)"}},
              "sections to run (default: all but throughput)");
   cli.parse(argc, argv);
@@ -441,5 +425,6 @@ int main(int argc, char** argv) {
   }
   if (on("environment")) bench_environment();
   if (on("adaptive")) bench_adaptive();
+  if (on("cycles")) bench::bench_cycles(quick);
   return 0;
 }

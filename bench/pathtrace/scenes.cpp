@@ -31,6 +31,16 @@ SceneObject ball(const Eigen::Vector3d& c, double r, Material::Model model, cons
   return o;
 }
 
+// An axis-aligned box of the given corners, faces outwards.
+std::shared_ptr<Mesh> box_mesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  auto m = std::make_shared<Mesh>();
+  m->V.resize(8, 3);
+  for (int i = 0; i < 8; ++i) m->V.row(i) << (i & 1 ? hi : lo).x(), (i & 2 ? hi : lo).y(), (i & 4 ? hi : lo).z();
+  m->F.resize(12, 3);
+  m->F << 0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4, 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5;
+  return m;
+}
+
 }  // namespace
 
 Scene embree_cornell_box(const std::filesystem::path& models) {
@@ -142,6 +152,42 @@ Scene bright_pixel_scene() {
   camera.eye = Eigen::Vector3d(0, 2, 5);
   camera.target = Eigen::Vector3d(0, 0.8, 0);
   camera.fov_y = 45 * M_PI / 180;
+  scene.camera = camera;
+  return scene;
+}
+
+Scene emissive_mesh_scene() {
+  Scene scene;
+  auto flat = [](std::shared_ptr<Mesh> m) {
+    m->N.resize(0, 3);
+    return m;
+  };
+  SceneObject ground;
+  ground.name = "ground";
+  ground.mesh = ground_quad(8);
+  ground.material.base_color = Eigen::Vector3d(0.5, 0.5, 0.5);
+  scene.objects.push_back(ground);
+  SceneObject sphere;
+  sphere.name = "ball";
+  sphere.mesh = flat(sphere_mesh({-1, 1, 0}, 1, 24, 48));
+  sphere.material.base_color = Eigen::Vector3d(0.75, 0.3, 0.2);
+  scene.objects.push_back(sphere);
+  SceneObject box;
+  box.name = "box";
+  box.mesh = box_mesh({0.6, 0, -0.4}, {1.8, 1.2, 0.8});
+  box.material.base_color = Eigen::Vector3d(0.3, 0.5, 0.7);
+  scene.objects.push_back(box);
+  SceneObject lamp;
+  lamp.name = "glowing sphere";
+  lamp.mesh = flat(sphere_mesh({0.6, 3.0, 1.6}, 0.5, 24, 48));
+  lamp.material.base_color = Eigen::Vector3d(0.8, 0.8, 0.8);
+  lamp.material.emission = Eigen::Vector3d(12, 10, 8);
+  scene.objects.push_back(lamp);
+  scene.environment.color = Eigen::Vector3d(0.05, 0.07, 0.1);
+  Camera camera;
+  camera.eye = Eigen::Vector3d(0, 2.2, 7);
+  camera.target = Eigen::Vector3d(0, 0.9, 0);
+  camera.fov_y = 40 * M_PI / 180;
   scene.camera = camera;
   return scene;
 }

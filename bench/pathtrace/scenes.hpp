@@ -15,5 +15,9 @@ namespace loom::pathtrace::bench {
 Scene embree_cornell_box(const std::filesystem::path& models);
 Scene night_scene(bool lamp);
 Scene bright_pixel_scene();
+// Lit by an emissive mesh: a diffuse ground, ball and box under a glowing
+// sphere mesh (one-sided, 24×48 faces) and a dim uniform sky. Every mesh is
+// flat shaded (no vertex normals), so Blender sees the same surfaces.
+Scene emissive_mesh_scene();
 
 }  // namespace loom::pathtrace::bench

@@ -13,6 +13,7 @@
 #include "bsdf.hpp"
 #include "light_sampler.hpp"
 #include "normal_mapping.hpp"
+#include "owen_sobol.hpp"
 #include "texture.hpp"
 
 namespace loom::pathtrace {
@@ -41,7 +42,8 @@ struct CameraRays {
     if (!(forward.squaredNorm() > 0)) forward = Vec3f(0, 0, -1);
     forward.normalize();
     right = forward.cross(c.up.cast<float>());
-    if (!(right.squaredNorm() > 1e-12f)) right = forward.cross(std::fabs(forward.y()) < 0.9f ? Vec3f(0, 1, 0) : Vec3f(1, 0, 0));
+    if (!(right.squaredNorm() > 1e-12f))
+      right = forward.cross(std::fabs(forward.y()) < 0.9f ? Vec3f(0, 1, 0) : Vec3f(1, 0, 0));
     right.normalize();
     up = right.cross(forward);
     tan_half = std::tan(float(c.fov_y) / 2);
@@ -116,8 +118,8 @@ struct LambertBsdf {
     return {base, cos_i * kInvPi, cos_i > 0};
   }
   float pdf(const Term& t) const { return t.scale; }
-  std::optional<Scattered> sample(Rng& rng) const {
-    const Vec3f wi = sample_cosine_hemisphere(rng.uniform2());
+  std::optional<Scattered> sample(PixelSampler& sampler) const {
+    const Vec3f wi = sample_cosine_hemisphere(sampler.uniform2());
     if (!(wi.z() > 0)) return std::nullopt;
     return Scattered{base, unit(Frame(n).to_world(wi)), wi.z() * kInvPi, false};
   }
@@ -141,9 +143,9 @@ struct FramedBsdf {
     return {f, 1.f, (f.array() > 0).any(), local};
   }
   float pdf(const Term& t) const { return bsdf_pdf(m, wo, t.wi_local); }
-  std::optional<Scattered> sample(Rng& rng) const {
-    const float uc = rng.uniform();
-    const auto bs = bsdf_sample(m, wo, uc, rng.uniform2());
+  std::optional<Scattered> sample(PixelSampler& sampler) const {
+    const float uc = sampler.uniform();
+    const auto bs = bsdf_sample(m, wo, uc, sampler.uniform2());
     if (!bs || !(bs->weight.array() > 0).any()) return std::nullopt;
     return Scattered{bs->weight, unit(frame.to_world(bs->wi)), bs->pdf, bs->delta};
   }
@@ -162,11 +164,10 @@ bool occluded(const EmbreeScene& traced, const SurfaceHit& hit, const LightSampl
 // product first, as the path loop always multiplied.
 template <class Bsdf>
 void sample_direct(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, const Vec3f& beta,
-                   bool use_mis, Rng& rng, PathResult& r) {
-  const float uc = rng.uniform();
-  const Vec2f u = rng.uniform2();
-  const float ue = rng.uniform();
-  const auto ls = c.lights.sample(hit.p, uc, u, ue);
+                   bool use_mis, PixelSampler& sampler, PathResult& r) {
+  const Vec2f u = sampler.uniform2();
+  const float ue = sampler.uniform();
+  const auto ls = c.lights.sample(hit.p, u, ue);
   if (!ls) return;
   const auto t = bsdf.direct(ls->wi);
   if (!t.nonzero || !(wo_side * ls->wi.dot(hit.ng) >= 0)) return;
@@ -183,10 +184,10 @@ struct Strategies {
 // One bounce at a hit: direct light, then the BSDF-sampled direction the path
 // continues in. False when the path ends here.
 template <class Bsdf>
-bool scatter(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, Strategies use, Rng& rng,
-             PathVertex& v, PathResult& r) {
-  if (use.nee && bsdf.nonspecular()) sample_direct(c, hit, wo_side, bsdf, v.beta, use.mis, rng, r);
-  const auto s = bsdf.sample(rng);
+bool scatter(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, Strategies use,
+             PixelSampler& sampler, PathVertex& v, PathResult& r) {
+  if (use.nee && bsdf.nonspecular()) sample_direct(c, hit, wo_side, bsdf, v.beta, use.mis, sampler, r);
+  const auto s = bsdf.sample(sampler);
   if (!s) return false;
   v.beta = v.beta.cwiseProduct(s->weight);
   v.prev_pdf = s->pdf;
@@ -206,7 +207,7 @@ void add_environment(const PathContext& c, const PathVertex& v, Strategies use, 
   if (depth == 0) r.albedo = c.environment.radiance(v.dir);
 }
 
-PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
+PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, PixelSampler& sampler) {
   const Strategies use{c.settings.strategy != Strategy::bsdf && !c.lights.empty(),
                        c.settings.strategy == Strategy::mis};
   PathResult r;
@@ -216,6 +217,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
   SurfaceHit hit;
   for (int depth = 0;; ++depth) {
     ++r.rays;
+    sampler.start_bounce(depth);
     if (!c.traced.intersect(origin, v.dir, kInf, &hit, depth == 0)) {
       add_environment(c, v, use, depth, r);
       break;
@@ -247,13 +249,13 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
 
     bool goes_on;
     if (sh.lambert) {
-      goes_on =
-          scatter(c, hit, wo_side, LambertBsdf{hit.ns.dot(v.dir) > 0 ? Vec3f(-hit.ns) : hit.ns, base}, use, rng, v, r);
+      goes_on = scatter(c, hit, wo_side, LambertBsdf{hit.ns.dot(v.dir) > 0 ? Vec3f(-hit.ns) : hit.ns, base}, use,
+                        sampler, v, r);
     } else {
       SurfaceMaterial m = sh.material;
       m.base = base;
       const Frame frame(hit.ns);
-      goes_on = scatter(c, hit, wo_side, FramedBsdf{m, frame, frame.to_local(-v.dir)}, use, rng, v, r);
+      goes_on = scatter(c, hit, wo_side, FramedBsdf{m, frame, frame.to_local(-v.dir)}, use, sampler, v, r);
     }
     if (!goes_on) break;
     v.prev_point = hit.p;
@@ -265,7 +267,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, Rng& rng) {
     origin = c.traced.offset(hit, v.dir);
     if (c.settings.russian_roulette && depth + 1 >= c.settings.rr_min_depth) {
       const float survive = std::min(0.95f, v.beta.maxCoeff());
-      if (!(rng.uniform() < survive)) break;
+      if (!(sampler.uniform() < survive)) break;
       v.beta /= survive;
     }
     if (!v.beta.allFinite()) break;
@@ -344,11 +346,11 @@ RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, in
       PixelAccumulator& a = film.pixels[index];
       if (a.done || !c.settings.region.contains(x, y, W)) continue;
       for (int k = 0; k < pass; ++k) {
-        Rng rng(c.settings.seed, index, std::uint64_t(a.n));
-        const Vec2f j = rng.uniform2();
+        PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(a.n));
+        const Vec2f j = sampler.uniform2();
         Vec3f origin, dir;
         cam.ray(2 * (x + j.x()) / W - 1, 1 - 2 * (y + j.y()) / H, &origin, &dir);
-        const PathResult p = trace_path(c, origin, dir, rng);
+        const PathResult p = trace_path(c, origin, dir, sampler);
         counts.rays += std::uint64_t(p.rays);
         ++a.n;
         if (!p.L.allFinite()) {

@@ -4,8 +4,9 @@
 //   w by the power heuristic between the light's and the BSDF's densities.
 // A path has at most max_depth bounces: max_depth = 1 is direct light only
 // (Embree's tutorial counts the same way: "1 = primary + shadow").
-// Sample s of pixel p draws from Rng(seed, p, s), so the image does not depend
-// on the thread count or on how samples are batched into passes.
+// Sample s of pixel p draws from PixelSampler(kind, seed, p, s) (owen_sobol.hpp),
+// so the image does not depend on the thread count or on how samples are
+// batched into passes.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +16,7 @@
 
 #include "embree_scene.hpp"
 #include "environment_light.hpp"
+#include "owen_sobol.hpp"
 #include "loom/node.hpp"
 #include "loom/scene.hpp"
 
@@ -29,6 +31,7 @@ struct RenderSettings {
   bool russian_roulette = true;
   int rr_min_depth = 3;  // bounces before roulette may end a path
   Strategy strategy = Strategy::mis;
+  SamplerKind sampler = SamplerKind::sobol;
   EnvironmentLight::Sampling environment_sampling = EnvironmentLight::Sampling::importance;
   // Adaptive sampling: a pixel stops once the relative standard error of its
   // luminance mean falls below the threshold (0: off), after at least min spp.

@@ -54,7 +54,7 @@ LightSampler::LightSampler(const Scene& scene, const EmbreeScene& traced,
     entries_.push_back({Entry::Kind::environment, -1, -1, -1, 0});
     power.push_back(4 * kPi * kPi * radius * radius * environment.mean_luminance());
   }
-  table_ = AliasTable(power);
+  table_ = CdfTable(power);
 }
 
 std::optional<LightSample> LightSampler::sample_environment(float select, float u_env,

@@ -1,5 +1,8 @@
-// Next-event estimation: every emitter of a scene in one alias table,
-// selected in proportion to its power (pbrt-v4's PowerLightSampler):
+// Next-event estimation: every emitter of a scene in one table, selected in
+// proportion to its power (pbrt-v4's PowerLightSampler) by inverting the
+// cumulative distribution with u.x, whose rest is then reused as the first
+// coordinate of the point on the chosen emitter (cdf_table.hpp), so one 2D
+// point stratifies the surfaces of all emitters together:
 //   emissive triangle  π A lum(Le)        (one-sided: emits on its winding's front)
 //   point light        4π I lum(color)
 //   spot light         2π (1 - (cos inner + cos outer) / 2) I lum(color)
@@ -14,7 +17,7 @@
 #include <optional>
 #include <vector>
 
-#include "alias_table.hpp"
+#include "cdf_table.hpp"
 #include "embree_scene.hpp"
 #include "environment_light.hpp"
 #include "loom/scene.hpp"
@@ -22,11 +25,11 @@
 namespace loom::pathtrace {
 
 struct LightSample {
-  Vec3f wi;         // unit, from the shaded point towards the light
-  float distance;   // to the light's point; infinity for distant lights
-  Vec3f point;      // the light's point (finite lights)
-  Vec3f radiance;   // arriving along -wi (for delta lights: intensity / d²)
-  float pdf;        // solid angle, selection included; for delta lights the selection alone
+  Vec3f wi;        // unit, from the shaded point towards the light
+  float distance;  // to the light's point; infinity for distant lights
+  Vec3f point;     // the light's point (finite lights)
+  Vec3f radiance;  // arriving along -wi (for delta lights: intensity / d²)
+  float pdf;       // solid angle, selection included; for delta lights the selection alone
   bool delta;
   // Whether a shadow ray decides visibility: false for a Light with
   // casts_shadow off (its light passes through everything). Emissive
@@ -48,7 +51,8 @@ class LightSampler {
 
   // Defined inline below, so that the path loop (integrator.cpp) can inline
   // it: it runs at every bounce.
-  std::optional<LightSample> sample(const Vec3f& p, float uc, const Vec2f& u, float u_env) const;
+  // u.x selects the emitter and, rescaled, u.x and u.y place the point on it.
+  std::optional<LightSample> sample(const Vec3f& p, const Vec2f& u, float u_env) const;
   // Solid-angle density of sample() choosing the point `hit` seen from `from`.
   float triangle_pdf(const SurfaceHit& hit, const Vec3f& from) const;
   float environment_pdf(const Vec3f& direction) const;
@@ -75,11 +79,10 @@ class LightSampler {
   std::vector<int> first_entry_;  // per traced object: its first triangle entry, or -1
   int environment_entry_ = -1;
   std::size_t triangle_count_ = 0;
-  AliasTable table_;
+  CdfTable table_;
 };
 
-inline float spot_falloff(const Vec3f& direction, float cos_inner, float cos_outer,
-                          const Vec3f& from_light) {
+inline float spot_falloff(const Vec3f& direction, float cos_inner, float cos_outer, const Vec3f& from_light) {
   const float c = from_light.dot(direction);
   const float ci = cos_inner, co = cos_outer;
   if (c >= ci) return 1;
@@ -88,10 +91,11 @@ inline float spot_falloff(const Vec3f& direction, float cos_inner, float cos_out
   return t * t * (3 - 2 * t);
 }
 
-inline std::optional<LightSample> LightSampler::sample(const Vec3f& p, float uc, const Vec2f& u,
-                                                       float u_env) const {
+inline std::optional<LightSample> LightSampler::sample(const Vec3f& p, const Vec2f& u_select, float u_env) const {
   if (table_.empty()) return std::nullopt;
-  const std::uint32_t index = table_.size() == 1 ? 0 : table_.sample(uc);
+  const CdfTable::Choice choice = table_.sample(u_select.x());
+  const std::uint32_t index = choice.index;
+  const Vec2f u(choice.remainder, u_select.y());
   const float select = table_.pmf(index);
   if (!(select > 0)) return std::nullopt;
   const Entry& e = entries_[index];

@@ -52,6 +52,10 @@ struct PathTrace {
                     {{Strategy::mis, "mis"}, {Strategy::nee, "nee"}, {Strategy::bsdf, "bsdf"}},
                     "mis: light and BSDF sampling weighted by the power heuristic; nee: light "
                     "sampling only (BSDF rays ignore emitters they hit); bsdf: no light sampling")
+        .enum_input("sampler", SamplerKind::sobol,
+                    {{SamplerKind::sobol, "sobol"}, {SamplerKind::independent, "independent"}},
+                    "sobol: Owen-scrambled Sobol points per pixel (Burley 2020), lower error per "
+                    "sample; independent: a splitmix64 stream per sample")
         .enum_input("environment_sampling", EnvironmentLight::Sampling::importance,
                     {{EnvironmentLight::Sampling::importance, "importance"},
                      {EnvironmentLight::Sampling::uniform, "uniform"}},
@@ -112,6 +116,7 @@ struct PathTrace {
     s.russian_roulette = in.get<bool>("russian_roulette");
     s.rr_min_depth = in.get<int>("rr_min_depth");
     s.strategy = in.get<Strategy>("strategy");
+    s.sampler = in.get<SamplerKind>("sampler");
     s.environment_sampling = in.get<EnvironmentLight::Sampling>("environment_sampling");
     s.adaptive_threshold = in.get<double>("adaptive_threshold");
     s.adaptive_min_spp = in.get<int>("adaptive_min_spp");

@@ -1,11 +1,15 @@
 // White furnace: a sphere of albedo 1 inside a uniform environment of radiance
 // 1 reflects exactly 1 everywhere, whatever the number of bounces. Every pixel
-// of an energy-conserving material must render to 1 within 3 standard errors
+// of an energy-conserving material must render to 1 within noise
 // (estimated from independent renders), with and without Russian roulette,
 // with the environment as a color (BSDF sampling) and as a constant map (light
-// sampling + MIS). Standard errors come from 64 independent renders; with
-// 8×8 pixels a fair estimator passes each case about 84% of the time at
-// exactly 3 SE (pixels whose estimator has zero variance must equal 1).
+// sampling + MIS). Standard errors come from 64 independent renders. The
+// material and light are white, so the 8×8 pixels give 64 distinct values
+// (three equal channels); a fair estimator puts 0.27 % of them (0.17 pixels
+// expected) beyond 3 SE, so a case fails when more than 2 pixels are (Poisson
+// tail 0.1 %) or any is beyond 4.5 SE; a bias of 3 SE everywhere puts half
+// of them outside. (No pixel beyond 3 SE, the old rule, fails a fair case
+// 16 % of the time.) Pixels whose estimator has zero variance must equal 1.
 #include <gtest/gtest.h>
 
 #include "test_scenes.hpp"
@@ -56,7 +60,8 @@ TEST_P(Furnace, EveryPixelIsOneWithinThreeStandardErrors) {
         worst = std::max(worst, z);
         outside += std::abs(mean - 1) > 3 * se + 1e-5;
       }
-  EXPECT_EQ(outside, 0) << c.name << ": worst deviation " << worst << " standard errors";
+  EXPECT_LE(outside, 3 * 2) << c.name << ": worst deviation " << worst << " standard errors";
+  EXPECT_LT(worst, 4.5) << c.name;
   EXPECT_NEAR(cv::mean(stats.mean)[0], 1.0, 0.02) << c.name;
 }
 

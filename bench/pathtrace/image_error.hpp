@@ -1,0 +1,36 @@
+// Error of an image against a reference, and the PFM files the peers write.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+namespace loom::pathtrace::bench {
+
+// relMSE = mean over pixels and channels of (x - ref)² / (ref² + 0.01).
+inline double rel_mse(const cv::Mat& x, const cv::Mat& ref) {
+  cv::Mat a, b;
+  x.convertTo(a, CV_64F);
+  ref.convertTo(b, CV_64F);
+  cv::Mat d = a - b;
+  cv::Mat r = d.mul(d) / (b.mul(b) + cv::Scalar::all(0.01));
+  return cv::mean(r.reshape(1))[0];
+}
+
+// A 3-channel little-endian PFM (rows bottom to top); empty if unreadable.
+inline cv::Mat read_pfm(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::string magic;
+  int w = 0, h = 0;
+  double scale = 0;
+  f >> magic >> w >> h >> scale;
+  f.get();
+  if (magic != "PF" || w <= 0 || h <= 0 || scale >= 0) return {};
+  cv::Mat m(h, w, CV_32FC3);
+  for (int y = h - 1; y >= 0; --y) f.read(reinterpret_cast<char*>(m.ptr<float>(y)), std::streamsize(w) * 12);
+  return f ? m : cv::Mat();
+}
+
+}  // namespace loom::pathtrace::bench
