@@ -132,7 +132,10 @@ Graph Engine::load(const json& document, const fs::path& file) {
 }
 
 Run Engine::run(const json& document, const std::vector<std::string>& targets, const fs::path& out) {
-  const Graph g = load(document);
+  return run(load(document), targets, out);
+}
+
+Run Engine::run(const Graph& g, const std::vector<std::string>& targets, const fs::path& out) {
   EvalOptions options;
   for (const auto& t : targets) options.targets.push_back(parse_target(t));
   if (out.empty() && state_->temp.empty()) state_->temp = fresh_temp_dir();
@@ -144,17 +147,20 @@ Run Engine::run(const GraphBuilder& graph, const std::vector<std::string>& targe
   return run(graph.document(), targets, out);
 }
 
-Value Engine::checked(const json& document, const std::string& target) {
-  return run(document, {target}).value(target);
-}
+Value Engine::value(const json& document, const std::string& target) { return run(document, {target}).value(target); }
 
 fs::path Engine::output_dir() {
   if (state_->temp.empty()) state_->temp = fresh_temp_dir();
   return state_->temp;
 }
 
+void Engine::load_plugins(const std::vector<std::string>& node_types) { state_->loader.load_for(node_types); }
+void Engine::load_all_plugins() { state_->loader.load_all(); }
+Session& Engine::session() { return state_->session; }
+
 const std::vector<fs::path>& Engine::plugin_path() const { return state_->loader.search_path(); }
 std::vector<std::string> Engine::loaded_plugins() const { return state_->loader.loaded_names(); }
 const Registry& Engine::registry() const { return state_->registry; }
+Registry& Engine::registry() { return state_->registry; }
 
 }  // namespace loom::testing

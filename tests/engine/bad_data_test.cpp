@@ -7,8 +7,9 @@
 
 #include "image_codec.hpp"
 #include "loom/formats/image_header.hpp"
-#include "loom_test.hpp"
 #include "mesh_codec.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
@@ -14,12 +16,12 @@ namespace {
 json graph(json nodes) { return {{"loom", 1}, {"nodes", std::move(nodes)}}; }
 json from(const std::string& link) { return {{"from", link}}; }
 
-EvalResult evaluate(test::Engine& e, const Graph& g, const std::vector<std::string>& targets, int threads = 0) {
+EvalResult evaluate(testing::Engine& e, const Graph& g, const std::vector<std::string>& targets, int threads = 0) {
   EvalOptions o;
   for (const auto& t : targets) o.targets.push_back(parse_target(t));
   o.threads = threads;
   o.output_dir = test::temp_dir();
-  return e.session.evaluate(g, o);
+  return e.session().evaluate(g, o);
 }
 
 // What follows the input's name in a message: the part the rule writes.
@@ -29,10 +31,10 @@ std::string after_input_name(const std::string& message) {
 }
 
 TEST(Binding, ALiteralAndALinkedValueAreRefusedInTheSameWords) {
-  test::Engine e;
+  testing::Engine e;
   std::string literal_message;
   try {
-    e.graph(graph({{"s", {{"type", "Switch"}, {"inputs", {{"index", 5}}}}}}));
+    e.load(graph({{"s", {{"type", "Switch"}, {"inputs", {{"index", 5}}}}}}));
   } catch (const GraphError& error) {
     ASSERT_EQ(error.issues().size(), 1u);
     EXPECT_EQ(error.issues()[0].pointer, "/nodes/s/inputs/index");
@@ -40,8 +42,8 @@ TEST(Binding, ALiteralAndALinkedValueAreRefusedInTheSameWords) {
   }
   EXPECT_EQ(literal_message, "value 5 is out of range: expected between 0 and 3");
 
-  Graph g = e.graph(graph({{"five", {{"type", "IntConstant"}, {"inputs", {{"value", 5}}}}},
-                           {"s", {{"type", "Switch"}, {"inputs", {{"index", from("five.value")}}}}}}));
+  Graph g = e.load(graph({{"five", {{"type", "IntConstant"}, {"inputs", {{"value", 5}}}}},
+                          {"s", {{"type", "Switch"}, {"inputs", {{"index", from("five.value")}}}}}}));
   EvalResult r = evaluate(e, g, {"s.value"});
   ASSERT_EQ(r.nodes.at("s").status, NodeStatus::failed);
   EXPECT_EQ(r.nodes.at("s").error.rfind("input \"index\": ", 0), 0u) << r.nodes.at("s").error;
@@ -49,11 +51,11 @@ TEST(Binding, ALiteralAndALinkedValueAreRefusedInTheSameWords) {
 }
 
 TEST(Binding, ALiteralAndALinkedOutputPathAreConfinedAlike) {
-  test::Engine e;
+  testing::Engine e;
   const json write = {{"type", "WriteText"}, {"inputs", {{"value", 1.0}, {"path", "../outside.txt"}}}};
   std::string literal;  // a literal is bound when the plan is built: the evaluation refuses to start
   try {
-    evaluate(e, e.graph(graph({{"w", write}})), {});
+    evaluate(e, e.load(graph({{"w", write}})), {});
     ADD_FAILURE() << "a literal path out of --out was accepted";
   } catch (const Error& error) {
     literal = error.what();
@@ -63,7 +65,7 @@ TEST(Binding, ALiteralAndALinkedOutputPathAreConfinedAlike) {
   json linked = write;
   linked["inputs"]["path"] = from("p.value");
   EvalResult via_link = evaluate(
-      e, e.graph(graph({{"p", {{"type", "StringConstant"}, {"inputs", {{"value", "../outside.txt"}}}}}, {"w", linked}})),
+      e, e.load(graph({{"p", {{"type", "StringConstant"}, {"inputs", {{"value", "../outside.txt"}}}}}, {"w", linked}})),
       {});
   ASSERT_EQ(via_link.nodes.at("w").status, NodeStatus::failed);
   EXPECT_NE(literal.find("leaves the output folder"), std::string::npos) << literal;
@@ -127,11 +129,11 @@ json switch_chain(int n) {
 }
 
 TEST(Binding, ALazyChainAtTheLimitRunsOnEveryThread) {
-  test::Engine e;
-  Graph g = e.graph(switch_chain(kMaxLazyChain));
+  testing::Engine e;
+  Graph g = e.load(switch_chain(kMaxLazyChain));
   for (int threads : {1, 2}) {
-    test::Engine fresh;
-    fresh.graph(switch_chain(kMaxLazyChain));  // loads the plugins
+    testing::Engine fresh;
+    fresh.load(switch_chain(kMaxLazyChain));  // loads the plugins
     EvalResult r = evaluate(fresh, g, {"s" + std::to_string(kMaxLazyChain) + ".value"}, threads);
     ASSERT_TRUE(r.ok()) << threads;
     EXPECT_EQ(r.outputs.begin()->second.at(0).as<double>(), 3.5);
@@ -139,10 +141,10 @@ TEST(Binding, ALazyChainAtTheLimitRunsOnEveryThread) {
 }
 
 TEST(Binding, ALazyChainPastTheLimitIsRefusedByValidationAndByTheEvaluator) {
-  test::Engine e;
+  testing::Engine e;
   const json doc = switch_chain(2000);
   try {
-    e.graph(doc);
+    e.load(doc);
     ADD_FAILURE() << "validation accepted 2000 chained lazy inputs";
   } catch (const GraphError& error) {
     ASSERT_EQ(error.issues().size(), 1u) << error.what();
@@ -151,7 +153,7 @@ TEST(Binding, ALazyChainPastTheLimitIsRefusedByValidationAndByTheEvaluator) {
   }
   // Unvalidated (a front end that skips validation): a clear failure, no crash.
   Graph g = parse_graph(doc, "chain.json");
-  e.loader.load_for(node_types_used(g));
+  e.load_plugins(node_types_used(g));
   EvalResult r = evaluate(e, g, {"s2000.value"}, 2);
   EXPECT_FALSE(r.ok());
   bool named = false;
@@ -160,13 +162,13 @@ TEST(Binding, ALazyChainPastTheLimitIsRefusedByValidationAndByTheEvaluator) {
 }
 
 TEST(Binding, FrameNumbersAreBounded) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"c", {{"type", "FloatConstant"}, {"inputs", {{"value", 1.0}}}}}}));
+  testing::Engine e;
+  Graph g = e.load(graph({{"c", {{"type", "FloatConstant"}, {"inputs", {{"value", 1.0}}}}}}));
   EvalOptions o;
   o.targets = {parse_target("c.value")};
   o.frames = FrameRange{INT_MAX, INT_MAX};
   try {
-    e.session.evaluate(g, o);
+    e.session().evaluate(g, o);
     ADD_FAILURE() << "frame 2147483647 was evaluated";
   } catch (const Error& error) {
     EXPECT_NE(std::string(error.what()).find("frame numbers lie between"), std::string::npos) << error.what();

@@ -11,7 +11,9 @@
 
 #include "loom/disk_cache.hpp"
 #include "loom/scene.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
@@ -128,17 +130,14 @@ TEST(DiskCache, TheMemoryCacheOfASessionRereadsAChangedFileToo) {
   auto dir = test::temp_dir();
   std::ofstream(dir / "number.txt") << "5\n";
   std::ofstream(dir / "list.txt") << "@number.txt\n";
-  test::Engine e;
-  Graph g = e.graph(graph({{"p", {{"type", "StringConstant"}, {"inputs", {{"value", "list.txt"}}}}},
-                           {"r", {{"type", "ReadNumber"}, {"inputs", {{"path", from("p.value")}}}}},
-                           {"m", {{"type", "Math"}, {"inputs", {{"a", from("r.value")}, {"b", 1}}}}}}),
-                    dir / "g.json");
-  auto value = [&] {
-    EvalResult r = e.run(g, {"m.result"});
-    return r.outputs.at("m.result").at(0).as<double>();
-  };
+  testing::Engine e;
+  Graph g = e.load(graph({{"p", {{"type", "StringConstant"}, {"inputs", {{"value", "list.txt"}}}}},
+                          {"r", {{"type", "ReadNumber"}, {"inputs", {{"path", from("p.value")}}}}},
+                          {"m", {{"type", "Math"}, {"inputs", {{"a", from("r.value")}, {"b", 1}}}}}}),
+                   dir / "g.json");
+  auto value = [&] { return e.run(g, {"m.result"}).output<double>("m.result"); };
   EXPECT_EQ(value(), 6);
-  EXPECT_EQ(e.run(g, {"m.result"}).nodes.at("m").status, NodeStatus::cached);
+  EXPECT_EQ(e.run(g, {"m.result"}).status("m"), NodeStatus::cached);
   std::ofstream(dir / "number.txt") << "70\n";
   EXPECT_EQ(value(), 71);  // m's own entry is stale too: it carries r's files
 }
@@ -152,30 +151,30 @@ TEST(DiskCache, ASceneIsReadAgainWhenItsMaterialLibraryOrATextureChanges) {
                                      "vt 0 1\nusemtl m\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n";
   std::ofstream(dir / "quad.mtl") << "newmtl m\nKd 0.8 0.2 0.2\n";
   std::ofstream(dir / "tex.ppm") << "P3\n1 1\n255\n10 20 30\n";
-  test::Engine e;
-  Graph g = e.graph(graph({{"s", {{"type", "LoadScene"}, {"inputs", {{"path", "quad.obj"}}}}}}), dir / "g.json");
+  testing::Engine e;
+  Graph g = e.load(graph({{"s", {{"type", "LoadScene"}, {"inputs", {{"path", "quad.obj"}}}}}}), dir / "g.json");
   auto run = [&] {
-    EvalResult r = e.run(g, {"s.scene"});
+    testing::Run r = e.run(g, {"s.scene"});
     EXPECT_TRUE(r.ok());
     return r;
   };
-  auto material = [](const EvalResult& r) { return r.outputs.at("s.scene").at(0).as<Scene>().objects.at(0).material; };
-  EvalResult first = run();
-  EXPECT_EQ(first.nodes.at("s").status, NodeStatus::ran);
-  EXPECT_EQ(run().nodes.at("s").status, NodeStatus::cached);
+  auto material = [](const testing::Run& r) { return r.output<Scene>("s.scene").objects.at(0).material; };
+  testing::Run first = run();
+  EXPECT_EQ(first.status("s"), NodeStatus::ran);
+  EXPECT_EQ(run().status("s"), NodeStatus::cached);
   std::ofstream(dir / "quad.mtl") << "newmtl m\nKd 0.2 0.8 0.2\n";  // same size, new colour
   fs::last_write_time(dir / "quad.mtl", fs::last_write_time(dir / "quad.mtl") + std::chrono::seconds(2));
-  EvalResult recoloured = run();
-  EXPECT_EQ(recoloured.nodes.at("s").status, NodeStatus::ran);
+  testing::Run recoloured = run();
+  EXPECT_EQ(recoloured.status("s"), NodeStatus::ran);
   EXPECT_NEAR(material(first).base_color.x(), 0.8, 1e-6);
   EXPECT_NEAR(material(recoloured).base_color.x(), 0.2, 1e-6);
   std::ofstream(dir / "quad.mtl") << "newmtl m\nKd 0.2 0.8 0.2\nmap_Kd tex.ppm\n";
-  EvalResult textured = run();
-  EXPECT_EQ(textured.nodes.at("s").status, NodeStatus::ran);
-  EXPECT_EQ(run().nodes.at("s").status, NodeStatus::cached);
+  testing::Run textured = run();
+  EXPECT_EQ(textured.status("s"), NodeStatus::ran);
+  EXPECT_EQ(run().status("s"), NodeStatus::cached);
   std::ofstream(dir / "tex.ppm") << "P3\n1 1\n255\n200 20 30\n";
-  EvalResult retextured = run();
-  EXPECT_EQ(retextured.nodes.at("s").status, NodeStatus::ran);
+  testing::Run retextured = run();
+  EXPECT_EQ(retextured.status("s"), NodeStatus::ran);
   ASSERT_TRUE(material(textured).base_color_map && material(retextured).base_color_map);
   EXPECT_LT(material(textured).base_color_map->pixels.at<cv::Vec3f>(0, 0)[0],
             material(retextured).base_color_map->pixels.at<cv::Vec3f>(0, 0)[0]);

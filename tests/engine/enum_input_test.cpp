@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "loom/registry.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 
 namespace loom {
 namespace {
@@ -45,13 +45,13 @@ void run_probe(Inputs& in, Outputs& out, Context&) {
   out.set("name", in.get<std::string>("shape"));
 }
 
-struct ProbeEngine : test::Engine {
+struct ProbeEngine : testing::Engine {
   ProbeEngine() {
     NodeType t;
     t.spec.name = "EnumProbe";
     declare_probe(t.spec);
     t.run = &run_probe;
-    registry.add(std::move(t), "enum_input_test");
+    registry().add(std::move(t), "enum_input_test");
   }
 };
 
@@ -66,20 +66,20 @@ struct Outcome {
   std::string name;
 };
 Outcome run(ProbeEngine& e, const json& document) {
-  EvalResult r = e.run(e.graph(document), {"probe.value", "probe.name"});
+  testing::Run r = e.run(document, {"probe.value", "probe.name"});
   Outcome o;
-  o.status = r.nodes.at("probe").status;
-  o.error = r.nodes.at("probe").error;
+  o.status = r.status("probe");
+  o.error = r.error("probe");
   if (r.ok()) {
-    o.value = r.outputs.at("probe.value").at(0).as<int>();
-    o.name = r.outputs.at("probe.name").at(0).as<std::string>();
+    o.value = r.output<int>("probe.value");
+    o.name = r.output<std::string>("probe.name");
   }
   return o;
 }
 
 TEST(EnumInput, DeclaresTheSameStringsAsBefore) {
   ProbeEngine e;
-  const NodeType* t = e.registry.find("EnumProbe");
+  const NodeType* t = e.registry().find("EnumProbe");
   ASSERT_NE(t, nullptr);
   const InputSpec* shape = t->spec.find_input("shape");
   ASSERT_NE(shape, nullptr);
@@ -135,7 +135,7 @@ TEST(EnumInput, AnUnknownLinkedStringFailsTheNodeNamingInputAndChoices) {
 TEST(EnumInput, AnUnknownLiteralIsRefusedWhenTheGraphLoads) {
   ProbeEngine e;
   try {
-    e.graph(graph({{"probe", {{"type", "EnumProbe"}, {"inputs", {{"shape", "hexagon"}}}}}}));
+    e.load(graph({{"probe", {{"type", "EnumProbe"}, {"inputs", {{"shape", "hexagon"}}}}}}));
     FAIL() << "the graph was accepted";
   } catch (const GraphError& error) {
     const std::string what = error.what();

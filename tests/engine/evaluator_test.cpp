@@ -7,7 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
@@ -29,24 +30,24 @@ struct RunLog : Observer {
 json graph(json nodes) { return {{"loom", 1}, {"seed", 7}, {"nodes", std::move(nodes)}}; }
 json from(const std::string& link) { return {{"from", link}}; }
 
-EvalResult evaluate(test::Engine& e, const Graph& g, std::vector<std::string> targets, RunLog* log,
-                    int threads = 0, const std::atomic<bool>* cancel = nullptr) {
+EvalResult evaluate(testing::Engine& e, const Graph& g, std::vector<std::string> targets, RunLog* log, int threads = 0,
+                    const std::atomic<bool>* cancel = nullptr) {
   EvalOptions o;
   for (const auto& t : targets) o.targets.push_back(parse_target(t));
   o.observer = log;
   o.threads = threads;
   o.cancel = cancel;
   o.output_dir = test::temp_dir();
-  return e.session.evaluate(g, o);
+  return e.session().evaluate(g, o);
 }
 
 double number(const EvalResult& r, const std::string& target) { return r.outputs.at(target).at(0).as<double>(); }
 
 TEST(Evaluator, PrunesWhatTheTargetsDoNotNeed) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"a", {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}}}}},
-                           {"b", {{"type", "Math"}, {"inputs", {{"a", from("a.result")}, {"b", 10}}}}},
-                           {"unused", {{"type", "Math"}, {"inputs", {{"a", 5}}}}}}));
+  testing::Engine e;
+  Graph g = e.load(graph({{"a", {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}}}}},
+                          {"b", {{"type", "Math"}, {"inputs", {{"a", from("a.result")}, {"b", 10}}}}},
+                          {"unused", {{"type", "Math"}, {"inputs", {{"a", 5}}}}}}));
   RunLog log;
   EvalResult r = evaluate(e, g, {"b.result"}, &log);
   EXPECT_DOUBLE_EQ(number(r, "b.result"), 13.0);
@@ -56,13 +57,17 @@ TEST(Evaluator, PrunesWhatTheTargetsDoNotNeed) {
 }
 
 TEST(Evaluator, SwitchNeverRunsTheUnselectedBranch) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"cheap", {{"type", "FloatConstant"}, {"inputs", {{"value", 1}}}}},
-                           {"costly", {{"type", "Sleep"}, {"inputs", {{"value", 2}, {"ms", 1}}}}},
-                           {"broken", {{"type", "Fail"}}},
-                           {"sw", {{"type", "Switch"},
-                                   {"inputs", {{"index", 0}, {"in0", from("cheap.value")},
-                                               {"in1", from("costly.value")}, {"in2", from("broken.value")}}}}}}));
+  testing::Engine e;
+  Graph g = e.load(graph({{"cheap", {{"type", "FloatConstant"}, {"inputs", {{"value", 1}}}}},
+                          {"costly", {{"type", "Sleep"}, {"inputs", {{"value", 2}, {"ms", 1}}}}},
+                          {"broken", {{"type", "Fail"}}},
+                          {"sw",
+                           {{"type", "Switch"},
+                            {"inputs",
+                             {{"index", 0},
+                              {"in0", from("cheap.value")},
+                              {"in1", from("costly.value")},
+                              {"in2", from("broken.value")}}}}}}));
   RunLog log;
   EvalResult r = evaluate(e, g, {"sw.value"}, &log);
   EXPECT_DOUBLE_EQ(number(r, "sw.value"), 1.0);
@@ -83,11 +88,12 @@ TEST(Evaluator, SwitchNeverRunsTheUnselectedBranch) {
 }
 
 TEST(Evaluator, CacheHitsAfterAnUnrelatedChangeAndMissesAfterARelatedOne) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"x", {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}}}}},
-                           {"y", {{"type", "Math"}, {"inputs", {{"a", from("x.result")}, {"b", 3}}}}},
-                           {"z", {{"type", "Math"}, {"inputs", {{"a", 100}, {"b", 1}}}}},
-                           {"sum", {{"type", "Math"}, {"inputs", {{"a", from("y.result")}, {"b", from("z.result")}}}}}}));
+  testing::Engine e;
+  Graph g =
+      e.load(graph({{"x", {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}}}}},
+                    {"y", {{"type", "Math"}, {"inputs", {{"a", from("x.result")}, {"b", 3}}}}},
+                    {"z", {{"type", "Math"}, {"inputs", {{"a", 100}, {"b", 1}}}}},
+                    {"sum", {{"type", "Math"}, {"inputs", {{"a", from("y.result")}, {"b", from("z.result")}}}}}}));
   RunLog first;
   EvalResult r = evaluate(e, g, {"sum.result"}, &first);
   EXPECT_DOUBLE_EQ(number(r, "sum.result"), 107.0);
@@ -111,9 +117,9 @@ TEST(Evaluator, CacheHitsAfterAnUnrelatedChangeAndMissesAfterARelatedOne) {
 }
 
 TEST(Evaluator, ChangingTheNodeTypeVersionOrDefaultsMissesTheCache) {
-  test::Engine e;
-  Graph a = e.graph(graph({{"m", {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}}}}}}));
-  Graph b = e.graph(graph({{"m", {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}, {"op", "add"}}}}}}));
+  testing::Engine e;
+  Graph a = e.load(graph({{"m", {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}}}}}}));
+  Graph b = e.load(graph({{"m", {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}, {"op", "add"}}}}}}));
   RunLog l1, l2;
   evaluate(e, a, {"m"}, &l1);
   evaluate(e, b, {"m"}, &l2);  // the same values, one written, one by default: one computation
@@ -121,9 +127,9 @@ TEST(Evaluator, ChangingTheNodeTypeVersionOrDefaultsMissesTheCache) {
 }
 
 TEST(Evaluator, NondeterministicNodesAndTheirDependentsAreNeverCached) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"t", {{"type", "Clockwork"}}},
-                           {"m", {{"type", "Math"}, {"inputs", {{"a", from("t.value")}}}}}}));
+  testing::Engine e;
+  Graph g =
+      e.load(graph({{"t", {{"type", "Clockwork"}}}, {"m", {{"type", "Math"}, {"inputs", {{"a", from("t.value")}}}}}}));
   RunLog l1, l2;
   evaluate(e, g, {"m"}, &l1);
   evaluate(e, g, {"m"}, &l2);
@@ -132,50 +138,53 @@ TEST(Evaluator, NondeterministicNodesAndTheirDependentsAreNeverCached) {
 }
 
 TEST(Evaluator, IndependentNodesRunInParallel) {
-  test::Engine e;
+  testing::Engine e;
   // Each Rendezvous fails unless the other runs at the same time.
-  Graph g = e.graph(graph({{"r1", {{"type", "Rendezvous"}, {"inputs", {{"tag", 1}}}}},
-                           {"r2", {{"type", "Rendezvous"}, {"inputs", {{"tag", 2}}}}},
-                           {"sum", {{"type", "Math"}, {"inputs", {{"a", from("r1.value")}, {"b", from("r2.value")}}}}}}));
+  Graph g =
+      e.load(graph({{"r1", {{"type", "Rendezvous"}, {"inputs", {{"tag", 1}}}}},
+                    {"r2", {{"type", "Rendezvous"}, {"inputs", {{"tag", 2}}}}},
+                    {"sum", {{"type", "Math"}, {"inputs", {{"a", from("r1.value")}, {"b", from("r2.value")}}}}}}));
   EvalResult r = evaluate(e, g, {"sum.result"}, nullptr, 2);
   EXPECT_TRUE(r.ok()) << r.nodes.at("r1").error;
   EXPECT_DOUBLE_EQ(number(r, "sum.result"), 2.0);
 }
 
 TEST(Evaluator, OneThreadRunsNodesOneAtATime) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"r1", {{"type", "Rendezvous"}, {"inputs", {{"tag", 3}, {"timeout_ms", 200}}}}},
-                           {"r2", {{"type", "Rendezvous"}, {"inputs", {{"tag", 4}, {"timeout_ms", 200}}}}},
-                           {"sum", {{"type", "Math"}, {"inputs", {{"a", from("r1.value")}, {"b", from("r2.value")}}}}}}));
+  testing::Engine e;
+  Graph g =
+      e.load(graph({{"r1", {{"type", "Rendezvous"}, {"inputs", {{"tag", 3}, {"timeout_ms", 200}}}}},
+                    {"r2", {{"type", "Rendezvous"}, {"inputs", {{"tag", 4}, {"timeout_ms", 200}}}}},
+                    {"sum", {{"type", "Math"}, {"inputs", {{"a", from("r1.value")}, {"b", from("r2.value")}}}}}}));
   EvalResult r = evaluate(e, g, {"sum.result"}, nullptr, 1);
   EXPECT_FALSE(r.ok());  // --threads 1 is a real bound: they cannot meet
 }
 
 TEST(Evaluator, AFailureSkipsDependentsAndIndependentSinksFinish) {
-  test::Engine e;
+  testing::Engine e;
   auto dir = test::temp_dir();
-  Graph g = e.graph(graph({{"bad", {{"type", "Fail"}}},
-                           {"after", {{"type", "Math"}, {"inputs", {{"a", from("bad.value")}}}}},
-                           {"sink1", {{"type", "WriteText"}, {"inputs", {{"value", from("after.result")}, {"path", "a.txt"}}}}},
-                           {"good", {{"type", "FloatConstant"}, {"inputs", {{"value", 4}}}}},
-                           {"sink2", {{"type", "WriteText"}, {"inputs", {{"value", from("good.value")}, {"path", "b.txt"}}}}}}));
-  EvalResult r = e.run(g, {}, 0, dir);
-  EXPECT_EQ(r.nodes.at("bad").status, NodeStatus::failed);
-  EXPECT_EQ(r.nodes.at("bad").error, "failing on purpose");
-  EXPECT_EQ(r.nodes.at("after").status, NodeStatus::skipped);
-  EXPECT_EQ(r.nodes.at("sink1").status, NodeStatus::skipped);
-  EXPECT_EQ(r.nodes.at("sink2").status, NodeStatus::ran);
+  Graph g = e.load(
+      graph({{"bad", {{"type", "Fail"}}},
+             {"after", {{"type", "Math"}, {"inputs", {{"a", from("bad.value")}}}}},
+             {"sink1", {{"type", "WriteText"}, {"inputs", {{"value", from("after.result")}, {"path", "a.txt"}}}}},
+             {"good", {{"type", "FloatConstant"}, {"inputs", {{"value", 4}}}}},
+             {"sink2", {{"type", "WriteText"}, {"inputs", {{"value", from("good.value")}, {"path", "b.txt"}}}}}}));
+  testing::Run r = e.run(g, {}, dir);
+  EXPECT_EQ(r.status("bad"), NodeStatus::failed);
+  EXPECT_EQ(r.error("bad"), "failing on purpose");
+  EXPECT_EQ(r.status("after"), NodeStatus::skipped);
+  EXPECT_EQ(r.status("sink1"), NodeStatus::skipped);
+  EXPECT_EQ(r.status("sink2"), NodeStatus::ran);
   EXPECT_TRUE(std::filesystem::exists(dir / "b.txt"));
   EXPECT_FALSE(std::filesystem::exists(dir / "a.txt"));
   EXPECT_FALSE(r.ok());
 }
 
 TEST(Evaluator, NoNaNOrInfinityLeavesANode) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"nan", {{"type", "UncheckedRatio"}, {"inputs", {{"a", 0}, {"b", 0}}}}},
-                           {"inf", {{"type", "UncheckedRatio"}, {"inputs", {{"a", 1}, {"b", 0}}}}},
-                           {"fine", {{"type", "UncheckedRatio"}, {"inputs", {{"a", 1}, {"b", 4}}}}},
-                           {"after", {{"type", "Math"}, {"inputs", {{"a", from("nan.value")}}}}}}));
+  testing::Engine e;
+  Graph g = e.load(graph({{"nan", {{"type", "UncheckedRatio"}, {"inputs", {{"a", 0}, {"b", 0}}}}},
+                          {"inf", {{"type", "UncheckedRatio"}, {"inputs", {{"a", 1}, {"b", 0}}}}},
+                          {"fine", {{"type", "UncheckedRatio"}, {"inputs", {{"a", 1}, {"b", 4}}}}},
+                          {"after", {{"type", "Math"}, {"inputs", {{"a", from("nan.value")}}}}}}));
   EvalResult r = evaluate(e, g, {"after.result", "inf.points", "fine.value"}, nullptr);
   EXPECT_EQ(r.nodes.at("nan").status, NodeStatus::failed);
   EXPECT_EQ(r.nodes.at("nan").error, "output \"value\": the number is NaN or infinite");
@@ -186,22 +195,23 @@ TEST(Evaluator, NoNaNOrInfinityLeavesANode) {
 }
 
 TEST(Evaluator, SinksAlwaysRun) {
-  test::Engine e;
+  testing::Engine e;
   auto dir = test::temp_dir();
-  Graph g = e.graph(graph({{"v", {{"type", "FloatConstant"}, {"inputs", {{"value", 1}}}}},
-                           {"w", {{"type", "WriteText"}, {"inputs", {{"value", from("v.value")}, {"path", "v.txt"}}}}}}));
-  e.run(g, {}, 0, dir);
+  Graph g =
+      e.load(graph({{"v", {{"type", "FloatConstant"}, {"inputs", {{"value", 1}}}}},
+                    {"w", {{"type", "WriteText"}, {"inputs", {{"value", from("v.value")}, {"path", "v.txt"}}}}}}));
+  e.run(g, {}, dir);
   std::filesystem::remove(dir / "v.txt");
-  EvalResult r = e.run(g, {}, 0, dir);
-  EXPECT_EQ(r.nodes.at("w").status, NodeStatus::ran);
-  EXPECT_EQ(r.nodes.at("v").status, NodeStatus::cached);
+  testing::Run r = e.run(g, {}, dir);
+  EXPECT_EQ(r.status("w"), NodeStatus::ran);
+  EXPECT_EQ(r.status("v"), NodeStatus::cached);
   EXPECT_TRUE(std::filesystem::exists(dir / "v.txt"));
 }
 
 TEST(Evaluator, CancellationStopsARunningNodeAndIsNotCached) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"slow", {{"type", "Sleep"}, {"inputs", {{"ms", 20000}}}}},
-                           {"after", {{"type", "Math"}, {"inputs", {{"a", from("slow.value")}}}}}}));
+  testing::Engine e;
+  Graph g = e.load(graph({{"slow", {{"type", "Sleep"}, {"inputs", {{"ms", 20000}}}}},
+                          {"after", {{"type", "Math"}, {"inputs", {{"a", from("slow.value")}}}}}}));
   std::atomic<bool> cancel{false};
   std::thread canceller([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -215,15 +225,15 @@ TEST(Evaluator, CancellationStopsARunningNodeAndIsNotCached) {
   EXPECT_EQ(r.nodes.at("slow").status, NodeStatus::failed);
   EXPECT_EQ(r.nodes.at("slow").error, "cancelled");
   EXPECT_EQ(r.nodes.at("after").status, NodeStatus::skipped);
-  EXPECT_EQ(e.session.cache_entries(), 0u);
+  EXPECT_EQ(e.session().cache_entries(), 0u);
 }
 
 TEST(Evaluator, SeedsComeFromTheGraphSeedAndNodeIdNotFromOrder) {
   auto value = [](std::uint64_t seed, const std::string& id, int threads) {
-    test::Engine e;
+    testing::Engine e;
     json doc = graph({{id, {{"type", "Random"}}}, {"other", {{"type", "Random"}}}});
     doc["seed"] = seed;
-    Graph g = e.graph(doc);
+    Graph g = e.load(doc);
     return number(evaluate(e, g, {id + ".value", "other.value"}, nullptr, threads), id + ".value");
   };
   EXPECT_EQ(value(7, "r", 1), value(7, "r", 2));
@@ -232,14 +242,14 @@ TEST(Evaluator, SeedsComeFromTheGraphSeedAndNodeIdNotFromOrder) {
 }
 
 TEST(Evaluator, EqualNodesWithDifferentIdsDoNotShareSeededResults) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"r", {{"type", "Random"}}}, {"s", {{"type", "Random"}}}}));
+  testing::Engine e;
+  Graph g = e.load(graph({{"r", {{"type", "Random"}}}, {"s", {{"type", "Random"}}}}));
   EvalResult r = evaluate(e, g, {"r.value", "s.value"}, nullptr);
   EXPECT_NE(number(r, "r.value"), number(r, "s.value"));
 }
 
 TEST(Evaluator, ALongChainDoesNotRecurse) {
-  test::Engine e;
+  testing::Engine e;
   json nodes = json::object();
   nodes["n0"] = {{"type", "FloatConstant"}, {"inputs", {{"value", 0}}}};
   const int n = 20000;
@@ -247,7 +257,7 @@ TEST(Evaluator, ALongChainDoesNotRecurse) {
     nodes["n" + std::to_string(i)] = {{"type", "Math"},
                                       {"inputs", {{"a", from("n" + std::to_string(i - 1) + ".result")}, {"b", 1}}}};
   nodes["n1"]["inputs"]["a"] = from("n0.value");
-  Graph g = e.graph(graph(nodes));
+  Graph g = e.load(graph(nodes));
   EvalResult r = evaluate(e, g, {"n" + std::to_string(n - 1) + ".result"}, nullptr);
   EXPECT_DOUBLE_EQ(number(r, "n" + std::to_string(n - 1) + ".result"), n - 1.0);
 }
@@ -275,14 +285,14 @@ struct RecordingObserver : Observer {
 };
 
 TEST(Evaluator, ProgressFromWorkerThreadsIsMonotone) {
-  test::Engine engine;
-  auto g = engine.graph({{"loom", 1}, {"nodes", {{"p", {{"type", "ParallelProgress"}}}}}});
+  testing::Engine engine;
+  auto g = engine.load({{"loom", 1}, {"nodes", {{"p", {{"type", "ParallelProgress"}}}}}});
   RecordingObserver observer;
   EvalOptions options;
   options.targets = {parse_target("p")};
   options.observer = &observer;
   options.threads = 4;
-  auto r = engine.session.evaluate(g, options);
+  auto r = engine.session().evaluate(g, options);
   ASSERT_EQ(r.nodes.at("p").status, NodeStatus::ran) << r.nodes.at("p").error;
   ASSERT_FALSE(observer.fractions.empty());
   for (std::size_t i = 1; i < observer.fractions.size(); ++i)

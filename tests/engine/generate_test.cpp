@@ -8,7 +8,7 @@
 
 #include "loom/image.hpp"
 #include "loom/mesh.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 
 namespace loom {
 namespace {
@@ -40,9 +40,8 @@ double signed_volume(const Mesh& m) {
 }
 
 Mesh make(const std::string& type, json inputs) {
-  test::Engine e;
-  return e.output({{"loom", 1}, {"seed", 3}, {"nodes", {{"m", {{"type", type}, {"inputs", inputs}}}}}}, "m.mesh")
-      .as<Mesh>();
+  testing::Engine e;
+  return e.output<Mesh>({{"loom", 1}, {"seed", 3}, {"nodes", {{"m", {{"type", type}, {"inputs", inputs}}}}}}, "m.mesh");
 }
 
 TEST(Generate, DiskIsATopologicalDiskFacingUp) {
@@ -83,11 +82,14 @@ TEST(Generate, GridHasUVsOnTheUnitSquare) {
 }
 
 TEST(Generate, CheckerboardHasTwoColorsInCells) {
-  test::Engine e;
-  Image img = e.output({{"loom", 1}, {"nodes", {{"b", {{"type", "Checkerboard"},
-                                                       {"inputs", {{"size", {40, 20}}, {"cells", 2},
-                                                                   {"color_a", {1, 0, 0}}, {"color_b", "#0000ff"}}}}}}}},
-                       "b.image").as<Image>();
+  testing::Engine e;
+  Image img = e.output<Image>(
+      {{"loom", 1},
+       {"nodes",
+        {{"b",
+          {{"type", "Checkerboard"},
+           {"inputs", {{"size", {40, 20}}, {"cells", 2}, {"color_a", {1, 0, 0}}, {"color_b", "#0000ff"}}}}}}}},
+      "b.image");
   EXPECT_EQ(img.encoding, Encoding::srgb);
   EXPECT_EQ(img.pixels.at<cv::Vec3f>(0, 0), cv::Vec3f(1, 0, 0));
   EXPECT_EQ(img.pixels.at<cv::Vec3f>(0, 10), cv::Vec3f(0, 0, 1));

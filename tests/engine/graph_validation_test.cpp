@@ -3,15 +3,16 @@
 
 #include <gtest/gtest.h>
 
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
 
 std::vector<GraphIssue> issues_of(const json& doc) {
-  test::Engine engine;
+  testing::Engine engine;
   try {
-    engine.graph(doc, "/tmp/g.json");
+    engine.load(doc, "/tmp/g.json");
   } catch (const GraphError& e) {
     EXPECT_EQ(e.file(), "/tmp/g.json");
     return e.issues();

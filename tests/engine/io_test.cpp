@@ -6,8 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "image_codec.hpp"
-#include "loom_test.hpp"
 #include "mesh_codec.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {

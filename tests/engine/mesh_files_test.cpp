@@ -8,8 +8,9 @@
 #include <gtest/gtest.h>
 
 #include "loom/numerics/mesh_topology.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 #include "mesh_codec.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
@@ -73,14 +74,16 @@ TEST(MeshTopology, ACutDiskKeepsItsSeamThroughObjAndPly) {
 TEST(MeshTopology, LoadSaveLoadThroughTheNodesKeepsTheCut) {
   auto dir = test::temp_dir();
   io::write_mesh(cut_disk(5, 16), dir / "disk.obj", "");
-  test::Engine engine;
-  auto g = engine.graph({{"loom", 1},
-                         {"nodes",
-                          {{"load", {{"type", "LoadMesh"}, {"inputs", {{"path", (dir / "disk.obj").string()}}}}},
-                           {"save",
-                            {{"type", "SaveMesh"},
-                             {"inputs", {{"mesh", {{"from", "load.mesh"}}}, {"path", "again.obj"}}}}}}}});
-  auto r = engine.run(g, {}, 1, dir / "out");
+  testing::Engine engine;
+  auto g = engine.load(
+      {{"loom", 1},
+       {"nodes",
+        {{"load", {{"type", "LoadMesh"}, {"inputs", {{"path", (dir / "disk.obj").string()}}}}},
+         {"save", {{"type", "SaveMesh"}, {"inputs", {{"mesh", {{"from", "load.mesh"}}}, {"path", "again.obj"}}}}}}}});
+  EvalOptions one_thread;
+  one_thread.threads = 1;
+  one_thread.output_dir = dir / "out";
+  const EvalResult r = engine.session().evaluate(g, one_thread);
   ASSERT_EQ(r.nodes.at("save").status, NodeStatus::ran) << r.nodes.at("save").error;
   const Mesh again = io::read_mesh(dir / "out" / "again.obj");
   EXPECT_EQ(again.vertices(), cut_disk(5, 16).vertices());
@@ -91,13 +94,13 @@ TEST(MeshTopology, WeldIsAnOptionThatClosesTheCut) {
   auto dir = test::temp_dir();
   const Mesh disk = cut_disk(3, 8);
   io::write_mesh(disk, dir / "disk.obj", "");
-  test::Engine engine;
+  testing::Engine engine;
   json doc = {{"loom", 1},
               {"nodes",
                {{"load",
                  {{"type", "LoadMesh"},
                   {"inputs", {{"path", (dir / "disk.obj").string()}, {"weld", true}}}}}}}};
-  const Mesh welded = engine.output(doc, "load.mesh").as<Mesh>();
+  const Mesh welded = engine.output<Mesh>(doc, "load.mesh");
   EXPECT_EQ(welded.vertices(), disk.vertices() - 3);  // one duplicate per ring
   EXPECT_EQ(welded.faces(), disk.faces());
   EXPECT_EQ(numerics::boundary_loops(welded.F).size(), 1u);  // now only the rim

@@ -8,7 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "loom/builtin_types.hpp"
-#include "loom_test.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {

@@ -7,7 +7,8 @@
 #include <gtest/gtest.h>
 
 #include "loom/graph.hpp"
-#include "loom_test.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {

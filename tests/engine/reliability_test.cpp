@@ -14,7 +14,8 @@
 
 #include "image_codec.hpp"
 #include "loom/graph.hpp"
-#include "loom_test.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 #include "video_codec.hpp"
 
 namespace loom {

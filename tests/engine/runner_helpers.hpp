@@ -7,7 +7,9 @@
 #include <sstream>
 #include <string>
 
-#include "loom_test.hpp"
+#include "loom/value.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 
 namespace loom::test {
 

@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
-#include "loom_test.hpp"
+#include "loom/evaluator.hpp"
+#include "loom/plugin_loader.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {

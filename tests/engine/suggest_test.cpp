@@ -7,7 +7,8 @@
 #include <gtest/gtest.h>
 
 #include "loom/suggest.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
@@ -50,10 +51,10 @@ TEST(NearNames, ShortNamesAllowOneEdit) {
 TEST(UnknownNodeType, SuggestsATypeOfAPluginNotLoaded) {
   // Checkerboard lives in `generate`, which this graph does not load: its
   // manifest supplies the name.
-  test::Engine engine;
+  testing::Engine engine;
   const json doc = {{"loom", 1}, {"nodes", {{"board", {{"type", "checkerbord"}}}}}};
   try {
-    engine.graph(doc);
+    engine.load(doc);
     FAIL() << "accepted";
   } catch (const GraphError& e) {
     ASSERT_EQ(e.issues().size(), 1u);
@@ -61,7 +62,7 @@ TEST(UnknownNodeType, SuggestsATypeOfAPluginNotLoaded) {
     EXPECT_NE(m.find("did you mean \"Checkerboard\""), std::string::npos) << m;
     EXPECT_NE(m.find("LOOM_PLUGIN_PATH"), std::string::npos) << m;
   }
-  const auto loaded = engine.loader.loaded_names();
+  const auto loaded = engine.loaded_plugins();
   EXPECT_EQ(std::find(loaded.begin(), loaded.end(), "generate"), loaded.end());
 }
 

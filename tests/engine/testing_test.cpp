@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "loom/testing.hpp"
-#include "loom_test.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {

@@ -8,7 +8,8 @@
 
 #include "loom/disk_cache.hpp"
 #include "loom/frame_pattern.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
@@ -41,7 +42,7 @@ json graph(json nodes, int start = 1, int end = 1, double fps = 24) {
 }
 json from(const std::string& link) { return {{"from", link}}; }
 
-EvalResult at_frames(test::Engine& e, const Graph& g, int first, int last, std::vector<std::string> targets,
+EvalResult at_frames(testing::Engine& e, const Graph& g, int first, int last, std::vector<std::string> targets,
                      RunLog* log, std::size_t state_budget = std::size_t(1) << 30) {
   EvalOptions o;
   for (const auto& t : targets) o.targets.push_back(parse_target(t));
@@ -49,18 +50,19 @@ EvalResult at_frames(test::Engine& e, const Graph& g, int first, int last, std::
   o.frames = FrameRange{first, last};
   o.output_dir = test::temp_dir();
   o.state_memory_budget = state_budget;
-  return e.session.evaluate(g, o);
+  return e.session().evaluate(g, o);
 }
 
 double number(const EvalResult& r, const std::string& target) { return r.outputs.at(target).at(0).as<double>(); }
 
 TEST(Time, AFrameIndependentNodeRunsOnceAcross240Frames) {
-  test::Engine e;
+  testing::Engine e;
   // The static part is a 30 ms Sleep; the time-dependent part one FrameNumber.
-  Graph g = e.graph(graph({{"expensive", {{"type", "Sleep"}, {"inputs", {{"value", 1000}, {"ms", 30}}}}},
-                           {"frame", {{"type", "FrameNumber"}}},
-                           {"sum", {{"type", "Math"}, {"inputs", {{"a", from("expensive.value")}, {"b", from("frame.value")}}}}}},
-                          1, 240));
+  Graph g = e.load(
+      graph({{"expensive", {{"type", "Sleep"}, {"inputs", {{"value", 1000}, {"ms", 30}}}}},
+             {"frame", {{"type", "FrameNumber"}}},
+             {"sum", {{"type", "Math"}, {"inputs", {{"a", from("expensive.value")}, {"b", from("frame.value")}}}}}},
+            1, 240));
   RunLog log;
   EvalResult r = at_frames(e, g, 1, 240, {"sum.result"}, &log);
   ASSERT_TRUE(r.ok());
@@ -77,8 +79,8 @@ TEST(Time, AFrameIndependentNodeRunsOnceAcross240Frames) {
 }
 
 TEST(Time, ANodeThatDoesNotReadTimeIsNotEvaluatedPerFrame) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"a", {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}}}}}}, 1, 10));
+  testing::Engine e;
+  Graph g = e.load(graph({{"a", {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}}}}}}, 1, 10));
   RunLog log;
   EvalResult r = at_frames(e, g, 1, 10, {"a.result"}, &log);
   EXPECT_EQ(log.count("a"), 1);
@@ -95,9 +97,9 @@ double integrate_by_hand(double x0, double v, int substeps, int start, int frame
 }
 
 TEST(Time, StateFeedbackEqualsAHandWrittenLoopOfSteps) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"sim", {{"type", "Integrate"}, {"inputs", {{"x", 2.5}, {"v", -3.0}, {"substeps", 3}}}}}},
-                          5, 200, 30));
+  testing::Engine e;
+  Graph g = e.load(
+      graph({{"sim", {{"type", "Integrate"}, {"inputs", {{"x", 2.5}, {"v", -3.0}, {"substeps", 3}}}}}}, 5, 200, 30));
   RunLog log;
   EvalResult r = at_frames(e, g, 5, 200, {"sim.x"}, &log);
   ASSERT_TRUE(r.ok()) << r.nodes.at("sim").error;
@@ -109,10 +111,10 @@ TEST(Time, StateFeedbackEqualsAHandWrittenLoopOfSteps) {
 }
 
 TEST(Time, AskingForALateFrameStepsEveryEarlierFrameOnceAndScrubbingBackReusesThem) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"sim", {{"type", "Integrate"}, {"inputs", {{"x", 0.0}, {"v", 1.5}}}}},
-                           {"out", {{"type", "Math"}, {"inputs", {{"a", from("sim.x")}, {"b", 100}}}}}},
-                          1, 240));
+  testing::Engine e;
+  Graph g = e.load(graph({{"sim", {{"type", "Integrate"}, {"inputs", {{"x", 0.0}, {"v", 1.5}}}}},
+                          {"out", {{"type", "Math"}, {"inputs", {{"a", from("sim.x")}, {"b", 100}}}}}},
+                         1, 240));
   RunLog log;
   EvalResult r = at_frames(e, g, 120, 120, {"out.result"}, &log);
   ASSERT_TRUE(r.ok()) << r.nodes.at("sim").error;
@@ -133,11 +135,11 @@ TEST(Time, AskingForALateFrameStepsEveryEarlierFrameOnceAndScrubbingBackReusesTh
 }
 
 TEST(Time, ASimulationParameterInvalidatesItsFramesADownstreamSettingDoesNot) {
-  test::Engine e;
+  testing::Engine e;
   json doc = graph({{"sim", {{"type", "Integrate"}, {"inputs", {{"x", 0.0}, {"v", 1.0}}}}},
                     {"out", {{"type", "Math"}, {"inputs", {{"a", from("sim.x")}, {"b", 1}}}}}},
                    1, 50);
-  Graph g = e.graph(doc);
+  Graph g = e.load(doc);
   RunLog log;
   at_frames(e, g, 1, 50, {"out.result"}, &log);
   EXPECT_EQ(log.count("sim"), 50);
@@ -158,11 +160,11 @@ TEST(Time, ASimulationParameterInvalidatesItsFramesADownstreamSettingDoesNot) {
 }
 
 TEST(Time, ATimeDependentParameterIsReadAtEachSteppedFrame) {
-  test::Engine e;
+  testing::Engine e;
   // v(f) = f / 10: x(f) = sum over g = 2..f of v(g) / fps.
-  Graph g = e.graph(graph({{"v", {{"type", "FrameNumber"}, {"inputs", {{"scale", 0.1}}}}},
-                           {"sim", {{"type", "Integrate"}, {"inputs", {{"x", 0.0}, {"v", from("v.value")}}}}}},
-                          1, 40, 10));
+  Graph g = e.load(graph({{"v", {{"type", "FrameNumber"}, {"inputs", {{"scale", 0.1}}}}},
+                          {"sim", {{"type", "Integrate"}, {"inputs", {{"x", 0.0}, {"v", from("v.value")}}}}}},
+                         1, 40, 10));
   RunLog log;
   EvalResult r = at_frames(e, g, 40, 40, {"sim.x"}, &log);
   ASSERT_TRUE(r.ok()) << r.nodes.at("sim").error;
@@ -173,12 +175,13 @@ TEST(Time, ATimeDependentParameterIsReadAtEachSteppedFrame) {
 }
 
 TEST(Time, AStepCopiesAMillionParticleStateOncePerFrameAndTheEngineNever) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"init", {{"type", "MakeParticles"}, {"inputs", {{"count", 1000000}}}}},
-                           {"sim", {{"type", "MoveParticles"}, {"inputs", {{"particles", from("init.particles")}, {"v", 24.0}}}}},
-                           {"sum", {{"type", "ParticleSum"}, {"inputs", {{"particles", from("sim.particles")}}}}},
-                           {"copies", {{"type", "StateCopies"}}}},
-                          1, 10));
+  testing::Engine e;
+  Graph g = e.load(
+      graph({{"init", {{"type", "MakeParticles"}, {"inputs", {{"count", 1000000}}}}},
+             {"sim", {{"type", "MoveParticles"}, {"inputs", {{"particles", from("init.particles")}, {"v", 24.0}}}}},
+             {"sum", {{"type", "ParticleSum"}, {"inputs", {{"particles", from("sim.particles")}}}}},
+             {"copies", {{"type", "StateCopies"}}}},
+            1, 10));
   RunLog log;
   const int before = at_frames(e, g, 1, 1, {"copies.value"}, &log).outputs.at("copies.value")[0].as<int>();
   EvalResult r = at_frames(e, g, 1, 10, {"sum.value"}, &log);
@@ -190,11 +193,11 @@ TEST(Time, AStepCopiesAMillionParticleStateOncePerFrameAndTheEngineNever) {
 }
 
 TEST(Time, StatesBeyondTheMemoryBudgetAreDroppedButSteppingOnNeverRestarts) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"init", {{"type", "MakeParticles"}, {"inputs", {{"count", 1000}}}}},
-                           {"sim", {{"type", "MoveParticles"}, {"inputs", {{"particles", from("init.particles")}}}}},
-                           {"sum", {{"type", "ParticleSum"}, {"inputs", {{"particles", from("sim.particles")}}}}}},
-                          1, 30));
+  testing::Engine e;
+  Graph g = e.load(graph({{"init", {{"type", "MakeParticles"}, {"inputs", {{"count", 1000}}}}},
+                          {"sim", {{"type", "MoveParticles"}, {"inputs", {{"particles", from("init.particles")}}}}},
+                          {"sum", {{"type", "ParticleSum"}, {"inputs", {{"particles", from("sim.particles")}}}}}},
+                         1, 30));
   RunLog log;
   const std::size_t five_states = 5 * 1000 * sizeof(double);
   at_frames(e, g, 1, 30, {"sum.value"}, &log, five_states);
@@ -209,8 +212,8 @@ TEST(Time, StatesBeyondTheMemoryBudgetAreDroppedButSteppingOnNeverRestarts) {
 }
 
 TEST(Time, FramesBeforeTheStartOrReversedAreRefused) {
-  test::Engine e;
-  Graph g = e.graph(graph({{"a", {{"type", "FrameNumber"}}}}, 10, 20));
+  testing::Engine e;
+  Graph g = e.load(graph({{"a", {{"type", "FrameNumber"}}}}, 10, 20));
   RunLog log;
   EXPECT_THROW(at_frames(e, g, 5, 12, {"a.value"}, &log), Error);
   EXPECT_THROW(at_frames(e, g, 15, 12, {"a.value"}, &log), Error);
@@ -264,35 +267,35 @@ std::vector<int> span(int first, int last) {
 
 // What a time slider marks: the frames whose result the session keeps.
 TEST(Time, CachedFramesAreTheSimulationFramesStepped) {
-  test::Engine e;
+  testing::Engine e;
   json nodes = {{"sim", {{"type", "Integrate"}, {"inputs", {{"v", 2.0}}}}},
                 {"after", {{"type", "Math"}, {"inputs", {{"a", from("sim.x")}, {"b", 1}}}}},
                 {"still", {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}}}}}};
-  Graph g = e.graph(graph(nodes, 1, 10));
-  EXPECT_TRUE(e.session.cached_frames(g, "sim", {1, 10}).empty());
-  EXPECT_TRUE(e.session.cached_frames(g, "still", {1, 10}).empty());
+  Graph g = e.load(graph(nodes, 1, 10));
+  EXPECT_TRUE(e.session().cached_frames(g, "sim", {1, 10}).empty());
+  EXPECT_TRUE(e.session().cached_frames(g, "still", {1, 10}).empty());
   ASSERT_TRUE(at_frames(e, g, 5, 5, {"sim", "still"}, nullptr).ok());  // steps 1..5 to get there
-  EXPECT_EQ(e.session.cached_frames(g, "sim", {1, 10}), span(1, 5));
-  EXPECT_EQ(e.session.cached_frames(g, "sim", {3, 4}), span(3, 4));
+  EXPECT_EQ(e.session().cached_frames(g, "sim", {1, 10}), span(1, 5));
+  EXPECT_EQ(e.session().cached_frames(g, "sim", {3, 4}), span(3, 4));
   // A node that does not read time has one result for every frame.
-  EXPECT_EQ(e.session.cached_frames(g, "still", {1, 10}), span(1, 10));
+  EXPECT_EQ(e.session().cached_frames(g, "still", {1, 10}), span(1, 10));
   // Scrubbing on steps from the latest state: 6..8 join.
   ASSERT_TRUE(at_frames(e, g, 8, 8, {"sim"}, nullptr).ok());
-  EXPECT_EQ(e.session.cached_frames(g, "sim", {1, 10}), span(1, 8));
+  EXPECT_EQ(e.session().cached_frames(g, "sim", {1, 10}), span(1, 8));
 
   // A downstream setting keeps the simulation's frames...
   json downstream = nodes;
   downstream["after"]["inputs"]["b"] = 5;
-  EXPECT_EQ(e.session.cached_frames(e.graph(graph(downstream, 1, 10)), "sim", {1, 10}), span(1, 8));
+  EXPECT_EQ(e.session().cached_frames(e.load(graph(downstream, 1, 10)), "sim", {1, 10}), span(1, 8));
   // ...a parameter of the simulation drops them all, until stepped again.
   json edited = nodes;
   edited["sim"]["inputs"]["v"] = 3.0;
-  Graph g2 = e.graph(graph(edited, 1, 10));
-  EXPECT_TRUE(e.session.cached_frames(g2, "sim", {1, 10}).empty());
+  Graph g2 = e.load(graph(edited, 1, 10));
+  EXPECT_TRUE(e.session().cached_frames(g2, "sim", {1, 10}).empty());
   ASSERT_TRUE(at_frames(e, g2, 2, 2, {"sim"}, nullptr).ok());
-  EXPECT_EQ(e.session.cached_frames(g2, "sim", {1, 10}), span(1, 2));
+  EXPECT_EQ(e.session().cached_frames(g2, "sim", {1, 10}), span(1, 2));
 
-  EXPECT_THROW(e.session.cached_frames(g, "nope", {1, 10}), Error);
+  EXPECT_THROW(e.session().cached_frames(g, "nope", {1, 10}), Error);
 }
 
 TEST(Time, CachedFramesIncludeTheDiskCacheAndNeverASink) {
@@ -303,21 +306,21 @@ TEST(Time, CachedFramesIncludeTheDiskCacheAndNeverASink) {
   json nodes = {{"sim", {{"type", "Integrate"}, {"inputs", {{"ms", 60}}}}},
                 {"print", {{"type", "Print"}, {"inputs", {{"value", from("sim.x")}}}}}};
   {
-    test::Engine e;
-    Graph g = e.graph(graph(nodes, 1, 6));
+    testing::Engine e;
+    Graph g = e.load(graph(nodes, 1, 6));
     EvalOptions opt;
     opt.targets = {parse_target("sim")};
     opt.frames = FrameRange{1, 3};
     opt.disk_cache = &disk;
-    ASSERT_TRUE(e.session.evaluate(g, opt).ok());
-    EXPECT_TRUE(e.session.cached_frames(g, "print", {1, 6}, opt).empty());
+    ASSERT_TRUE(e.session().evaluate(g, opt).ok());
+    EXPECT_TRUE(e.session().cached_frames(g, "print", {1, 6}, opt).empty());
   }
-  test::Engine fresh;  // nothing in memory: what the disk keeps
-  Graph g = fresh.graph(graph(nodes, 1, 6));
-  EXPECT_TRUE(fresh.session.cached_frames(g, "sim", {1, 6}).empty());
+  testing::Engine fresh;  // nothing in memory: what the disk keeps
+  Graph g = fresh.load(graph(nodes, 1, 6));
+  EXPECT_TRUE(fresh.session().cached_frames(g, "sim", {1, 6}).empty());
   EvalOptions with_disk;
   with_disk.disk_cache = &disk;
-  EXPECT_EQ(fresh.session.cached_frames(g, "sim", {1, 6}, with_disk), span(1, 3));
+  EXPECT_EQ(fresh.session().cached_frames(g, "sim", {1, 6}, with_disk), span(1, 3));
 }
 
 TEST(Time, TheGraphUiFieldIsKeptAndIgnored) {

@@ -9,6 +9,8 @@
 
 #include "loom/evaluator.hpp"
 #include "loom/plugin_loader.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 
 namespace loom::test {
 
@@ -27,26 +29,5 @@ struct Engine {
   // One output value of one node, failing the test if the node did not run.
   Value output(const json& document, const std::string& node_output);
 };
-
-// ../shared/data/<relative>, or an empty path when the data is absent.
-std::filesystem::path data_file(const std::string& relative);
-// Skips the current test when the data file is absent.
-#define LOOM_REQUIRE_DATA(path_var, relative)                                   \
-  const std::filesystem::path path_var = ::loom::test::data_file(relative);     \
-  if (path_var.empty()) GTEST_SKIP() << "course data absent: " << (relative)
-
-// A fresh, empty temporary folder for this test.
-std::filesystem::path temp_dir();
-
-// Runs the built `loom` command; returns its exit code, stdout+stderr in *output.
-// Unless the arguments name a --cache folder, the run gets a fresh, empty
-// persistent cache (XDG_CACHE_HOME in a new temporary folder).
-int run_loom(const std::string& arguments, std::string* output = nullptr);
-// run_loom with VAR=value assignments in front of the command.
-int run_loom_env(const std::string& environment, const std::string& arguments, std::string* output = nullptr);
-// Runs a shell script; returns its exit code, stdout+stderr in *output.
-int run_shell(const std::string& script, std::string* output = nullptr);
-// The environment assignment run_loom puts in front of the command.
-std::string fresh_cache_env(const std::string& arguments);
 
 }  // namespace loom::test

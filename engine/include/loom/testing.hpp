@@ -101,16 +101,31 @@ class LOOM_API Engine {
           const std::filesystem::path& out = {});
   Run run(const GraphBuilder& graph, const std::vector<std::string>& targets = {},
           const std::filesystem::path& out = {});
+  // A graph load() returned: one loaded from a named file (relative paths
+  // resolve against it), or run twice to see what the cache kept.
+  Run run(const Graph& graph, const std::vector<std::string>& targets = {}, const std::filesystem::path& out = {});
 
   // One output, throwing loom::Error with the node's error if it did not run.
   template <class T>
   T output(const json& document, const std::string& target) {
-    return checked(document, target).as<T>();
+    return value(document, target).as<T>();
   }
   template <class T>
   T output(const GraphBuilder& graph, const std::string& target) {
-    return checked(graph.document(), target).as<T>();
+    return value(graph.document(), target).as<T>();
   }
+  // The same as a Value: its type, its summary, or only whether it throws.
+  Value value(const json& document, const std::string& target);
+
+  // Loads the plugins that declare these node types, so registry() knows them
+  // without a graph being run (a front end's or a tool's own tests).
+  void load_plugins(const std::vector<std::string>& node_types);
+  void load_all_plugins();
+
+  // The Session every run goes through, for what run() does not ask:
+  // threads, frames, an observer, cancellation, the disk cache, and what the
+  // cache holds (cached_frames, cache_entries).
+  Session& session();
 
   // A temporary folder for sinks' files, removed when the Engine is destroyed
   // (pass `out` to run() to keep them).
@@ -118,9 +133,9 @@ class LOOM_API Engine {
   const std::vector<std::filesystem::path>& plugin_path() const;
   std::vector<std::string> loaded_plugins() const;
   const Registry& registry() const;
+  Registry& registry();  // to add a node type the test itself declares
 
  private:
-  Value checked(const json& document, const std::string& target);
   struct State;
   std::unique_ptr<State> state_;
 };
