@@ -35,6 +35,8 @@ struct GroupRef {
   std::string name;      // what seeds its inner nodes
 };
 
+bool is_json_path(const std::string& type) { return type.size() > 5 && type.compare(type.size() - 5, 5, ".json") == 0; }
+
 bool is_object_with(const json& j, const char* key) { return j.is_object() && j.contains(key); }
 
 const std::set<std::string> kInterfaceKeys = {"type", "default", "min", "max", "choices",
@@ -117,8 +119,11 @@ std::optional<GroupRef> Expander::resolve(const std::string& type, const Scope& 
   auto [found, fresh] = found_.emplace(scope.file.parent_path().string() + "\n" + type, fs::path());
   if (fresh) found->second = find_group_file(type, scope.file);
   const fs::path file = found->second;
+  // A group file naming its own bare name means the node type it shadows
+  // (Math.json using Math); validation reports the clash where it is used.
+  if (!file.empty() && file == scope.file.lexically_normal() && !is_json_path(type)) return std::nullopt;
   if (file.empty()) {
-    if (type.size() > 5 && type.compare(type.size() - 5, 5, ".json") == 0)
+    if (is_json_path(type))
       issue(scope, pointer, "group file \"" + type + "\" not found (a path is relative to the folder of " +
                                 (scope.file.empty() ? std::string("the graph") : scope.file.string()) + ")");
     return std::nullopt;

@@ -199,6 +199,33 @@ TEST(Groups, ErrorsPointIntoTheGroupFile) {
   }
 }
 
+// LOOM_GRAPH_PATH before the shipped library; a group named like a node type
+// is refused.
+TEST(Groups, BareNamesAreFoundOnTheGraphPathThenInTheShippedLibrary) {
+  testing::Engine engine;
+  Folder f;
+  const json twice = {{"loom", 2},
+                      {"inputs", {{"x", {{"type", "Float"}, {"default", 0}, {"to", {"m.a", "m.b"}}}}}},
+                      {"outputs", {{"y", {{"from", "m.result"}}}}},
+                      {"nodes", {{"m", {{"type", "Math"}}}}}};
+  f.write("mine/twice.json", twice);
+  f.write("clash/Math.json", twice);
+  const std::string old = std::getenv("LOOM_GRAPH_PATH") ? std::getenv("LOOM_GRAPH_PATH") : "";
+  ::setenv("LOOM_GRAPH_PATH", (f.dir / "nowhere").string().append(":").append((f.dir / "mine").string()).c_str(), 1);
+  const json doc = {{"loom", 2}, {"nodes", {{"t", {{"type", "twice"}, {"inputs", {{"x", 21}}}}}}}};
+  EXPECT_EQ(engine.output<double>(doc, "t.y"), 42.0);
+  EXPECT_FALSE(find_group_file("studio", f.dir / "g.json").empty());  // the shipped library, last
+  ::setenv("LOOM_GRAPH_PATH", (f.dir / "clash").string().c_str(), 1);
+  try {
+    (void)engine.load(json{{"loom", 2}, {"nodes", {{"m", {{"type", "Math"}}}}}});
+    FAIL() << "no error";
+  } catch (const GraphError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nodes/m/type: \"Math\" names both a group and a node type (of plugin util)"),
+              std::string::npos) << e.what();
+  }
+  ::setenv("LOOM_GRAPH_PATH", old.c_str(), 1);
+}
+
 TEST(Groups, SetAndTargetReachInnerNodesByPath) {
   testing::Engine engine({LOOM_TEST_PLUGIN_DIR});
   Graph g = engine.load(two_instances(2, 3), "t.json");
