@@ -221,13 +221,28 @@ void Expander::add_node(Graph& g, const Scope& scope, const std::string& base, c
   g.nodes.emplace(id, std::move(*n));
 }
 
+// "group instance "look" has no output "picture" (its outputs: image)"
+std::string no_output_message(const Graph& g, const Link& link) {
+  Link l = link;
+  for (auto it = g.instances.find(l.node); it != g.instances.end(); it = g.instances.find(l.node)) {
+    auto out = it->second.interface.outputs.find(l.output);
+    if (out == it->second.interface.outputs.end()) {
+      std::string known;
+      for (const auto& [name, unused] : it->second.interface.outputs) known += (known.empty() ? "" : ", ") + name;
+      return "group instance \"" + l.node + "\" (" + it->second.type + ") has no output \"" + l.output +
+             "\" (its outputs: " + (known.empty() ? "none" : known) + ")";
+    }
+    l = out->second;
+  }
+  return "no output \"" + link.output + "\"";
+}
+
 void Expander::resolve_own_links(Graph& g, const Scope& scope, const std::vector<std::string>& own) {
   auto resolve_all = [&](std::map<std::string, InputBinding>& inputs, const std::string& np) {
     for (auto& [name, b] : inputs) {
       if (!b.link) continue;
       auto to = follow_instance_outputs(g, *b.link);
-      if (!to) issue(scope, np + "/inputs/" + pointer_escape(name) + "/from",
-                     "group instance \"" + b.link->node + "\" has no output \"" + b.link->output + "\"");
+      if (!to) issue(scope, np + "/inputs/" + pointer_escape(name) + "/from", no_output_message(g, *b.link));
       else b.link = *to;
     }
   };
