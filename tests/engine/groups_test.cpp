@@ -131,6 +131,32 @@ json two_instances(double a, double b) {
                      {"sum", {{"type", "Math"}, {"inputs", {{"a", link("one.value")}, {"b", link("two.value")}}}}}}}};
 }
 
+// Ten: x -> x + 10 by 10 chained Math nodes; Hundred: 10 chained Tens.
+json ten_of(const std::string& inner, const std::string& in, const std::string& out) {
+  json nodes = json::object();
+  for (int i = 0; i < 10; ++i) {
+    json inputs = i == 0 ? json::object() : json{{in, link("s" + std::to_string(i - 1) + "." + out)}};
+    if (inner == "Math") inputs["b"] = 1;
+    nodes["s" + std::to_string(i)] = {{"type", inner}, {"inputs", inputs}};
+  }
+  return {{"inputs", {{"x", {{"type", "Float"}, {"default", 0}, {"to", {"s0." + in}}}}}},
+          {"outputs", {{"x", {{"from", "s9." + out}}}}},
+          {"nodes", nodes}};
+}
+
+TEST(Groups, NestedGroupsExpandToTheirInnerChain) {
+  testing::Engine engine;
+  const json doc = {{"loom", 2},
+                    {"groups", {{"Ten", ten_of("Math", "a", "result")}, {"Hundred", ten_of("Ten", "x", "x")}}},
+                    {"nodes", {{"h", {{"type", "Hundred"}, {"inputs", {{"x", 0.5}}}}}}}};
+  const Graph g = engine.load(doc, "n.json");
+  EXPECT_EQ(g.nodes.size(), 100u);
+  EXPECT_TRUE(g.instances.count("h.s3"));
+  EXPECT_EQ(engine.output<double>(doc, "h.x"), 100.5);
+  EXPECT_EQ(engine.output<double>(doc, "h.s3.s4.result"), 35.5);  // 3 tens and 5 ones
+  EXPECT_EQ(engine.output<double>(doc, "h.s3.x"), 40.5);
+}
+
 TEST(Groups, TwoInstancesWithEqualInputsShareTheirInnerResults) {
   testing::Engine engine({LOOM_TEST_PLUGIN_DIR});
   testing::Run same = engine.run(two_instances(2, 2), {"sum.result"});
