@@ -252,6 +252,24 @@ TEST(Groups, BareNamesAreFoundOnTheGraphPathThenInTheShippedLibrary) {
   ::setenv("LOOM_GRAPH_PATH", old.c_str(), 1);
 }
 
+// The interface's range holds for linked values too: checked when the value
+// arrives at the inner input, with the group input named.
+TEST(Groups, ALinkedValueOutsideTheInterfaceRangeFailsTheInnerNode) {
+  testing::Engine engine;
+  const json group = {{"inputs", {{"x", {{"type", "Float"}, {"min", 0}, {"max", 10}, {"to", {"m.a"}}}}}},
+                      {"outputs", {{"y", {{"from", "m.result"}}}}},
+                      {"nodes", {{"m", {{"type", "Math"}, {"inputs", {{"b", 1}}}}}}}};
+  auto doc = [&](double v) {
+    return json{{"loom", 2}, {"groups", {{"Small", group}}},
+                {"nodes", {{"v", {{"type", "Math"}, {"inputs", {{"a", v}}}}},
+                           {"g", {{"type", "Small"}, {"inputs", {{"x", link("v.result")}}}}}}}};
+  };
+  EXPECT_EQ(engine.output<double>(doc(4), "g.y"), 5.0);
+  testing::Run run = engine.run(doc(20), {"g.y"});
+  EXPECT_EQ(run.status("g.m"), NodeStatus::failed);
+  EXPECT_NE(run.error("g.m").find("group input \"x\" of g: value 20.0 is out of range: expected between 0 and 10"), std::string::npos) << run.error("g.m");
+}
+
 TEST(Groups, SetAndTargetReachInnerNodesByPath) {
   testing::Engine engine({LOOM_TEST_PLUGIN_DIR});
   Graph g = engine.load(two_instances(2, 3), "t.json");
