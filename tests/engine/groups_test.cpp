@@ -277,11 +277,12 @@ TEST(Groups, SetAndTargetReachInnerNodesByPath) {
   set_input(g, "two.nap.value=20");    // the inner node itself
   Session session(engine.registry());
   EvalOptions o;
-  o.targets = {parse_target("sum.result"), parse_target("one.value")};
+  o.targets = {parse_target("sum.result"), parse_target("one.value"), parse_target("two.nap")};
   const EvalResult r = session.evaluate(g, o);
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r.outputs.at("sum.result").at(0).as<double>(), 30.0);
   EXPECT_EQ(r.outputs.at("one.value").at(0).as<double>(), 10.0);
+  EXPECT_EQ(r.outputs.at("two.nap.value").at(0).as<double>(), 20.0);  // an inner node, every output
   EXPECT_THROW(set_input(g, "one.nothing=1"), GraphError);
 }
 
