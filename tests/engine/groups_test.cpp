@@ -133,15 +133,15 @@ json two_instances(double a, double b) {
 
 // Ten: x -> x + 10 by 10 chained Math nodes; Hundred: 10 chained Tens.
 json ten_of(const std::string& inner, const std::string& in, const std::string& out) {
-  json nodes = json::object();
-  for (int i = 0; i < 10; ++i) {
-    json inputs = i == 0 ? json::object() : json{{in, link("s" + std::to_string(i - 1) + "." + out)}};
-    if (inner == "Math") inputs["b"] = 1;
-    nodes["s" + std::to_string(i)] = {{"type", inner}, {"inputs", inputs}};
+  json g = {{"inputs", {{"x", {{"type", "Float"}, {"default", 0}, {"to", {"s0." + in}}}}}},
+            {"outputs", {{"x", {{"from", "s9." + out}}}}}};
+  for (int i = 9; i >= 0; --i) {
+    json& n = g["nodes"]["s" + std::to_string(i)];
+    n["type"] = inner;
+    if (i > 0) n["inputs"][in] = link("s" + std::to_string(i - 1) + "." + out);
+    if (inner == "Math") n["inputs"]["b"] = 1;
   }
-  return {{"inputs", {{"x", {{"type", "Float"}, {"default", 0}, {"to", {"s0." + in}}}}}},
-          {"outputs", {{"x", {{"from", "s9." + out}}}}},
-          {"nodes", nodes}};
+  return g;
 }
 
 TEST(Groups, NestedGroupsExpandToTheirInnerChain) {
