@@ -215,6 +215,18 @@ TEST(Groups, ErrorsPointIntoTheGroupFile) {
     // What the instance gives, in the top file, checked by the interface's declaration:
     EXPECT_NE(what.find("top.json: /nodes/c/inputs/x: "), std::string::npos) << what;
   }
+  // An inline group's node: its pointer under /groups.
+  const json inline_doc = {{"loom", 2},
+                           {"groups", {{"G", {{"nodes", {{"m", {{"type", "Math"}, {"inputs", {{"op", "modulo"}}}}}}}}}}},
+                           {"nodes", {{"i", {{"type", "G"}}}}}};
+  try {
+    (void)engine.load(inline_doc, f.dir / "inline.json");
+    FAIL() << "no error";
+  } catch (const GraphError& e) {
+    EXPECT_NE(std::string(e.what()).find("inline.json: /groups/G/nodes/m/inputs/op: \"modulo\""), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("(node \"i.m\")"), std::string::npos) << e.what();
+  }
   top["nodes"]["c"]["inputs"]["z"] = 2;  // not an input of the group: refused at load
   try {
     (void)engine.load(top, f.write("top.json", top));
