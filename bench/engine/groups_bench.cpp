@@ -64,11 +64,31 @@ int main(int argc, char** argv) {
   loom::bench::Cli cli("bench_engine_groups",
                        "Groups: per-node engine overhead (cold, cached) and load + validate time, against flat chains.");
   bool quick = false;
+  int only = -1, only_nodes = 1000;
   cli.quick(quick, "fewer sizes and runs");
+  cli.option("--only", only,
+             "for instruction counts (valgrind --tool=callgrind): load, validate and evaluate once the chain of "
+             "--nodes as 0 nothing, 1 flat, 2 groups of 10, 3 nested 10x10; no CSV");
+  cli.option("--nodes", only_nodes, "with --only: chain length (a multiple of 100)");
   cli.parse(argc, argv);
   loom::Registry registry;
   loom::PluginLoader loader(registry, {LOOM_PLUGIN_DIR});
   loader.load_for({"Math", "FloatConstant"});
+  if (only >= 0) {
+    const int n = only_nodes;
+    const std::vector<Case> cases = {{"flat", flat(n), "n" + std::to_string(n) + ".result"},
+                                     {"groups of 10", grouped(n, false), "g" + std::to_string(n / 10) + ".s9.result"},
+                                     {"nested 10x10", grouped(n, true), "g" + std::to_string(n / 100) + ".s9.s9.result"}};
+    if (only == 0) return 0;
+    const Case& c = cases.at(static_cast<std::size_t>(only - 1));
+    loom::Graph g = loom::parse_graph(c.doc, "chain.json");
+    loom::validate_graph(g, registry);
+    loom::EvalOptions o;
+    o.targets = {loom::parse_target(c.target)};
+    o.threads = 1;
+    loom::Session(registry).evaluate(g, o);
+    return 0;
+  }
   const int runs = quick ? 5 : 11;
 
   loom::bench::Csv csv("engine_groups", {"nodes", "form", "phase", "seconds", "us_per_node", "ratio_to_flat"});

@@ -179,6 +179,13 @@ struct Evaluation {
   std::optional<Found> cache_find(const NodeState& s, std::uint64_t hash);
   void cache_put(NodeState& s, double seconds);
 
+  // A linked value given to a group's interface input is also checked by the
+  // interface's declaration (range, choices) where it reaches an inner input:
+  // per (node, input), the instance paths and declarations (plan.cpp).
+  std::map<std::pair<const NodeState*, int>, std::vector<std::pair<std::string, InputSpec>>> interface_checks;
+  void collect_interface_checks();
+  void check_interface_inputs(const NodeState& s, int input, const Value& value) const;
+
   // plan.cpp: node states, input bindings, topological order, hashes.
   void build();
   void bind_inputs();

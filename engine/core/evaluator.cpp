@@ -164,7 +164,9 @@ struct InnerTarget {
 
 std::vector<InnerTarget> inner_targets(const Graph& g, const Registry& registry, const std::vector<Target>& targets) {
   std::vector<InnerTarget> out;
-  for (const Target& t : targets) {
+  for (Target t : targets) {
+    // "look.render" parses as instance "look", output "render": the inner node.
+    if (!t.output.empty() && g.nodes.count(t.node + "." + t.output)) t = {t.node + "." + t.output, ""};
     auto inst = g.instances.find(t.node);
     auto node = g.nodes.find(t.node);
     if (inst != g.instances.end()) {

@@ -35,6 +35,8 @@ struct GroupRef {
   std::string name;      // what seeds its inner nodes
 };
 
+bool is_json_path(const std::string& type) { return type.size() > 5 && type.compare(type.size() - 5, 5, ".json") == 0; }
+
 bool is_object_with(const json& j, const char* key) { return j.is_object() && j.contains(key); }
 
 const std::set<std::string> kInterfaceKeys = {"type", "default", "min", "max", "choices",
@@ -117,8 +119,11 @@ std::optional<GroupRef> Expander::resolve(const std::string& type, const Scope& 
   auto [found, fresh] = found_.emplace(scope.file.parent_path().string() + "\n" + type, fs::path());
   if (fresh) found->second = find_group_file(type, scope.file);
   const fs::path file = found->second;
+  // A group file naming its own bare name means the node type it shadows
+  // (Math.json using Math); validation reports the clash where it is used.
+  if (!file.empty() && file == scope.file.lexically_normal() && !is_json_path(type)) return std::nullopt;
   if (file.empty()) {
-    if (type.size() > 5 && type.compare(type.size() - 5, 5, ".json") == 0)
+    if (is_json_path(type))
       issue(scope, pointer, "group file \"" + type + "\" not found (a path is relative to the folder of " +
                                 (scope.file.empty() ? std::string("the graph") : scope.file.string()) + ")");
     return std::nullopt;
@@ -216,13 +221,28 @@ void Expander::add_node(Graph& g, const Scope& scope, const std::string& base, c
   g.nodes.emplace(id, std::move(*n));
 }
 
+// "group instance "look" has no output "picture" (its outputs: image)"
+std::string no_output_message(const Graph& g, const Link& link) {
+  Link l = link;
+  for (auto it = g.instances.find(l.node); it != g.instances.end(); it = g.instances.find(l.node)) {
+    auto out = it->second.interface.outputs.find(l.output);
+    if (out == it->second.interface.outputs.end()) {
+      std::string known;
+      for (const auto& [name, unused] : it->second.interface.outputs) known += (known.empty() ? "" : ", ") + name;
+      return "group instance \"" + l.node + "\" (" + it->second.type + ") has no output \"" + l.output +
+             "\" (its outputs: " + (known.empty() ? "none" : known) + ")";
+    }
+    l = out->second;
+  }
+  return "no output \"" + link.output + "\"";
+}
+
 void Expander::resolve_own_links(Graph& g, const Scope& scope, const std::vector<std::string>& own) {
   auto resolve_all = [&](std::map<std::string, InputBinding>& inputs, const std::string& np) {
     for (auto& [name, b] : inputs) {
       if (!b.link) continue;
       auto to = follow_instance_outputs(g, *b.link);
-      if (!to) issue(scope, np + "/inputs/" + pointer_escape(name) + "/from",
-                     "group instance \"" + b.link->node + "\" has no output \"" + b.link->output + "\"");
+      if (!to) issue(scope, np + "/inputs/" + pointer_escape(name) + "/from", no_output_message(g, *b.link));
       else b.link = *to;
     }
   };

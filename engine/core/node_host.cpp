@@ -30,6 +30,7 @@ Value Host::fetch_input(int i) {
   if (!up.ok) throw UpstreamFailed(upstream_failure(spec, up));
   s_.add_files(up.files);
   Value bound = bind_value(spec, up.outputs[static_cast<std::size_t>(b.output)], e_.place);
+  e_.check_interface_inputs(s_, i, bound);
   if (spec.role == InputRole::value) return bound;
   // A linked path's file is not in the hash (the path was not known when
   // hashing): the result keeps the file's stamp instead.

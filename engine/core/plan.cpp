@@ -17,6 +17,7 @@ void Evaluation::build() {
     nodes.push_back(std::move(s));
   }
   bind_inputs();
+  if (!graph.instances.empty()) collect_interface_checks();
   const std::vector<int> order = topological_order();
   hash_nodes(order);
   share_equal_results(order);
@@ -75,6 +76,33 @@ void Evaluation::bind_inputs() {
       }
     }
   }
+}
+
+void Evaluation::collect_interface_checks() {
+  for (const auto& [path, inst] : graph.instances)
+    for (const auto& [name, b] : inst.given) {
+      auto in = inst.interface.inputs.find(name);
+      if (!b.link || in == inst.interface.inputs.end()) continue;  // literals were checked by validation
+      const json& d = in->second.declaration;
+      if (!d.contains("min") && !d.contains("max") && !d.contains("choices")) continue;
+      const InputSpec spec = interface_input_spec(name, d);
+      for (const Link& t : interface_targets(graph, in->second)) {
+        auto n = index.find(t.node);
+        const int i = n == index.end() ? -1 : at(n->second).type->spec.input_index(t.output);
+        if (i >= 0) interface_checks[{&at(n->second), i}].emplace_back(path, spec);
+      }
+    }
+}
+
+void Evaluation::check_interface_inputs(const NodeState& s, int input, const Value& value) const {
+  auto it = interface_checks.find({&s, input});
+  if (it == interface_checks.end()) return;
+  for (const auto& [path, spec] : it->second) try {
+      check_declared(spec, value);
+    } catch (const Error& e) {
+      throw Error("input \"" + s.type->spec.inputs[static_cast<std::size_t>(input)].name + "\": group input \"" +
+                  spec.name + "\" of " + path + ": " + e.what());
+    }
 }
 
 // A Repeat body's input fed with a value: bound by the same rule as a linked value.

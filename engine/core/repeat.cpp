@@ -123,14 +123,17 @@ class RepeatRun {
     Evaluation e(state_, body_, options_, outer_.time);
     e.fed_inputs = &fed;
     e.build();
-    std::vector<int> roots;
+    std::vector<int> roots;  // the body's outputs and its sinks (a body may only write files)
     for (const auto& [name, from] : body_.interface->outputs) roots.push_back(e.index.at(from.node));
+    for (std::size_t n = 0; n < e.nodes.size(); ++n)
+      if (e.nodes[n]->type->spec.sink) roots.push_back(static_cast<int>(n));
     e.execute(roots);
+    for (std::size_t n = 0; n < e.nodes.size(); ++n)
+      if (e.nodes[n]->type->spec.sink && !e.nodes[n]->ok) throw_failed(i, *e.nodes[n]);
     std::map<std::string, Fed> out;
     for (const auto& [name, from] : body_.interface->outputs) {
       NodeState& n = e.at(e.index.at(from.node));
-      if (!n.ok) throw Error("iteration " + std::to_string(i) + ": node \"" + from.node + "\" " +
-                             to_string(n.report.status) + (n.report.error.empty() ? "" : ": " + n.report.error));
+      if (!n.ok) throw_failed(i, n);
       const int o = n.type->spec.output_index(from.output);
       out[name] = {n.outputs[static_cast<std::size_t>(o)], Hasher(n.hash).pod(o).digest()};
       s_.add_files(n.files);
@@ -139,7 +142,10 @@ class RepeatRun {
     return out;
   }
 
-  const Graph& body() const { return body_; }
+  [[noreturn]] static void throw_failed(int i, const NodeState& n) {
+    throw Error("iteration " + std::to_string(i) + ": node \"" + n.node->id + "\" " + to_string(n.report.status) +
+                (n.report.error.empty() ? "" : ": " + n.report.error));
+  }
 
  private:
   Evaluation& outer_;

@@ -213,6 +213,11 @@ int submit(SubmitRequest& r) {
   int exit = 0;
   auto g = load_for_run(r.run.graph_path, r.run.sets, &exit);
   if (!g) return exit;
+  if (g->graph.version == kGroupsFormatVersion) {  // the job's graph.json is the flat graph, written as version 1
+    std::cerr << "error: " << r.run.graph_path << " uses groups (\"loom\": 2): loom submit cannot bake them into "
+              << "a job's graph yet; run it with loom run\n";
+    return 2;
+  }
   if (r.cache_dir.empty()) r.cache_dir = (fs::path(r.run.out_dir) / ".loom-cache").string();
   const fs::path job = fs::absolute(r.job_dir.empty() ? fs::path(r.run.out_dir) / ".loom-job" : fs::path(r.job_dir));
   Planner plan{r, *g, job, {}};

@@ -131,6 +131,32 @@ json two_instances(double a, double b) {
                      {"sum", {{"type", "Math"}, {"inputs", {{"a", link("one.value")}, {"b", link("two.value")}}}}}}}};
 }
 
+// Ten: x -> x + 10 by 10 chained Math nodes; Hundred: 10 chained Tens.
+json ten_of(const std::string& inner, const std::string& in, const std::string& out) {
+  json g = {{"inputs", {{"x", {{"type", "Float"}, {"default", 0}, {"to", {"s0." + in}}}}}},
+            {"outputs", {{"x", {{"from", "s9." + out}}}}}};
+  for (int i = 9; i >= 0; --i) {
+    json& n = g["nodes"]["s" + std::to_string(i)];
+    n["type"] = inner;
+    if (i > 0) n["inputs"][in] = link("s" + std::to_string(i - 1) + "." + out);
+    if (inner == "Math") n["inputs"]["b"] = 1;
+  }
+  return g;
+}
+
+TEST(Groups, NestedGroupsExpandToTheirInnerChain) {
+  testing::Engine engine;
+  const json doc = {{"loom", 2},
+                    {"groups", {{"Ten", ten_of("Math", "a", "result")}, {"Hundred", ten_of("Ten", "x", "x")}}},
+                    {"nodes", {{"h", {{"type", "Hundred"}, {"inputs", {{"x", 0.5}}}}}}}};
+  const Graph g = engine.load(doc, "n.json");
+  EXPECT_EQ(g.nodes.size(), 100u);
+  EXPECT_TRUE(g.instances.count("h.s3"));
+  EXPECT_EQ(engine.output<double>(doc, "h.x"), 100.5);
+  EXPECT_EQ(engine.output<double>(doc, "h.s3.s4.result"), 35.5);  // 3 tens and 5 ones
+  EXPECT_EQ(engine.output<double>(doc, "h.s3.x"), 40.5);
+}
+
 TEST(Groups, TwoInstancesWithEqualInputsShareTheirInnerResults) {
   testing::Engine engine({LOOM_TEST_PLUGIN_DIR});
   testing::Run same = engine.run(two_instances(2, 2), {"sum.result"});
@@ -189,6 +215,18 @@ TEST(Groups, ErrorsPointIntoTheGroupFile) {
     // What the instance gives, in the top file, checked by the interface's declaration:
     EXPECT_NE(what.find("top.json: /nodes/c/inputs/x: "), std::string::npos) << what;
   }
+  // An inline group's node: its pointer under /groups.
+  const json inline_doc = {{"loom", 2},
+                           {"groups", {{"G", {{"nodes", {{"m", {{"type", "Math"}, {"inputs", {{"op", "modulo"}}}}}}}}}}},
+                           {"nodes", {{"i", {{"type", "G"}}}}}};
+  try {
+    (void)engine.load(inline_doc, f.dir / "inline.json");
+    FAIL() << "no error";
+  } catch (const GraphError& e) {
+    EXPECT_NE(std::string(e.what()).find("inline.json: /groups/G/nodes/m/inputs/op: \"modulo\""), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("(node \"i.m\")"), std::string::npos) << e.what();
+  }
   top["nodes"]["c"]["inputs"]["z"] = 2;  // not an input of the group: refused at load
   try {
     (void)engine.load(top, f.write("top.json", top));
@@ -199,6 +237,51 @@ TEST(Groups, ErrorsPointIntoTheGroupFile) {
   }
 }
 
+// LOOM_GRAPH_PATH before the shipped library; a group named like a node type
+// is refused.
+TEST(Groups, BareNamesAreFoundOnTheGraphPathThenInTheShippedLibrary) {
+  testing::Engine engine;
+  Folder f;
+  const json twice = {{"loom", 2},
+                      {"inputs", {{"x", {{"type", "Float"}, {"default", 0}, {"to", {"m.a", "m.b"}}}}}},
+                      {"outputs", {{"y", {{"from", "m.result"}}}}},
+                      {"nodes", {{"m", {{"type", "Math"}}}}}};
+  f.write("mine/twice.json", twice);
+  f.write("clash/Math.json", twice);
+  const std::string old = std::getenv("LOOM_GRAPH_PATH") ? std::getenv("LOOM_GRAPH_PATH") : "";
+  ::setenv("LOOM_GRAPH_PATH", (f.dir / "nowhere").string().append(":").append((f.dir / "mine").string()).c_str(), 1);
+  const json doc = {{"loom", 2}, {"nodes", {{"t", {{"type", "twice"}, {"inputs", {{"x", 21}}}}}}}};
+  EXPECT_EQ(engine.output<double>(doc, "t.y"), 42.0);
+  EXPECT_FALSE(find_group_file("studio", f.dir / "g.json").empty());  // the shipped library, last
+  ::setenv("LOOM_GRAPH_PATH", (f.dir / "clash").string().c_str(), 1);
+  try {
+    (void)engine.load(json{{"loom", 2}, {"nodes", {{"m", {{"type", "Math"}}}}}});
+    FAIL() << "no error";
+  } catch (const GraphError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nodes/m/type: \"Math\" names both a group and a node type (of plugin util)"),
+              std::string::npos) << e.what();
+  }
+  ::setenv("LOOM_GRAPH_PATH", old.c_str(), 1);
+}
+
+// The interface's range holds for linked values too: checked when the value
+// arrives at the inner input, with the group input named.
+TEST(Groups, ALinkedValueOutsideTheInterfaceRangeFailsTheInnerNode) {
+  testing::Engine engine;
+  const json group = {{"inputs", {{"x", {{"type", "Float"}, {"min", 0}, {"max", 10}, {"to", {"m.a"}}}}}},
+                      {"outputs", {{"y", {{"from", "m.result"}}}}},
+                      {"nodes", {{"m", {{"type", "Math"}, {"inputs", {{"b", 1}}}}}}}};
+  auto doc = [&](double v) {
+    return json{{"loom", 2}, {"groups", {{"Small", group}}},
+                {"nodes", {{"v", {{"type", "Math"}, {"inputs", {{"a", v}}}}},
+                           {"g", {{"type", "Small"}, {"inputs", {{"x", link("v.result")}}}}}}}};
+  };
+  EXPECT_EQ(engine.output<double>(doc(4), "g.y"), 5.0);
+  testing::Run run = engine.run(doc(20), {"g.y"});
+  EXPECT_EQ(run.status("g.m"), NodeStatus::failed);
+  EXPECT_NE(run.error("g.m").find("group input \"x\" of g: value 20.0 is out of range: expected between 0 and 10"), std::string::npos) << run.error("g.m");
+}
+
 TEST(Groups, SetAndTargetReachInnerNodesByPath) {
   testing::Engine engine({LOOM_TEST_PLUGIN_DIR});
   Graph g = engine.load(two_instances(2, 3), "t.json");
@@ -206,11 +289,12 @@ TEST(Groups, SetAndTargetReachInnerNodesByPath) {
   set_input(g, "two.nap.value=20");    // the inner node itself
   Session session(engine.registry());
   EvalOptions o;
-  o.targets = {parse_target("sum.result"), parse_target("one.value")};
+  o.targets = {parse_target("sum.result"), parse_target("one.value"), parse_target("two.nap")};
   const EvalResult r = session.evaluate(g, o);
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r.outputs.at("sum.result").at(0).as<double>(), 30.0);
   EXPECT_EQ(r.outputs.at("one.value").at(0).as<double>(), 10.0);
+  EXPECT_EQ(r.outputs.at("two.nap.value").at(0).as<double>(), 20.0);  // an inner node, every output
   EXPECT_THROW(set_input(g, "one.nothing=1"), GraphError);
 }
 
