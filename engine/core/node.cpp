@@ -42,6 +42,10 @@ NodeSpec& NodeSpec::set_pixel_independent(SummarizeFunction summarize_outputs) {
   summarize = summarize_outputs;
   return *this;
 }
+NodeSpec& NodeSpec::set_sample_passes() {
+  pixel_independent = sample_passes = true;
+  return *this;
+}
 NodeSpec& NodeSpec::set_nondeterministic() {
   nondeterministic = true;
   return *this;

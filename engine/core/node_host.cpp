@@ -48,6 +48,10 @@ PixelRegion Host::pixel_region() const {
   return split && s_.type->spec.pixel_independent ? split->region(s_.node->id) : PixelRegion{};
 }
 
+void Host::sum_over_parts(double* values, std::size_t count) {
+  if (pixel_region().by_samples) e_.options.pixel_split->sum(values, count);
+}
+
 bool Host::input_set(int i) const {
   return e_.fed_state(s_, static_cast<std::size_t>(i)) ||
          s_.inputs[static_cast<std::size_t>(i)].kind != NodeState::Binding::unset;

@@ -62,7 +62,8 @@ void check_outputs(const NodeSpec& spec, const std::vector<Value>& values) {
 // gathered from every part, and the node's summaries are recomputed from it.
 void Evaluation::gather_parts(NodeState& s, Outputs& out) {
   const NodeSpec& spec = s.type->spec;
-  if (options.pixel_split->region(s.node->id).whole()) return;
+  const PixelRegion region = options.pixel_split->region(s.node->id);
+  if (region.whole() || region.by_samples) return;  // by samples, every part holds the whole already
   options.pixel_split->combine(s.node->id, spec, out.values());
   if (spec.summarize) spec.summarize(out);
 }

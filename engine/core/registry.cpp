@@ -72,6 +72,7 @@ json describe_node_type(const NodeType& type) {
   if (s.sink) flags.push_back("sink");
   if (s.sequence) flags.push_back("sequence");
   if (s.pixel_independent) flags.push_back("pixel_independent");
+  if (s.sample_passes) flags.push_back("sample_passes");
   if (s.nondeterministic) flags.push_back("nondeterministic");
   if (s.time_dependent) flags.push_back("time_dependent");
   if (s.simulation()) flags.push_back("simulation");

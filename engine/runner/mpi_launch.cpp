@@ -46,9 +46,9 @@ void add_mpi_options(CLI::App* run) {
   MpiSettings& s = mpi_settings();
   run->add_option("--mpi-split", s.split,
                   "under mpirun/srun: how ranks share the run: auto (frames or sweep points when there are "
-                  "several, else tiles), frames, tiles")
+                  "several, else tiles), frames, tiles, samples (tiles, but a path tracer's samples split instead)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "frames", "tiles"}));
+      ->check(CLI::IsMember({"auto", "frames", "tiles", "samples"}));
   run->add_option("--mpi-tile", s.tile, "under mpirun/srun: tile edge in pixels when an image is split")
       ->capture_default_str()
       ->check(CLI::Range(1, 16384));

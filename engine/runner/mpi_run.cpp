@@ -7,9 +7,10 @@
 // simulations over MPI ranks"). Sequence sinks (SaveVideo) run on rank 0
 // after every rank's frames, reading the frames back from the same cache.
 //
-// Tiles (one frame): every pixel-independent node the targets need is
+// Tiles (one frame; with --mpi-split samples, nodes that declare sample
+// passes are split by samples instead): every pixel-independent node the targets need is
 // split alone, in dependency order: every rank computes its interleaved tiles
-// and they are gathered on every rank (MpiWorld::tile_split). Each of these
+// and they are gathered on every rank (MpiWorld::split). Each of these
 // evaluations also targets the nodes split before it, so that the memory
 // cache keeps them all; rank 0 then evaluates the targets, finding them there.
 #include "mpi_run.hpp"
@@ -169,7 +170,8 @@ EvalResult evaluate_frames(MpiWorld& world, Session& session, const Graph& graph
 
 // How evenly the static split shared a node's work: each rank's time in the
 // node's body (the gather excluded), the slowest over the mean.
-void report_balance(const MpiWorld& world, const std::string& node, const std::vector<double>& seconds) {
+void report_balance(const MpiWorld& world, const std::string& node, bool by_samples,
+                    const std::vector<double>& seconds) {
   if (world.rank() != 0) return;
   double sum = 0, slowest = 0;
   for (double s : seconds) {
@@ -177,8 +179,10 @@ void report_balance(const MpiWorld& world, const std::string& node, const std::v
     slowest = std::max(slowest, s);
   }
   const double mean = sum / double(seconds.size());
-  std::fprintf(stderr, "mpi: %s: tiles computed in %.3f s on the slowest of %zu ranks, %.3f s on average "
-               "(imbalance %.3f)\n", node.c_str(), slowest, seconds.size(), mean, mean > 0 ? slowest / mean : 1.0);
+  std::fprintf(stderr, "mpi: %s: %s computed in %.3f s on the slowest of %zu ranks, %.3f s on average "
+               "(imbalance %.3f)\n",
+               node.c_str(), by_samples ? "sample passes" : "tiles", slowest, seconds.size(), mean,
+               mean > 0 ? slowest / mean : 1.0);
 }
 
 EvalResult evaluate_tiles(MpiWorld& world, Session& session, const Graph& graph, const Registry& registry,
@@ -192,13 +196,14 @@ EvalResult evaluate_tiles(MpiWorld& world, Session& session, const Graph& graph,
     if (world.min_over_ranks(kept) == 1) continue;
     EvalOptions o = options;
     o.targets = split_so_far;
-    const auto split = world.tile_split(id, mpi_settings().tile);
+    const bool by_samples = mpi_settings().split == "samples" && spec_of(graph, registry, id).sample_passes;
+    const auto split = world.split(id, mpi_settings().tile, by_samples);
     o.pixel_split = split.get();
     // A rank that found the result would not compute its tiles while the others wait for them.
     if (world.max_over_ranks(kept) == 1) o.disk_cache = nullptr;
     const EvalResult r = session.evaluate(graph, o);
     end_every_rank_unless_ok(world, graph, r);
-    report_balance(world, id, world.gather_all(r.nodes.at(id).seconds));
+    report_balance(world, id, by_samples, world.gather_all(r.nodes.at(id).seconds));
     merge(parts, r, false);
   }
   if (split_so_far.empty() && world.rank() == 0)

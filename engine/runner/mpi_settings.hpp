@@ -6,7 +6,7 @@
 namespace loom::runner {
 
 struct MpiSettings {
-  std::string split = "auto";  // auto, frames, tiles
+  std::string split = "auto";  // auto, frames, tiles, samples
   int tile = 32;               // tile edge in pixels (PixelRegion::tile)
 };
 MpiSettings& mpi_settings();

@@ -27,8 +27,11 @@ class MpiWorld {
   [[noreturn]] virtual void abort(int exit_code) = 0;
   // A PixelSplit for `node`: this rank computes the interleaved tiles
   // t % size == rank of tile x tile pixels; combine() gathers every rank's
-  // tiles of each Image output into the whole image on every rank.
-  virtual std::unique_ptr<PixelSplit> tile_split(const std::string& node, int tile) = 0;
+  // tiles of each Image output into the whole image on every rank. By
+  // samples: this rank takes the samples s % size == rank of every pixel and
+  // sum() adds the node's sums over the ranks (reduced on rank 0, then
+  // broadcast, so that every rank holds the very same doubles).
+  virtual std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples) = 0;
 };
 
 }  // namespace loom::runner

@@ -51,7 +51,9 @@ std::string node_text(const NodeType& type, bool detailed) {
   if (s.sink) text += "  sink: writes files, always runs\n";
   if (s.sequence) text += "  sequence: gathers every frame of a run into one file (one task after all frames)\n";
   if (s.nondeterministic) text += "  nondeterministic: never cached\n";
-  if (s.pixel_independent) text += "  pixel-independent: its images may be split in tiles over MPI ranks\n";
+  if (s.pixel_independent)
+    text += std::string("  pixel-independent: its images may be split in tiles") +
+            (s.sample_passes ? " or sample passes" : "") + " over MPI ranks\n";
   if (s.simulation())
     text += "  simulation: steps " + s.state_input + " (frame f-1) to " + s.state_output + " (frame f)\n";
   else if (s.time_dependent)
@@ -89,7 +91,9 @@ std::string nodes_markdown(const std::vector<const NodeType*>& all, bool whole_p
       if (s.sink) md += " · sink (writes files; always runs)";
       if (s.sequence) md += " · sequence (every frame of a run into one file)";
       if (s.nondeterministic) md += " · nondeterministic (never cached)";
-      if (s.pixel_independent) md += " · pixel-independent (split in tiles over MPI ranks)";
+      if (s.pixel_independent)
+        md += s.sample_passes ? " · pixel-independent (split in tiles or sample passes over MPI ranks)"
+                              : " · pixel-independent (split in tiles over MPI ranks)";
       if (s.simulation())
         md += " · simulation (`" + s.state_input + "` at frame f-1 → `" + s.state_output + "` at frame f)";
       else if (s.time_dependent)

@@ -345,8 +345,10 @@ RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, in
       const std::size_t index = std::size_t(y) * W + x;
       PixelAccumulator& a = film.pixels[index];
       if (a.done || !c.settings.region.contains(x, y, W)) continue;
+      const int first = a.n;
       for (int k = 0; k < pass; ++k) {
-        PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(a.n));
+        if (!c.settings.region.takes_sample(first + k)) continue;
+        PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(first + k));
         const Vec2f j = sampler.uniform2();
         Vec3f origin, dir;
         cam.ray(2 * (x + j.x()) / W - 1, 1 - 2 * (y + j.y()) / H, &origin, &dir);
@@ -408,6 +410,48 @@ void mark_converged(Film& film, double threshold) {
   }
 }
 
+// A pixel's sums as doubles: L, albedo, normal (3 each), depth, lum, lum2, n.
+constexpr std::size_t kSums = 13;
+void read_sums(const PixelAccumulator& a, double* out) {
+  for (int i = 0; i < 3; ++i) {
+    out[i] = a.L[i];
+    out[3 + i] = a.albedo[i];
+    out[6 + i] = a.normal[i];
+  }
+  out[9] = a.depth;
+  out[10] = a.lum;
+  out[11] = a.lum2;
+  out[12] = a.n;
+}
+void write_sums(const double* in, PixelAccumulator& a) {
+  for (int i = 0; i < 3; ++i) {
+    a.L[i] = in[i];
+    a.albedo[i] = in[3 + i];
+    a.normal[i] = in[6 + i];
+  }
+  a.depth = in[9];
+  a.lum = in[10];
+  a.lum2 = in[11];
+  a.n = int(in[12]);
+}
+
+// Split by samples: each part traced its share of a pass; what the pass added
+// on every part is summed, so that every part holds the sums of every sample
+// so far (`total`, kSums per pixel) and decides convergence from them.
+void sum_pass_over_parts(Film& film, std::vector<double>& total,
+                         const std::function<void(double*, std::size_t)>& sum_over_parts) {
+  std::vector<double> pass(total.size());
+  for (std::size_t p = 0; p < film.pixels.size(); ++p) {
+    read_sums(film.pixels[p], &pass[p * kSums]);
+    for (std::size_t i = p * kSums; i < (p + 1) * kSums; ++i) pass[i] -= total[i];
+  }
+  sum_over_parts(pass.data(), pass.size());
+  for (std::size_t p = 0; p < film.pixels.size(); ++p) {
+    for (std::size_t i = p * kSums; i < (p + 1) * kSums; ++i) total[i] += pass[i];
+    write_sums(&total[p * kSums], film.pixels[p]);
+  }
+}
+
 // The pixels' means as images.
 void resolve(const Film& film, RenderResult& out) {
   const int W = film.width, H = film.height;
@@ -454,9 +498,11 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
 
   Film film(s.width, s.height);
   std::atomic<std::uint64_t> rays{0}, nonfinite{0};
+  std::vector<double> total(s.sum_over_parts ? film.pixels.size() * kSums : 0);  // split by samples: every part's sums
   for (int taken = 0; taken < s.spp;) {
     const int pass = next_pass(s, taken);
     trace_pass(context, cam, film, pass, rays, nonfinite, between_batches);
+    if (s.sum_over_parts) sum_pass_over_parts(film, total, s.sum_over_parts);
     taken += pass;
     if (s.adaptive_threshold > 0 && taken < s.spp) mark_converged(film, s.adaptive_threshold);
   }

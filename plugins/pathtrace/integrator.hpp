@@ -38,8 +38,11 @@ struct RenderSettings {
   double adaptive_threshold = 0;
   int adaptive_min_spp = 16;
   std::uint64_t seed = 1;
-  // The pixels to trace (Context::region()); the others stay black.
+  // The pixels to trace (Context::region()); the others stay black. Split by
+  // samples: the samples this part takes, its sums added to the other parts'
+  // by sum_over_parts after each pass (Context::sum_over_parts).
   PixelRegion region;
+  std::function<void(double*, std::size_t)> sum_over_parts;
 };
 
 struct RenderResult {

@@ -76,7 +76,8 @@ struct PathTrace {
         .output<loom::Image>("samples", "samples taken per pixel")
         .output<double>("spp", "mean samples per pixel actually taken")
         .output<loom::json>("stats", "paths, rays, seconds, throughput, BVH build time and reuse")
-        .set_pixel_independent(&summarize);
+        .set_pixel_independent(&summarize)
+        .set_sample_passes();
   }
 
   // After the engine gathers an image split over processes: the mean spp and
@@ -122,6 +123,8 @@ struct PathTrace {
     s.adaptive_min_spp = in.get<int>("adaptive_min_spp");
     s.seed = ctx.seed();
     s.region = ctx.region();
+    if (s.region.by_samples)
+      s.sum_over_parts = [&ctx](double* values, std::size_t count) { ctx.sum_over_parts(values, count); };
 
     bool built = false;
     const auto traced = ctx.scratch<EmbreeScene>(geometry_key(*scene, displacement_level), [&] {

@@ -75,7 +75,8 @@ class DiskCache;
 // One image computed in parts by several processes (MPI ranks, engine/runner):
 // a node declared set_pixel_independent() computes region(node) in every
 // process, and combine() replaces its outputs with the whole images, gathered
-// from every part. Called from a worker thread of the evaluation; combine()
+// from every part (split by samples, the node already holds the whole: it
+// summed its samples with sum() after each pass). Called from a worker thread of the evaluation; combine()
 // waits for the other processes. See docs/architecture.md.
 class PixelSplit {
  public:
@@ -84,6 +85,8 @@ class PixelSplit {
   virtual PixelRegion region(const std::string& node) const = 0;
   // `outputs` hold this process's part on entry and the whole on return.
   virtual void combine(const std::string& node, const NodeSpec& spec, std::vector<Value>& outputs) const = 0;
+  // Split by samples: `values` summed over the processes, on every process.
+  virtual void sum(double* values, std::size_t count) const = 0;
 };
 
 struct EvalOptions {

@@ -109,13 +109,24 @@ using EnumChoices = std::vector<std::pair<E, std::string>>;
 // every region of the image. parts == 1 (the default): every pixel. The
 // engine splits one image over processes (MPI ranks) this way and gathers the
 // parts; a node only skips the pixels outside its part.
+//
+// A node declared set_sample_passes() (a path tracer: each pixel a mean of
+// samples) may be split by samples instead (`by_samples`): it computes every
+// pixel, taking the samples s with s % parts == part, and sums its per-pixel
+// sums over the parts with Context::sum_over_parts after each pass, so that
+// every part ends with the whole image (and adaptive sampling decides from
+// every sample, as one process does).
 struct PixelRegion {
   int tile = 32;
   int part = 0, parts = 1;
+  bool by_samples = false;
 
   bool whole() const { return parts <= 1; }
   int tile_of(int x, int y, int width) const { return (y / tile) * ((width + tile - 1) / tile) + x / tile; }
-  bool contains(int x, int y, int width) const { return whole() || tile_of(x, y, width) % parts == part; }
+  bool contains(int x, int y, int width) const {
+    return whole() || by_samples || tile_of(x, y, width) % parts == part;
+  }
+  bool takes_sample(std::int64_t sample) const { return whole() || !by_samples || sample % parts == part; }
 };
 
 class Inputs;
@@ -144,6 +155,7 @@ class LOOM_API NodeSpec {
   // position (set_pixel_independent): the engine may split the image.
   bool pixel_independent = false;
   SummarizeFunction summarize = nullptr;
+  bool sample_passes = false;  // set_sample_passes
   // A simulation step (set_simulation): the names of its state input and output.
   std::string state_input, state_output;
   std::vector<InputSpec> inputs;
@@ -166,6 +178,11 @@ class LOOM_API NodeSpec {
   // Outputs of other types are taken from the first part, unless `summarize`
   // recomputes them from the gathered images (a mean over the pixels).
   NodeSpec& set_pixel_independent(SummarizeFunction summarize = nullptr);
+  // A pixel-independent node whose pixels are means of numbered samples (a
+  // path tracer) and that reads PixelRegion::takes_sample and calls
+  // Context::sum_over_parts after each pass of samples: the engine may split
+  // it by samples instead of tiles (loom run --mpi-split samples).
+  NodeSpec& set_sample_passes();
   // The node reads ctx.time(). Nodes that do not are evaluated once and shared
   // by every frame; what depends on a time-dependent node is evaluated per
   // frame through its hash.
@@ -254,6 +271,10 @@ class NodeHost {
   virtual std::shared_ptr<void> sequence_state(const std::function<std::shared_ptr<void>()>& make) = 0;
   virtual void depends_on_file(const std::filesystem::path& path) { (void)path; }
   virtual PixelRegion pixel_region() const { return {}; }
+  virtual void sum_over_parts(double* values, std::size_t count) {
+    (void)values;
+    (void)count;
+  }
 };
 
 class LOOM_API Inputs {
@@ -383,6 +404,10 @@ class LOOM_API Context {
   // The pixels to compute, for a node declared set_pixel_independent(); the
   // whole image for every other node and in a run that is not split.
   PixelRegion region() const { return host_.pixel_region(); }
+  // Split by samples (region().by_samples): replaces `values` on every part
+  // with their sum over the parts. Call it from the node's calling thread,
+  // at the same points on every part. Does nothing in a run that is not split.
+  void sum_over_parts(double* values, std::size_t count) { host_.sum_over_parts(values, count); }
 
   // Declares that the result depends on a file the node found by itself (a
   // material library or texture named inside a scene file). Files given to
