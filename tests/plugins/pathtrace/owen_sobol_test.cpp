@@ -85,22 +85,6 @@ TEST(OwenSobol, OneSampleIsUniformOverPixels) {
   }
 }
 
-struct Moments {
-  double mean, se;
-};
-Moments image_mean(const loom::Scene& scene, const EmbreeScene& traced, RenderSettings s, int K) {
-  double sum = 0, sum2 = 0;
-  for (int k = 0; k < K; ++k) {
-    s.seed = 77 + std::uint64_t(k);
-    const cv::Scalar m = cv::mean(render(scene, *scene.camera, traced, s).image);
-    const double v = (m[0] + m[1] + m[2]) / 3;
-    sum += v;
-    sum2 += v * v;
-  }
-  const double mean = sum / K;
-  return {mean, std::sqrt(std::max(0.0, (sum2 / K - mean * mean) / (K - 1)))};
-}
-
 double mean_squared_error(const cv::Mat& a, const cv::Mat& b) {
   cv::Mat d;
   cv::absdiff(a, b, d);
@@ -120,9 +104,9 @@ TEST(OwenSobol, SameMeanAsIndependentSamplingAndLessError) {
   s.spp = 16;
   s.max_depth = 4;
   s.sampler = SamplerKind::independent;
-  const Moments independent = image_mean(scene, traced, s, 30);
+  const test::MeanAndError independent = test::image_mean(scene, s, 30, 77);
   s.sampler = SamplerKind::sobol;
-  const Moments sobol = image_mean(scene, traced, s, 30);
+  const test::MeanAndError sobol = test::image_mean(scene, s, 30, 77);
   EXPECT_LT(std::abs(sobol.mean - independent.mean), 3 * std::hypot(sobol.se, independent.se))
       << sobol.mean << " ± " << sobol.se << " vs " << independent.mean << " ± " << independent.se;
 
