@@ -15,14 +15,15 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <set>
 
 #include <sys/resource.h>
 #include <tbb/global_control.h>
 
 #include "bench_harness.hpp"
-#include "cycles_peer.hpp"
 #include "cornell_box_scene.hpp"
+#include "cycles_peer.hpp"
 #include "embree_scene.hpp"
 #include "image_codec.hpp"
 #include "image_error.hpp"
@@ -86,7 +87,8 @@ void save_png(const cv::Mat& image, const std::string& name) {
 }
 
 // Loom alone on the embree comparison scene, 1 thread: paths per CPU second
-// and rays per path (for profiling: `perf record build/bin/bench_pathtrace throughput`).
+// and rays per path with each sampler, alternating, medians of 3 (for
+// profiling: `perf record build/bin/bench_pathtrace throughput`).
 void bench_throughput() {
   const loom::Scene scene = bench::embree_cornell_box(EMBREE_MODELS);
   const EmbreeScene traced(scene);
@@ -96,12 +98,22 @@ void bench_throughput() {
   s.spp = quick ? 4 : 16;
   s.max_depth = 8;
   s.russian_roulette = false;
-  const Timed t = timed_render(scene, traced, s);
-  const double paths = double(t.result.paths);
-  std::cout << "throughput (1 thread, 512^2, " << s.spp << " spp, depth 8): "
-            << paths / t.cpu_seconds / 1e6 << " M paths per CPU s, "
-            << double(t.result.rays) / paths << " rays per path, load "
-            << loom::bench::load_average() << "\n";
+  std::map<std::string, std::vector<double>> rate;
+  double rays_per_path = 0;
+  for (int rep = 0; rep < 3; ++rep)
+    for (const auto& [name, kind] : {std::pair<std::string, SamplerKind>{"sobol", SamplerKind::sobol},
+                                     {"independent", SamplerKind::independent}}) {
+      s.sampler = kind;
+      const Timed t = timed_render(scene, traced, s);
+      rate[name].push_back(double(t.result.paths) / t.cpu_seconds);
+      rays_per_path = double(t.result.rays) / double(t.result.paths);
+    }
+  for (auto& [name, r] : rate) {
+    std::sort(r.begin(), r.end());
+    std::cout << "throughput (1 thread, 512^2, " << s.spp << " spp, depth 8, " << name << " sampler): " << r[1] / 1e6
+              << " M paths per CPU s (median of 3), " << rays_per_path << " rays per path\n";
+  }
+  std::cout << "load " << loom::bench::load_average() << "\n";
 }
 
 // ---- Embree's tutorial path tracer --------------------------------------------------
@@ -110,10 +122,9 @@ void bench_throughput() {
 // its CPU seconds in *cpu.
 double run_embree(int size, int spp, int depth, int threads, const fs::path& out, double* cpu = nullptr) {
   const std::string cmd = "pathtracer -c " + std::string(EMBREE_MODELS) + "/cornell_box.ecs --size " +
-                          std::to_string(size) + " " + std::to_string(size) + " --spp " +
-                          std::to_string(spp) + " --max-path-length " + std::to_string(depth) +
-                          " --threads " + std::to_string(threads) + " -o " + out.string() +
-                          " > /dev/null 2>&1";
+                          std::to_string(size) + " " + std::to_string(size) + " --spp " + std::to_string(spp) +
+                          " --max-path-length " + std::to_string(depth) + " --threads " + std::to_string(threads) +
+                          " -o " + out.string() + " > /dev/null 2>&1";
   const auto t = std::chrono::steady_clock::now();
   const double c0 = cpu_seconds(RUSAGE_CHILDREN);
   const int rc = std::system(cmd.c_str());
@@ -131,9 +142,9 @@ void bench_embree() {
   const loom::Scene scene = bench::embree_cornell_box(EMBREE_MODELS);
   const EmbreeScene traced(scene);
   const fs::path tmp = fs::temp_directory_path() / "loom-bench-embree.pfm";
-  Csv csv("pathtrace_embree", {"renderer", "threads", "size", "spp", "seconds", "cpu_seconds",
-                               "paths_per_s", "paths_per_cpu_s", "rays_per_s", "mean_r", "mean_g",
-                               "mean_b", "relmse", "efficiency_cpu", "load1"});
+  Csv csv("pathtrace_embree",
+          {"renderer", "threads", "size", "spp", "seconds", "cpu_seconds", "paths_per_s", "paths_per_cpu_s",
+           "rays_per_s", "mean_r", "mean_g", "mean_b", "relmse", "efficiency_cpu", "load1"});
   // Throughput at 512², depth 8, runs interleaved (loom, embree, loom, ...).
   // The machine is shared: besides wall time, CPU time (user + system, all
   // threads) is measured, for Loom around render(), for Embree as its child
@@ -167,17 +178,15 @@ void bench_embree() {
     const double paths = double(size) * size * spp;
     const cv::Scalar m = cv::mean(quantize8(ours.result.image));
     const double rays_per_path = double(ours.result.rays) / paths;
-    csv.row({"loom", (long long)threads, (long long)size, (long long)spp, median(wall_ours),
-             median(cpu_ours), paths / median(wall_ours), paths / median(cpu_ours),
-             rays_per_path * paths / median(wall_ours), m[0], m[1], m[2], std::string(""),
-             std::string(""), loom::bench::load_average()});
+    csv.row({"loom", (long long)threads, (long long)size, (long long)spp, median(wall_ours), median(cpu_ours),
+             paths / median(wall_ours), paths / median(cpu_ours), rays_per_path * paths / median(wall_ours), m[0], m[1],
+             m[2], std::string(""), std::string(""), loom::bench::load_average()});
     run_embree(size, spp, depth, threads, tmp);
     const cv::Mat e = read_pfm(tmp);
     const cv::Scalar me = e.empty() ? cv::Scalar() : cv::mean(e);
-    csv.row({"embree-pathtracer", (long long)threads, (long long)size, (long long)spp,
-             median(wall_embree), median(cpu_embree), paths / median(wall_embree),
-             paths / median(cpu_embree), std::string("n/a"), me[0], me[1], me[2], std::string(""),
-             std::string(""), loom::bench::load_average()});
+    csv.row({"embree-pathtracer", (long long)threads, (long long)size, (long long)spp, median(wall_embree),
+             median(cpu_embree), paths / median(wall_embree), paths / median(cpu_embree), std::string("n/a"), me[0],
+             me[1], me[2], std::string(""), std::string(""), loom::bench::load_average()});
   }
   // Error and efficiency at 256², 16 spp, 2 threads, against Loom's 1024-spp
   // image (clamped and 8-bit as Embree writes its output).
@@ -218,9 +227,9 @@ void bench_embree() {
     save_png(oq, "embree-scene-loom-16spp.png");
     const double e_embree = std::min(err_direct, err_flipped);
     m = cv::mean(matched);
-    csv.row({"embree-pathtracer", 2LL, (long long)n, (long long)spp, t_embree, c_embree,
-             n * n * spp / t_embree, n * n * spp / c_embree, std::string("n/a"), m[0], m[1], m[2],
-             e_embree, 1 / (e_embree * c_embree), loom::bench::load_average()});
+    csv.row({"embree-pathtracer", 2LL, (long long)n, (long long)spp, t_embree, c_embree, n * n * spp / t_embree,
+             n * n * spp / c_embree, std::string("n/a"), m[0], m[1], m[2], e_embree, 1 / (e_embree * c_embree),
+             loom::bench::load_average()});
     std::cout << "embree image matched " << (err_flipped < err_direct ? "mirrored" : "as is") << "\n";
   }
   csv.save();
@@ -263,9 +272,10 @@ void bench_convergence() {
     sxy += lx[i] * ly[i];
   }
   const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-  std::cout << "convergence: fitted slope of log relMSE against log spp = " << slope
-            << " (reference noise " << ref_noise << ")\n";
-  csv.row({std::string("slope"), slope, std::string(""), std::string(""), std::string(""), loom::bench::load_average()});
+  std::cout << "convergence: fitted slope of log relMSE against log spp = " << slope << " (reference noise "
+            << ref_noise << ")\n";
+  csv.row(
+      {std::string("slope"), slope, std::string(""), std::string(""), std::string(""), loom::bench::load_average()});
   csv.save();
   loom::bench::plot(csv, {"spp", "relmse_corrected", "", "Cornell box: relMSE against spp (MIS)", true, true, ""});
 }
@@ -288,8 +298,8 @@ void strategies(const std::string& name, const loom::Scene& scene, int size) {
       s.seed = 5;
       s.strategy = strategy;
       const Timed t = timed_render(scene, traced, s);
-      csv.row({std::string(label), (long long)spp, t.seconds, t.cpu_seconds,
-               rel_mse(t.result.image, reference), loom::bench::load_average()});
+      csv.row({std::string(label), (long long)spp, t.seconds, t.cpu_seconds, rel_mse(t.result.image, reference),
+               loom::bench::load_average()});
       if (spp == 2) save_png(t.result.image, name + "-2spp-" + label + ".png");
     }
   save_png(reference, name + "-reference.png");
@@ -308,7 +318,8 @@ void bench_environment() {
   s.seed = 77;
   const cv::Mat reference = timed_render(scene, traced, s).result.image;
   save_png(reference, "bright-pixel-reference.png");
-  Csv csv("pathtrace_environment", {"method", "spp", "seconds", "cpu_seconds", "relmse", "relmse_ratio_to_mis", "load1"});
+  Csv csv("pathtrace_environment",
+          {"method", "spp", "seconds", "cpu_seconds", "relmse", "relmse_ratio_to_mis", "load1"});
   struct Method {
     const char* name;
     Strategy strategy;
@@ -395,9 +406,8 @@ void bench_bvh() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  loom::bench::Cli cli("bench_pathtrace",
-                       "The path tracer's time-vs-error figures. Writes pathtrace_*.csv, plots and "
-                       "pathtrace/*.png.");
+  loom::bench::Cli cli("bench_pathtrace", "The path tracer's time-vs-error figures. Writes pathtrace_*.csv, plots and "
+                                          "pathtrace/*.png.");
   std::vector<std::string> sections;
   cli.quick(quick, "a quarter of the reference samples and of the 512² repetitions")
       .modes(sections,

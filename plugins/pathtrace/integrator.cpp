@@ -166,7 +166,7 @@ template <class Bsdf>
 void sample_direct(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, const Vec3f& beta,
                    bool use_mis, PixelSampler& sampler, PathResult& r) {
   const Vec2f u = sampler.uniform2();
-  const float ue = sampler.uniform();
+  const float ue = c.lights.samples_environment() ? sampler.uniform() : 0.f;  // the map's pixel
   const auto ls = c.lights.sample(hit.p, u, ue);
   if (!ls) return;
   const auto t = bsdf.direct(ls->wi);

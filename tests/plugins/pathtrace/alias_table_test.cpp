@@ -5,6 +5,7 @@
 #include <random>
 
 #include "alias_table.hpp"
+#include "test_scenes.hpp"
 
 namespace {
 
@@ -20,20 +21,11 @@ TEST(AliasTable, FrequenciesMatchTheWeights) {
   const int n = 2000000;
   std::vector<int> count(w.size(), 0);
   for (int i = 0; i < n; ++i) ++count[table.sample(uni(rng))];
-  double chi2 = 0;
-  int dof = -1;
-  for (std::size_t i = 0; i < w.size(); ++i) {
-    EXPECT_NEAR(table.pmf(i), w[i] / sum, 1e-7);
-    if (w[i] == 0) {
-      EXPECT_EQ(count[i], 0);
-      continue;
-    }
-    const double expected = n * w[i] / sum;
-    chi2 += (count[i] - expected) * (count[i] - expected) / expected;
-    ++dof;
-  }
+  for (std::size_t i = 0; i < w.size(); ++i) EXPECT_NEAR(table.pmf(i), w[i] / sum, 1e-7);
+  const auto chi2 = loom::pathtrace::test::chi_square_against_weights(w, count, n);
+  EXPECT_EQ(chi2.dof, 7);
   // 99.9% quantile of chi-square with 7 degrees of freedom: 24.3.
-  EXPECT_LT(chi2, 24.3);
+  EXPECT_LT(chi2.value, 24.3);
 }
 
 TEST(AliasTable, EmptyAndDegenerateWeights) {

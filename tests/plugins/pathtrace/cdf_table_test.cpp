@@ -8,6 +8,7 @@
 #include <random>
 
 #include "cdf_table.hpp"
+#include "test_scenes.hpp"
 
 namespace {
 
@@ -31,24 +32,17 @@ TEST(CdfTable, FrequenciesMatchTheWeightsAndTheRemainderIsUniform) {
     ++count[c.index];
     ++rest[c.index][int(c.remainder * bins)];
   }
-  double chi2 = 0;
-  int dof = -1;
   for (std::size_t i = 0; i < w.size(); ++i) {
     EXPECT_NEAR(table.pmf(i), w[i] / sum, 1e-7);
-    if (w[i] == 0) {
-      EXPECT_EQ(count[i], 0);
-      continue;
-    }
-    const double expected = n * w[i] / sum;
-    chi2 += (count[i] - expected) * (count[i] - expected) / expected;
-    ++dof;
-    if (expected < 1000) continue;
+    if (count[i] < 10000) continue;
+    const double expected = count[i] / double(bins);
     double chi2_rest = 0;
-    for (int r : rest[i])
-      chi2_rest += (r - count[i] / double(bins)) * (r - count[i] / double(bins)) / (count[i] / double(bins));
+    for (int r : rest[i]) chi2_rest += (r - expected) * (r - expected) / expected;
     EXPECT_LT(chi2_rest, 27.9) << "index " << i;  // 99.9 % quantile, 9 dof
   }
-  EXPECT_LT(chi2, 24.3);  // 99.9 % quantile, 7 dof
+  const auto chi2 = loom::pathtrace::test::chi_square_against_weights(w, count, n);
+  EXPECT_EQ(chi2.dof, 7);
+  EXPECT_LT(chi2.value, 24.3);  // 99.9 % quantile, 7 dof
 }
 
 TEST(CdfTable, MonotoneInU) {

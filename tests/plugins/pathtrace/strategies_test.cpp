@@ -13,22 +13,10 @@ namespace {
 
 using namespace loom::pathtrace;
 
-struct MeanAndError {
-  double mean, se;
-};
+using test::MeanAndError;
 
-MeanAndError image_mean(const loom::Scene& scene, RenderSettings s, int K) {
-  const EmbreeScene traced(scene);
-  double sum = 0, sum2 = 0;
-  for (int k = 0; k < K; ++k) {
-    s.seed = 500 + std::uint64_t(k);
-    const cv::Scalar m = cv::mean(render(scene, *scene.camera, traced, s).image);
-    const double v = (m[0] + m[1] + m[2]) / 3;
-    sum += v;
-    sum2 += v * v;
-  }
-  const double mean = sum / K;
-  return {mean, std::sqrt(std::max(0.0, (sum2 / K - mean * mean) / (K - 1)))};
+MeanAndError image_mean(const loom::Scene& scene, const RenderSettings& s, int K) {
+  return test::image_mean(scene, s, K, 500);
 }
 
 void expect_agree(const MeanAndError& a, const MeanAndError& b, const char* what) {

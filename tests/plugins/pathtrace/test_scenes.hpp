@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
 #include "embree_scene.hpp"
@@ -34,8 +35,7 @@ inline Scene sphere_in_environment(const Material& material, const Environment& 
 }
 
 inline std::shared_ptr<Image> constant_map(int width, int height, float value) {
-  return std::make_shared<Image>(cv::Mat(height, width, CV_32FC3, cv::Scalar::all(value)),
-                                 Encoding::linear);
+  return std::make_shared<Image>(cv::Mat(height, width, CV_32FC3, cv::Scalar::all(value)), Encoding::linear);
 }
 
 // Per-pixel mean and standard error of the mean over K renders with
@@ -58,6 +58,47 @@ inline PixelStatistics independent_renders(const Scene& scene, RenderSettings se
   cv::Mat var = (sum2 - sum.mul(sum) / K) / (K - 1);
   cv::sqrt(cv::max(var, 0.0) / K, s.standard_error);
   return s;
+}
+
+// Mean over K renders with independent seeds (first_seed, first_seed + 1,
+// ...) of the image's mean (channels averaged), and its standard error.
+struct MeanAndError {
+  double mean, se;
+};
+inline MeanAndError image_mean(const Scene& scene, RenderSettings s, int K, std::uint64_t first_seed) {
+  const EmbreeScene traced(scene);
+  double sum = 0, sum2 = 0;
+  for (int k = 0; k < K; ++k) {
+    s.seed = first_seed + std::uint64_t(k);
+    const cv::Scalar m = cv::mean(render(scene, *scene.camera, traced, s).image);
+    const double v = (m[0] + m[1] + m[2]) / 3;
+    sum += v;
+    sum2 += v * v;
+  }
+  const double mean = sum / K;
+  return {mean, std::sqrt(std::max(0.0, (sum2 / K - mean * mean) / (K - 1)))};
+}
+
+// Chi-square of draw counts against weights (zero weights: no draws allowed,
+// checked), with its degrees of freedom.
+struct ChiSquare {
+  double value = 0;
+  int dof = -1;
+};
+inline ChiSquare chi_square_against_weights(const std::vector<double>& w, const std::vector<int>& count, int n) {
+  double sum = 0;
+  for (double x : w) sum += x;
+  ChiSquare c;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    if (w[i] == 0) {
+      EXPECT_EQ(count[i], 0) << "index " << i;
+      continue;
+    }
+    const double expected = n * w[i] / sum;
+    c.value += (count[i] - expected) * (count[i] - expected) / expected;
+    ++c.dof;
+  }
+  return c;
 }
 
 inline int count_nonfinite(const cv::Mat& m) {
