@@ -87,11 +87,12 @@ int main(int argc, char** argv) {
                        "PoissonBlend benchmark: first solve (multigrid at several tolerances, exact CHOLMOD, "
                        "OpenCV seamlessClone) and the drag re-solve, errors against the exact solve. Writes "
                        "poisson.csv, poisson_drag.csv and a plot.");
-  bool quick = false;
+  bool quick = false, disk = false;
   int only = 0;
   std::vector<std::string> modes;
   cli.quick(quick, "one repeat, no 2048² exact solve")
       .option("--size", only, "only N×N regions: 256, 512, 1024 or 2048 (0: all)")
+      .flag("--disk", disk, "the region is the disk inscribed in the N×N square (default: the square)")
       .modes(modes,
              {{"first", "the first solve: multigrid, CHOLMOD and OpenCV, time against error"},
               {"drag", "the drag re-solve (sizes up to 1024)"}},
@@ -99,8 +100,10 @@ int main(int argc, char** argv) {
       .threads();
   cli.parse(argc, argv);
   const bool drag_only = !loom::bench::wants(modes, "first"), with_drag = loom::bench::wants(modes, "drag");
-  loom::bench::Csv csv("poisson", {"size", "solver", "tolerance", "seconds", "iterations",
-                                   "max_error_255", "rms_error_255", "speedup_vs_opencv"});
+  const std::string shape = disk ? "disk" : "square";
+  loom::bench::Csv csv(disk ? "poisson_disk" : "poisson", {"region", "size", "solver", "tolerance", "seconds", "iterations",
+                                   "max_error_255", "rms_error_255", "speedup_vs_opencv",
+                                                          "load_average"});
   loom::bench::Csv drag("poisson_drag", {"size", "solver", "start", "tolerance", "seconds_per_resolve",
                                           "cpu_seconds_per_resolve", "fps", "iterations_max",
                                           "max_error_255"});
@@ -113,7 +116,10 @@ int main(int argc, char** argv) {
     const cv::Mat3b src8 = pattern(source_size, 0.0), dst8 = pattern(target_size, 1.7);
     const cv::Mat source = to_float(src8), target = to_float(dst8);
     cv::Mat1b mask = cv::Mat1b::zeros(source_size);
-    mask(cv::Rect(1, 1, N, N)).setTo(255);
+    if (disk)
+      cv::circle(mask, {N / 2, N / 2}, N / 2 - 1, 255, cv::FILLED);  // columns 1 .. N − 1
+    else
+      mask(cv::Rect(1, 1, N, N)).setTo(255);
     const cv::Point offset(31, 31);
     const BlendRegion region = place_region(mask, offset, target_size);
     const cv::Mat b = poisson_rhs(region, target, source, offset, Guidance::normal);
@@ -139,17 +145,19 @@ int main(int argc, char** argv) {
       cv::Mat3b src_bgr, dst_bgr, out_bgr;
       cv::cvtColor(src8, src_bgr, cv::COLOR_RGB2BGR);
       cv::cvtColor(dst8, dst_bgr, cv::COLOR_RGB2BGR);
-      const int len = N - 1;  // OpenCV takes the bounding box as max − min
-      const cv::Point centre(1 + offset.x + len / 2, 1 + offset.y + len / 2);
+      const cv::Rect box = cv::boundingRect(mask);  // OpenCV takes the box's size as max − min
+      const cv::Point centre(box.x + offset.x + (box.width - 1) / 2, box.y + offset.y + (box.height - 1) / 2);
       const auto t_cv = loom::bench::time_median(
           [&] { cv::seamlessClone(src_bgr, dst_bgr, mask, centre, out_bgr, cv::NORMAL_CLONE); }, runs);
       cv::Mat3b out_rgb;
       cv::cvtColor(out_bgr, out_rgb, cv::COLOR_BGR2RGB);
       const cv::Mat opencv = to_float(out_rgb)(region.rect);
       const Errors e_cv = run_exact ? compare(opencv, exact, region.unknown) : Errors{NAN, NAN};
-      csv.row({(long long)N, "opencv", 0.0, t_cv.median, 0LL, e_cv.max, e_cv.rms, 1.0});
+      csv.row({shape, (long long)N, "opencv", 0.0, t_cv.median, 0LL, e_cv.max, e_cv.rms, 1.0,
+               loom::bench::load_average()});
       if (run_exact)
-        csv.row({(long long)N, "cholmod", 0.0, exact_seconds, 1LL, 0.0, 0.0, t_cv.median / exact_seconds});
+        csv.row({shape, (long long)N, "cholmod", 0.0, exact_seconds, 1LL, 0.0, 0.0, t_cv.median / exact_seconds,
+                 loom::bench::load_average()});
 
       for (const double tol : tolerances) {
         cv::Mat f;
@@ -162,8 +170,8 @@ int main(int argc, char** argv) {
             },
             runs);
         const Errors e = run_exact ? compare(f, exact, region.unknown) : Errors{NAN, NAN};
-        csv.row({(long long)N, "multigrid", tol, t.median, (long long)result.iterations, e.max, e.rms,
-                 t_cv.median / t.median});
+        csv.row({shape, (long long)N, "multigrid", tol, t.median, (long long)result.iterations, e.max, e.rms,
+                 t_cv.median / t.median, loom::bench::load_average()});
       }
     }
 

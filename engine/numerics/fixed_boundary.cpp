@@ -28,43 +28,36 @@ void require_fixed_in_every_piece(const Eigen::MatrixX3i& F, int n, const std::v
 
 }  // namespace
 
-FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::MatrixX3i& F,
-                                        const std::vector<int>& fixed, const Eigen::MatrixXd& X0,
-                                        const std::function<void()>& check) {
-  auto checkpoint = [&check] {
-    if (check) check();
-  };
+FixedBoundarySystem fixed_boundary_system(const SparseMatrix& W, const Eigen::MatrixX3i& F,
+                                          const std::vector<int>& fixed, const Eigen::MatrixXd& X0) {
   const int n = static_cast<int>(W.rows()), k = static_cast<int>(X0.cols());
   std::vector<char> is_fixed(n, 0);
   for (int v : fixed) is_fixed[v] = 1;
   require_fixed_in_every_piece(F, n, is_fixed);
   const std::vector<bool> used = referenced_vertices(F, n);
-  std::vector<int> index(n, -1);
+  FixedBoundarySystem sys;
+  sys.index.assign(n, -1);
   int m = 0;
   for (int v = 0; v < n; ++v)
-    if (used[v] && !is_fixed[v]) index[v] = m++;
-
-  FixedBoundarySolve result;
-  result.X = X0;
-  if (m == 0) return result;
+    if (used[v] && !is_fixed[v]) sys.index[v] = m++;
+  sys.B = Eigen::MatrixXd::Zero(m, k);
+  if (m == 0) return sys;
   const Eigen::SparseMatrix<double, Eigen::RowMajor> R = W;
   const double mean = R.cwiseAbs().sum() / std::max<Eigen::Index>(R.nonZeros(), 1);
-  bool positive = true;                     // every weight used >= 0: A is an M-matrix
   std::vector<std::vector<int>> adjacency;  // built only if a row needs the fallback
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(R.nonZeros() + m);
-  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(m, k);
   for (int v = 0; v < n; ++v) {
-    const int i = index[v];
+    const int i = sys.index[v];
     if (i < 0) continue;
     double sum = 0;
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(R, v); it; ++it)
       if (it.col() != v) sum += it.value();
     auto add = [&](int u, double w) {
       if (u == v) return;
-      positive &= w >= 0;
-      if (index[u] >= 0) t.emplace_back(i, index[u], -w);
-      else B.row(i) += w * X0.row(u);
+      sys.positive &= w >= 0;
+      if (sys.index[u] >= 0) t.emplace_back(i, sys.index[u], -w);
+      else sys.B.row(i) += w * X0.row(u);
     };
     if (sum > 1e-12 * mean) {
       for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(R, v); it; ++it)
@@ -75,16 +68,34 @@ FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::Matr
       if (adjacency.empty()) adjacency = vertex_adjacency(F, n);
       for (int u : adjacency[v]) add(u, 1.0);
       sum = static_cast<double>(adjacency[v].size());
-      ++result.uniform_rows;
+      ++sys.uniform_rows;
     }
     t.emplace_back(i, i, sum);
   }
-  SparseMatrix A(m, m);
-  A.setFromTriplets(t.begin(), t.end());
+  sys.A.resize(m, m);
+  sys.A.setFromTriplets(t.begin(), t.end());
+  sys.symmetric = sys.uniform_rows == 0 && (SparseMatrix(sys.A.transpose()) - sys.A).norm() <= 1e-12 * sys.A.norm();
+  return sys;
+}
+
+FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::MatrixX3i& F,
+                                        const std::vector<int>& fixed, const Eigen::MatrixXd& X0,
+                                        const std::function<void()>& check) {
+  auto checkpoint = [&check] {
+    if (check) check();
+  };
+  const FixedBoundarySystem sys = fixed_boundary_system(W, F, fixed, X0);
+  FixedBoundarySolve result;
+  result.X = X0;
+  result.uniform_rows = sys.uniform_rows;
+  if (sys.A.rows() == 0) return result;
+  const SparseMatrix& A = sys.A;
+  const Eigen::MatrixXd& B = sys.B;
+  const bool positive = sys.positive;
   checkpoint();
 
   Eigen::MatrixXd Y;
-  const bool symmetric = result.uniform_rows == 0 && (SparseMatrix(A.transpose()) - A).norm() <= 1e-12 * A.norm();
+  const bool symmetric = sys.symmetric;
   bool solved = false;
   if (symmetric) {
     // Negative cotangent weights can make A indefinite: LU still solves it.
@@ -117,8 +128,8 @@ FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::Matr
     result.solver = lu.backend();
   }
   if (!Y.allFinite()) throw Error("the linear system is singular: the mesh has degenerate faces everywhere");
-  for (int v = 0; v < n; ++v)
-    if (index[v] >= 0) result.X.row(v) = Y.row(index[v]);
+  for (std::size_t v = 0; v < sys.index.size(); ++v)
+    if (sys.index[v] >= 0) result.X.row(static_cast<Eigen::Index>(v)) = Y.row(sys.index[v]);
   return result;
 }
 

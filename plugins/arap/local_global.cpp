@@ -112,11 +112,11 @@ ArapSystem arap_system(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
       if (fa >= 0 && fb < 0) fp.emplace_back(fa, b, -c);
       if (fb >= 0 && fa < 0) fp.emplace_back(fb, a, -c);
     }
-  numerics::SparseMatrix K(nfree, nfree);
-  K.setFromTriplets(ff.begin(), ff.end());
+  sys.K.resize(nfree, nfree);
+  sys.K.setFromTriplets(ff.begin(), ff.end());
   sys.K_fp.resize(nfree, n);
   sys.K_fp.setFromTriplets(fp.begin(), fp.end());
-  if (nfree > 0) sys.K_ff.compute(K);
+  if (nfree > 0) sys.K_ff.compute(sys.K);
   return sys;
 }
 

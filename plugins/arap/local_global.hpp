@@ -27,6 +27,7 @@ struct ArapSystem {
   // Corners of each free vertex (3t + i), for a parallel gather of b.
   std::vector<int> corner_start, corners;
   numerics::SparseMatrix K_fp;   // #free by #V: the coupling to pinned vertices' columns
+  numerics::SparseMatrix K;      // #free by #free: K_ff itself (what the benchmark times CHOLMOD on)
   numerics::SparseCholesky K_ff;
 };
 
