@@ -1,5 +1,6 @@
 #include "loom/numerics/fixed_boundary.hpp"
 
+#include <algorithm>
 #include <functional>
 #include <numeric>
 
@@ -45,19 +46,33 @@ FixedBoundarySystem fixed_boundary_system(const SparseMatrix& W, const Eigen::Ma
   const Eigen::SparseMatrix<double, Eigen::RowMajor> R = W;
   const double mean = R.cwiseAbs().sum() / std::max<Eigen::Index>(R.nonZeros(), 1);
   std::vector<std::vector<int>> adjacency;  // built only if a row needs the fallback
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(R.nonZeros() + m);
+  // A is built row by row in compressed row-major form: rows follow the free
+  // vertices in order and index[] is increasing, so each row's columns come
+  // out sorted and no triplet sort is needed.
+  std::vector<int> outer{0}, inner;
+  std::vector<double> value;
+  inner.reserve(static_cast<std::size_t>(R.nonZeros() + m));
+  value.reserve(inner.capacity());
   for (int v = 0; v < n; ++v) {
     const int i = sys.index[v];
     if (i < 0) continue;
     double sum = 0;
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(R, v); it; ++it)
       if (it.col() != v) sum += it.value();
+    bool diagonal_placed = false;
     auto add = [&](int u, double w) {
       if (u == v) return;
       sys.positive &= w >= 0;
-      if (sys.index[u] >= 0) t.emplace_back(i, sys.index[u], -w);
-      else sys.B.row(i) += w * X0.row(u);
+      const int j = sys.index[u];
+      if (j < 0) {
+        sys.B.row(i) += w * X0.row(u);
+        return;
+      }
+      if (!diagonal_placed && j > i) {
+        inner.push_back(i), value.push_back(sum);
+        diagonal_placed = true;
+      }
+      inner.push_back(j), value.push_back(-w);
     };
     if (sum > 1e-12 * mean) {
       for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(R, v); it; ++it)
@@ -66,15 +81,25 @@ FixedBoundarySystem fixed_boundary_system(const SparseMatrix& W, const Eigen::Ma
       // Degenerate neighbourhood (zero-area faces): the uniform row keeps the
       // system regular.
       if (adjacency.empty()) adjacency = vertex_adjacency(F, n);
-      for (int u : adjacency[v]) add(u, 1.0);
       sum = static_cast<double>(adjacency[v].size());
+      for (int u : adjacency[v]) add(u, 1.0);
       ++sys.uniform_rows;
     }
-    t.emplace_back(i, i, sum);
+    if (!diagonal_placed) inner.push_back(i), value.push_back(sum);
+    outer.push_back(static_cast<int>(inner.size()));
   }
-  sys.A.resize(m, m);
-  sys.A.setFromTriplets(t.begin(), t.end());
-  sys.symmetric = sys.uniform_rows == 0 && (SparseMatrix(sys.A.transpose()) - sys.A).norm() <= 1e-12 * sys.A.norm();
+  const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> A_rows(
+      m, m, static_cast<Eigen::Index>(inner.size()), outer.data(), inner.data(), value.data());
+  sys.A = A_rows;
+  // A is symmetric exactly when its column-major storage repeats its
+  // row-major one (column i of A is then row i).
+  const double tolerance = 1e-12 * Eigen::Map<const Eigen::VectorXd>(value.data(), Eigen::Index(value.size())).norm();
+  sys.symmetric = sys.uniform_rows == 0 &&
+                  std::equal(outer.begin(), outer.end(), sys.A.outerIndexPtr()) &&
+                  std::equal(inner.begin(), inner.end(), sys.A.innerIndexPtr()) &&
+                  (Eigen::Map<const Eigen::VectorXd>(value.data(), Eigen::Index(value.size())) -
+                   Eigen::Map<const Eigen::VectorXd>(sys.A.valuePtr(), sys.A.nonZeros()))
+                          .norm() <= tolerance;
   return sys;
 }
 
