@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "alternating.hpp"
 #include "bench_harness.hpp"
 #include "cholmod_limit.hpp"
 #include "generators.hpp"
@@ -52,37 +53,6 @@ Input hemisphere(const std::string& name, int rings, int segments) {
   std::mt19937_64 rng(7);
   const loom::Mesh m = loom::generate::hemisphere_mesh(1, rings, segments, 0.01, rng);
   return Input{name, m.V, m.F};
-}
-
-struct Time {
-  double wall = 0, cpu = 0;  // seconds; cpu = process CPU time over all threads
-};
-
-// Medians of wall and CPU time over `runs` rounds after one warm-up round,
-// each round running every contender once in turn; with `once`, a single
-// round and no warm-up (for the 1M mesh).
-std::vector<Time> timed_alternating(bool once, int runs,
-                                    const std::vector<std::pair<std::string, std::function<void()>>>& contenders) {
-  if (once) runs = 1;
-  else
-    for (const auto& c : contenders) c.second();
-  std::vector<std::vector<double>> wall(contenders.size()), cpu(contenders.size());
-  for (int r = 0; r < runs; ++r)
-    for (std::size_t k = 0; k < contenders.size(); ++k) {
-      const auto w0 = std::chrono::steady_clock::now();
-      const std::clock_t c0 = std::clock();
-      contenders[k].second();
-      cpu[k].push_back(static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
-      wall[k].push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
-    }
-  auto median = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const size_t h = v.size() / 2;
-    return v.size() % 2 ? v[h] : (v[h - 1] + v[h]) / 2;
-  };
-  std::vector<Time> out;
-  for (std::size_t k = 0; k < contenders.size(); ++k) out.push_back({median(wall[k]), median(cpu[k])});
-  return out;
 }
 
 // gnuplot reads "_" as a subscript: legends use "-".
@@ -174,8 +144,9 @@ int main(int argc, char** argv) {
         if (uniform_only && wname != "uniform") continue;
         const auto weights = static_cast<loom::parameterize::Weights>(w);
         loom::parameterize::Parameterization p;
-        std::vector<std::pair<std::string, std::function<void()>>> contenders = {
-            {"loom", [&] { p = loom::parameterize::parameterize(m.V, m.F, weights, shape); }}};
+        std::vector<std::string> names = {"loom"};
+        std::vector<std::function<void()>> contenders = {
+            [&] { p = loom::parameterize::parameterize(m.V, m.F, weights, shape); }};
         p = loom::parameterize::parameterize(m.V, m.F, weights, shape);  // the border UVs CGAL is given
 #ifdef LOOM_BENCH_CGAL
         std::vector<Eigen::MatrixX2d> cgal_uv(2);
@@ -185,15 +156,15 @@ int main(int argc, char** argv) {
         const Eigen::MatrixX2d border_uv = p.UV;
         for (int k = 0; with_peer && k < 2; ++k)
           if (!(huge && k == 1))  // BiCGSTAB is slower still than SparseLU at 1M
-            contenders.emplace_back(std::string("cgal_") + solvers[k], [&, k] {
+            names.push_back(std::string("cgal_") + solvers[k]), contenders.emplace_back([&, k] {
               cgal_uv[k] = loom::bench::cgal_parameterize(*peer, border_uv, loops[0][0], wname, solvers[k]);
             });
 #endif
         // Loom and its peers alternate run by run, so a change in the
         // machine's load falls on all of them. The square only for flip
         // counts: timings are the circle's.
-        const std::vector<Time> t =
-            timed_alternating(huge, shape == BoundaryShape::circle ? runs : 1, contenders);
+        const auto t = loom::bench::time_alternating(huge || shape != BoundaryShape::circle ? 1 : runs,
+                                                     contenders, !huge);
         const auto r = loom::numerics::distortion(m.V, m.F, p.UV);
         csv.row({m.name, static_cast<long long>(m.F.rows()), bname, wname, std::string("loom"), t[0].wall,
                  t[0].cpu, static_cast<long long>(r.flipped), r.angle_mean, r.area_mean, r.arap_energy, 0.0,
@@ -204,10 +175,10 @@ int main(int argc, char** argv) {
         for (std::size_t k = 1; k < contenders.size(); ++k) {
           const Eigen::MatrixX2d& UV = cgal_uv[k - 1];
           const auto rc = loom::numerics::distortion(m.V, m.F, UV);
-          csv.row({m.name, static_cast<long long>(m.F.rows()), bname, wname, contenders[k].first, t[k].wall,
+          csv.row({m.name, static_cast<long long>(m.F.rows()), bname, wname, names[k], t[k].wall,
                    t[k].cpu, static_cast<long long>(rc.flipped), rc.angle_mean, rc.area_mean, rc.arap_energy,
                    (UV - p.UV).cwiseAbs().maxCoeff(), loom::bench::load_average()});
-          times.row({m.name, static_cast<long long>(m.F.rows()), label(contenders[k].first + " " + wname),
+          times.row({m.name, static_cast<long long>(m.F.rows()), label(names[k] + " " + wname),
                      t[k].wall});
         }
 #endif
