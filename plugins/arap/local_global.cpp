@@ -112,6 +112,29 @@ class AndersonMixing {
   Eigen::VectorXd last_f_, last_g_;
 };
 
+// b(L) of the global step, in parallel: each corner's share (3t + i), then
+// per free vertex the sum over its corners plus the pinned vertices' share.
+void gather_rhs(const ArapSystem& sys, const Eigen::MatrixX2d& ab, const Eigen::MatrixX2d& pinned_rhs,
+                Eigen::MatrixXd& corner_rhs, Eigen::MatrixXd& rhs) {
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, sys.F.rows(), 1024), [&](const auto& range) {
+    for (Eigen::Index t = range.begin(); t < range.end(); ++t) {
+      Eigen::Matrix2d L;
+      L << ab(t, 0), -ab(t, 1), ab(t, 1), ab(t, 0);
+      Eigen::Vector2d r[3];
+      for (int i = 0; i < 3; ++i)
+        r[i] = sys.frames.cot(t, i) * (L * Eigen::Vector2d(sys.frames.D(t, 2 * i), sys.frames.D(t, 2 * i + 1)));
+      for (int i = 0; i < 3; ++i) corner_rhs.row(3 * t + i) = (r[i] - r[(i + 2) % 3]).transpose();
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(rhs.rows()), 2048), [&](const auto& range) {
+    for (int k = range.begin(); k < range.end(); ++k) {
+      Eigen::RowVector2d b = pinned_rhs.row(k);
+      for (int c = sys.corner_start[k]; c < sys.corner_start[k + 1]; ++c) b += corner_rhs.row(sys.corners[c]);
+      rhs.row(k) = b;
+    }
+  });
+}
+
 }  // namespace
 
 ArapSystem arap_system(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
@@ -200,25 +223,7 @@ ArapResult arap(const ArapSystem& sys, const Eigen::MatrixX2d& UV0, const ArapOp
   // back-substitution with the factor of K_ff. Returns the free vertices'
   // new UVs (#free by 2) for the rotations in `ab`.
   auto global_step = [&] {
-    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nf, 1024), [&](const auto& range) {
-      for (Eigen::Index t = range.begin(); t < range.end(); ++t) {
-        Eigen::Matrix2d L;
-        L << ab(t, 0), -ab(t, 1), ab(t, 1), ab(t, 0);
-        Eigen::Vector2d r[3];
-        for (int i = 0; i < 3; ++i)
-          r[i] = sys.frames.cot(t, i) * (L * Eigen::Vector2d(sys.frames.D(t, 2 * i),
-                                                             sys.frames.D(t, 2 * i + 1)));
-        for (int i = 0; i < 3; ++i) corner_rhs.row(3 * t + i) = (r[i] - r[(i + 2) % 3]).transpose();
-      }
-    });
-    tbb::parallel_for(tbb::blocked_range<int>(0, nfree, 2048), [&](const auto& range) {
-      for (int k = range.begin(); k < range.end(); ++k) {
-        Eigen::RowVector2d b = pinned_rhs.row(k);
-        for (int c = sys.corner_start[k]; c < sys.corner_start[k + 1]; ++c)
-          b += corner_rhs.row(sys.corners[c]);
-        rhs.row(k) = b;
-      }
-    });
+    gather_rhs(sys, ab, pinned_rhs, corner_rhs, rhs);
     return Eigen::MatrixXd(sys.K_ff.solve(rhs));
   };
   auto free_rows = [&] {
