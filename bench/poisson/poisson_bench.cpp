@@ -1,6 +1,7 @@
 // Seamless cloning: time against error to the exact solve (CHOLMOD) for the
 // multigrid solver at several tolerances, the exact solve itself, and OpenCV's
-// cv::seamlessClone side by side on the same 8-bit images and region; plus the
+// cv::seamlessClone side by side on the same 8-bit images and region (OpenCV
+// and each tolerance alternating run by run); plus the
 // drag re-solve (new offset, cached factorization or hierarchy).
 //
 //   bench_poisson [--quick] [--size N] [first] [drag]
@@ -17,6 +18,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/photo.hpp>
 
+#include "alternating.hpp"
 #include "bench_harness.hpp"
 #include "exact_poisson.hpp"
 #include "multigrid.hpp"
@@ -87,11 +89,12 @@ int main(int argc, char** argv) {
                        "PoissonBlend benchmark: first solve (multigrid at several tolerances, exact CHOLMOD, "
                        "OpenCV seamlessClone) and the drag re-solve, errors against the exact solve. Writes "
                        "poisson.csv, poisson_drag.csv and a plot.");
-  bool quick = false;
+  bool quick = false, disk = false;
   int only = 0;
   std::vector<std::string> modes;
   cli.quick(quick, "one repeat, no 2048² exact solve")
       .option("--size", only, "only N×N regions: 256, 512, 1024 or 2048 (0: all)")
+      .flag("--disk", disk, "the region is the disk inscribed in the N×N square (default: the square)")
       .modes(modes,
              {{"first", "the first solve: multigrid, CHOLMOD and OpenCV, time against error"},
               {"drag", "the drag re-solve (sizes up to 1024)"}},
@@ -99,8 +102,10 @@ int main(int argc, char** argv) {
       .threads();
   cli.parse(argc, argv);
   const bool drag_only = !loom::bench::wants(modes, "first"), with_drag = loom::bench::wants(modes, "drag");
-  loom::bench::Csv csv("poisson", {"size", "solver", "tolerance", "seconds", "iterations",
-                                   "max_error_255", "rms_error_255", "speedup_vs_opencv"});
+  const std::string shape = disk ? "disk" : "square";
+  loom::bench::Csv csv(disk ? "poisson_disk" : "poisson", {"region", "size", "solver", "tolerance", "seconds", "iterations",
+                                   "max_error_255", "rms_error_255", "speedup_vs_opencv",
+                                                          "load_average"});
   loom::bench::Csv drag("poisson_drag", {"size", "solver", "start", "tolerance", "seconds_per_resolve",
                                           "cpu_seconds_per_resolve", "fps", "iterations_max",
                                           "max_error_255"});
@@ -113,7 +118,10 @@ int main(int argc, char** argv) {
     const cv::Mat3b src8 = pattern(source_size, 0.0), dst8 = pattern(target_size, 1.7);
     const cv::Mat source = to_float(src8), target = to_float(dst8);
     cv::Mat1b mask = cv::Mat1b::zeros(source_size);
-    mask(cv::Rect(1, 1, N, N)).setTo(255);
+    if (disk)
+      cv::circle(mask, {N / 2, N / 2}, N / 2 - 1, 255, cv::FILLED);  // columns 1 .. N − 1
+    else
+      mask(cv::Rect(1, 1, N, N)).setTo(255);
     const cv::Point offset(31, 31);
     const BlendRegion region = place_region(mask, offset, target_size);
     const cv::Mat b = poisson_rhs(region, target, source, offset, Guidance::normal);
@@ -139,32 +147,39 @@ int main(int argc, char** argv) {
       cv::Mat3b src_bgr, dst_bgr, out_bgr;
       cv::cvtColor(src8, src_bgr, cv::COLOR_RGB2BGR);
       cv::cvtColor(dst8, dst_bgr, cv::COLOR_RGB2BGR);
-      const int len = N - 1;  // OpenCV takes the bounding box as max − min
-      const cv::Point centre(1 + offset.x + len / 2, 1 + offset.y + len / 2);
-      const auto t_cv = loom::bench::time_median(
-          [&] { cv::seamlessClone(src_bgr, dst_bgr, mask, centre, out_bgr, cv::NORMAL_CLONE); }, runs);
+      const cv::Rect box = cv::boundingRect(mask);  // OpenCV takes the box's size as max − min
+      const cv::Point centre(box.x + offset.x + (box.width - 1) / 2, box.y + offset.y + (box.height - 1) / 2);
+      auto opencv_clone = [&] { cv::seamlessClone(src_bgr, dst_bgr, mask, centre, out_bgr, cv::NORMAL_CLONE); };
+      opencv_clone();  // its result, for the errors
       cv::Mat3b out_rgb;
       cv::cvtColor(out_bgr, out_rgb, cv::COLOR_BGR2RGB);
       const cv::Mat opencv = to_float(out_rgb)(region.rect);
       const Errors e_cv = run_exact ? compare(opencv, exact, region.unknown) : Errors{NAN, NAN};
-      csv.row({(long long)N, "opencv", 0.0, t_cv.median, 0LL, e_cv.max, e_cv.rms, 1.0});
-      if (run_exact)
-        csv.row({(long long)N, "cholmod", 0.0, exact_seconds, 1LL, 0.0, 0.0, t_cv.median / exact_seconds});
 
+      // Each tolerance alternates with OpenCV run by run; the speed-up is the
+      // ratio of the medians of those same rounds.
+      std::vector<double> opencv_seconds;
       for (const double tol : tolerances) {
         cv::Mat f;
         MultigridPoisson::Result result;
-        const auto t = loom::bench::time_median(
-            [&] {
-              f = source_on_rect(region, source, offset);
-              MultigridPoisson mg(region.unknown);
-              result = mg.solve(poisson_rhs(region, target, source, offset, Guidance::normal), f, tol, 200);
-            },
-            runs);
+        const auto t = loom::bench::time_alternating(runs, {opencv_clone, [&] {
+                                                              f = source_on_rect(region, source, offset);
+                                                              MultigridPoisson mg(region.unknown);
+                                                              result = mg.solve(poisson_rhs(region, target, source,
+                                                                                            offset, Guidance::normal),
+                                                                                f, tol, 200);
+                                                            }});
+        opencv_seconds.push_back(t[0].wall);
         const Errors e = run_exact ? compare(f, exact, region.unknown) : Errors{NAN, NAN};
-        csv.row({(long long)N, "multigrid", tol, t.median, (long long)result.iterations, e.max, e.rms,
-                 t_cv.median / t.median});
+        csv.row({shape, (long long)N, "multigrid", tol, t[1].wall, (long long)result.iterations, e.max, e.rms,
+                 t[0].wall / t[1].wall, loom::bench::load_average()});
       }
+      std::sort(opencv_seconds.begin(), opencv_seconds.end());
+      const double t_cv = opencv_seconds[opencv_seconds.size() / 2];
+      csv.row({shape, (long long)N, "opencv", 0.0, t_cv, 0LL, e_cv.max, e_cv.rms, 1.0, loom::bench::load_average()});
+      if (run_exact)
+        csv.row({shape, (long long)N, "cholmod", 0.0, exact_seconds, 1LL, 0.0, 0.0, t_cv / exact_seconds,
+                 loom::bench::load_average()});
     }
 
     // Drag: the region moves by a pixel per frame (offsets cycling through

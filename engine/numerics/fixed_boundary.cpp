@@ -1,5 +1,6 @@
 #include "loom/numerics/fixed_boundary.hpp"
 
+#include <algorithm>
 #include <functional>
 #include <numeric>
 
@@ -28,43 +29,50 @@ void require_fixed_in_every_piece(const Eigen::MatrixX3i& F, int n, const std::v
 
 }  // namespace
 
-FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::MatrixX3i& F,
-                                        const std::vector<int>& fixed, const Eigen::MatrixXd& X0,
-                                        const std::function<void()>& check) {
-  auto checkpoint = [&check] {
-    if (check) check();
-  };
+FixedBoundarySystem fixed_boundary_system(const SparseMatrix& W, const Eigen::MatrixX3i& F,
+                                          const std::vector<int>& fixed, const Eigen::MatrixXd& X0) {
   const int n = static_cast<int>(W.rows()), k = static_cast<int>(X0.cols());
   std::vector<char> is_fixed(n, 0);
   for (int v : fixed) is_fixed[v] = 1;
   require_fixed_in_every_piece(F, n, is_fixed);
   const std::vector<bool> used = referenced_vertices(F, n);
-  std::vector<int> index(n, -1);
+  FixedBoundarySystem sys;
+  sys.index.assign(n, -1);
   int m = 0;
   for (int v = 0; v < n; ++v)
-    if (used[v] && !is_fixed[v]) index[v] = m++;
-
-  FixedBoundarySolve result;
-  result.X = X0;
-  if (m == 0) return result;
+    if (used[v] && !is_fixed[v]) sys.index[v] = m++;
+  sys.B = Eigen::MatrixXd::Zero(m, k);
+  if (m == 0) return sys;
   const Eigen::SparseMatrix<double, Eigen::RowMajor> R = W;
   const double mean = R.cwiseAbs().sum() / std::max<Eigen::Index>(R.nonZeros(), 1);
-  bool positive = true;                     // every weight used >= 0: A is an M-matrix
   std::vector<std::vector<int>> adjacency;  // built only if a row needs the fallback
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(R.nonZeros() + m);
-  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(m, k);
+  // A is built row by row in compressed row-major form: rows follow the free
+  // vertices in order and index[] is increasing, so each row's columns come
+  // out sorted and no triplet sort is needed.
+  std::vector<int> outer{0}, inner;
+  std::vector<double> value;
+  inner.reserve(static_cast<std::size_t>(R.nonZeros() + m));
+  value.reserve(inner.capacity());
   for (int v = 0; v < n; ++v) {
-    const int i = index[v];
+    const int i = sys.index[v];
     if (i < 0) continue;
     double sum = 0;
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(R, v); it; ++it)
       if (it.col() != v) sum += it.value();
+    bool diagonal_placed = false;
     auto add = [&](int u, double w) {
       if (u == v) return;
-      positive &= w >= 0;
-      if (index[u] >= 0) t.emplace_back(i, index[u], -w);
-      else B.row(i) += w * X0.row(u);
+      sys.positive &= w >= 0;
+      const int j = sys.index[u];
+      if (j < 0) {
+        sys.B.row(i) += w * X0.row(u);
+        return;
+      }
+      if (!diagonal_placed && j > i) {
+        inner.push_back(i), value.push_back(sum);
+        diagonal_placed = true;
+      }
+      inner.push_back(j), value.push_back(-w);
     };
     if (sum > 1e-12 * mean) {
       for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(R, v); it; ++it)
@@ -73,18 +81,46 @@ FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::Matr
       // Degenerate neighbourhood (zero-area faces): the uniform row keeps the
       // system regular.
       if (adjacency.empty()) adjacency = vertex_adjacency(F, n);
-      for (int u : adjacency[v]) add(u, 1.0);
       sum = static_cast<double>(adjacency[v].size());
-      ++result.uniform_rows;
+      for (int u : adjacency[v]) add(u, 1.0);
+      ++sys.uniform_rows;
     }
-    t.emplace_back(i, i, sum);
+    if (!diagonal_placed) inner.push_back(i), value.push_back(sum);
+    outer.push_back(static_cast<int>(inner.size()));
   }
-  SparseMatrix A(m, m);
-  A.setFromTriplets(t.begin(), t.end());
+  const Eigen::Map<const Eigen::SparseMatrix<double, Eigen::RowMajor>> A_rows(
+      m, m, static_cast<Eigen::Index>(inner.size()), outer.data(), inner.data(), value.data());
+  sys.A = A_rows;
+  // A is symmetric exactly when its column-major storage repeats its
+  // row-major one (column i of A is then row i).
+  const double tolerance = 1e-12 * Eigen::Map<const Eigen::VectorXd>(value.data(), Eigen::Index(value.size())).norm();
+  sys.symmetric = sys.uniform_rows == 0 &&
+                  std::equal(outer.begin(), outer.end(), sys.A.outerIndexPtr()) &&
+                  std::equal(inner.begin(), inner.end(), sys.A.innerIndexPtr()) &&
+                  (Eigen::Map<const Eigen::VectorXd>(value.data(), Eigen::Index(value.size())) -
+                   Eigen::Map<const Eigen::VectorXd>(sys.A.valuePtr(), sys.A.nonZeros()))
+                          .norm() <= tolerance;
+  return sys;
+}
+
+FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::MatrixX3i& F,
+                                        const std::vector<int>& fixed, const Eigen::MatrixXd& X0,
+                                        const std::function<void()>& check) {
+  auto checkpoint = [&check] {
+    if (check) check();
+  };
+  const FixedBoundarySystem sys = fixed_boundary_system(W, F, fixed, X0);
+  FixedBoundarySolve result;
+  result.X = X0;
+  result.uniform_rows = sys.uniform_rows;
+  if (sys.A.rows() == 0) return result;
+  const SparseMatrix& A = sys.A;
+  const Eigen::MatrixXd& B = sys.B;
+  const bool positive = sys.positive;
   checkpoint();
 
   Eigen::MatrixXd Y;
-  const bool symmetric = result.uniform_rows == 0 && (SparseMatrix(A.transpose()) - A).norm() <= 1e-12 * A.norm();
+  const bool symmetric = sys.symmetric;
   bool solved = false;
   if (symmetric) {
     // Negative cotangent weights can make A indefinite: LU still solves it.
@@ -117,8 +153,8 @@ FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::Matr
     result.solver = lu.backend();
   }
   if (!Y.allFinite()) throw Error("the linear system is singular: the mesh has degenerate faces everywhere");
-  for (int v = 0; v < n; ++v)
-    if (index[v] >= 0) result.X.row(v) = Y.row(index[v]);
+  for (std::size_t v = 0; v < sys.index.size(); ++v)
+    if (sys.index[v] >= 0) result.X.row(static_cast<Eigen::Index>(v)) = Y.row(sys.index[v]);
   return result;
 }
 

@@ -1,11 +1,14 @@
 #include "loom/numerics/sparse_solver.hpp"
 
 #include <cholmod.h>
+#include <dlfcn.h>
 #include <umfpack.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -71,11 +74,32 @@ cholmod_dense view_dense(const Eigen::MatrixXd& B) {
   return d;
 }
 
+// OpenBLAS (Debian's BLAS) keeps a pool of threads of its own, outside the
+// engine's TBB limit, that spin and sched_yield between the many small BLAS
+// calls of a supernodal factorization. On a loaded machine that multiplied a
+// 100k-face Tutte map's CPU time by 6 (1.03 s against 0.17 s, same run;
+// docs/architecture.md); Loom's parallelism comes from TBB instead. So BLAS
+// runs on the calling thread, unless the user set OPENBLAS_NUM_THREADS.
+// Looked up at run time in the loaded OpenBLAS (a plugin's libraries may be
+// out of the global scope): another BLAS has no such call and is left alone.
+void blas_on_calling_thread() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (std::getenv("OPENBLAS_NUM_THREADS")) return;
+    using SetThreads = void (*)(int);
+    void* openblas = dlopen("libopenblas.so.0", RTLD_LAZY | RTLD_NOLOAD);
+    void* symbol = dlsym(openblas ? openblas : RTLD_DEFAULT, "openblas_set_num_threads");
+    if (symbol) reinterpret_cast<SetThreads>(symbol)(1);
+    if (openblas) dlclose(openblas);
+  });
+}
+
 // A CHOLMOD workspace set up the same way everywhere: supernodal, silent
 // (errors are turned into loom::Error by the caller from Common.status).
 struct Common {
   cholmod_common c;
   Common() {
+    blas_on_calling_thread();
     cholmod_start(&c);
     c.supernodal = CHOLMOD_SUPERNODAL;
     c.print = 0;
@@ -203,7 +227,10 @@ struct SparseLU::Impl {
   void* numeric = nullptr;
   double control[UMFPACK_CONTROL];
 
-  Impl() { umfpack_di_defaults(control); }
+  Impl() {
+    blas_on_calling_thread();
+    umfpack_di_defaults(control);
+  }
   ~Impl() { release(); }
   void release() {
     if (numeric) umfpack_di_free_numeric(&numeric);

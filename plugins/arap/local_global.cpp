@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Cholesky>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -63,6 +65,76 @@ Eigen::Vector2d local_fit(const TriangleFrames& fr, const Eigen::MatrixX3i& F,
   return ab;
 }
 
+// Anderson acceleration of a fixed-point map u ↦ G(u) (Anderson 1965; for
+// local/global solvers, Peng et al. 2018, eq. 4): from the last m residuals
+// f_j = G(u_j) − u_j, the next iterate is G(u_k) − Σ_j θ_j ΔG_j with θ the
+// least-squares fit of f_k by the residual differences ΔF_j. m = 0 is the
+// plain iteration.
+class AndersonMixing {
+ public:
+  AndersonMixing(int m, Eigen::Index size) : m_(std::max(m, 0)), dF_(size, m_), dG_(size, m_) {}
+  bool active() const { return used_ > 0; }
+  void reset() { used_ = 0, have_last_ = false; }
+
+  // u: the current iterate, g = G(u) (both #free by 2); returns the next iterate.
+  Eigen::MatrixXd extrapolate(const Eigen::MatrixXd& u, const Eigen::MatrixXd& g) {
+    if (m_ == 0) return g;
+    const Eigen::Map<const Eigen::VectorXd> gv(g.data(), g.size());
+    const Eigen::VectorXd f = gv - Eigen::Map<const Eigen::VectorXd>(u.data(), u.size());
+    if (have_last_) {
+      const int slot = next_slot_;
+      dF_.col(slot) = f - last_f_;
+      dG_.col(slot) = gv - last_g_;
+      next_slot_ = (next_slot_ + 1) % m_;
+      used_ = std::min(used_ + 1, m_);
+    }
+    last_f_ = f, last_g_ = gv, have_last_ = true;
+    if (used_ == 0) return g;
+    // θ = argmin ‖f − ΔF θ‖ by the normal equations (m ≤ a few), ridge-
+    // regularized a little so nearly parallel differences stay solvable.
+    const auto dF = dF_.leftCols(used_);
+    Eigen::MatrixXd gram = dF.transpose() * dF;
+    gram.diagonal().array() += 1e-10 * gram.diagonal().maxCoeff() + 1e-300;
+    const Eigen::VectorXd theta = gram.ldlt().solve(dF.transpose() * f);
+    if (!theta.allFinite()) {
+      reset();
+      return g;
+    }
+    Eigen::MatrixXd next = g;
+    Eigen::Map<Eigen::VectorXd>(next.data(), next.size()) -= dG_.leftCols(used_) * theta;
+    return next;
+  }
+
+ private:
+  int m_, used_ = 0, next_slot_ = 0;
+  bool have_last_ = false;
+  Eigen::MatrixXd dF_, dG_;
+  Eigen::VectorXd last_f_, last_g_;
+};
+
+// b(L) of the global step, in parallel: each corner's share (3t + i), then
+// per free vertex the sum over its corners plus the pinned vertices' share.
+void gather_rhs(const ArapSystem& sys, const Eigen::MatrixX2d& ab, const Eigen::MatrixX2d& pinned_rhs,
+                Eigen::MatrixXd& corner_rhs, Eigen::MatrixXd& rhs) {
+  tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, sys.F.rows(), 1024), [&](const auto& range) {
+    for (Eigen::Index t = range.begin(); t < range.end(); ++t) {
+      Eigen::Matrix2d L;
+      L << ab(t, 0), -ab(t, 1), ab(t, 1), ab(t, 0);
+      Eigen::Vector2d r[3];
+      for (int i = 0; i < 3; ++i)
+        r[i] = sys.frames.cot(t, i) * (L * Eigen::Vector2d(sys.frames.D(t, 2 * i), sys.frames.D(t, 2 * i + 1)));
+      for (int i = 0; i < 3; ++i) corner_rhs.row(3 * t + i) = (r[i] - r[(i + 2) % 3]).transpose();
+    }
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, static_cast<int>(rhs.rows()), 2048), [&](const auto& range) {
+    for (int k = range.begin(); k < range.end(); ++k) {
+      Eigen::RowVector2d b = pinned_rhs.row(k);
+      for (int c = sys.corner_start[k]; c < sys.corner_start[k + 1]; ++c) b += corner_rhs.row(sys.corners[c]);
+      rhs.row(k) = b;
+    }
+  });
+}
+
 }  // namespace
 
 ArapSystem arap_system(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
@@ -112,11 +184,11 @@ ArapSystem arap_system(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
       if (fa >= 0 && fb < 0) fp.emplace_back(fa, b, -c);
       if (fb >= 0 && fa < 0) fp.emplace_back(fb, a, -c);
     }
-  numerics::SparseMatrix K(nfree, nfree);
-  K.setFromTriplets(ff.begin(), ff.end());
+  sys.K.resize(nfree, nfree);
+  sys.K.setFromTriplets(ff.begin(), ff.end());
   sys.K_fp.resize(nfree, n);
   sys.K_fp.setFromTriplets(fp.begin(), fp.end());
-  if (nfree > 0) sys.K_ff.compute(K);
+  if (nfree > 0) sys.K_ff.compute(sys.K);
   return sys;
 }
 
@@ -148,28 +220,18 @@ ArapResult arap(const ArapSystem& sys, const Eigen::MatrixX2d& UV0, const ArapOp
   Eigen::MatrixXd corner_rhs(3 * nf, 2), rhs(nfree, 2);
 
   // Global step: b(L) gathered per free vertex from its corners, then one
-  // back-substitution with the factor of K_ff.
+  // back-substitution with the factor of K_ff. Returns the free vertices'
+  // new UVs (#free by 2) for the rotations in `ab`.
   auto global_step = [&] {
-    tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, nf, 1024), [&](const auto& range) {
-      for (Eigen::Index t = range.begin(); t < range.end(); ++t) {
-        Eigen::Matrix2d L;
-        L << ab(t, 0), -ab(t, 1), ab(t, 1), ab(t, 0);
-        Eigen::Vector2d r[3];
-        for (int i = 0; i < 3; ++i)
-          r[i] = sys.frames.cot(t, i) * (L * Eigen::Vector2d(sys.frames.D(t, 2 * i),
-                                                             sys.frames.D(t, 2 * i + 1)));
-        for (int i = 0; i < 3; ++i) corner_rhs.row(3 * t + i) = (r[i] - r[(i + 2) % 3]).transpose();
-      }
-    });
-    tbb::parallel_for(tbb::blocked_range<int>(0, nfree, 2048), [&](const auto& range) {
-      for (int k = range.begin(); k < range.end(); ++k) {
-        Eigen::RowVector2d b = pinned_rhs.row(k);
-        for (int c = sys.corner_start[k]; c < sys.corner_start[k + 1]; ++c)
-          b += corner_rhs.row(sys.corners[c]);
-        rhs.row(k) = b;
-      }
-    });
-    const Eigen::MatrixXd x = sys.K_ff.solve(rhs);
+    gather_rhs(sys, ab, pinned_rhs, corner_rhs, rhs);
+    return Eigen::MatrixXd(sys.K_ff.solve(rhs));
+  };
+  auto free_rows = [&] {
+    Eigen::MatrixXd x(nfree, 2);
+    for (int k = 0; k < nfree; ++k) x.row(k) = out.UV.row(sys.free_vertex[k]);
+    return x;
+  };
+  auto set_free_rows = [&](const Eigen::MatrixXd& x) {
     for (int k = 0; k < nfree; ++k) out.UV.row(sys.free_vertex[k]) = x.row(k);
   };
 
@@ -179,9 +241,24 @@ ArapResult arap(const ArapSystem& sys, const Eigen::MatrixX2d& UV0, const ArapOp
     out.converged = true;
     return out;
   }
+  // u: the accepted iterate (free rows), whose rotations are in `ab`.
+  AndersonMixing mixing(options.anderson, 2 * static_cast<Eigen::Index>(nfree));
+  Eigen::MatrixXd u = free_rows();
   for (int k = 1; k <= options.max_iterations; ++k) {
-    global_step();
-    const double E_next = local_step();
+    const Eigen::MatrixXd g = global_step();  // G(u): one plain local/global iteration
+    Eigen::MatrixXd next = mixing.extrapolate(u, g);
+    set_free_rows(next);
+    double E_next = local_step();
+    if (!(E_next < E) && mixing.active()) {
+      // Safeguard (Peng et al. 2018, §3.2): the extrapolation raised the
+      // energy, so take the plain step, which never does, and start the
+      // history again.
+      mixing.reset();
+      next = g;
+      set_free_rows(next);
+      E_next = local_step();
+    }
+    u = std::move(next);
     out.energy.push_back(E_next);
     out.iterations = k;
     if (after_iteration) after_iteration(k, E_next);

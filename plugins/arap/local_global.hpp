@@ -27,6 +27,7 @@ struct ArapSystem {
   // Corners of each free vertex (3t + i), for a parallel gather of b.
   std::vector<int> corner_start, corners;
   numerics::SparseMatrix K_fp;   // #free by #V: the coupling to pinned vertices' columns
+  numerics::SparseMatrix K;      // #free by #free: K_ff itself (what the benchmark times CHOLMOD on)
   numerics::SparseCholesky K_ff;
 };
 
@@ -42,6 +43,11 @@ struct ArapOptions {
   // < 0: pure ARAP, L_t the closest rotation. >= 0: the hybrid model, whose
   // energy adds ½ λ Σ_t (a_t² + b_t² − 1)² for L_t = [a −b; b a].
   double lambda = -1;
+  // Anderson acceleration with this many past residuals (Peng et al. 2018),
+  // with their energy safeguard: an extrapolated iterate that does not lower
+  // E is replaced by the plain local/global step, so E still never increases.
+  // 0: the plain iteration.
+  int anderson = 5;
 };
 
 struct ArapResult {

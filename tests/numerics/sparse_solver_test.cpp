@@ -1,6 +1,9 @@
 // CHOLMOD and UMFPACK behind the facade, against Eigen's own solvers, dense
 // solves and a Laplace problem whose discrete solution is known exactly.
+#include <dlfcn.h>
+
 #include <cmath>
+#include <cstdlib>
 #include <random>
 #include <thread>
 #include <utility>
@@ -238,6 +241,21 @@ TEST(SparseCholesky, ConcurrentSolvesAgree) {
     threads.emplace_back([&, j] { err[j] = (chol.solve(B.col(j)) - X.col(j)).cwiseAbs().maxCoeff(); });
   for (std::thread& t : threads) t.join();
   for (double e : err) EXPECT_LT(e, 1e-12);
+}
+
+// OpenBLAS's own thread pool spins outside the engine's TBB limit: the
+// facade runs BLAS on the calling thread unless the user asked otherwise.
+TEST(SparseCholesky, BlasRunsOnTheCallingThread) {
+  if (std::getenv("OPENBLAS_NUM_THREADS")) GTEST_SKIP() << "OPENBLAS_NUM_THREADS is set: the user's choice stands";
+  SparseCholesky chol;
+  chol.compute(random_spd(200, 3, 21));
+  void* openblas = dlopen("libopenblas.so.0", RTLD_LAZY | RTLD_NOLOAD);
+  if (!openblas) GTEST_SKIP() << "BLAS is not OpenBLAS";
+  using GetThreads = int (*)();
+  const auto get = reinterpret_cast<GetThreads>(dlsym(openblas, "openblas_get_num_threads"));
+  ASSERT_NE(get, nullptr);
+  EXPECT_EQ(get(), 1);
+  dlclose(openblas);
 }
 
 TEST(SparseCholesky, MovedObjectKeepsItsFactor) {

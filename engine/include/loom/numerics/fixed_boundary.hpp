@@ -23,6 +23,19 @@ struct FixedBoundarySolve {
   std::string solver;       // "cholmod", "umfpack", ...
 };
 
+// The linear system of solve_fixed_boundary below, before it is solved:
+// A Y = B with Y the free vertices' rows. A is an M-matrix when `positive`.
+struct FixedBoundarySystem {
+  SparseMatrix A;           // #free by #free, both triangles
+  Eigen::MatrixXd B;        // #free by k: the fixed neighbours' share
+  std::vector<int> index;   // #V: row of each free vertex in A, −1 for fixed or unreferenced
+  bool positive = true;     // every weight used is >= 0
+  bool symmetric = false;   // A = Aᵀ (to 1e-12) and no fallback rows: Cholesky applies
+  int uniform_rows = 0;     // as FixedBoundarySolve::uniform_rows
+};
+LOOM_API FixedBoundarySystem fixed_boundary_system(const SparseMatrix& W, const Eigen::MatrixX3i& F,
+                                                   const std::vector<int>& fixed, const Eigen::MatrixXd& X0);
+
 // Solves Σ_j w_ij (x_j - x_i) = 0 for the free vertices: those referenced
 // by F and not fixed. Rows of unreferenced vertices keep X0's values.
 //   W      #V by #V weights, row i for vertex i (loom/numerics/laplacian.hpp)
