@@ -173,6 +173,7 @@ Run cgal_arap(const Mesh& m, double lambda, int iterations, double tolerance) {
 }
 #endif
 
+#ifdef LOOM_BENCH_CGAL
 // Where Loom's ARAP time goes (wall medians of 3): the system (frames,
 // matrix, factorization), the Tutte start, `iterations` iterations; beside
 // CHOLMOD alone on K_ff with each ordering (README's benchmark table: the
@@ -197,6 +198,7 @@ void arap_stages_and_limit(const Mesh& m, long long iterations, loom::bench::Csv
       out.row({m.name, std::string(part), t.ordering, seconds, t.factor_nonzeros, t.flops,
                loom::bench::load_average()});
 }
+#endif
 
 }  // namespace
 
