@@ -101,17 +101,22 @@ void check_graph_structure(const json& document, const fs::path& file) {
   }
 }
 
-json read_group_file(const fs::path& file) {
+json read_json_file(const fs::path& file, std::string& text) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw GraphError(file.string(), {{"", "cannot open the group file"}});
-  std::stringstream text;
-  text << in.rdbuf();
-  json doc;
+  if (!in) throw GraphError(file.string(), {{"", "cannot open the file"}});
+  std::stringstream contents;
+  contents << in.rdbuf();
+  text = contents.str();
   try {
-    doc = json::parse(text.str());
+    return json::parse(text);
   } catch (const json::parse_error& e) {
     throw GraphError(file.string(), {{"", std::string("not valid JSON: ") + e.what()}});
   }
+}
+
+json read_group_file(const fs::path& file) {
+  std::string text;
+  const json doc = read_json_file(file, text);
   if (!doc.is_object() || !doc.contains("nodes") || !doc["nodes"].is_object())
     throw GraphError(file.string(), {{"/nodes", "missing: a group file has a \"nodes\" object"}});
   for (const char* key : {"inputs", "outputs"})

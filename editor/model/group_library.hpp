@@ -41,6 +41,10 @@ std::optional<std::filesystem::path> resolve_group_file(const std::string& type,
 // the issues into the file (/groups/NAME/nodes/...). Throws GraphError.
 void check_graph_structure(const json& document, const std::filesystem::path& file);
 
+// A JSON file's text and its value. Throws GraphError naming the file when
+// it cannot be read or is not JSON.
+json read_json_file(const std::filesystem::path& file, std::string& text);
+
 // A group file's JSON ("inputs", "outputs", "nodes", maybe "groups" and
 // "description"). Throws GraphError naming the file when it cannot be read
 // or is not a group (no "nodes" object).

@@ -191,6 +191,10 @@ TEST_F(Groups, EnterAndLeaveFollowThePath) {
   EXPECT_EQ(doc.path_prefix(), "group.inner.");
   EXPECT_EQ(doc.node_ids(), std::vector<std::string>{"m2"});
   EXPECT_EQ(doc.root_node_ids(), (std::vector<std::string>{"after", "board", "group", "m3", "warp"}));
+  // Neither group may go inside the inner one: the search leaves them out.
+  EXPECT_THROW(doc.add_node("Group", {0, 0}), Error);
+  EXPECT_THROW(doc.add_node("Inner", {0, 0}), Error);
+  for (const NodeType* t : doc.group_types()) EXPECT_NE(t->spec.plugin, "group") << t->spec.name;
   doc.leave(1);
   EXPECT_EQ(doc.path(), std::vector<std::string>{"group"});
   ASSERT_TRUE(doc.enter(inner));
