@@ -113,7 +113,7 @@ std::vector<std::string> GraphDocument::types_used() const {
 int GraphDocument::format_version() const {
   if (!groups().empty() || doc_.contains("inputs") || doc_.contains("outputs")) return 2;
   for (const auto& type : types_used())
-    if (!registry_.find(type) && group_types_.is_group(type, groups(), dir())) return 2;
+    if (type == "Repeat" || (!registry_.find(type) && group_types_.is_group(type, groups(), dir()))) return 2;
   return kGraphFormatVersion;
 }
 

@@ -69,9 +69,20 @@ std::optional<fs::path> resolve_group_file(const std::string& type, const fs::pa
 
 namespace {
 
+// A level's nodes as a version-1 graph: a Repeat node's own keys ("body",
+// "cache_iterations") are not version 1's.
+json as_version_1(const json& nodes) {
+  json plain = nodes;
+  if (plain.is_object())
+    for (auto& [id, node] : plain.items())
+      if (node.is_object())
+        for (const char* key : {"body", "cache_iterations"}) node.erase(key);
+  return {{"loom", kGraphFormatVersion}, {"nodes", plain}};
+}
+
 void check_level(const json& nodes, const fs::path& file, const std::string& pointer) {
   try {
-    parse_graph({{"loom", kGraphFormatVersion}, {"nodes", nodes}}, file);
+    parse_graph(as_version_1(nodes), file);
   } catch (const GraphError& e) {
     std::vector<GraphIssue> issues = e.issues();
     for (GraphIssue& issue : issues) issue.pointer = pointer + issue.pointer;
@@ -79,18 +90,30 @@ void check_level(const json& nodes, const fs::path& file, const std::string& poi
   }
 }
 
+// Whether the engine refused the file for its version only (one issue, at /loom).
+bool refused_for_version(const GraphError& e) {
+  return e.issues().size() == 1 && e.issues()[0].pointer == "/loom";
+}
+
 }  // namespace
 
 void check_graph_structure(const json& document, const fs::path& file) {
-  const json version = document.is_object() ? document.value("loom", json()) : json();
-  if (!version.is_number_integer() || version.get<long long>() <= kGraphFormatVersion || version.get<long long>() > 2) {
+  try {
     parse_graph(document, file);
     return;
+  } catch (const GraphError& e) {
+    const json version = document.is_object() ? document.value("loom", json()) : json();
+    if (!refused_for_version(e) || version != 2) throw;
   }
   json top = document;
+  top.erase("groups");
+  top.erase("inputs");
+  top.erase("outputs");
+  check_level(top.value("nodes", json()), file, "");
+  top.erase("nodes");
   top["loom"] = kGraphFormatVersion;
-  for (const char* key : {"groups", "inputs", "outputs"}) top.erase(key);
-  parse_graph(top, file);
+  top["nodes"] = json::object();
+  parse_graph(top, file);  // seed, time, description, ui
   const json groups = document.value("groups", json::object());
   if (!groups.is_object()) throw GraphError(file.string(), {{"/groups", "expected an object of group definitions"}});
   for (const auto& [name, group] : groups.items()) {
