@@ -90,9 +90,12 @@ void check_level(const json& nodes, const fs::path& file, const std::string& poi
   }
 }
 
-// Whether the engine refused the file for its version only (one issue, at /loom).
+// Whether the engine refused the file's version (its other issues may be
+// version 2's keys, which the level-by-level check then covers).
 bool refused_for_version(const GraphError& e) {
-  return e.issues().size() == 1 && e.issues()[0].pointer == "/loom";
+  for (const GraphIssue& issue : e.issues())
+    if (issue.pointer == "/loom") return true;
+  return false;
 }
 
 }  // namespace

@@ -35,7 +35,7 @@ std::optional<std::filesystem::path> resolve_group_file(const std::string& type,
                                                         const std::vector<std::filesystem::path>& folders);
 
 // Structure only, as parse_graph checks it (a graph with unknown types still
-// opens). A version-2 file the engine refuses for its version alone (before
+// opens). A version-2 file whose version the engine refuses (before
 // the engine's composition is merged) is checked level by level: the top
 // graph's nodes and each inline group's, as version-1 graphs, with the
 // pointers of the issues into the file (/groups/NAME/nodes/...). Throws
