@@ -6,10 +6,8 @@
 
 #include <algorithm>
 #include <cctype>
-#include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 
 #include "loom/atomic_file.hpp"
 
@@ -49,18 +47,10 @@ void GraphDocument::clear() {
 }
 
 void GraphDocument::load(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw GraphError(file.string(), {{"", "cannot open the file"}});
-  std::stringstream text;
-  text << in.rdbuf();
-  json doc;
-  try {
-    doc = json::parse(text.str());
-  } catch (const json::parse_error& e) {
-    throw GraphError(file.string(), {{"", std::string("not valid JSON: ") + e.what()}});
-  }
+  std::string text;
+  const json doc = read_json_file(file, text);
   load_json(doc, std::filesystem::absolute(file));
-  layout_ = scan_json_layout(text.str());
+  layout_ = scan_json_layout(text);
 }
 
 void GraphDocument::load_json(const json& document, const std::filesystem::path& file) {
@@ -167,6 +157,7 @@ std::string GraphDocument::unique_id(const std::string& type) const {
 
 std::string GraphDocument::add_node(const std::string& type, CanvasPoint at) {
   if (!find_type(type)) throw Error("unknown node type \"" + type + "\"");
+  if (contains_level(type)) throw Error("a node of group " + type + " here would put the group inside itself");
   const std::string id = unique_id(type);
   begin_edit("add " + id);
   nodes()[id] = {{"type", type}, {"ui", {{"pos", {at.x, at.y}}}}};

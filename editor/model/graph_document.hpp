@@ -184,6 +184,7 @@ class GraphDocument {
   std::filesystem::path dir() const;
   const json& groups() const;
   void trim_path();
+  bool contains_level(const std::string& type) const;
   void drop_unused_groups();
   std::string add_group_node(const std::string& type, const std::vector<std::string>& ids, const json& inputs);
   void begin_edit(std::string label, const std::string& merge_key = {});

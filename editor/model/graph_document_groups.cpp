@@ -1,14 +1,14 @@
-// GraphDocument's groups: the level being edited, grouping, ungrouping,
-// promoting, and the format version they call for.
+// GraphDocument's group edits: group (inline or into a file), ungroup,
+// promote; each one undo step.
 #include "graph_document.hpp"
 
 #include "auto_layout.hpp"
 #include "group_edit.hpp"
 #include "input_link.hpp"
+#include "json_object.hpp"
 
 #include <algorithm>
 #include <set>
-#include <utility>
 
 #include "loom/atomic_file.hpp"
 
@@ -17,13 +17,6 @@ namespace loom::editor {
 namespace fs = std::filesystem;
 
 namespace {
-
-const json& empty_object() {
-  static const json object = json::object();
-  return object;
-}
-
-bool is_object_with(const json& j, const char* key) { return j.is_object() && j.contains(key) && j[key].is_object(); }
 
 CanvasPoint centre_of(const GraphDocument& doc, const std::vector<std::string>& ids) {
   CanvasPoint c;
@@ -35,118 +28,6 @@ CanvasPoint centre_of(const GraphDocument& doc, const std::vector<std::string>& 
 }
 
 }  // namespace
-
-const json& GraphDocument::groups() const { return is_object_with(doc_, "groups") ? doc_["groups"] : empty_object(); }
-
-fs::path GraphDocument::dir() const { return file_.empty() ? fs::current_path() : file_.parent_path(); }
-
-const json* GraphDocument::level_at(std::size_t depth) const {
-  const json* level = &doc_;
-  for (std::size_t i = 0; i < depth && i < path_.size(); ++i) {
-    if (!is_object_with(*level, "nodes") || !(*level)["nodes"].contains(path_[i])) return nullptr;
-    const json& node = (*level)["nodes"][path_[i]];
-    const json type = node.is_object() ? node.value("type", json()) : json();
-    if (!type.is_string() || !is_object_with(doc_, "groups") || !doc_["groups"].contains(type.get<std::string>()))
-      return nullptr;
-    level = &doc_["groups"][type.get<std::string>()];
-    if (!is_object_with(*level, "nodes")) return nullptr;
-  }
-  return level;
-}
-
-const json& GraphDocument::level() const {
-  const json* level = level_at(path_.size());
-  return level ? *level : doc_;
-}
-
-json& GraphDocument::level() { return const_cast<json&>(std::as_const(*this).level()); }
-
-// After undo or redo the group entered may be gone: edit the deepest level left.
-void GraphDocument::trim_path() {
-  std::size_t depth = 0;
-  while (depth < path_.size() && level_at(depth + 1)) ++depth;
-  path_.resize(depth);
-}
-
-std::string GraphDocument::path_prefix() const {
-  std::string prefix;
-  for (const auto& id : path_) prefix += id + ".";
-  return prefix;
-}
-
-bool GraphDocument::enter(const std::string& id) {
-  if (!has_node(id) || !groups().contains(type_name(id))) return false;
-  path_.push_back(id);
-  if (!level_at(path_.size())) {
-    path_.pop_back();
-    return false;
-  }
-  // Hand-written groups without positions are laid out once, as files are.
-  place_unplaced_nodes_in(level(), registry_);
-  return true;
-}
-
-void GraphDocument::leave(std::size_t depth) {
-  if (depth < path_.size()) path_.resize(depth);
-}
-
-std::string GraphDocument::group_name() const {
-  if (path_.empty()) return {};
-  const json* parent = level_at(path_.size() - 1);
-  return parent ? (*parent)["nodes"][path_.back()].value("type", std::string()) : std::string();
-}
-
-bool GraphDocument::is_group_node(const std::string& id) const {
-  const NodeType* t = has_node(id) ? node_type(id) : nullptr;
-  return t && !t->run;
-}
-
-fs::path GraphDocument::group_file(const std::string& id) const {
-  const std::string type = type_name(id);
-  if (registry_.find(type) || groups().contains(type)) return {};
-  return resolve_group_file(type, dir(), group_library_folders()).value_or(fs::path());
-}
-
-bool GraphDocument::has_interface() const {
-  return !path_.empty() || doc_.contains("inputs") || doc_.contains("outputs");
-}
-
-json GraphDocument::interface_inputs() const {
-  return is_object_with(level(), "inputs") ? level()["inputs"] : empty_object();
-}
-
-std::vector<std::string> GraphDocument::root_node_ids() const {
-  std::vector<std::string> ids;
-  for (const auto& [id, node] : doc_["nodes"].items()) ids.push_back(id);
-  return ids;  // a json object's keys are sorted
-}
-
-std::vector<std::string> GraphDocument::types_used() const {
-  std::set<std::string> types;
-  auto collect = [&](const json& level) {
-    if (!is_object_with(level, "nodes")) return;
-    for (const auto& [id, node] : level["nodes"].items())
-      if (node.is_object() && node.contains("type") && node["type"].is_string()) types.insert(node["type"]);
-  };
-  collect(doc_);
-  for (const auto& [name, group] : groups().items()) collect(group);
-  return {types.begin(), types.end()};
-}
-
-int GraphDocument::format_version() const {
-  if (!groups().empty() || doc_.contains("inputs") || doc_.contains("outputs")) return 2;
-  for (const auto& type : types_used())
-    if (!registry_.find(type) && group_types_.is_group(type, groups(), dir())) return 2;
-  return kGraphFormatVersion;
-}
-
-std::vector<const NodeType*> GraphDocument::group_types() const {
-  std::vector<const NodeType*> types;
-  for (const auto& [name, group] : groups().items())
-    if (const NodeType* t = find_type(name)) types.push_back(t);
-  for (const NodeType* t : group_types_.library()) types.push_back(t);
-  return types;
-}
 
 // The group node replacing `ids`: its inputs linked as the interface needs,
 // the consumers of the group's outputs rewired to it.

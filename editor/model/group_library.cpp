@@ -69,9 +69,20 @@ std::optional<fs::path> resolve_group_file(const std::string& type, const fs::pa
 
 namespace {
 
+// A level's nodes as a version-1 graph: a Repeat node's own keys ("body",
+// "cache_iterations") are not version 1's.
+json as_version_1(const json& nodes) {
+  json plain = nodes;
+  if (plain.is_object())
+    for (auto& [id, node] : plain.items())
+      if (node.is_object())
+        for (const char* key : {"body", "cache_iterations"}) node.erase(key);
+  return {{"loom", kGraphFormatVersion}, {"nodes", plain}};
+}
+
 void check_level(const json& nodes, const fs::path& file, const std::string& pointer) {
   try {
-    parse_graph({{"loom", kGraphFormatVersion}, {"nodes", nodes}}, file);
+    parse_graph(as_version_1(nodes), file);
   } catch (const GraphError& e) {
     std::vector<GraphIssue> issues = e.issues();
     for (GraphIssue& issue : issues) issue.pointer = pointer + issue.pointer;
@@ -79,18 +90,33 @@ void check_level(const json& nodes, const fs::path& file, const std::string& poi
   }
 }
 
+// Whether the engine refused the file's version (its other issues may be
+// version 2's keys, which the level-by-level check then covers).
+bool refused_for_version(const GraphError& e) {
+  for (const GraphIssue& issue : e.issues())
+    if (issue.pointer == "/loom") return true;
+  return false;
+}
+
 }  // namespace
 
 void check_graph_structure(const json& document, const fs::path& file) {
-  const json version = document.is_object() ? document.value("loom", json()) : json();
-  if (!version.is_number_integer() || version.get<long long>() <= kGraphFormatVersion || version.get<long long>() > 2) {
+  try {
     parse_graph(document, file);
     return;
+  } catch (const GraphError& e) {
+    const json version = document.is_object() ? document.value("loom", json()) : json();
+    if (!refused_for_version(e) || version != 2) throw;
   }
   json top = document;
+  top.erase("groups");
+  top.erase("inputs");
+  top.erase("outputs");
+  check_level(top.value("nodes", json()), file, "");
+  top.erase("nodes");
   top["loom"] = kGraphFormatVersion;
-  for (const char* key : {"groups", "inputs", "outputs"}) top.erase(key);
-  parse_graph(top, file);
+  top["nodes"] = json::object();
+  parse_graph(top, file);  // seed, time, description, ui
   const json groups = document.value("groups", json::object());
   if (!groups.is_object()) throw GraphError(file.string(), {{"/groups", "expected an object of group definitions"}});
   for (const auto& [name, group] : groups.items()) {
@@ -101,17 +127,22 @@ void check_graph_structure(const json& document, const fs::path& file) {
   }
 }
 
-json read_group_file(const fs::path& file) {
+json read_json_file(const fs::path& file, std::string& text) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw GraphError(file.string(), {{"", "cannot open the group file"}});
-  std::stringstream text;
-  text << in.rdbuf();
-  json doc;
+  if (!in) throw GraphError(file.string(), {{"", "cannot open the file"}});
+  std::stringstream contents;
+  contents << in.rdbuf();
+  text = contents.str();
   try {
-    doc = json::parse(text.str());
+    return json::parse(text);
   } catch (const json::parse_error& e) {
     throw GraphError(file.string(), {{"", std::string("not valid JSON: ") + e.what()}});
   }
+}
+
+json read_group_file(const fs::path& file) {
+  std::string text;
+  const json doc = read_json_file(file, text);
   if (!doc.is_object() || !doc.contains("nodes") || !doc["nodes"].is_object())
     throw GraphError(file.string(), {{"/nodes", "missing: a group file has a \"nodes\" object"}});
   for (const char* key : {"inputs", "outputs"})

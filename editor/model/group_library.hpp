@@ -35,11 +35,16 @@ std::optional<std::filesystem::path> resolve_group_file(const std::string& type,
                                                         const std::vector<std::filesystem::path>& folders);
 
 // Structure only, as parse_graph checks it (a graph with unknown types still
-// opens). A file of a version newer than the engine reads (2, until the
-// engine's composition lands) is checked level by level: the top graph's
-// nodes and each inline group's, as version-1 graphs, with the pointers of
-// the issues into the file (/groups/NAME/nodes/...). Throws GraphError.
+// opens). A version-2 file whose version the engine refuses (before
+// the engine's composition is merged) is checked level by level: the top
+// graph's nodes and each inline group's, as version-1 graphs, with the
+// pointers of the issues into the file (/groups/NAME/nodes/...). Throws
+// GraphError.
 void check_graph_structure(const json& document, const std::filesystem::path& file);
+
+// A JSON file's text and its value. Throws GraphError naming the file when
+// it cannot be read or is not JSON.
+json read_json_file(const std::filesystem::path& file, std::string& text);
 
 // A group file's JSON ("inputs", "outputs", "nodes", maybe "groups" and
 // "description"). Throws GraphError naming the file when it cannot be read

@@ -41,7 +41,7 @@ const TypeInfo* inner_output_type(const json& entry, const json& nodes, const In
 
 }  // namespace
 
-NodeType group_node_type(const std::string& name, const std::string& origin, const json& definition,
+NodeType interface_node_type(const std::string& name, const std::string& origin, const json& definition,
                          const InnerTypeLookup& inner) {
   NodeType t;
   t.spec.name = name;
@@ -86,7 +86,7 @@ const NodeType* GroupTypes::inline_type(const std::string& name, const json& gro
   if (auto it = inline_.find(name); it != inline_.end()) return it->second.get();
   if (!resolving_.insert("inline:" + name).second) return nullptr;  // uses itself
   auto inner = [&](const std::string& type) { return find(type, groups, dir); };
-  auto t = std::make_unique<NodeType>(group_node_type(name, "group", groups[name], inner));
+  auto t = std::make_unique<NodeType>(interface_node_type(name, "group", groups[name], inner));
   resolving_.erase("inline:" + name);
   return (inline_[name] = std::move(t)).get();
 }
@@ -100,7 +100,7 @@ const NodeType* GroupTypes::file_type(const fs::path& file) const {
     const json doc = read_group_file(file);
     const json groups = doc.value("groups", json::object());
     auto inner = [&](const std::string& type) { return find(type, groups, file.parent_path()); };
-    t = std::make_unique<NodeType>(group_node_type(file.stem().string(), file.string(), doc, inner));
+    t = std::make_unique<NodeType>(interface_node_type(file.stem().string(), file.string(), doc, inner));
   } catch (const GraphError&) {
     // Not a group file: the node shows as of an unknown type.
   }
@@ -114,9 +114,10 @@ std::vector<const NodeType*> GroupTypes::library() const {
   for (const LibraryGroup& g : *library_) {
     if (registry_.find(g.name)) continue;  // a registered type takes the name
     const fs::path file = fs::weakly_canonical(g.file);
-    if (file_type(file)) {
+    const NodeType* t = file_type(file);
+    if (t && (!t->spec.inputs.empty() || !t->spec.outputs.empty())) {  // a group file, not a plain graph
       files_[file.string()]->spec.plugin = "library";
-      types.push_back(files_[file.string()].get());
+      types.push_back(t);
     }
   }
   return types;

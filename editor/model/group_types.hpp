@@ -27,7 +27,7 @@ using InnerTypeLookup = std::function<const NodeType*(const std::string& type)>;
 
 // The node type of a group `definition` (an inline group, or a group file's
 // JSON): run is null, spec.plugin says where it comes from.
-NodeType group_node_type(const std::string& name, const std::string& origin, const json& definition,
+NodeType interface_node_type(const std::string& name, const std::string& origin, const json& definition,
                          const InnerTypeLookup& inner);
 
 class GroupTypes {

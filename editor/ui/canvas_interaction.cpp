@@ -263,9 +263,14 @@ void Canvas::add_node_menu(EditorState& state) {
   }
   if (shown == 0) ImGui::TextDisabled("no node type matches");
   if (!chosen.empty()) {
-    const std::string id = state.doc.add_node(chosen, free_place(state, menu_at_, chosen));
-    state.selection = {id};
-    state.viewed = id;
+    try {
+      const std::string id = state.doc.add_node(chosen, free_place(state, menu_at_, chosen));
+      state.selection = {id};
+      state.viewed = id;
+    } catch (const std::exception& e) {
+      refusal_ = e.what();
+      refusal_until_ = ImGui::GetTime() + 3;
+    }
     ImGui::CloseCurrentPopup();
     // No text field keeps the keyboard: shortcuts work at once.
     ImGui::SetWindowFocus(nullptr);
