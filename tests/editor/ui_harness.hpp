@@ -11,6 +11,7 @@
 #include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
 
+#include "run_loom.hpp"
 #include "test_files.hpp"
 #include "ui/editor_app.hpp"
 
