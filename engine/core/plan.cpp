@@ -8,7 +8,7 @@ namespace loom::detail {
 void Evaluation::build() {
   nodes.reserve(graph.nodes.size());
   for (const auto& [id, n] : graph.nodes) {
-    index.emplace(id, static_cast<int>(nodes.size()));
+    index.emplace(id, nodes.size());
     auto s = std::make_unique<NodeState>();
     s->node = &n;
     s->type = session.registry.find(n.type);
@@ -52,24 +52,24 @@ void Evaluation::bind_inputs() {
 }
 
 // Upstream before downstream: an iterative post-order DFS over links.
-std::vector<int> Evaluation::topological_order() const {
-  std::vector<int> order;
+std::vector<NodeIndex> Evaluation::topological_order() const {
+  std::vector<NodeIndex> order;
   std::vector<char> mark(nodes.size(), 0);
-  for (int root = 0; root < static_cast<int>(nodes.size()); ++root) {
-    if (mark[static_cast<std::size_t>(root)]) continue;
-    std::vector<std::pair<int, std::size_t>> stack{{root, 0}};
-    mark[static_cast<std::size_t>(root)] = 1;
+  for (NodeIndex root = 0; root < nodes.size(); ++root) {
+    if (mark[root]) continue;
+    std::vector<std::pair<NodeIndex, std::size_t>> stack{{root, 0}};
+    mark[root] = 1;
     while (!stack.empty()) {
       auto& [n, next] = stack.back();
-      const auto& ins = nodes[static_cast<std::size_t>(n)]->inputs;
+      const auto& ins = nodes[n]->inputs;
       if (next == ins.size()) {
         order.push_back(n);
         stack.pop_back();
         continue;
       }
       const auto& b = ins[next++];
-      if (b.kind == NodeState::Binding::link && !mark[static_cast<std::size_t>(b.upstream)]) {
-        mark[static_cast<std::size_t>(b.upstream)] = 1;
+      if (b.kind == NodeState::Binding::link && !mark[b.upstream]) {
+        mark[b.upstream] = 1;
         stack.emplace_back(b.upstream, 0);
       }
     }
@@ -79,10 +79,10 @@ std::vector<int> Evaluation::topological_order() const {
 
 // Hashes in topological order (computation_hash.cpp has the rule). Past the
 // start frame, a first pass at the start frame gives each simulation its chain.
-void Evaluation::hash_nodes(const std::vector<int>& order) {
+void Evaluation::hash_nodes(const std::vector<NodeIndex>& order) {
   const std::uint64_t run_salt = Hasher().pod(session.evaluations).str("nondeterministic").digest();
   bool any_simulation = false;
-  for (int n : order) {
+  for (NodeIndex n : order) {
     NodeState& s = at(n);
     const NodeSpec& spec = s.type->spec;
     s.seed = Hasher(graph.seed).str(s.node->id).digest();
@@ -97,7 +97,7 @@ void Evaluation::hash_nodes(const std::vector<int>& order) {
     }
   }
   auto pass = [&](const FrameTime& t) {
-    for (int n : order) {
+    for (NodeIndex n : order) {
       NodeState& s = at(n);
       if (s.type->spec.simulation()) {
         if (t.frame == time.start) s.chain = computation_hash(s, nodes, run_salt, t);
