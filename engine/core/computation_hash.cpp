@@ -52,7 +52,7 @@ std::uint64_t computation_hash(const NodeState& s, const std::vector<std::unique
       hash_json(h, b.literal_value.to_json());
       if (spec.inputs[i].role == InputRole::input_file) hash_file_stamp(h, b.literal_value.as<std::string>());
     } else if (b.kind == NodeState::Binding::link) {
-      h.pod(nodes[static_cast<std::size_t>(b.upstream)]->hash).pod(b.output);
+      h.pod(nodes[b.upstream]->hash).pod(b.output);
     }
   }
   if (spec.nondeterministic) h.pod(run_salt);

@@ -85,6 +85,9 @@ struct UpstreamFailed : Error {
   using Error::Error;
 };
 
+// A node's place in Evaluation::nodes.
+using NodeIndex = std::size_t;
+
 struct NodeState {
   const GraphNode* node = nullptr;
   const NodeType* type = nullptr;
@@ -92,7 +95,7 @@ struct NodeState {
     enum Kind { unset, literal, link } kind = unset;
     Value literal_value;
     std::uint64_t fed_hash = 0;  // a value fed in by Repeat: hashed by this, not by its JSON
-    int upstream = -1;
+    NodeIndex upstream = 0;  // a link's node
     int output = -1;
   };
   std::vector<Binding> inputs;  // one per declared input
@@ -132,13 +135,13 @@ struct Evaluation {
   const Graph& graph;
   const EvalOptions& options;
   std::vector<std::unique_ptr<NodeState>> nodes;
-  std::unordered_map<std::string_view, int> index;  // views of graph.nodes' keys
+  std::unordered_map<std::string_view, NodeIndex> index;  // views of graph.nodes' keys
   const std::filesystem::path graph_dir;
   const FrameTime time;  // step is set per node
   const BindingPlace place;  // what paths bound to inputs resolve against
   // A simulation stepping through frames evaluates the graph at each frame
   // with its previous outputs handed in here (see step_to in evaluator.cpp).
-  int fed_node = -1;
+  std::optional<NodeIndex> fed_node;
   std::vector<Value> fed_previous;
   // A Repeat body's iteration: values fed to inner inputs (node id, input) with
   // the hash each stands for (repeat.cpp).
@@ -148,7 +151,7 @@ struct Evaluation {
       : session(s), graph(g), options(o), graph_dir(g.dir()), time(t),
         place{graph_dir, o.output_dir, o.allow_outside_output, t.frame} {}
 
-  NodeState& at(int n) { return *nodes[static_cast<std::size_t>(n)]; }
+  NodeState& at(NodeIndex n) { return *nodes[n]; }
   bool cancelled() const { return options.cancel && options.cancel->load(std::memory_order_relaxed); }
   // Past the start frame a simulation's state input is its own previous
   // output, not the initial state linked in the graph.
@@ -190,25 +193,25 @@ struct Evaluation {
   void build();
   void bind_inputs();
   bool bind_fed(const NodeState& s, const InputSpec& spec, NodeState::Binding& b);
-  std::vector<int> topological_order() const;
-  void hash_nodes(const std::vector<int>& order);
-  void share_equal_results(const std::vector<int>& order);
+  std::vector<NodeIndex> topological_order() const;
+  void hash_nodes(const std::vector<NodeIndex>& order);
+  void share_equal_results(const std::vector<NodeIndex>& order);
 
   // evaluator.cpp: runs the closure of `roots` on the TBB arena.
-  void execute(const std::vector<int>& roots);
+  void execute(const std::vector<NodeIndex>& roots);
   // Runs node n unless another thread does or did. Contention only happens when
   // a lazy fetch and the scheduler reach the same node; the loser waits. The
   // winner never waits on the loser (node bodies run isolated, and the graph is
   // acyclic), so waiting cannot deadlock.
-  void run_once(int n) {
+  void run_once(NodeIndex n) {
     NodeState& s = at(n);
     if (s.done.load(std::memory_order_acquire)) return;
     if (!s.claimed.exchange(true, std::memory_order_acq_rel)) return run_node(n);
     while (!s.done.load(std::memory_order_acquire)) std::this_thread::yield();
   }
   // node_runner.cpp: one node, in four steps (see there).
-  void run_node(int n);
-  bool settled_without_running(int n);
+  void run_node(NodeIndex n);
+  bool settled_without_running(NodeIndex n);
   bool take_cached(NodeState& s);
   bool ensure_inputs(NodeState& s);
   struct Outcome {
@@ -222,7 +225,7 @@ struct Evaluation {
   void record(NodeState& s, Outcome outcome);
   // Simulations past the start frame: fills s.previous with the outputs at
   // frame - 1, stepping from the latest cached frame. False if it could not.
-  bool step_to_previous(int n);
+  bool step_to_previous(NodeIndex n);
   void finish(NodeState& s) {
     s.done.store(true, std::memory_order_release);
     if (options.observer) options.observer->node_finished(s.node->id, s.report);

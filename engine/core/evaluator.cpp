@@ -40,26 +40,25 @@ bool EvalResult::ok() const {
 
 namespace detail {
 
-void Evaluation::execute(const std::vector<int>& roots) {
+void Evaluation::execute(const std::vector<NodeIndex>& roots) {
   // The closure of the roots over non-lazy links, stopping at finished nodes
   // and at cache hits (a hit needs none of its inputs).
   const std::size_t n_all = nodes.size();
   std::vector<char> member(n_all, 0), hit(n_all, 0);
-  std::vector<int> members, stack;
-  auto visit = [&](int n) {
-    if (member[static_cast<std::size_t>(n)] || nodes[static_cast<std::size_t>(n)]->done.load(std::memory_order_acquire))
-      return;
-    member[static_cast<std::size_t>(n)] = 1;
+  std::vector<NodeIndex> members, stack;
+  auto visit = [&](NodeIndex n) {
+    if (member[n] || nodes[n]->done.load(std::memory_order_acquire)) return;
+    member[n] = 1;
     stack.push_back(n);
   };
-  for (int r : roots) visit(r);
+  for (NodeIndex r : roots) visit(r);
   while (!stack.empty()) {
-    const int n = stack.back();
+    const NodeIndex n = stack.back();
     stack.pop_back();
     members.push_back(n);
     NodeState& s = at(n);
     if (s.cacheable && kept(s, s.hash) != Kept::nowhere) {
-      hit[static_cast<std::size_t>(n)] = 1;
+      hit[n] = 1;
       continue;
     }
     const auto& specs = s.type->spec.inputs;
@@ -69,22 +68,22 @@ void Evaluation::execute(const std::vector<int>& roots) {
   // For each member, how many distinct member inputs it waits on, and who
   // waits on whom.
   std::vector<std::atomic<int>> pending(n_all);
-  std::vector<std::vector<int>> waiting(n_all);
-  std::vector<int> ups;
-  for (int n : members) {
-    if (hit[static_cast<std::size_t>(n)]) continue;
+  std::vector<std::vector<NodeIndex>> waiting(n_all);
+  std::vector<NodeIndex> ups;
+  for (NodeIndex n : members) {
+    if (hit[n]) continue;
     const NodeState& s = at(n);
     const auto& specs = s.type->spec.inputs;
     ups.clear();
     for (std::size_t i = 0; i < s.inputs.size(); ++i) {
       const auto& b = s.inputs[i];
-      if (links_upstream(s, i) && !specs[i].lazy && member[static_cast<std::size_t>(b.upstream)])
+      if (links_upstream(s, i) && !specs[i].lazy && member[b.upstream])
         ups.push_back(b.upstream);
     }
     std::sort(ups.begin(), ups.end());
     ups.erase(std::unique(ups.begin(), ups.end()), ups.end());
-    pending[static_cast<std::size_t>(n)].store(static_cast<int>(ups.size()), std::memory_order_relaxed);
-    for (int u : ups) waiting[static_cast<std::size_t>(u)].push_back(n);
+    pending[n].store(static_cast<int>(ups.size()), std::memory_order_relaxed);
+    for (NodeIndex u : ups) waiting[u].push_back(n);
   }
 
   tbb::task_group group;
@@ -92,17 +91,17 @@ void Evaluation::execute(const std::vector<int>& roots) {
     Evaluation& e;
     tbb::task_group& group;
     std::vector<std::atomic<int>>& pending;
-    std::vector<std::vector<int>>& waiting;
-    void operator()(int n) const {
+    std::vector<std::vector<NodeIndex>>& waiting;
+    void operator()(NodeIndex n) const {
       group.run([this, n] {
         e.run_once(n);
-        for (int d : waiting[static_cast<std::size_t>(n)])
-          if (pending[static_cast<std::size_t>(d)].fetch_sub(1, std::memory_order_acq_rel) == 1) (*this)(d);
+        for (NodeIndex d : waiting[n])
+          if (pending[d].fetch_sub(1, std::memory_order_acq_rel) == 1) (*this)(d);
       });
     }
   } spawn{*this, group, pending, waiting};
-  for (int n : members)
-    if (pending[static_cast<std::size_t>(n)].load(std::memory_order_relaxed) == 0) spawn(n);
+  for (NodeIndex n : members)
+    if (pending[n].load(std::memory_order_relaxed) == 0) spawn(n);
   group.wait();
 }
 
@@ -222,10 +221,10 @@ EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
     detail::Evaluation e(st, graph, options, time);
     e.build();
 
-    std::vector<int> roots;
+    std::vector<detail::NodeIndex> roots;
     if (targets.empty()) {
       for (std::size_t i = 0; i < e.nodes.size(); ++i)
-        if (e.nodes[i]->type->spec.sink) roots.push_back(static_cast<int>(i));
+        if (e.nodes[i]->type->spec.sink) roots.push_back(i);
     } else {
       for (const auto& [t, name] : targets) {
         auto it = e.index.find(t.node);
@@ -246,7 +245,7 @@ EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
     }
     result.outputs.clear();  // the targets' values at the latest frame
     for (const auto& [t, name] : targets) {
-      const detail::NodeState& s = *e.nodes[static_cast<std::size_t>(e.index.at(t.node))];
+      const detail::NodeState& s = e.at(e.index.at(t.node));
       if (!s.ok) continue;
       if (t.output.empty()) {
         result.outputs[name] = s.outputs;

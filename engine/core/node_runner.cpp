@@ -68,13 +68,13 @@ void Evaluation::gather_parts(NodeState& s, Outputs& out) {
   if (spec.summarize) spec.summarize(out);
 }
 
-void Evaluation::run_node(int n) {
+void Evaluation::run_node(NodeIndex n) {
   NodeState& s = at(n);
   if (!settled_without_running(n)) record(s, invoke(s));
   finish(s);
 }
 
-bool Evaluation::settled_without_running(int n) {
+bool Evaluation::settled_without_running(NodeIndex n) {
   NodeState& s = at(n);
   if (cancelled()) {
     s.report.status = NodeStatus::skipped;
@@ -102,7 +102,7 @@ bool Evaluation::take_cached(NodeState& s) {
 // the report saying which, when one of them did not succeed.
 bool Evaluation::ensure_inputs(NodeState& s) {
   const auto& specs = s.type->spec.inputs;
-  std::vector<int> missing;
+  std::vector<NodeIndex> missing;
   for (std::size_t i = 0; i < s.inputs.size(); ++i)
     if (links_upstream(s, i) && !specs[i].lazy && !at(s.inputs[i].upstream).done.load(std::memory_order_acquire))
       missing.push_back(s.inputs[i].upstream);

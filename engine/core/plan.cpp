@@ -9,7 +9,7 @@ namespace loom::detail {
 void Evaluation::build() {
   nodes.reserve(graph.nodes.size());
   for (const auto& [id, n] : graph.nodes) {
-    index.emplace(id, static_cast<int>(nodes.size()));
+    index.emplace(id, nodes.size());
     auto s = std::make_unique<NodeState>();
     s->node = &n;
     s->type = node_type_of(n, session.registry);
@@ -18,7 +18,7 @@ void Evaluation::build() {
   }
   bind_inputs();
   if (!graph.instances.empty()) collect_interface_checks();
-  const std::vector<int> order = topological_order();
+  const std::vector<NodeIndex> order = topological_order();
   hash_nodes(order);
   share_equal_results(order);
 }
@@ -28,21 +28,20 @@ void Evaluation::build() {
 // are in every top-level node's seed, so only the inner nodes of two group
 // instances fed equal values meet here; the second instance's copies are left
 // without dependents and are pruned unless asked for.
-void Evaluation::share_equal_results(const std::vector<int>& order) {
-  std::unordered_map<std::uint64_t, int> first;
-  std::vector<int> same(nodes.size(), -1);
+void Evaluation::share_equal_results(const std::vector<NodeIndex>& order) {
+  std::unordered_map<std::uint64_t, NodeIndex> first;
+  std::vector<std::optional<NodeIndex>> same(nodes.size());
   bool any = false;
-  for (int n : order) {
+  for (NodeIndex n : order) {
     const NodeState& s = at(n);
     if (!s.cacheable || s.type->spec.simulation()) continue;
     auto [it, fresh] = first.emplace(s.hash, n);
-    if (!fresh) same[static_cast<std::size_t>(n)] = it->second, any = true;
+    if (!fresh) same[n] = it->second, any = true;
   }
   if (!any) return;
   for (auto& sp : nodes)
     for (auto& b : sp->inputs)
-      if (b.kind == NodeState::Binding::link && same[static_cast<std::size_t>(b.upstream)] >= 0)
-        b.upstream = same[static_cast<std::size_t>(b.upstream)];
+      if (b.kind == NodeState::Binding::link && same[b.upstream]) b.upstream = *same[b.upstream];
 }
 
 // Each declared input: a link, a literal (from the graph or the default,
@@ -120,24 +119,24 @@ bool Evaluation::bind_fed(const NodeState& s, const InputSpec& spec, NodeState::
 }
 
 // Upstream before downstream: an iterative post-order DFS over links.
-std::vector<int> Evaluation::topological_order() const {
-  std::vector<int> order;
+std::vector<NodeIndex> Evaluation::topological_order() const {
+  std::vector<NodeIndex> order;
   std::vector<char> mark(nodes.size(), 0);
-  for (int root = 0; root < static_cast<int>(nodes.size()); ++root) {
-    if (mark[static_cast<std::size_t>(root)]) continue;
-    std::vector<std::pair<int, std::size_t>> stack{{root, 0}};
-    mark[static_cast<std::size_t>(root)] = 1;
+  for (NodeIndex root = 0; root < nodes.size(); ++root) {
+    if (mark[root]) continue;
+    std::vector<std::pair<NodeIndex, std::size_t>> stack{{root, 0}};
+    mark[root] = 1;
     while (!stack.empty()) {
       auto& [n, next] = stack.back();
-      const auto& ins = nodes[static_cast<std::size_t>(n)]->inputs;
+      const auto& ins = nodes[n]->inputs;
       if (next == ins.size()) {
         order.push_back(n);
         stack.pop_back();
         continue;
       }
       const auto& b = ins[next++];
-      if (b.kind == NodeState::Binding::link && !mark[static_cast<std::size_t>(b.upstream)]) {
-        mark[static_cast<std::size_t>(b.upstream)] = 1;
+      if (b.kind == NodeState::Binding::link && !mark[b.upstream]) {
+        mark[b.upstream] = 1;
         stack.emplace_back(b.upstream, 0);
       }
     }
@@ -147,10 +146,10 @@ std::vector<int> Evaluation::topological_order() const {
 
 // Hashes in topological order (computation_hash.cpp has the rule). Past the
 // start frame, a first pass at the start frame gives each simulation its chain.
-void Evaluation::hash_nodes(const std::vector<int>& order) {
+void Evaluation::hash_nodes(const std::vector<NodeIndex>& order) {
   const std::uint64_t run_salt = Hasher().pod(session.evaluations).str("nondeterministic").digest();
   bool any_simulation = false;
-  for (int n : order) {
+  for (NodeIndex n : order) {
     NodeState& s = at(n);
     const NodeSpec& spec = s.type->spec;
     s.seed = Hasher(graph.seed).str(s.node->seed_key()).digest();
@@ -165,7 +164,7 @@ void Evaluation::hash_nodes(const std::vector<int>& order) {
     }
   }
   auto pass = [&](const FrameTime& t) {
-    for (int n : order) {
+    for (NodeIndex n : order) {
       NodeState& s = at(n);
       if (s.type->spec.simulation()) {
         if (t.frame == time.start) s.chain = computation_hash(s, nodes, run_salt, t);

@@ -123,10 +123,10 @@ class RepeatRun {
     Evaluation e(state_, body_, options_, outer_.time);
     e.fed_inputs = &fed;
     e.build();
-    std::vector<int> roots;  // the body's outputs and its sinks (a body may only write files)
+    std::vector<NodeIndex> roots;  // the body's outputs and its sinks (a body may only write files)
     for (const auto& [name, from] : body_.interface->outputs) roots.push_back(e.index.at(from.node));
     for (std::size_t n = 0; n < e.nodes.size(); ++n)
-      if (e.nodes[n]->type->spec.sink) roots.push_back(static_cast<int>(n));
+      if (e.nodes[n]->type->spec.sink) roots.push_back(n);
     e.execute(roots);
     for (std::size_t n = 0; n < e.nodes.size(); ++n)
       if (e.nodes[n]->type->spec.sink && !e.nodes[n]->ok) throw_failed(i, *e.nodes[n]);

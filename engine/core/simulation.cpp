@@ -7,7 +7,7 @@
 
 namespace loom::detail {
 
-bool Evaluation::step_to_previous(int n) {
+bool Evaluation::step_to_previous(NodeIndex n) {
   NodeState& s = at(n);
   if (fed_node == n) {
     s.previous = fed_previous;

@@ -9,13 +9,14 @@
 #include "controller/evaluation_controller.hpp"
 #include "loom/builtin_types.hpp"
 #include "loom/image.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 #include "model/auto_layout.hpp"
 #include "model/graph_document.hpp"
 #include "model/input_widget.hpp"
 #include "model/json_layout.hpp"
 #include "model/node_issue.hpp"
 #include "model/node_search.hpp"
+#include "test_files.hpp"
 
 namespace loom::editor {
 namespace {
@@ -102,8 +103,8 @@ TEST(JsonLayout, ANewGraphHasANodeALineAndShortArraysOnOneLine) {
 }
 
 struct ModelFixture : ::testing::Test {
-  test::Engine engine;
-  void SetUp() override { engine.loader.load_all(); }
+  testing::Engine engine;
+  void SetUp() override { engine.load_all_plugins(); }
 };
 using EditorModel = ModelFixture;
 
@@ -122,7 +123,7 @@ TEST_F(EditorModel, SavedFileDiffsInOneLineAfterOneEdit) {
       "  }\n"
       "}\n";
   std::ofstream(file) << text;
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   doc.load(file);
   doc.save(file);
   EXPECT_EQ(read_text(file), text);  // nothing edited: the same bytes
@@ -135,7 +136,7 @@ TEST_F(EditorModel, SavedFileDiffsInOneLineAfterOneEdit) {
       EXPECT_EQ(before[i], after[i]) << i;
     }
   EXPECT_NE(after[5].find("\"idw_power\": 0.1234567890123456}"), std::string::npos) << after[5];
-  GraphDocument again(engine.registry);
+  GraphDocument again(engine.registry());
   again.load(file);
   EXPECT_EQ(again.literal("warp", "idw_power").get<double>(), 0.1234567890123456);
 }
@@ -154,7 +155,7 @@ TEST(NodeIssue, PointersAreDecodedWithTheirEscapes) {
 
 // End to end: the engine's own pointer for a node whose id holds a '/'.
 TEST_F(EditorModel, AnIssueOfANodeWithASlashInItsIdLandsOnThatNode) {
-  EvaluationController controller(engine.registry, 1);
+  EvaluationController controller(engine.registry(), 1);
   EvalRequest r;
   r.document = {{"loom", 1},
                 {"nodes",
@@ -208,20 +209,20 @@ std::size_t rank_of(const std::vector<std::string>& list, const std::string& nam
 }
 
 TEST_F(EditorModel, SearchRanksNamesBeforeDescriptions) {
-  const auto smooth = names(search_node_types(engine.registry, "smooth"));
+  const auto smooth = names(search_node_types(engine.registry(), "smooth"));
   ASSERT_FALSE(smooth.empty());
   EXPECT_EQ(smooth[0], "SmoothMesh");
   ASSERT_LT(rank_of(smooth, "HeightMap"), smooth.size()) << "HeightMap's description mentions smooth bumps";
   EXPECT_LT(rank_of(smooth, "SmoothMesh"), rank_of(smooth, "HeightMap"));
-  EXPECT_EQ(names(search_node_types(engine.registry, "math"))[0], "Math");              // exact
-  EXPECT_EQ(names(search_node_types(engine.registry, "save image"))[0], "SaveImage");   // spaces ignored
-  const auto mesh = names(search_node_types(engine.registry, "mesh"));
+  EXPECT_EQ(names(search_node_types(engine.registry(), "math"))[0], "Math");             // exact
+  EXPECT_EQ(names(search_node_types(engine.registry(), "save image"))[0], "SaveImage");  // spaces ignored
+  const auto mesh = names(search_node_types(engine.registry(), "mesh"));
   EXPECT_LT(rank_of(mesh, "SmoothMesh"), rank_of(mesh, "Render"));  // a word of a name before a description
-  const auto emit = names(search_node_types(engine.registry, "emit"));
+  const auto emit = names(search_node_types(engine.registry(), "emit"));
   EXPECT_EQ(emit[0].rfind("MPMEmit", 0), 0u);
-  EXPECT_EQ(match_node_type(engine.registry.find("SmoothMesh")->spec, "Mesh"), SearchMatch::word);
-  EXPECT_EQ(search_node_types(engine.registry, "").size(), engine.registry.all().size());
-  EXPECT_TRUE(search_node_types(engine.registry, "zzzz-nothing").empty());
+  EXPECT_EQ(match_node_type(engine.registry().find("SmoothMesh")->spec, "Mesh"), SearchMatch::word);
+  EXPECT_EQ(search_node_types(engine.registry(), "").size(), engine.registry().all().size());
+  EXPECT_TRUE(search_node_types(engine.registry(), "zzzz-nothing").empty());
 }
 
 TEST(FreeSpot, TheNearestPlaceThatOverlapsNoNode) {
@@ -235,7 +236,7 @@ TEST(FreeSpot, TheNearestPlaceThatOverlapsNoNode) {
 }
 
 TEST_F(EditorModel, LinksAreReadByTheEnginesParser) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   doc.load_json(json::parse(R"({"loom": 1, "nodes": {
     "a": {"type": "Math"}, "b": {"type": "Math", "inputs": {"a": {"from": "a.result"}}}}})"));
   doc.set_input("b", "b", {{"from", "a."}});

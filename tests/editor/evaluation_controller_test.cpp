@@ -8,7 +8,8 @@
 #include <thread>
 
 #include "controller/evaluation_controller.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
+#include "test_files.hpp"
 
 namespace loom::editor {
 namespace {
@@ -27,8 +28,8 @@ json sleepy(int ms, double value) {
 }
 
 struct EvaluationControllerTest : ::testing::Test {
-  test::Engine engine;
-  void SetUp() override { engine.loader.load_for({"Math", "Sleep", "Fail", "Checkerboard", "ImageWarp"}); }
+  testing::Engine engine;
+  void SetUp() override { engine.load_plugins({"Math", "Sleep", "Fail", "Checkerboard", "ImageWarp"}); }
   EvalRequest request(json doc, std::uint64_t revision, std::vector<std::string> targets = {"twice"}) {
     EvalRequest r;
     r.document = std::move(doc);
@@ -41,7 +42,7 @@ struct EvaluationControllerTest : ::testing::Test {
 };
 
 TEST_F(EvaluationControllerTest, DeliversTheTargetsOutputs) {
-  EvaluationController controller(engine.registry, 2);
+  EvaluationController controller(engine.registry(), 2);
   controller.submit(request(sleepy(1, 1.25), 1));
   controller.wait_idle();
   auto done = controller.take_finished();
@@ -54,7 +55,7 @@ TEST_F(EvaluationControllerTest, DeliversTheTargetsOutputs) {
 }
 
 TEST_F(EvaluationControllerTest, ANewRequestCancelsTheRunningOne) {
-  EvaluationController controller(engine.registry, 2);
+  EvaluationController controller(engine.registry(), 2);
   const auto start = Clock::now();
   controller.submit(request(sleepy(20000, 1), 1));
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -73,7 +74,7 @@ TEST_F(EvaluationControllerTest, ANewRequestCancelsTheRunningOne) {
 }
 
 TEST_F(EvaluationControllerTest, DuringADragTheRunningEvaluationFinishes) {
-  EvaluationController controller(engine.registry, 2);
+  EvaluationController controller(engine.registry(), 2);
   controller.submit(request(sleepy(300, 1), 1));
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   controller.submit(request(sleepy(300, 2), 2), /*cancel_running=*/false);
@@ -90,7 +91,7 @@ TEST_F(EvaluationControllerTest, DuringADragTheRunningEvaluationFinishes) {
 }
 
 TEST_F(EvaluationControllerTest, OnlyWhatAnEditTouchedRecomputes) {
-  EvaluationController controller(engine.registry, 2);
+  EvaluationController controller(engine.registry(), 2);
   json doc = sleepy(300, 1);
   controller.submit(request(doc, 1));
   controller.wait_idle();
@@ -107,7 +108,7 @@ TEST_F(EvaluationControllerTest, OnlyWhatAnEditTouchedRecomputes) {
 }
 
 TEST_F(EvaluationControllerTest, ValidationIssuesComeBackWithPointers) {
-  EvaluationController controller(engine.registry, 2);
+  EvaluationController controller(engine.registry(), 2);
   json doc = sleepy(1, 1);
   doc["nodes"]["twice"]["inputs"]["op"] = "cube";
   controller.submit(request(doc, 1));
@@ -121,14 +122,14 @@ TEST_F(EvaluationControllerTest, ValidationIssuesComeBackWithPointers) {
 // Issue 30.1: a chain of 2,000 Switch nodes crashed the editor (lazy inputs
 // nested on the stack); now it is a validation issue on the node past the limit.
 TEST_F(EvaluationControllerTest, ADeepChainOfLazyInputsIsAnIssueNotACrash) {
-  engine.loader.load_for({"Switch", "FloatConstant"});
+  engine.load_plugins({"Switch", "FloatConstant"});
   json nodes = {{"c", {{"type", "FloatConstant"}, {"inputs", {{"value", 1.0}}}}}};
   std::string up = "c.value";
   for (int i = 1; i <= 2000; ++i) {
     nodes["s" + std::to_string(i)] = {{"type", "Switch"}, {"inputs", {{"index", 0}, {"in0", {{"from", up}}}}}};
     up = "s" + std::to_string(i) + ".value";
   }
-  EvaluationController controller(engine.registry, 2);
+  EvaluationController controller(engine.registry(), 2);
   controller.submit(request({{"loom", 1}, {"nodes", nodes}}, 1, {"s2000.value"}));
   controller.wait_idle();
   const Evaluation& e = *controller.latest();
@@ -139,7 +140,7 @@ TEST_F(EvaluationControllerTest, ADeepChainOfLazyInputsIsAnIssueNotACrash) {
 }
 
 TEST_F(EvaluationControllerTest, FailuresAreReportedPerNode) {
-  EvaluationController controller(engine.registry, 2);
+  EvaluationController controller(engine.registry(), 2);
   json doc = {{"loom", 1},
               {"nodes",
                {{"bad", {{"type", "Fail"}}},
@@ -155,7 +156,7 @@ TEST_F(EvaluationControllerTest, FailuresAreReportedPerNode) {
 TEST_F(EvaluationControllerTest, DestroyingWhileRunningCancels) {
   const auto start = Clock::now();
   {
-    EvaluationController controller(engine.registry, 2);
+    EvaluationController controller(engine.registry(), 2);
     controller.submit(request(sleepy(20000, 1), 1));
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
@@ -167,7 +168,7 @@ TEST_F(EvaluationControllerTest, DestroyingWhileRunningCancels) {
 // (7.3 GB) end promptly with the scene's error, through the same background
 // evaluation the editor draws from.
 TEST_F(EvaluationControllerTest, HostileSceneFilesEndWithAnErrorNotAHangOrABomb) {
-  engine.loader.load_for({"LoadScene"});
+  engine.load_plugins({"LoadScene"});
   const auto dir = test::temp_dir();
   ASSERT_EQ(::mkfifo((dir / "fifo.mtl").c_str(), 0600), 0);
   std::ofstream(dir / "fifo.obj") << "mtllib fifo.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
@@ -176,7 +177,7 @@ TEST_F(EvaluationControllerTest, HostileSceneFilesEndWithAnErrorNotAHangOrABomb)
   nodes.push_back({{"mesh", 0}});
   std::ofstream(dir / "tree.gltf") << json{{"asset", {{"version", "2.0"}}}, {"nodes", nodes},
                                            {"scenes", {{{"nodes", {0}}}}}}.dump();
-  EvaluationController controller(engine.registry, 2);
+  EvaluationController controller(engine.registry(), 2);
   std::uint64_t revision = 0;
   for (const auto& [file, expected] : {std::pair<const char*, const char*>{"fifo.obj", "FIFO"},
                                        {"tree.gltf", "node instances"}}) {

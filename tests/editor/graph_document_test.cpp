@@ -2,15 +2,17 @@
 // JSON round trip (layout in "ui", files runnable by `loom run`).
 #include <fstream>
 
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 #include "model/graph_document.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 
 namespace loom::editor {
 namespace {
 
 struct Fixture : ::testing::Test {
-  test::Engine engine;
-  void SetUp() override { engine.loader.load_for({"Math", "Sleep", "Fail", "Checkerboard", "ImageWarp"}); }
+  testing::Engine engine;
+  void SetUp() override { engine.load_plugins({"Math", "Sleep", "Fail", "Checkerboard", "ImageWarp"}); }
 };
 using GraphDocumentTest = Fixture;
 
@@ -22,7 +24,7 @@ json two_math() {
 }
 
 TEST_F(GraphDocumentTest, AddLinkSetUndoRedoRoundTrip) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   EXPECT_FALSE(doc.dirty());
   const std::string a = doc.add_node("Math", {10, 20});
   const std::string b = doc.add_node("Math", {300, 20});
@@ -46,13 +48,13 @@ TEST_F(GraphDocumentTest, AddLinkSetUndoRedoRoundTrip) {
   EXPECT_FALSE(doc.can_redo());
 
   // The document is a graph the engine validates and runs: (0 + 4.5) + 0.
-  Graph g = engine.graph(doc.document());
-  EXPECT_DOUBLE_EQ(engine.output(doc.document(), "math2.result").as<double>(), 4.5);
+  Graph g = engine.load(doc.document());
+  EXPECT_DOUBLE_EQ(engine.output<double>(doc.document(), "math2.result"), 4.5);
   EXPECT_EQ(g.nodes.at("math").ui["pos"], json({10.0, 20.0}));
 }
 
 TEST_F(GraphDocumentTest, SaveAndLoadKeepLayoutAndUnknownFields) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   doc.load_json(two_math(), "two.json");
   doc.move_nodes({"b"}, 5, -10);
   doc.set_collapsed("a", true);
@@ -60,7 +62,7 @@ TEST_F(GraphDocumentTest, SaveAndLoadKeepLayoutAndUnknownFields) {
   doc.save(file);
   EXPECT_FALSE(doc.dirty());
 
-  GraphDocument again(engine.registry);
+  GraphDocument again(engine.registry());
   again.load(file);
   EXPECT_EQ(again.document(), doc.document());
   EXPECT_EQ(again.document()["description"], "kept");
@@ -78,7 +80,7 @@ TEST_F(GraphDocumentTest, SaveAndLoadKeepLayoutAndUnknownFields) {
 }
 
 TEST_F(GraphDocumentTest, UndoReturnsToTheSavedStateAsClean) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   doc.load_json(two_math());
   doc.set_input("a", "a", 7);
   EXPECT_TRUE(doc.dirty());
@@ -89,7 +91,7 @@ TEST_F(GraphDocumentTest, UndoReturnsToTheSavedStateAsClean) {
 }
 
 TEST_F(GraphDocumentTest, MergeKeyCollapsesADragIntoOneStep) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   doc.load_json(two_math());
   const auto start = doc.position("b");
   for (int i = 0; i < 10; ++i) doc.move_nodes({"b"}, 1, 2, "drag");
@@ -106,7 +108,7 @@ TEST_F(GraphDocumentTest, MergeKeyCollapsesADragIntoOneStep) {
 }
 
 TEST_F(GraphDocumentTest, LinksAreRefusedWithAReason) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   const auto board = doc.add_node("Checkerboard", {0, 0});
   const auto math = doc.add_node("Math", {0, 0});
   const auto warp = doc.add_node("ImageWarp", {0, 0});
@@ -123,23 +125,23 @@ TEST_F(GraphDocumentTest, LinksAreRefusedWithAReason) {
 }
 
 TEST_F(GraphDocumentTest, DeletingANodeUnlinksItsConsumers) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   doc.load_json(two_math());
   doc.remove_nodes({"a"});
   EXPECT_FALSE(doc.has_node("a"));
   EXPECT_FALSE(doc.link("b", "a"));
-  EXPECT_NO_THROW(engine.graph(doc.document()));  // still a valid graph
+  EXPECT_NO_THROW(engine.load(doc.document()));  // still a valid graph
   doc.undo();
   EXPECT_TRUE(doc.has_node("a"));
   EXPECT_TRUE(doc.link("b", "a"));
 }
 
 TEST_F(GraphDocumentTest, CopyPasteRenamesAndKeepsInnerLinks) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   doc.load_json(two_math());
   const json clip = doc.copy({"a", "b"});
   // The clipboard is itself a graph.
-  EXPECT_NO_THROW(engine.graph(clip));
+  EXPECT_NO_THROW(engine.load(clip));
   const auto added = doc.paste(clip, 50, 0);
   ASSERT_EQ(added.size(), 2u);
   EXPECT_EQ(doc.node_ids().size(), 4u);
@@ -148,7 +150,7 @@ TEST_F(GraphDocumentTest, CopyPasteRenamesAndKeepsInnerLinks) {
   ASSERT_TRUE(doc.link(new_b, "a"));
   EXPECT_EQ(doc.link(new_b, "a")->node, added[0]);
   EXPECT_NE(added[0], "a");
-  EXPECT_DOUBLE_EQ(engine.output(doc.document(), new_b + ".result").as<double>(), 50);
+  EXPECT_DOUBLE_EQ(engine.output<double>(doc.document(), new_b + ".result"), 50);
 
   // Copying only b drops its link to a (outside the selection).
   const json lone = doc.copy({"b"});
@@ -162,15 +164,15 @@ TEST_F(GraphDocumentTest, CopyPasteRenamesAndKeepsInnerLinks) {
 }
 
 TEST_F(GraphDocumentTest, ResetInputFallsBackToTheDefault) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   doc.load_json(two_math());
   doc.reset_input("b", "op");
   EXPECT_TRUE(doc.literal("b", "op").is_null());
-  EXPECT_DOUBLE_EQ(engine.output(doc.document(), "b.result").as<double>(), 15);  // 5 + 10
+  EXPECT_DOUBLE_EQ(engine.output<double>(doc.document(), "b.result"), 15);  // 5 + 10
 }
 
 TEST_F(GraphDocumentTest, BadFilesAreRefusedWithTheirName) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   const auto file = test::temp_dir() / "broken.json";
   std::ofstream(file) << "{\"loom\": 1, \"nodes\": ";
   try {
@@ -191,7 +193,7 @@ namespace loom::editor {
 namespace {
 
 TEST_F(GraphDocumentTest, SetInputsIsOneStepAndNullUnsets) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   doc.load_json(two_math());
   doc.set_inputs("b", {{"op", nullptr}, {"b", 1}});
   EXPECT_TRUE(doc.literal("b", "op").is_null());
@@ -203,7 +205,7 @@ TEST_F(GraphDocumentTest, SetInputsIsOneStepAndNullUnsets) {
 }
 
 TEST_F(GraphDocumentTest, LayoutIsNotPartOfWhatIsEvaluated) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   doc.load_json(two_math());
   const json before = doc.evaluated_part();
   doc.move_nodes({"a", "b"}, 10, 10);

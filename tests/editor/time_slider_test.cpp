@@ -5,16 +5,17 @@
 #include <fstream>
 
 #include "controller/evaluation_controller.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 #include "model/graph_document.hpp"
 #include "model/playback.hpp"
+#include "test_files.hpp"
 
 namespace loom::editor {
 namespace {
 
 struct TimeSliderTest : ::testing::Test {
-  test::Engine engine;
-  void SetUp() override { engine.loader.load_for({"Math", "Integrate"}); }
+  testing::Engine engine;
+  void SetUp() override { engine.load_plugins({"Math", "Integrate"}); }
 };
 
 // x0 -> sim (x(f) = x(f-1) + v/fps) -> after; frames 1..10 at 24 fps.
@@ -49,7 +50,7 @@ std::shared_ptr<const Evaluation> evaluate_at(EvaluationController& c, const jso
 }
 
 TEST_F(TimeSliderTest, MarksAreTheSimulationFramesAndAnUpstreamEditDropsThem) {
-  EvaluationController controller(engine.registry, 2);
+  EvaluationController controller(engine.registry(), 2);
   auto e = evaluate_at(controller, simulation(1, 2, 0), 4, 1);
   ASSERT_TRUE(e->result.ok()) << e->error;
   EXPECT_EQ(e->frame, 4);
@@ -81,7 +82,7 @@ TEST_F(TimeSliderTest, MarksAreTheSimulationFramesAndAnUpstreamEditDropsThem) {
 }
 
 TEST_F(TimeSliderTest, TheFrameIsKeptInTheGraphUiFieldAndIsNotAnEdit) {
-  GraphDocument doc(engine.registry);
+  GraphDocument doc(engine.registry());
   doc.load_json(simulation(1, 2, 0), test::temp_dir() / "g.json");
   ASSERT_TRUE(doc.time_range());
   EXPECT_EQ(doc.time_range()->end, 10);
@@ -103,12 +104,12 @@ TEST_F(TimeSliderTest, TheFrameIsKeptInTheGraphUiFieldAndIsNotAnEdit) {
   const auto file = test::temp_dir() / "framed.json";
   doc.set_frame(6);
   doc.save(file);
-  GraphDocument reopened(engine.registry);
+  GraphDocument reopened(engine.registry());
   reopened.load(file);
   EXPECT_EQ(reopened.frame(), 6);
   EXPECT_EQ(reopened.document()["ui"], (json{{"frame", 6}}));
   // The saved file is an ordinary graph: the engine reads it.
-  EXPECT_NO_THROW(engine.graph(reopened.document(), file));
+  EXPECT_NO_THROW(engine.load(reopened.document(), file));
 
   doc.load_json({{"loom", 1}, {"nodes", json::object()}});
   EXPECT_FALSE(doc.time_range());

@@ -11,7 +11,8 @@
 #include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
 
-#include "loom_test.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 #include "ui/editor_app.hpp"
 
 namespace loom::editor::test {

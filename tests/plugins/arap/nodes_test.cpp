@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "loom/mesh.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 
 namespace {
 
@@ -17,16 +17,16 @@ loom::json graph(const loom::json& arap_inputs) {
 }
 
 TEST(ArapNodes, ArapFromTutteLowersTheEnergyWithoutFlips) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   const auto doc = graph({{"init", "tutte"}, {"iterations", 50}});
-  const auto energy = engine.output(doc, "arap.energy").as<std::vector<double>>();
+  const auto energy = engine.output<std::vector<double>>(doc, "arap.energy");
   ASSERT_GE(energy.size(), 2u);
   for (size_t k = 1; k < energy.size(); ++k) EXPECT_LE(energy[k], energy[k - 1] * (1 + 1e-12));
   EXPECT_LT(energy.back(), energy.front());
-  const auto report = engine.output(doc, "arap.distortion").as<loom::json>();
+  const auto report = engine.output<loom::json>(doc, "arap.distortion");
   EXPECT_EQ(report["flipped"], 0);
   EXPECT_LT(report["area_mean"].get<double>(), 1.5);
-  const auto& mesh = engine.output(doc, "arap.mesh").as<loom::Mesh>();
+  const auto& mesh = engine.output<loom::Mesh>(doc, "arap.mesh");
   ASSERT_TRUE(mesh.has_uv());
   EXPECT_GE(mesh.UV.minCoeff(), 0);
   EXPECT_LE(mesh.UV.maxCoeff(), 1 + 1e-12);
@@ -34,25 +34,25 @@ TEST(ArapNodes, ArapFromTutteLowersTheEnergyWithoutFlips) {
 }
 
 TEST(ArapNodes, AsapThenArapFromGivenUVs) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   auto doc = graph({{"init", "given"}, {"iterations", 20}});
   doc["nodes"]["arap"]["inputs"]["mesh"] = {{"from", "asap.mesh"}};
-  const auto asap_report = engine.output(doc, "asap.distortion").as<loom::json>();
-  const auto arap_report = engine.output(doc, "arap.distortion").as<loom::json>();
+  const auto asap_report = engine.output<loom::json>(doc, "asap.distortion");
+  const auto arap_report = engine.output<loom::json>(doc, "arap.distortion");
   EXPECT_EQ(asap_report["flipped"], 0);
   EXPECT_LT(asap_report["angle_mean"].get<double>(), 1.1);  // nearly conformal
   EXPECT_LT(arap_report["arap_energy"].get<double>(), asap_report["arap_energy"].get<double>());
-  EXPECT_EQ(engine.output(doc, "asap.energy").as<std::vector<double>>().size(), 1u);
+  EXPECT_EQ(engine.output<std::vector<double>>(doc, "asap.energy").size(), 1u);
 }
 
 TEST(ArapNodes, ActionableErrors) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   auto doc = graph({{"init", "given"}});
-  EXPECT_THROW(engine.output(doc, "arap.mesh"), loom::Error);  // HemisphereMesh gives no UVs
+  EXPECT_THROW(engine.value(doc, "arap.mesh"), loom::Error);  // HemisphereMesh gives no UVs
   doc = graph({{"pin", 100000}});
-  EXPECT_THROW(engine.output(doc, "arap.mesh"), loom::Error);
+  EXPECT_THROW(engine.value(doc, "arap.mesh"), loom::Error);
   doc = graph({{"model", "hybrid"}, {"lambda", 0.0}});
-  EXPECT_THROW(engine.output(doc, "arap.mesh"), loom::Error);
+  EXPECT_THROW(engine.value(doc, "arap.mesh"), loom::Error);
 }
 
 }  // namespace

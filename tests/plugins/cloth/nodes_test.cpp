@@ -11,8 +11,10 @@
 
 #include "cloth_state.hpp"
 #include "loom/mesh.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 #include "ply_points.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 
 namespace {
 
@@ -70,11 +72,11 @@ class FrameHost : public loom::NodeHost {
 };
 
 // Frames start..start+frames of a ClothStep from the given initial state.
-std::vector<loom::Value> run_frames(loom::test::Engine& engine, loom::Value initial,
-                                    std::map<std::string, loom::Value> inputs, int frames,
-                                    double fps, FrameHost** host_out = nullptr) {
-  engine.loader.load_for({"ClothStep"});
-  const loom::NodeType* type = engine.registry.find("ClothStep");
+std::vector<loom::Value> run_frames(loom::testing::Engine& engine, loom::Value initial,
+                                    std::map<std::string, loom::Value> inputs, int frames, double fps,
+                                    FrameHost** host_out = nullptr) {
+  engine.load_plugins({"ClothStep"});
+  const loom::NodeType* type = engine.registry().find("ClothStep");
   EXPECT_NE(type, nullptr);
   inputs["state"] = initial;
   static std::unique_ptr<FrameHost> host;
@@ -101,20 +103,20 @@ std::vector<loom::Value> run_frames(loom::test::Engine& engine, loom::Value init
 }
 
 TEST(ClothNodes, TheStartFrameReturnsTheInitialState) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   const auto doc = grid_graph({});
-  const auto& initial = engine.output(doc, "grid.state").as<ClothState>();
-  const auto& first = engine.output(doc, "step.state").as<ClothState>();
+  const auto& initial = engine.output<ClothState>(doc, "grid.state");
+  const auto& first = engine.output<ClothState>(doc, "step.state");
   EXPECT_EQ(first.x, initial.x);
   EXPECT_EQ(first.time, 0);
-  const auto& mesh = engine.output(doc, "step.mesh").as<loom::Mesh>();
+  const auto& mesh = engine.output<loom::Mesh>(doc, "step.mesh");
   EXPECT_EQ(mesh.vertices(), 36);
   EXPECT_EQ(mesh.faces(), 50);
 }
 
 TEST(ClothNodes, FramesOfFreeFallFollowTheDiscreteParabola) {
-  loom::test::Engine engine;
-  const loom::Value initial = engine.output(grid_graph({}), "grid.state");
+  loom::testing::Engine engine;
+  const loom::Value initial = engine.value(grid_graph({}), "grid.state");
   for (const char* solver : {"local_global", "newton"}) {
     const int frames = 12, substeps = 3;
     const double fps = 24;
@@ -135,18 +137,18 @@ TEST(ClothNodes, FramesOfFreeFallFollowTheDiscreteParabola) {
 
 // The same through the engine's frames: the evaluator feeds the state back.
 TEST(ClothNodes, EngineFramesFollowTheDiscreteParabola) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   auto doc = grid_graph({{"substeps", 3}});
   doc["time"] = {{"start", 1}, {"end", 13}, {"fps", 24}};
-  const loom::Graph g = engine.graph(doc);
+  const loom::Graph g = engine.load(doc);
   loom::EvalOptions options;
   options.targets.push_back(loom::parse_target("step.state"));
   options.frames = loom::FrameRange{1, 13};
-  const loom::EvalResult result = engine.session.evaluate(g, options);
+  const loom::EvalResult result = engine.session().evaluate(g, options);
   ASSERT_TRUE(result.ok());
   EXPECT_EQ(result.frames, 13);
   const auto& last = result.outputs.at("step.state").at(0).as<ClothState>();
-  const auto& initial = engine.output(grid_graph({}), "grid.state").as<ClothState>();
+  const auto& initial = engine.output<ClothState>(grid_graph({}), "grid.state");
   const int n = 12 * 3;
   const double h = 1 / (24.0 * 3);
   EXPECT_NEAR(last.time, 12 / 24.0, 1e-12);
@@ -155,8 +157,8 @@ TEST(ClothNodes, EngineFramesFollowTheDiscreteParabola) {
 }
 
 TEST(ClothNodes, ExplicitWarnsAboveItsStabilityBoundAndNeverWritesNaN) {
-  loom::test::Engine engine;
-  const loom::Value initial = engine.output(grid_graph({}), "grid.state");  // k = 1e5 on 4 g
+  loom::testing::Engine engine;
+  const loom::Value initial = engine.value(grid_graph({}), "grid.state");  // k = 1e5 on 4 g
   FrameHost* host = nullptr;
   try {
     const auto states = run_frames(engine, initial, {{"solver", loom::Value::make<std::string>("explicit")}},
@@ -197,11 +199,11 @@ TEST(ClothNodes, AnOverflowingStepFailsAtItsOwnOutput) {
 
 // A cuboid too large to build is refused before anything is allocated.
 TEST(ClothNodes, AnOversizedCuboidIsRefused) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   const loom::json big = {
       {"loom", 1}, {"nodes", {{"box", {{"type", "MassSpringCuboid"}, {"inputs", {{"points", {1024, 1024, 1024}}}}}}}}};
   try {
-    engine.output(big, "box.state");
+    engine.value(big, "box.state");
     FAIL() << "a 1024^3 lattice was built";
   } catch (const loom::Error& e) {
     EXPECT_NE(std::string(e.what()).find("2^22"), std::string::npos) << e.what();
@@ -209,10 +211,10 @@ TEST(ClothNodes, AnOversizedCuboidIsRefused) {
 }
 
 TEST(ClothNodes, StatesSurviveTheDiskFormat) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   loom::json doc = {{"loom", 1},
                     {"nodes", {{"box", {{"type", "MassSpringCuboid"}, {"inputs", {{"points", {3, 4, 5}}}}}}}}};
-  const auto& state = engine.output(doc, "box.state").as<ClothState>();
+  const auto& state = engine.output<ClothState>(doc, "box.state");
   loom::ByteWriter w;
   loom::TypeTraits<ClothState>::write(state, w);
   loom::ByteReader r(w.buffer().data(), w.buffer().size());
@@ -226,24 +228,24 @@ TEST(ClothNodes, StatesSurviveTheDiskFormat) {
 }
 
 TEST(ClothNodes, ActionableErrors) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   auto doc = grid_graph({{"sphere_centers", {{0, 0, 0}}}, {"sphere_radii", loom::json::array()}});
-  EXPECT_THROW(engine.output(doc, "step.state"), loom::Error);
+  EXPECT_THROW(engine.value(doc, "step.state"), loom::Error);
   doc = grid_graph({});
   doc["nodes"]["grid"]["inputs"]["fixed"] = {1000};
-  EXPECT_THROW(engine.output(doc, "grid.state"), loom::Error);
+  EXPECT_THROW(engine.value(doc, "grid.state"), loom::Error);
   doc = {{"loom", 1},
          {"nodes",
           {{"pts", {{"type", "GridMesh"}, {"inputs", {{"resolution", {3, 3}}}}}},
            {"ms", {{"type", "MassSpringMesh"}, {"inputs", {{"mesh", {{"from", "pts.mesh"}}}, {"area_density", 0.5}}}}}}}};
-  const auto& state = engine.output(doc, "ms.state").as<ClothState>();
+  const auto& state = engine.output<ClothState>(doc, "ms.state");
   EXPECT_NEAR(state.system->mass.sum(), 0.5, 1e-12);  // GridMesh is 1 × 1
 }
 
 // UVs (and colors) survive simulation: a GridMesh's UVs are the simulated
 // mesh's at every frame, and MassSpringGrid's are (i/(nx−1), j/(ny−1)).
 TEST(ClothNodes, UVsFollowTheClothThroughSimulatedFrames) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   loom::json doc = {
       {"loom", 1},
       {"time", {{"start", 1}, {"end", 4}, {"fps", 30}}},
@@ -254,11 +256,11 @@ TEST(ClothNodes, UVsFollowTheClothThroughSimulatedFrames) {
         {"grid", {{"type", "MassSpringGrid"}, {"inputs", {{"vertices", {5, 4}}}}}},
         {"a", {{"type", "ClothStep"}, {"inputs", {{"state", {{"from", "ms.state"}}}}}}},
         {"b", {{"type", "ClothStep"}, {"inputs", {{"state", {{"from", "grid.state"}}}}}}}}}};
-  const loom::Graph g = engine.graph(doc);
+  const loom::Graph g = engine.load(doc);
   loom::EvalOptions options;
   for (const char* t : {"a.mesh", "b.mesh", "sheet.mesh"}) options.targets.push_back(loom::parse_target(t));
   options.frames = loom::FrameRange{1, 4};
-  const loom::EvalResult result = engine.session.evaluate(g, options);
+  const loom::EvalResult result = engine.session().evaluate(g, options);
   ASSERT_TRUE(result.ok());
   const auto& sheet = result.outputs.at("sheet.mesh").back().as<loom::Mesh>();
   const auto& a = result.outputs.at("a.mesh").back().as<loom::Mesh>();
@@ -273,7 +275,7 @@ TEST(ClothNodes, UVsFollowTheClothThroughSimulatedFrames) {
       EXPECT_EQ(b.UV(j * 5 + i, 1), j / 3.0);
     }
   // The disk format keeps them.
-  const ClothState state = engine.output(doc, "ms.state").as<ClothState>();
+  const ClothState state = engine.output<ClothState>(doc, "ms.state");
   loom::ByteWriter w;
   loom::TypeTraits<ClothState>::write(state, w);
   loom::ByteReader r(w.buffer().data(), w.buffer().size());
@@ -284,7 +286,7 @@ TEST(ClothNodes, UVsFollowTheClothThroughSimulatedFrames) {
 // here, not through the node's rotation), then the translation; the fixed box
 // is given in the placed (world) coordinates.
 TEST(ClothNodes, PlacementRotatesAndMovesBeforeFixing) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   const loom::json doc = {
       {"loom", 1},
       {"nodes",
@@ -296,9 +298,9 @@ TEST(ClothNodes, PlacementRotatesAndMovesBeforeFixing) {
                             {"fixed_box_min", {0, 2.9, 0}}, {"fixed_box_max", {2, 4, 4}}}}}},
         {"grid", {{"type", "MassSpringGrid"},
                   {"inputs", {{"vertices", {3, 2}}, {"size", {2, 1}}, {"center", {1, 2, 3}}, {"rotate_degrees", {0, 90, 0}}}}}}}}};
-  const auto& sheet = engine.output(doc, "sheet.mesh").as<loom::Mesh>();
-  const auto& moved = engine.output(doc, "moved.mesh").as<loom::Mesh>();
-  const auto& placed = engine.output(doc, "ms.state").as<ClothState>();
+  const auto& sheet = engine.output<loom::Mesh>(doc, "sheet.mesh");
+  const auto& moved = engine.output<loom::Mesh>(doc, "moved.mesh");
+  const auto& placed = engine.output<ClothState>(doc, "ms.state");
   for (int i = 0; i < sheet.vertices(); ++i) {
     const Eigen::RowVector3d expected(1 - sheet.V(i, 1), 2 + sheet.V(i, 0), 3 + sheet.V(i, 2));
     EXPECT_LT((moved.V.row(i) - expected).norm(), 1e-12) << i;
@@ -307,7 +309,7 @@ TEST(ClothNodes, PlacementRotatesAndMovesBeforeFixing) {
   }
   EXPECT_EQ(placed.system->fixed_count(), 3);
   // MassSpringGrid turned 90° about y about its center: u along x becomes −z.
-  const auto& grid = engine.output(doc, "grid.state").as<ClothState>();
+  const auto& grid = engine.output<ClothState>(doc, "grid.state");
   EXPECT_LT((grid.x.row(0) - Eigen::RowVector3d(1, 1.5, 4)).norm(), 1e-12);
   EXPECT_LT((grid.x.row(2) - Eigen::RowVector3d(1, 1.5, 2)).norm(), 1e-12);
 }
@@ -315,19 +317,19 @@ TEST(ClothNodes, PlacementRotatesAndMovesBeforeFixing) {
 // ClothPoints → SavePoints: the state's velocities and masses in a PLY, read
 // back (tests/support's reader) and compared with the step's state exactly.
 TEST(ClothNodes, VelocitiesWrittenAsPointsReadBackExactly) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   loom::json doc = grid_graph({{"wind_speed", 3.0}});
   doc["time"] = {{"start", 1}, {"end", 3}, {"fps", 30}};
   doc["nodes"]["pts"] = {{"type", "ClothPoints"}, {"inputs", {{"state", {{"from", "step.state"}}}}}};
   doc["nodes"]["save"] = {{"type", "SavePoints"},
                           {"inputs", {{"points", {{"from", "pts.points"}}}, {"path", "cloth_{frame:04}.ply"}, {"double_precision", true}}}};
-  const loom::Graph g = engine.graph(doc);
+  const loom::Graph g = engine.load(doc);
   loom::EvalOptions options;
   options.targets.push_back(loom::parse_target("save"));
   options.targets.push_back(loom::parse_target("step.state"));
   options.frames = loom::FrameRange{1, 3};
   options.output_dir = loom::test::temp_dir();
-  const loom::EvalResult result = engine.session.evaluate(g, options);
+  const loom::EvalResult result = engine.session().evaluate(g, options);
   ASSERT_TRUE(result.ok());
   const auto& state = result.outputs.at("step.state").back().as<ClothState>();
   const loom::test::PlyPoints ply = loom::test::read_ply_points(options.output_dir / "cloth_0003.ply");

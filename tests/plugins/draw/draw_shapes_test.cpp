@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "loom/image.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 
 namespace loom {
 namespace {
@@ -16,10 +16,10 @@ json draw_graph(json figures, json extra = json::object()) {
 }
 
 TEST(DrawShapesNode, FilledRectangleIsExactInsideAndLeavesTheRestAlone) {
-  test::Engine e;
+  testing::Engine e;
   const json figures = json::parse(R"([{"type": "rectangle", "min": [10, 8], "max": [30, 20],
                                         "fill": [1, 0, 0], "width": 0}])");
-  const Image& img = e.output(draw_graph(figures), "draw.image").as<Image>();
+  const Image& img = e.output<Image>(draw_graph(figures), "draw.image");
   EXPECT_EQ(img.encoding, Encoding::srgb);
   EXPECT_EQ(img.channels(), 3);
   EXPECT_EQ(img.pixels.at<cv::Vec3f>(10, 20), cv::Vec3f(1, 0, 0));
@@ -33,30 +33,30 @@ TEST(DrawShapesNode, FilledRectangleIsExactInsideAndLeavesTheRestAlone) {
 }
 
 TEST(DrawShapesNode, EllipseFillAreaAndEvenOddHole) {
-  test::Engine e;
+  testing::Engine e;
   const json figures = json::parse(R"([{"type": "ellipse", "center": [32, 24], "axes": [20, 12], "angle": 30,
                                         "fill": [0, 0, 0], "width": 0}])");
-  const Image& img = e.output(draw_graph(figures), "draw.image").as<Image>();
+  const Image& img = e.output<Image>(draw_graph(figures), "draw.image");
   cv::Mat red;
   cv::extractChannel(img.pixels, red, 0);
   EXPECT_NEAR(cv::sum(1.0 - red)[0], M_PI * 20 * 12, 0.5);
 
   const json star = json::parse(R"([{"type": "polygon", "fill_rule": "evenodd", "fill": [0, 0, 0], "width": 0,
       "points": [[32, 2], [45, 42], [11, 17], [53, 17], [19, 42]]}])");
-  const Image& s = e.output(draw_graph(star), "draw.image").as<Image>();
+  const Image& s = e.output<Image>(draw_graph(star), "draw.image");
   EXPECT_EQ(s.pixels.at<cv::Vec3f>(26, 32), cv::Vec3f(1, 1, 1));  // the inner pentagon stays background
   EXPECT_EQ(s.pixels.at<cv::Vec3f>(6, 32), cv::Vec3f(0, 0, 0));
 }
 
 TEST(DrawShapesNode, StrokesAreAntialiasedOnAnInputImage) {
-  test::Engine e;
+  testing::Engine e;
   json g = draw_graph(json::parse(R"([{"type": "line", "from": [4, 10.3], "to": [60, 30.7], "stroke": [0, 0, 0], "width": 2},
                                       {"type": "arrow", "from": [5, 40], "to": [50, 40], "stroke": "#0000ff", "width": 3},
                                       {"type": "freehand", "points": [[2, 2], [10, 5], [20, 3]], "width": 1}])"));
   g["nodes"]["board"] = {{"type", "Checkerboard"}, {"inputs", {{"size", {64, 48}}, {"cells", 2},
                                                               {"color_a", {1, 1, 1}}, {"color_b", {1, 1, 1}}}}};
   g["nodes"]["draw"]["inputs"]["image"] = {{"from", "board.image"}};
-  const Image& img = e.output(g, "draw.image").as<Image>();
+  const Image& img = e.output<Image>(g, "draw.image");
   EXPECT_TRUE(cv::checkRange(img.pixels));
   cv::Mat red;
   cv::extractChannel(img.pixels, red, 0);
@@ -67,22 +67,21 @@ TEST(DrawShapesNode, StrokesAreAntialiasedOnAnInputImage) {
 }
 
 TEST(DrawShapesNode, BadFigureFailsWithItsIndexAndKey) {
-  test::Engine e;
+  testing::Engine e;
   const json g = draw_graph(json::parse(R"([{"type": "line", "from": [0, 0], "to": [1, 1]},
                                              {"type": "rectangle", "min": [0, 0]}])"));
-  const EvalResult r = e.run(e.graph(g), {"draw.image"});
-  ASSERT_EQ(r.nodes.at("draw").status, NodeStatus::failed);
-  EXPECT_NE(r.nodes.at("draw").error.find("figure 1 (rectangle): key \"max\" is missing"), std::string::npos)
-      << r.nodes.at("draw").error;
+  testing::Run r = e.run(g, {"draw.image"});
+  ASSERT_EQ(r.status("draw"), NodeStatus::failed);
+  EXPECT_NE(r.error("draw").find("figure 1 (rectangle): key \"max\" is missing"), std::string::npos) << r.error("draw");
 }
 
 TEST(PolygonMaskNode, MaskIsOneChannelLinearWithTheArea) {
-  test::Engine e;
+  testing::Engine e;
   const json g = {{"loom", 1},
                   {"nodes", {{"mask", {{"type", "PolygonMask"},
                                        {"inputs", {{"size", {100, 80}},
                                                    {"points", {{10.5, 10}, {90, 20.25}, {60, 70.75}}}}}}}}}};
-  const Image& m = e.output(g, "mask.mask").as<Image>();
+  const Image& m = e.output<Image>(g, "mask.mask");
   EXPECT_EQ(m.channels(), 1);
   EXPECT_EQ(m.encoding, Encoding::linear);
   const double area = std::abs((90 - 10.5) * (70.75 - 10) - (60 - 10.5) * (20.25 - 10)) / 2;
@@ -90,9 +89,9 @@ TEST(PolygonMaskNode, MaskIsOneChannelLinearWithTheArea) {
 
   json bad = g;
   bad["nodes"]["mask"]["inputs"]["points"] = {{1, 1}, {2, 2}};
-  const EvalResult r = e.run(e.graph(bad), {"mask.mask"});
-  EXPECT_EQ(r.nodes.at("mask").status, NodeStatus::failed);
-  EXPECT_NE(r.nodes.at("mask").error.find("at least 3 vertices"), std::string::npos);
+  testing::Run r = e.run(bad, {"mask.mask"});
+  EXPECT_EQ(r.status("mask"), NodeStatus::failed);
+  EXPECT_NE(r.error("mask").find("at least 3 vertices"), std::string::npos);
 }
 
 }  // namespace

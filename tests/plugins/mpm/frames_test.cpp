@@ -3,15 +3,16 @@
 #include <gtest/gtest.h>
 
 #include "emitters.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 #include "mls_mpm.hpp"
 #include "mpm_state.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
 
 TEST(MpmFrames, TheEngineFeedsTheStateBackLikeAHandWrittenLoop) {
-  test::Engine e;
+  testing::Engine e;
   const json doc = {
       {"loom", 1},
       {"time", {{"start", 1}, {"end", 11}, {"fps", 50}}},
@@ -21,13 +22,13 @@ TEST(MpmFrames, TheEngineFeedsTheStateBackLikeAHandWrittenLoop) {
                               {"E", 1000.0}, {"sampling", "grid"}, {"spacing", 1.0 / 128}}}}},
         {"sim", {{"type", "MPMStep"},
                  {"inputs", {{"state", {{"from", "emit.particles"}}}, {"resolution", 64}}}}}}}};
-  Graph g = e.graph(doc);
+  Graph g = e.load(doc);
   EvalOptions o;
   o.targets.push_back(parse_target("sim.state"));
   o.targets.push_back(parse_target("sim.substeps"));
   o.frames = FrameRange{1, 11};
   o.output_dir = test::temp_dir();
-  EvalResult r = e.session.evaluate(g, o);
+  EvalResult r = e.session().evaluate(g, o);
   ASSERT_TRUE(r.ok());
   const auto& state = r.outputs.at("sim.state").at(0).as<mpm::MpmState>();
   EXPECT_NEAR(state.time, 10 / 50.0, 1e-12);

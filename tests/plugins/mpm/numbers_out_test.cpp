@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include "loom/polylines.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
@@ -21,20 +23,20 @@ json circular_orbit(double ship_mass) {
 }
 
 TEST(NumbersOut, TrajectoryTableSavedAsJsonMatchesTheNode) {
-  test::Engine e;
+  testing::Engine e;
   const json doc = {{"loom", 1},
                     {"nodes",
                      {{"orbit", circular_orbit(0)},
                       {"save", {{"type", "SaveJSON"}, {"inputs", {{"value", {{"from", "orbit.table"}}}, {"path", "orbit.json"}}}}}}}};
-  Graph g = e.graph(doc);
+  Graph g = e.load(doc);
   const auto out = test::temp_dir();
-  EvalResult r = e.run(g, {"save", "orbit.table", "orbit.trajectories"}, 0, out);
+  testing::Run r = e.run(g, {"save", "orbit.table", "orbit.trajectories"}, out);
   ASSERT_TRUE(r.ok());
   std::ifstream f(out / "orbit.json");
   const json file = json::parse(f);
-  const json& table = r.outputs.at("orbit.table").at(0).as<json>();
+  const json& table = r.output<json>("orbit.table");
   EXPECT_EQ(file, table);  // every number exactly (JSON round-trips doubles)
-  const auto& lines = r.outputs.at("orbit.trajectories").at(0).as<Polylines>();
+  const auto& lines = r.output<Polylines>("orbit.trajectories");
   ASSERT_EQ(file["time"].size(), 61u);
   for (int i = 0; i < 61; ++i) {
     EXPECT_NEAR(file["time"][i].get<double>(), 0.1 * i, 1e-12);
@@ -53,23 +55,23 @@ TEST(NumbersOut, TrajectoryTableSavedAsJsonMatchesTheNode) {
 // with E = m ε. Both measure the same drift: they agree once the scales are
 // converted (|ε| = ½ GM/r and ½v² + GM/r = 3/2 on this orbit: a factor 3).
 TEST(NumbersOut, MasslessShipEnergyErrorMatchesATinyMassShip) {
-  test::Engine e;
+  testing::Engine e;
   json doc = {{"loom", 1}, {"nodes", {{"ship", circular_orbit(0)}, {"tiny", circular_orbit(1e-9)}}}};
   doc["nodes"]["ship"]["inputs"]["velocities"] = {{0, 0, 0}, {0, 1.2, 0}};  // an ellipse: the drift is not 0
   doc["nodes"]["tiny"]["inputs"]["velocities"] = {{0, 0, 0}, {0, 1.2, 0}};
-  const double ship = e.output(doc, "ship.energy_error").as<double>();
-  const double tiny = e.output(doc, "tiny.energy_error").as<double>();
+  const double ship = e.output<double>(doc, "ship.energy_error");
+  const double tiny = e.output<double>(doc, "tiny.energy_error");
   // ε = ½ 1.44 − 1 = −0.28, scale ½ 1.44 + 1 = 1.72.
   std::printf("massless ship: energy_error %.4g (was always 0); ship of mass 1e-9: %.4g\n", ship, tiny);
   EXPECT_GT(ship, 1e-12);
   EXPECT_NEAR(ship * 1.72 / 0.28, tiny, 1e-6 * tiny);
-  const json events = e.output(doc, "ship.events").as<json>();
+  const json events = e.output<json>(doc, "ship.events");
   ASSERT_EQ(events["ship_energy_error"].size(), 1u);
   EXPECT_EQ(events["ship_energy_error"][0]["error"].get<double>(), ship);
 }
 
 TEST(NumbersOut, ShipsLaunchedFromOnePointAndCoincidentMasses) {
-  test::Engine e;
+  testing::Engine e;
   const json ships = {{"type", "NBody"},
                       {"inputs",
                        {{"masses", {1.0, 0.0, 0.0, 0.0}},
@@ -77,14 +79,13 @@ TEST(NumbersOut, ShipsLaunchedFromOnePointAndCoincidentMasses) {
                         {"velocities", {{0, 0, 0}, {0, 0.9, 0}, {0, 1.0, 0}, {0, 1.5, 0}}},
                         {"duration", 2.0}}}};
   const json doc = {{"loom", 1}, {"nodes", {{"ships", ships}}}};
-  EXPECT_TRUE(e.output(doc, "ships.trajectories").as<Polylines>().P.allFinite());
+  EXPECT_TRUE(e.output<Polylines>(doc, "ships.trajectories").P.allFinite());
   json massive = doc;
   massive["nodes"]["ships"]["inputs"]["masses"] = {1.0, 0.0, 0.1, 0.1};
-  Graph g = e.graph(massive);
-  EvalResult r = e.run(g, {"ships.trajectories"});
-  ASSERT_EQ(r.nodes.at("ships").status, NodeStatus::failed);
-  EXPECT_NE(r.nodes.at("ships").error.find("bodies 1 and 2 are at the same position"), std::string::npos)
-      << r.nodes.at("ships").error;
+  Graph g = e.load(massive);
+  testing::Run r = e.run(g, {"ships.trajectories"});
+  ASSERT_EQ(r.status("ships"), NodeStatus::failed);
+  EXPECT_NE(r.error("ships").find("bodies 1 and 2 are at the same position"), std::string::npos) << r.error("ships");
 }
 
 // `loom run --target … --json`: the values in full, not cut at 80 characters.
@@ -101,27 +102,27 @@ TEST(NumbersOut, RunnerPrintsTargetsAsJsonInFull) {
             0)
       << out;
   const json printed = json::parse(out.substr(out.find('{')));
-  test::Engine e;
-  EXPECT_EQ(printed["orbit.table"], e.output(doc, "orbit.table").as<json>());
-  EXPECT_EQ(printed["orbit.energy_error"].get<double>(), e.output(doc, "orbit.energy_error").as<double>());
+  testing::Engine e;
+  EXPECT_EQ(printed["orbit.table"], e.output<json>(doc, "orbit.table"));
+  EXPECT_EQ(printed["orbit.energy_error"].get<double>(), e.output<double>(doc, "orbit.energy_error"));
   EXPECT_EQ(printed["orbit.trajectories"]["type"], "Polylines");
   EXPECT_GT(printed.dump().size(), 2000u);
 }
 
 TEST(NumbersOut, SaveJsonRefusesValuesWithoutAJsonFormAndOtherExtensions) {
-  test::Engine e;
+  testing::Engine e;
   json doc = {{"loom", 1},
               {"nodes",
                {{"orbit", circular_orbit(0)},
                 {"save", {{"type", "SaveJSON"}, {"inputs", {{"value", {{"from", "orbit.trajectories"}}}, {"path", "t.json"}}}}}}}};
   const auto out = test::temp_dir();
-  EvalResult r = e.run(e.graph(doc), {"save"}, 0, out);
-  EXPECT_EQ(r.nodes.at("save").status, NodeStatus::failed);
-  EXPECT_NE(r.nodes.at("save").error.find("has no JSON form"), std::string::npos) << r.nodes.at("save").error;
+  testing::Run r = e.run(doc, {"save"}, out);
+  EXPECT_EQ(r.status("save"), NodeStatus::failed);
+  EXPECT_NE(r.error("save").find("has no JSON form"), std::string::npos) << r.error("save");
   doc["nodes"]["save"]["inputs"]["value"] = {{"from", "orbit.energy_error"}};
   doc["nodes"]["save"]["inputs"]["path"] = "t.txt";
-  r = e.run(e.graph(doc), {"save"}, 0, out);
-  EXPECT_NE(r.nodes.at("save").error.find("writes .json files"), std::string::npos) << r.nodes.at("save").error;
+  r = e.run(doc, {"save"}, out);
+  EXPECT_NE(r.error("save").find("writes .json files"), std::string::npos) << r.error("save");
   EXPECT_TRUE(std::filesystem::is_empty(out));
 }
 

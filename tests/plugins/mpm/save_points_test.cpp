@@ -12,10 +12,11 @@
 
 #include "loom/image.hpp"
 #include "loom/point_set.hpp"
+#include "loom/testing.hpp"
 #include "mpm_state.hpp"
-#include "loom_test.hpp"
 #include "ply_points.hpp"
 #include "point_cloud_codec.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
@@ -24,7 +25,7 @@ using test::PlyPoints;
 using test::read_ply_points;
 
 TEST(SavePoints, WritesEveryFramesParticlesAsAPlyPointCloud) {
-  test::Engine e;
+  testing::Engine e;
   const json doc = json::parse(R"({"loom": 1, "time": {"start": 1, "end": 3, "fps": 30}, "nodes": {
     "emit": {"type": "MPMEmitBox", "inputs": {"dimension": 3, "min": [0.4, 0.5, 0.4], "max": [0.6, 0.7, 0.6],
              "material": "elastic", "sampling": "grid", "spacing": 0.04, "color": [0.2, 0.5, 1.0, 1]}},
@@ -32,13 +33,13 @@ TEST(SavePoints, WritesEveryFramesParticlesAsAPlyPointCloud) {
             "point_radius": 0.01}},
     "save": {"type": "SavePoints", "inputs": {"points": {"from": "sim.points"},
              "path": "pts/frame_{frame:04}.ply"}}}})");
-  Graph g = e.graph(doc);
+  Graph g = e.load(doc);
   EvalOptions o;
   o.targets.push_back(parse_target("save"));
   o.targets.push_back(parse_target("sim.points"));
   o.frames = FrameRange{1, 3};
   o.output_dir = test::temp_dir();
-  EvalResult r = e.session.evaluate(g, o);
+  EvalResult r = e.session().evaluate(g, o);
   ASSERT_TRUE(r.ok());
   const auto& points = r.outputs.at("sim.points").at(0).as<PointSet>();
   ASSERT_GT(points.points(), 50);
@@ -97,7 +98,7 @@ TEST(SavePoints, OptionalFieldsAndBadInput) {
 // and material in the file, read back and compared with the state the step
 // returned (exactly in double precision, to float rounding in single).
 TEST(SavePoints, ParticleAttributesRoundTripThroughThePly) {
-  test::Engine e;
+  testing::Engine e;
   const json doc = json::parse(R"({"loom": 1, "time": {"start": 1, "end": 2, "fps": 30}, "nodes": {
     "sand": {"type": "MPMEmitBox", "inputs": {"min": [0.3, 0.3, 0], "max": [0.5, 0.5, 0], "material": "sand",
              "sampling": "grid", "spacing": 0.02, "velocity": [1, -2, 0]}},
@@ -108,12 +109,12 @@ TEST(SavePoints, ParticleAttributesRoundTripThroughThePly) {
     "exact": {"type": "SavePoints", "inputs": {"points": {"from": "pts.points"}, "double_precision": true,
               "path": "exact_{frame:04}.ply"}},
     "single": {"type": "SavePoints", "inputs": {"points": {"from": "pts.points"}, "path": "single_{frame:04}.ply"}}}})");
-  Graph g = e.graph(doc);
+  Graph g = e.load(doc);
   EvalOptions o;
   for (const char* t : {"exact", "single", "sim.state"}) o.targets.push_back(parse_target(t));
   o.frames = FrameRange{1, 2};
   o.output_dir = test::temp_dir();
-  EvalResult r = e.session.evaluate(g, o);
+  EvalResult r = e.session().evaluate(g, o);
   ASSERT_TRUE(r.ok());
   const auto& state = r.outputs.at("sim.state").back().as<mpm::MpmState>();
   const mpm::Particles<2>& p = state.p2;

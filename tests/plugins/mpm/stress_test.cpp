@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include "loom/error.hpp"
-#include "loom_test.hpp"
+#include "loom/value.hpp"
 #include "mpm_scenes.hpp"
+#include "run_loom.hpp"
+#include "test_files.hpp"
 
 namespace loom::mpm {
 namespace {

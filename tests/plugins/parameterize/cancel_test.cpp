@@ -10,7 +10,8 @@
 #include <gtest/gtest.h>
 
 #include "loom/evaluator.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
@@ -54,7 +55,7 @@ const json big_dome = {{"type", "HemisphereMesh"}, {"inputs", {{"rings", 500}, {
 // from the flag to the evaluation's return.
 double cancel_latency(const json& graph, const std::string& node, const std::string& target, const fs::path& out,
                       EvalResult& r, int delay_ms = 50) {
-  test::Engine e;
+  testing::Engine e;
   std::atomic<bool> cancel{false};
   CancelAfterStart observer(node, std::chrono::milliseconds(delay_ms), cancel);
   EvalOptions o;
@@ -62,7 +63,7 @@ double cancel_latency(const json& graph, const std::string& node, const std::str
   o.observer = &observer;
   o.cancel = &cancel;
   o.output_dir = out;
-  r = e.session.evaluate(e.graph(graph), o);
+  r = e.session().evaluate(e.load(graph), o);
   const auto returned = Clock::now();
   observer.join();
   return std::chrono::duration<double>(returned - observer.set_at()).count();

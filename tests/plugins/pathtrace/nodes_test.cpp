@@ -3,7 +3,7 @@
 
 #include "loom/image.hpp"
 #include "loom/scene.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 #include "test_scenes.hpp"
 
 namespace {
@@ -18,33 +18,33 @@ loom::json cornell_graph(int spp, const loom::json& extra = loom::json::object()
 }
 
 TEST(PathTraceNodes, CornellBoxRendersAndReusesTheBvh) {
-  loom::test::Engine engine;
-  auto r = engine.run(engine.graph(cornell_graph(4)), {"pt"});
-  ASSERT_TRUE(r.ok()) << r.nodes["pt"].error;
-  const auto& image = r.outputs.at("pt")[0].as<loom::Image>();
+  loom::testing::Engine engine;
+  auto r = engine.run(cornell_graph(4), {"pt"});
+  ASSERT_TRUE(r.ok()) << r.error("pt");
+  const auto& image = r.result().outputs.at("pt")[0].as<loom::Image>();
   EXPECT_EQ(image.width(), 48);
   EXPECT_EQ(image.height(), 32);
   EXPECT_EQ(loom::pathtrace::test::count_nonfinite(image.pixels), 0);
   const cv::Scalar mean = cv::mean(image.pixels);
   EXPECT_GT(mean[0], mean[2]);  // the light is warm: 17 12 4
-  const auto stats = r.outputs.at("pt")[6].as<loom::json>();
+  const auto stats = r.result().outputs.at("pt")[6].as<loom::json>();
   EXPECT_FALSE(stats["bvh_reused"].get<bool>());
   EXPECT_EQ(stats["emissive_triangles"].get<int>(), 2);
   EXPECT_EQ(stats["triangles"].get<int>(), 32);
   // Another sample count and strategy: same geometry, so the BVH is reused.
-  r = engine.run(engine.graph(cornell_graph(2, {{"strategy", "nee"}})), {"pt"});
+  r = engine.run(cornell_graph(2, {{"strategy", "nee"}}), {"pt"});
   ASSERT_TRUE(r.ok());
-  EXPECT_TRUE(r.outputs.at("pt")[6].as<loom::json>()["bvh_reused"].get<bool>());
-  EXPECT_DOUBLE_EQ(r.outputs.at("pt")[5].as<double>(), 2.0);
+  EXPECT_TRUE(r.result().outputs.at("pt")[6].as<loom::json>()["bvh_reused"].get<bool>());
+  EXPECT_DOUBLE_EQ(r.result().outputs.at("pt")[5].as<double>(), 2.0);
 }
 
 TEST(PathTraceNodes, AdaptiveSamplingStopsEarlyWhereTheImageIsSmooth) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   const auto doc = cornell_graph(256, {{"adaptive_threshold", 0.05}, {"adaptive_min_spp", 16}});
-  const double spp = engine.output(doc, "pt.spp").as<double>();
+  const double spp = engine.output<double>(doc, "pt.spp");
   EXPECT_GE(spp, 16);
   EXPECT_LT(spp, 200);
-  const auto& samples = engine.output(doc, "pt.samples").as<loom::Image>();
+  const auto& samples = engine.output<loom::Image>(doc, "pt.samples");
   double lo, hi;
   cv::minMaxLoc(samples.pixels, &lo, &hi);
   EXPECT_GE(lo, 16);
@@ -52,11 +52,11 @@ TEST(PathTraceNodes, AdaptiveSamplingStopsEarlyWhereTheImageIsSmooth) {
 }
 
 TEST(PathTraceNodes, AovsDescribeTheFirstHit) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   const auto doc = cornell_graph(2);
-  const auto& normal = engine.output(doc, "pt.normal").as<loom::Image>();
-  const auto& depth = engine.output(doc, "pt.depth").as<loom::Image>();
-  const auto& albedo = engine.output(doc, "pt.albedo").as<loom::Image>();
+  const auto& normal = engine.output<loom::Image>(doc, "pt.normal");
+  const auto& depth = engine.output<loom::Image>(doc, "pt.depth");
+  const auto& albedo = engine.output<loom::Image>(doc, "pt.albedo");
   // Row 12, middle column: just above the tall block, the back wall: normal
   // -z, 1359.2 mm away along z (800 to the box's front + 559.2 deep) at a
   // slope of 0.078 (1363 mm along the ray), white albedo 0.725 0.71 0.68.
@@ -69,10 +69,10 @@ TEST(PathTraceNodes, AovsDescribeTheFirstHit) {
 }
 
 TEST(PathTraceNodes, NightSkyIsAFiniteLatLongMap) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   const loom::json doc = {{"loom", 1},
                           {"nodes", {{"sky", {{"type", "NightSky"}, {"inputs", {{"size", {64, 32}}}}}}}}};
-  const auto& sky = engine.output(doc, "sky.image").as<loom::Image>();
+  const auto& sky = engine.output<loom::Image>(doc, "sky.image");
   EXPECT_EQ(sky.width(), 64);
   EXPECT_EQ(loom::pathtrace::test::count_nonfinite(sky.pixels), 0);
   double hi;
@@ -81,11 +81,11 @@ TEST(PathTraceNodes, NightSkyIsAFiniteLatLongMap) {
 }
 
 TEST(PathTraceNodes, ActionableErrors) {
-  loom::test::Engine engine;
-  EXPECT_THROW(engine.graph(cornell_graph(0)), loom::Error);  // spp below its range
+  loom::testing::Engine engine;
+  EXPECT_THROW(engine.load(cornell_graph(0)), loom::Error);  // spp below its range
   auto doc = cornell_graph(1);
   doc["nodes"]["box"]["inputs"]["light"] = {-1, 0, 0};
-  EXPECT_THROW(engine.output(doc, "pt.image"), loom::Error);
+  EXPECT_THROW(engine.value(doc, "pt.image"), loom::Error);
 }
 
 }  // namespace

@@ -6,7 +6,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "loom/image.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
@@ -23,16 +24,16 @@ json graph_with(const json& blend_inputs) {
             {"blend", {{"type", "PoissonBlend"}, {"inputs", inputs}}}}}};
 }
 
-std::string failure(test::Engine& engine, const json& doc) {
-  EvalResult r = engine.run(engine.graph(doc), {"blend.image"});
-  return r.nodes.at("blend").error;
+std::string failure(testing::Engine& engine, const json& doc) {
+  testing::Run r = engine.run(doc, {"blend.image"});
+  return r.error("blend");
 }
 
 TEST(PoissonBlend, PolygonRegionBlendsAndLeavesTheRestAlone) {
-  test::Engine engine;
+  testing::Engine engine;
   const json doc = graph_with({{"polygon", {{32, 4}, {60, 56}, {4, 56}}}, {"offset", {40, 30}}});
-  const Image out = engine.output(doc, "blend.image").as<Image>();
-  const Image target = engine.output(doc, "target.image").as<Image>();
+  const Image out = engine.output<Image>(doc, "blend.image");
+  const Image target = engine.output<Image>(doc, "target.image");
   ASSERT_EQ(out.pixels.size(), target.pixels.size());
   EXPECT_EQ(out.encoding, target.encoding);
   EXPECT_NO_THROW(require_finite(out, "blend"));
@@ -42,12 +43,11 @@ TEST(PoissonBlend, PolygonRegionBlendsAndLeavesTheRestAlone) {
 }
 
 TEST(PoissonBlend, RectangleMaskAndSolversAgree) {
-  test::Engine engine;
-  const Image mg = engine.output(graph_with({{"rectangle", {8, 8, 40, 30}}, {"offset", {50, 40}}}),
-                                 "blend.image").as<Image>();
-  const Image exact = engine.output(graph_with({{"rectangle", {8, 8, 40, 30}}, {"offset", {50, 40}},
-                                                {"solver", "cholmod"}}),
-                                    "blend.image").as<Image>();
+  testing::Engine engine;
+  const Image mg =
+      engine.output<Image>(graph_with({{"rectangle", {8, 8, 40, 30}}, {"offset", {50, 40}}}), "blend.image");
+  const Image exact = engine.output<Image>(
+      graph_with({{"rectangle", {8, 8, 40, 30}}, {"offset", {50, 40}}, {"solver", "cholmod"}}), "blend.image");
   EXPECT_LT(cv::norm(mg.pixels, exact.pixels, cv::NORM_INF), 0.5 / 255);
 }
 
@@ -56,10 +56,10 @@ TEST(PoissonBlend, MaskImageRegion) {
   cv::Mat mask = cv::Mat::zeros(64, 64, CV_8UC1);
   cv::circle(mask, {32, 32}, 20, 255, cv::FILLED);
   ASSERT_TRUE(cv::imwrite((dir / "mask.png").string(), mask));
-  test::Engine engine;
+  testing::Engine engine;
   json doc = graph_with({{"mask", {{"from", "mask.image"}}}, {"offset", {40, 30}}});
   doc["nodes"]["mask"] = {{"type", "LoadImage"}, {"inputs", {{"path", (dir / "mask.png").string()}, {"decode", "keep"}}}};
-  const Image out = engine.output(doc, "blend.image").as<Image>();
+  const Image out = engine.output<Image>(doc, "blend.image");
   EXPECT_NO_THROW(require_finite(out, "blend"));
   // A mask of another size than the source.
   cv::Mat small = cv::Mat::zeros(10, 10, CV_8UC1);
@@ -69,7 +69,7 @@ TEST(PoissonBlend, MaskImageRegion) {
 }
 
 TEST(PoissonBlend, RegionInputsMustBeExactlyOne) {
-  test::Engine engine;
+  testing::Engine engine;
   EXPECT_NE(failure(engine, graph_with(json::object())).find("exactly one"), std::string::npos);
   EXPECT_NE(failure(engine, graph_with({{"rectangle", {1, 1, 5, 5}}, {"polygon", {{1, 1}, {5, 1}, {3, 4}}}}))
                 .find("exactly one"),
@@ -77,7 +77,7 @@ TEST(PoissonBlend, RegionInputsMustBeExactlyOne) {
 }
 
 TEST(PoissonBlend, UserErrorsAreClear) {
-  test::Engine engine;
+  testing::Engine engine;
   EXPECT_NE(failure(engine, graph_with({{"rectangle", {100, 100, 5, 5}}})).find("mask is empty"),
             std::string::npos);  // outside the source: nothing left
   EXPECT_NE(failure(engine, graph_with({{"rectangle", {8, 8, 10, 10}}, {"offset", {500, 0}}}))
@@ -95,26 +95,26 @@ TEST(PoissonBlend, NaNPixelsAreAClearError) {
   } catch (const cv::Exception&) {
     GTEST_SKIP() << "cannot write EXR";
   }
-  test::Engine engine;
+  testing::Engine engine;
   json doc = graph_with({{"rectangle", {8, 8, 20, 20}}, {"offset", {40, 30}}});
   doc["nodes"]["source"] = {{"type", "LoadImage"}, {"inputs", {{"path", (dir / "nan.exr").string()}}}};
-  EvalResult r = engine.run(engine.graph(doc), {"blend.image"});
-  EXPECT_EQ(r.nodes.at("blend").status, NodeStatus::skipped);
-  const std::string& error = r.nodes.at("source").error;  // refused where it enters, naming the file
+  testing::Run r = engine.run(doc, {"blend.image"});
+  EXPECT_EQ(r.status("blend"), NodeStatus::skipped);
+  const std::string& error = r.error("source");  // refused where it enters, naming the file
   EXPECT_NE(error.find("nan.exr has NaN or infinite pixels"), std::string::npos) << error;
 }
 
 TEST(PoissonBlend, DragReusesTheCachedFactorization) {
-  test::Engine engine;
+  testing::Engine engine;
   json doc = graph_with({{"rectangle", {4, 4, 50, 50}}, {"offset", {20, 20}}, {"solver", "cholmod"}});
-  const Graph g1 = engine.graph(doc);
-  EvalResult r1 = engine.run(g1, {"blend.image"});
+  const Graph g1 = engine.load(doc);
+  testing::Run r1 = engine.run(g1, {"blend.image"});
   ASSERT_TRUE(r1.ok());
   doc["nodes"]["blend"]["inputs"]["offset"] = {21, 22};
-  EvalResult r2 = engine.run(engine.graph(doc), {"blend.image"});
+  testing::Run r2 = engine.run(doc, {"blend.image"});
   ASSERT_TRUE(r2.ok());
-  EXPECT_EQ(r2.nodes.at("blend").status, NodeStatus::ran);
-  EXPECT_LT(r2.nodes.at("blend").seconds, r1.nodes.at("blend").seconds);
+  EXPECT_EQ(r2.status("blend"), NodeStatus::ran);
+  EXPECT_LT(r2.result().nodes.at("blend").seconds, r1.result().nodes.at("blend").seconds);
 }
 
 TEST(PoissonBlend, DragResultDoesNotDependOnTheDragHistory) {
@@ -128,12 +128,12 @@ TEST(PoissonBlend, DragResultDoesNotDependOnTheDragHistory) {
     doc["nodes"]["source"]["inputs"]["cells"] = 13;
     return doc;
   };
-  test::Engine direct, dragged;
-  const Image first = direct.output(doc_at(60, 70, "multigrid"), "blend.image").as<Image>();
+  testing::Engine direct, dragged;
+  const Image first = direct.output<Image>(doc_at(60, 70, "multigrid"), "blend.image");
   for (const auto& o : {std::pair{61, 70}, {63, 72}, {20, 100}, {59, 69}})
-    ASSERT_TRUE(dragged.run(dragged.graph(doc_at(o.first, o.second, "multigrid")), {"blend.image"}).ok());
-  const Image after = dragged.output(doc_at(60, 70, "multigrid"), "blend.image").as<Image>();
-  const Image exact = direct.output(doc_at(60, 70, "cholmod"), "blend.image").as<Image>();
+    ASSERT_TRUE(dragged.run(doc_at(o.first, o.second, "multigrid"), {"blend.image"}).ok());
+  const Image after = dragged.output<Image>(doc_at(60, 70, "multigrid"), "blend.image");
+  const Image exact = direct.output<Image>(doc_at(60, 70, "cholmod"), "blend.image");
   EXPECT_LT(cv::norm(first.pixels, after.pixels, cv::NORM_INF), 0.5 / 255);
   EXPECT_LT(cv::norm(after.pixels, exact.pixels, cv::NORM_INF), 0.5 / 255);
   EXPECT_LT(cv::norm(first.pixels, exact.pixels, cv::NORM_INF), 0.5 / 255);

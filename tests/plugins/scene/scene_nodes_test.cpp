@@ -7,7 +7,8 @@
 #include <gtest/gtest.h>
 
 #include "loom/scene.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
+#include "test_files.hpp"
 
 namespace {
 
@@ -24,10 +25,10 @@ json object_graph(const json& object_inputs) {
 }
 
 TEST(SceneNodes, ObjectTransformScalesThenRotatesThenTranslates) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   const auto doc = object_graph(
       {{"translate", {1, 2, 3}}, {"rotate_degrees", {0, 90, 0}}, {"scale", {2, 1, 1}}});
-  const auto& scene = engine.output(doc, "object.scene").as<loom::Scene>();
+  const auto& scene = engine.output<loom::Scene>(doc, "object.scene");
   ASSERT_EQ(scene.objects.size(), 1u);
   const Eigen::Matrix4d& T = scene.objects[0].transform;
   // x = (1,0,0) scaled to (2,0,0), turned 90 degrees about +y to (0,0,-2), then moved.
@@ -42,23 +43,23 @@ TEST(SceneNodes, ObjectTransformScalesThenRotatesThenTranslates) {
 }
 
 TEST(SceneNodes, ObjectNeedsExactlyOneGeometryAndAValidScale) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   auto doc = object_graph({{"scale", {1, 0, 1}}});
-  auto g = engine.graph(doc);
+  auto g = engine.load(doc);
   auto r = engine.run(g, {"object"});
-  EXPECT_EQ(r.nodes.at("object").status, loom::NodeStatus::failed);
-  EXPECT_NE(r.nodes.at("object").error.find("scale"), std::string::npos);
+  EXPECT_EQ(r.status("object"), loom::NodeStatus::failed);
+  EXPECT_NE(r.error("object").find("scale"), std::string::npos);
 
   doc = object_graph({});
   doc["nodes"]["object"]["inputs"].erase("mesh");
   doc["nodes"]["object"]["inputs"]["name"] = "nothing";
-  r = engine.run(engine.graph(doc), {"object"});
-  EXPECT_EQ(r.nodes.at("object").status, loom::NodeStatus::failed);
-  EXPECT_NE(r.nodes.at("object").error.find("exactly one"), std::string::npos);
+  r = engine.run(doc, {"object"});
+  EXPECT_EQ(r.status("object"), loom::NodeStatus::failed);
+  EXPECT_NE(r.error("object").find("exactly one"), std::string::npos);
 }
 
 TEST(SceneNodes, MergeConcatenatesAndTheLastCameraWins) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   json doc = object_graph({});
   auto& n = doc["nodes"];
   n["light"] = {{"type", "Light"},
@@ -74,10 +75,10 @@ TEST(SceneNodes, MergeConcatenatesAndTheLastCameraWins) {
                   {"d", {{"from", "object.scene"}}},
                   {"e", {{"from", "env.scene"}}},
                   {"f", {{"from", "cam2.scene"}}}}}};
-  auto g = engine.graph(doc);
+  auto g = engine.load(doc);
   auto r = engine.run(g, {"merge"});
-  ASSERT_EQ(r.nodes.at("merge").status, loom::NodeStatus::ran) << r.nodes.at("merge").error;
-  const auto& scene = r.outputs.at("merge")[0].as<loom::Scene>();
+  ASSERT_EQ(r.status("merge"), loom::NodeStatus::ran) << r.error("merge");
+  const auto& scene = r.output<loom::Scene>("merge");
   EXPECT_EQ(scene.objects.size(), 2u);
   ASSERT_EQ(scene.lights.size(), 1u);
   EXPECT_EQ(scene.lights[0].kind, loom::Light::Kind::spot);
@@ -88,12 +89,12 @@ TEST(SceneNodes, MergeConcatenatesAndTheLastCameraWins) {
   EXPECT_NEAR(scene.camera->fov_y, M_PI / 2, 1e-15);
   EXPECT_EQ(scene.environment.color, Eigen::Vector3d(0.5, 0.5, 0.5));
   EXPECT_EQ(scene.environment.intensity, 2);
-  ASSERT_EQ(r.nodes.at("merge").warnings.size(), 1u);
-  EXPECT_NE(r.nodes.at("merge").warnings[0].find("camera"), std::string::npos);
+  ASSERT_EQ(r.warnings("merge").size(), 1u);
+  EXPECT_NE(r.warnings("merge")[0].find("camera"), std::string::npos);
 }
 
 TEST(SceneNodes, CameraAndLightRefuseDegenerateDirections) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   json doc = {{"loom", 1},
               {"nodes",
                {{"cam", {{"type", "Camera"}, {"inputs", {{"eye", {0, 5, 0}}, {"up", {0, 1, 0}}}}}},
@@ -102,15 +103,15 @@ TEST(SceneNodes, CameraAndLightRefuseDegenerateDirections) {
                 {"spot",
                  {{"type", "Light"},
                   {"inputs", {{"kind", "spot"}, {"spot_inner_degrees", 40}, {"spot_outer_degrees", 30}}}}}}}};
-  auto r = engine.run(engine.graph(doc), {"cam", "same", "light", "spot"});
+  auto r = engine.run(doc, {"cam", "same", "light", "spot"});
   for (const char* id : {"cam", "same", "light", "spot"})
-    EXPECT_EQ(r.nodes.at(id).status, loom::NodeStatus::failed) << id;
-  EXPECT_NE(r.nodes.at("cam").error.find("up"), std::string::npos);
-  EXPECT_NE(r.nodes.at("light").error.find("direction"), std::string::npos);
+    EXPECT_EQ(r.result().nodes.at(id).status, loom::NodeStatus::failed) << id;
+  EXPECT_NE(r.error("cam").find("up"), std::string::npos);
+  EXPECT_NE(r.error("light").find("direction"), std::string::npos);
 }
 
 TEST(SceneNodes, MaterialDecodesSRGBColorMapsAndKeepsNormalMapsAsStored) {
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   json doc = {{"loom", 1},
               {"nodes",
                {{"board", {{"type", "Checkerboard"}, {"inputs", {{"size", {8, 8}}, {"cells", 2}}}}},
@@ -123,8 +124,8 @@ TEST(SceneNodes, MaterialDecodesSRGBColorMapsAndKeepsNormalMapsAsStored) {
                     {"normal_map", {{"from", "board.image"}}},
                     {"emission", {1, 2, 3}},
                     {"emission_strength", 2}}}}}}}};
-  const auto& board = engine.output(doc, "board.image").as<loom::Image>();
-  const auto& m = engine.output(doc, "material.material").as<loom::Material>();
+  const auto& board = engine.output<loom::Image>(doc, "board.image");
+  const auto& m = engine.output<loom::Material>(doc, "material.material");
   EXPECT_EQ(m.model, loom::Material::Model::conductor);
   EXPECT_EQ(m.emission, Eigen::Vector3d(2, 4, 6));
   ASSERT_TRUE(m.base_color_map && m.normal_map);
@@ -155,9 +156,9 @@ std::string square_gltf(int vertices, const std::string& base64, int position_by
   return doc.dump();
 }
 
-const loom::Mesh& loaded_mesh(loom::test::Engine& engine, const std::filesystem::path& file) {
+const loom::Mesh& loaded_mesh(loom::testing::Engine& engine, const std::filesystem::path& file) {
   const json doc = {{"loom", 1}, {"nodes", {{"load", {{"type", "LoadScene"}, {"inputs", {{"path", file.string()}}}}}}}};
-  const auto& scene = engine.output(doc, "load.scene").as<loom::Scene>();
+  const auto& scene = engine.output<loom::Scene>(doc, "load.scene");
   EXPECT_EQ(scene.objects.size(), 1u);
   return *scene.objects.at(0).mesh;
 }
@@ -177,7 +178,7 @@ TEST(SceneNodes, LoadSceneKeepsACutSeamAndTheFilesOwnVertices) {
         4, "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAACAPwAAgD8AAAAAAAABAAIAAQADAAIA", 48);
     std::ofstream(dir / "cut.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 4 5 6\n";
   }
-  loom::test::Engine engine;
+  loom::testing::Engine engine;
   for (const char* cut : {"cut.gltf", "cut.obj"}) {
     const loom::Mesh& m = loaded_mesh(engine, dir / cut);
     ASSERT_EQ(m.faces(), 2) << cut;
@@ -206,20 +207,22 @@ TEST(SceneNodes, LoadSceneRereadsAChangedMtlOrTexture) {
                  "o a\nusemtl plain\nf 1/1 2/2 3/3\no b\nusemtl textured\nf 4/1 5/2 6/3\n");
   write("s.mtl", "newmtl plain\nKd 0.8 0.1 0.1\nnewmtl textured\nKd 1 1 1\nmap_Kd t.ppm\n");
   write("t.ppm", "P3\n1 1\n255\n255 255 255\n");
-  loom::test::Engine engine;
-  const loom::Graph g = engine.graph(
+  loom::testing::Engine engine;
+  const loom::Graph g = engine.load(
       {{"loom", 1}, {"nodes", {{"load", {{"type", "LoadScene"}, {"inputs", {{"path", "s.obj"}}}}}}}}, dir / "g.json");
   auto colours = [&] {  // the plain material's red, the texture's red
-    const loom::EvalResult r = engine.run(g, {"load.scene"});
-    const auto& scene = r.outputs.at("load.scene").at(0).as<loom::Scene>();
+    loom::testing::Run r = engine.run(g, {"load.scene"});
+    const auto& scene = r.output<loom::Scene>("load.scene");
     double plain = -1, texel = -1;
     for (const auto& o : scene.objects)
-      if (o.material.base_color_map) texel = o.material.base_color_map->pixels.at<cv::Vec3f>(0, 0)[0];
-      else plain = o.material.base_color.x();
+      if (o.material.base_color_map)
+        texel = o.material.base_color_map->pixels.at<cv::Vec3f>(0, 0)[0];
+      else
+        plain = o.material.base_color.x();
     return std::pair<double, double>(plain, texel);
   };
   EXPECT_NEAR(colours().first, 0.8, 1e-6);
-  EXPECT_EQ(engine.run(g, {"load.scene"}).nodes.at("load").status, loom::NodeStatus::cached);
+  EXPECT_EQ(engine.run(g, {"load.scene"}).status("load"), loom::NodeStatus::cached);
   write("s.mtl", "newmtl plain\nKd 0.2 0.1 0.1\nnewmtl textured\nKd 1 1 1\nmap_Kd t.ppm\n");
   EXPECT_NEAR(colours().first, 0.2, 1e-6);
   EXPECT_NEAR(colours().second, 1.0, 1e-6);

@@ -7,7 +7,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "loom/scene.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
+#include "test_files.hpp"
 
 namespace loom {
 namespace {
@@ -25,10 +26,10 @@ TEST(LoadScene, ObjWithMtlAndTextures) {
                                  << "vt 0 0\nvt 1 0\nvt 0 1\n"
                                  << "o a\nusemtl red\nf 1/1 2/2 3/3\n"
                                  << "o b\nusemtl textured\nf 4/1 5/2 6/3\n";
-  test::Engine engine;
+  testing::Engine engine;
   const json g = {{"loom", 1},
                   {"nodes", {{"load", {{"type", "LoadScene"}, {"inputs", {{"path", (dir / "two.obj").string()}}}}}}}};
-  const Scene& scene = engine.output(g, "load.scene").as<Scene>();
+  const Scene& scene = engine.output<Scene>(g, "load.scene");
   ASSERT_EQ(scene.objects.size(), 2u);
   bool saw_red = false, saw_textured = false;
   for (const SceneObject& o : scene.objects) {
@@ -67,10 +68,10 @@ TEST(LoadScene, GltfNodeTransformAndPbrMaterial) {
   "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
                 {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]
 })";
-  test::Engine engine;
+  testing::Engine engine;
   const json g = {{"loom", 1},
                   {"nodes", {{"load", {{"type", "LoadScene"}, {"inputs", {{"path", (dir / "tri.gltf").string()}}}}}}}};
-  const Scene& scene = engine.output(g, "load.scene").as<Scene>();
+  const Scene& scene = engine.output<Scene>(g, "load.scene");
   ASSERT_EQ(scene.objects.size(), 1u);
   const SceneObject& o = scene.objects[0];
   EXPECT_EQ(o.mesh->faces(), 1);
@@ -84,12 +85,12 @@ TEST(LoadScene, GltfNodeTransformAndPbrMaterial) {
 }
 
 TEST(LoadScene, MissingFileFailsClearly) {
-  test::Engine engine;
+  testing::Engine engine;
   const json g = {{"loom", 1},
                   {"nodes", {{"load", {{"type", "LoadScene"}, {"inputs", {{"path", "/nonexistent/x.gltf"}}}}}}}};
-  const EvalResult r = engine.run(engine.graph(g), {"load.scene"});
+  testing::Run r = engine.run(g, {"load.scene"});
   ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.nodes.at("load").error.find("x.gltf"), std::string::npos) << r.nodes.at("load").error;
+  EXPECT_NE(r.error("load").find("x.gltf"), std::string::npos) << r.error("load");
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "loom/image.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 
 namespace loom {
 namespace {
@@ -18,25 +18,25 @@ const json kPairs = json::array({{60, 50, 80, 40}, {200, 50, 190, 70}, {144, 112
                                  {200, 150, 210, 140}});
 
 TEST(ImageWarpNode, IdentityPairsGiveTheInputImage) {
-  test::Engine e;
-  const Image& src = e.output({{"loom", 1}, {"nodes", {{"board", board()}}}}, "board.image").as<Image>();
+  testing::Engine e;
+  const Image& src = e.output<Image>({{"loom", 1}, {"nodes", {{"board", board()}}}}, "board.image");
   for (const char* method : {"idw", "rbf"})
     for (const char* mode : {"inverse", "forward"}) {
       const json pairs = json::array({{30, 30, 30, 30}, {200, 40, 200, 40}, {100, 150, 100, 150}});
-      const Value v = e.output(warp_graph({{"pairs", pairs}, {"method", method}, {"mode", mode}}), "warp.image");
+      const Value v = e.value(warp_graph({{"pairs", pairs}, {"method", method}, {"mode", mode}}), "warp.image");
       EXPECT_LE(cv::norm(v.as<Image>().pixels, src.pixels, cv::NORM_INF), 1e-5) << method << " " << mode;
       EXPECT_EQ(v.as<Image>().encoding, Encoding::srgb);
     }
 }
 
 TEST(ImageWarpNode, InverseModeLeavesNoHolesAndSamplesPAtQ) {
-  test::Engine e;
-  const Image& src = e.output({{"loom", 1}, {"nodes", {{"board", board()}}}}, "board.image").as<Image>();
+  testing::Engine e;
+  const Image& src = e.output<Image>({{"loom", 1}, {"nodes", {{"board", board()}}}}, "board.image");
   for (const char* method : {"idw", "rbf"}) {
     json g = warp_graph({{"pairs", kPairs}, {"method", method}, {"outside", "replicate"}});
-    const Image& out = e.output(g, "warp.image").as<Image>();
+    const Image& out = e.output<Image>(g, "warp.image");
     EXPECT_TRUE(cv::checkRange(out.pixels));
-    EXPECT_EQ(cv::countNonZero(e.output(g, "warp.holes").as<Image>().pixels), 0);
+    EXPECT_EQ(cv::countNonZero(e.output<Image>(g, "warp.holes").pixels), 0);
     for (const auto& pq : kPairs) {
       const int qx = pq[2].get<int>(), qy = pq[3].get<int>(), px = pq[0].get<int>(), py = pq[1].get<int>();
       // p and q are pixel corners: compare the 2×2 means around them.
@@ -48,43 +48,43 @@ TEST(ImageWarpNode, InverseModeLeavesNoHolesAndSamplesPAtQ) {
 }
 
 TEST(ImageWarpNode, ForwardWithoutFillShowsWhiteLinesAndFillRemovesThem) {
-  test::Engine e;
+  testing::Engine e;
   // A 1.4× magnification about the center, by RBF on affine pairs.
   json pairs = json::array();
   for (double x : {40.0, 128.0, 216.0})
     for (double y : {30.0, 96.0, 162.0}) pairs.push_back({x, y, 128 + 1.4 * (x - 128), 96 + 1.4 * (y - 96)});
   json g = warp_graph({{"pairs", pairs}, {"mode", "forward"}, {"fill_holes", false}});
-  const int holes = cv::countNonZero(e.output(g, "warp.holes").as<Image>().pixels);
+  const int holes = cv::countNonZero(e.output<Image>(g, "warp.holes").pixels);
   EXPECT_GT(holes, 1000);
   g["nodes"]["warp"]["inputs"]["fill_holes"] = true;
-  EXPECT_EQ(cv::countNonZero(e.output(g, "warp.holes").as<Image>().pixels), 0);
+  EXPECT_EQ(cv::countNonZero(e.output<Image>(g, "warp.holes").pixels), 0);
 }
 
 TEST(ImageWarpNode, DuplicatePairsWarnAndStillWarp) {
-  test::Engine e;
+  testing::Engine e;
   json pairs = kPairs;
   pairs.push_back({60, 50, 90, 30});  // same p as pair 0, other q
   json g = warp_graph({{"pairs", pairs}, {"mode", "forward"}});
-  const Graph graph = e.graph(g);
-  const EvalResult r = e.run(graph, {"warp.image"});
-  ASSERT_EQ(r.nodes.at("warp").status, NodeStatus::ran);
-  EXPECT_FALSE(r.nodes.at("warp").warnings.empty());
-  EXPECT_TRUE(cv::checkRange(r.outputs.at("warp.image").at(0).as<Image>().pixels));
+  const Graph graph = e.load(g);
+  testing::Run r = e.run(graph, {"warp.image"});
+  ASSERT_EQ(r.status("warp"), NodeStatus::ran);
+  EXPECT_FALSE(r.warnings("warp").empty());
+  EXPECT_TRUE(cv::checkRange(r.output<Image>("warp.image").pixels));
 }
 
 TEST(WarpFieldNode, DisplacementAtAControlPointIsQMinusP) {
-  test::Engine e;
+  testing::Engine e;
   const json pairs = json::array({{100.5, 50.5, 110.5, 45.5}, {20.5, 80.5, 20.5, 80.5}, {60.5, 20.5, 70.5, 30.5}});
   for (const char* method : {"idw", "rbf"}) {
     json g = {{"loom", 1},
               {"nodes", {{"field", {{"type", "WarpField"},
                                     {"inputs", {{"size", {128, 96}}, {"pairs", pairs}, {"method", method}}}}}}}};
-    const Image& d = e.output(g, "field.displacement").as<Image>();
+    const Image& d = e.output<Image>(g, "field.displacement");
     ASSERT_EQ(d.channels(), 2);
     const cv::Vec2f v = d.pixels.at<cv::Vec2f>(50, 100);
     EXPECT_NEAR(v[0], 10, 1e-4);
     EXPECT_NEAR(v[1], -5, 1e-4);
-    const Image& overlay = e.output(g, "field.overlay").as<Image>();
+    const Image& overlay = e.output<Image>(g, "field.overlay");
     EXPECT_EQ(overlay.pixels.size(), cv::Size(128, 96));
     EXPECT_TRUE(cv::checkRange(overlay.pixels));
   }

@@ -10,7 +10,7 @@
 #include "control_points.hpp"
 #include "idw.hpp"
 #include "loom/image.hpp"
-#include "loom_test.hpp"
+#include "loom/testing.hpp"
 #include "rbf.hpp"
 #include "warp_image.hpp"
 
@@ -34,7 +34,7 @@ std::vector<json> degenerate_pair_sets() {
 }
 
 TEST(WarpStress, DegeneratePairsNeverGiveNaNThroughTheNode) {
-  test::Engine e;
+  testing::Engine e;
   const json board = {{"type", "Checkerboard"}, {"inputs", {{"size", {128, 128}}, {"cells", 4}}}};
   int set = 0;
   for (const json& pairs : degenerate_pair_sets()) {
@@ -47,7 +47,7 @@ TEST(WarpStress, DegeneratePairsNeverGiveNaNThroughTheNode) {
             const json g = {{"loom", 1}, {"nodes", {{"board", board}, {"warp", {{"type", "ImageWarp"}, {"inputs", inputs}}}}}};
             SCOPED_TRACE("set " + std::to_string(set) + " " + method + " " + kernel + " " + mode + " mu " +
                          std::to_string(mu));
-            const Image& out = e.output(g, "warp.image").as<Image>();
+            const Image& out = e.output<Image>(g, "warp.image");
             EXPECT_TRUE(cv::checkRange(out.pixels));
           }
     ++set;
