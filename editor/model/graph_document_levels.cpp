@@ -81,7 +81,7 @@ bool GraphDocument::is_group_node(const std::string& id) const {
 fs::path GraphDocument::group_file(const std::string& id) const {
   const std::string type = type_name(id);
   if (registry_.find(type) || groups().contains(type)) return {};
-  return resolve_group_file(type, dir(), group_library_folders()).value_or(fs::path());
+  return resolve_group_file(type, dir()).value_or(fs::path());
 }
 
 bool GraphDocument::has_interface() const {

@@ -58,7 +58,7 @@ NodeType interface_node_type(const std::string& name, const std::string& origin,
   return t;
 }
 
-GroupTypes::GroupTypes(const Registry& registry) : registry_(registry), folders_(group_library_folders()) {}
+GroupTypes::GroupTypes(const Registry& registry) : registry_(registry) {}
 
 const NodeType* GroupTypes::find(const std::string& type, const json& groups, const fs::path& dir) const {
   if (const NodeType* t = registry_.find(type)) return t;
@@ -71,7 +71,7 @@ const fs::path* GroupTypes::resolved(const std::string& type, const fs::path& di
   const std::string key = dir.string() + "\n" + type;
   auto it = resolved_.find(key);
   if (it == resolved_.end()) {
-    const auto file = resolve_group_file(type, dir, folders_);
+    const auto file = resolve_group_file(type, dir);
     it = resolved_.emplace(key, file ? fs::weakly_canonical(*file) : fs::path()).first;
   }
   return it->second.empty() ? nullptr : &it->second;
@@ -110,7 +110,7 @@ const NodeType* GroupTypes::file_type(const fs::path& file) const {
 
 std::vector<const NodeType*> GroupTypes::library() const {
   std::vector<const NodeType*> types;
-  if (!library_) library_ = list_library_groups(folders_);
+  if (!library_) library_ = list_library_groups();
   for (const LibraryGroup& g : *library_) {
     if (registry_.find(g.name)) continue;  // a registered type takes the name
     const fs::path file = fs::weakly_canonical(g.file);
@@ -136,7 +136,6 @@ void GroupTypes::rescan() {
   files_.clear();
   resolved_.clear();
   library_.reset();
-  folders_ = group_library_folders();
 }
 
 }  // namespace loom::editor

@@ -57,7 +57,6 @@ class GroupTypes {
   const std::filesystem::path* resolved(const std::string& type, const std::filesystem::path& dir) const;
 
   const Registry& registry_;
-  std::vector<std::filesystem::path> folders_;
   mutable std::map<std::string, std::filesystem::path> resolved_;
   mutable std::optional<std::vector<LibraryGroup>> library_;
   mutable std::map<std::string, std::unique_ptr<NodeType>> inline_, files_;

@@ -271,9 +271,11 @@ TEST_F(Groups, LibraryGroupsAreInTheSearchWithTheirInterface) {
     "inputs": {"cells": {"type": "Int", "default": 8, "min": 1, "max": 64, "to": ["board.cells"]}},
     "outputs": {"image": {"from": "board.image"}},
     "nodes": {"board": {"type": "Checkerboard"}}})";
-  ::setenv("LOOM_GRAPH_PATH", dir.c_str(), 1);
+  struct GraphPath {  // LOOM_GRAPH_PATH for this test only, however it ends
+    explicit GraphPath(const fs::path& dir) { ::setenv("LOOM_GRAPH_PATH", dir.c_str(), 1); }
+    ~GraphPath() { ::unsetenv("LOOM_GRAPH_PATH"); }
+  } graph_path(dir);
   GraphDocument doc(engine.registry());
-  ::unsetenv("LOOM_GRAPH_PATH");
   const auto found = search_node_types(doc.group_types(), "Studio");
   ASSERT_FALSE(found.empty());
   EXPECT_EQ(found[0]->spec.name, "Studio");  // the exact name first
