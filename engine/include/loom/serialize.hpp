@@ -65,6 +65,7 @@ class ByteReader {
 
   void bytes(void* out, std::size_t n) {
     if (n > remaining()) throw Error("stored value is truncated");
+    if (n == 0) return;  // an empty array's data() may be null: memcpy(null, ..., 0) is UB
     std::memcpy(out, p_, n);
     p_ += n;
   }
