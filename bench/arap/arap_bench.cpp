@@ -180,7 +180,7 @@ Run cgal_arap(const Mesh& m, double lambda, int iterations, double tolerance) {
 // direct limit is the best factorization plus `iterations` solves).
 void arap_stages_and_limit(const Mesh& m, long long iterations, loom::bench::Csv& out) {
   const auto stage = [&](const std::string& name, const std::function<void()>& f) {
-    out.row({m.name, name, std::string("-"), loom::bench::time_median(f, 3).median, 0.0, 0.0,
+    out.row({m.name, name, std::string("-"), 1LL, loom::bench::time_median(f, 3).median, 0.0, 0.0,
              loom::bench::load_average()});
   };
   loom::arap::ArapSystem sys;
@@ -195,7 +195,7 @@ void arap_stages_and_limit(const Mesh& m, long long iterations, loom::bench::Csv
   for (const auto& t : loom::bench::cholmod_orderings(sys.K, 2, 3))
     for (const auto& [part, seconds] : {std::pair<const char*, double>{"cholmod analyze", t.analyze},
                                         {"cholmod factor", t.factor}, {"cholmod solve", t.solve}})
-      out.row({m.name, std::string(part), t.ordering, seconds, t.factor_nonzeros, t.flops,
+      out.row({m.name, std::string(part), t.ordering, (long long)t.blas_threads, seconds, t.factor_nonzeros, t.flops,
                loom::bench::load_average()});
 }
 #endif
@@ -207,13 +207,14 @@ int main(int argc, char** argv) {
                        "ASAP and ARAP against CGAL's ARAP_parameterizer_3 (when built with -DLOOM_WITH_CGAL=ON) "
                        "on the course meshes and hemispheres of 20k and 100k faces: energy against time, "
                        "iterations to CGAL's energy, flips.");
-  bool quick = false, large = false;
+  bool quick = false, large = false, generated_only = false;
   cli.quick(quick, "the 20k-face hemisphere only")
       .flag("--large", large, "add the 1M-face hemisphere (Loom only)")
+      .flag("--generated", generated_only, "only the generated hemispheres (not the course meshes)")
       .threads();
   cli.parse(argc, argv);
   std::vector<Mesh> meshes;
-  if (!quick)
+  if (!quick && !generated_only)
     for (const char* name : {"Balls", "BunnyHead", "CatHead", "NefertitiFace", "Isis"}) {
       const auto path = loom::bench::data_file(std::string("meshes/") + name + ".obj");
       if (!path.empty()) meshes.push_back(load_obj(name, path.string()));
@@ -223,7 +224,7 @@ int main(int argc, char** argv) {
   if (large) meshes.push_back(hemisphere(354, 1414));
 
   loom::bench::Csv curve("arap_curve", {"mesh", "method", "iteration", "seconds", "energy"});
-  loom::bench::Csv limit("arap_limit", {"mesh", "part", "ordering", "seconds", "factor_nonzeros", "flops",
+  loom::bench::Csv limit("arap_limit", {"mesh", "part", "ordering", "blas_threads", "seconds", "factor_nonzeros", "flops",
                                         "load_average"});
   loom::bench::Csv summary("arap", {"mesh", "faces", "method", "seconds", "cpu_seconds", "energy",
                                     "flips", "iterations", "speedup"});

@@ -2,9 +2,12 @@
 
 #include <cholmod.h>
 
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
+#include <thread>
 
 namespace loom::bench {
 namespace {
@@ -79,12 +82,29 @@ CholmodTiming time_ordering(Eigen::SparseMatrix<double> A, const char* name, int
 
 }  // namespace
 
+bool set_blas_threads(int n) {
+  using SetThreads = void (*)(int);
+  void* symbol = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
+  if (!symbol) return false;
+  reinterpret_cast<SetThreads>(symbol)(n);
+  return true;
+}
+
 std::vector<CholmodTiming> cholmod_orderings(const Eigen::SparseMatrix<double>& A, int rhs_columns, int runs) {
   std::vector<CholmodTiming> out;
-  out.push_back(time_ordering(A, "default", -1, rhs_columns, runs));
-  out.push_back(time_ordering(A, "amd", CHOLMOD_AMD, rhs_columns, runs));
-  out.push_back(time_ordering(A, "metis", CHOLMOD_METIS, rhs_columns, runs));
-  out.push_back(time_ordering(A, "nesdis", CHOLMOD_NESDIS, rhs_columns, runs));
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  for (const int threads : {1, cores}) {
+    if (!set_blas_threads(threads) && threads > 1) break;
+    for (const auto& [name, method] : {std::pair<const char*, int>{"default", -1},
+                                       {"amd", CHOLMOD_AMD},
+                                       {"metis", CHOLMOD_METIS},
+                                       {"nesdis", CHOLMOD_NESDIS}}) {
+      out.push_back(time_ordering(A, name, method, rhs_columns, runs));
+      out.back().blas_threads = threads;
+    }
+    if (cores == 1) break;
+  }
+  set_blas_threads(1);
   return out;
 }
 

@@ -67,7 +67,7 @@ std::string label(std::string text) {
 void stages_and_limit(const Input& m, int runs, loom::bench::Csv& out) {
   using namespace loom::numerics;
   const auto stage = [&](const std::string& name, const std::function<void()>& f) {
-    out.row({m.name, name, std::string("-"), loom::bench::time_median(f, runs).median, 0.0, 0.0,
+    out.row({m.name, name, std::string("-"), 1LL, loom::bench::time_median(f, runs).median, 0.0, 0.0,
              loom::bench::load_average()});
   };
   std::vector<std::vector<int>> loops;
@@ -75,9 +75,15 @@ void stages_and_limit(const Input& m, int runs, loom::bench::Csv& out) {
   SparseMatrix W;
   FixedBoundarySystem sys;
   SparseCholesky chol;
-  stage("loom total", [&] {
+  const auto tutte = [&] {
     loom::parameterize::parameterize(m.V, m.F, loom::parameterize::Weights::uniform, BoundaryShape::circle);
-  });
+  };
+  stage("loom total", tutte);
+  // What OPENBLAS_NUM_THREADS=2 would give a user on an idle machine.
+  if (loom::bench::set_blas_threads(2)) {
+    stage("loom total, 2 BLAS threads", tutte);
+    loom::bench::set_blas_threads(1);
+  }
   stage("boundary loops", [&] { loops = boundary_loops(m.F); });
   stage("boundary on the circle", [&] { circle = map_boundary(m.V, m.F, loops[0], BoundaryShape::circle); });
   stage("uniform weights", [&] { W = loom::parameterize::weight_matrix(m.V, m.F, loom::parameterize::Weights::uniform); });
@@ -87,11 +93,11 @@ void stages_and_limit(const Input& m, int runs, loom::bench::Csv& out) {
   stage("cholmod analyze + factor (loom)", [&] { chol.compute(sys.A); });
   stage("cholmod solve (loom)", [&] { chol.solve(sys.B); });
   for (const auto& t : loom::bench::cholmod_orderings(sys.A, 2, runs)) {
-    out.row({m.name, std::string("cholmod analyze"), t.ordering, t.analyze, t.factor_nonzeros, t.flops,
+    out.row({m.name, std::string("cholmod analyze"), t.ordering, (long long)t.blas_threads, t.analyze, t.factor_nonzeros, t.flops,
              loom::bench::load_average()});
-    out.row({m.name, std::string("cholmod factor"), t.ordering, t.factor, t.factor_nonzeros, t.flops,
+    out.row({m.name, std::string("cholmod factor"), t.ordering, (long long)t.blas_threads, t.factor, t.factor_nonzeros, t.flops,
              loom::bench::load_average()});
-    out.row({m.name, std::string("cholmod solve"), t.ordering, t.solve, t.factor_nonzeros, t.flops,
+    out.row({m.name, std::string("cholmod solve"), t.ordering, (long long)t.blas_threads, t.solve, t.factor_nonzeros, t.flops,
              loom::bench::load_average()});
   }
 }
@@ -126,7 +132,7 @@ int main(int argc, char** argv) {
                                          "flipped", "angle_mean", "area_mean", "arap_energy", "max_uv_diff",
                                          "load_average"});
   loom::bench::Csv times("parameterize_times", {"mesh", "faces", "method", "seconds"});
-  loom::bench::Csv limit("parameterize_limit", {"mesh", "part", "ordering", "seconds", "factor_nonzeros", "flops",
+  loom::bench::Csv limit("parameterize_limit", {"mesh", "part", "ordering", "blas_threads", "seconds", "factor_nonzeros", "flops",
                                                 "load_average"});
   for (const Input& m : inputs) {
     const bool big = m.F.rows() > 50000, huge = m.F.rows() > 500000;

@@ -1,0 +1,349 @@
+#!/usr/bin/python3
+"""Issue 27's table in one run: every solver and renderer against its peer and
+against this machine's limit.
+
+Runs the bench programs one after another on the same machine (so their
+figures share one load), each writing its CSV to OUT/raw, then collates one
+row per measure into OUT/limits.csv, OUT/limits.md (README's table) and
+OUT/limits.png. Peers that are not installed (CGAL builds, Blender) leave
+their rows marked "not run"; `scripts/bench --limits` installs them first.
+
+The limits:
+  stencil code (Poisson)  bytes its passes must stream, at the 2-thread triad
+                          bandwidth of bench_stream (median);
+  direct solvers          CHOLMOD alone on the same matrix, the best of its
+                          orderings and of 1 or 2 BLAS threads;
+  path tracer             Embree's own ray rate on the same scene and rays;
+  rasteriser (Render)     llvmpipe's fill rate through the same OSMesa setup;
+  particle code (MPM)     bytes per particle-substep at the triad bandwidth,
+                          and the instruction rate.
+"""
+import argparse
+import csv
+import datetime
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+SOURCE = Path(__file__).resolve().parents[2]
+
+
+def load1():
+    return os.getloadavg()[0]
+
+
+def read(raw, name):
+    path = raw / f"{name}.csv"
+    if not path.exists():
+        return []
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def num(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return float("nan")
+
+
+# ---- the runs -------------------------------------------------------------------
+
+def steps(quick):
+    """(program, arguments): one run of each, in this order."""
+    q = ["--quick"] if quick else []
+    return [
+        ("bench_stream", q),
+        ("bench_poisson", ["--disk", "--size", "1024", "first"] + q),
+        ("bench_parameterize", ["--generated", "--uniform"] + q),
+        ("bench_arap", ["--generated"] + q),
+        ("bench_pathtrace", ["embree", "rays"] + q),
+        ("bench_mpm", ["limit"] + q),
+        ("bench_shading", ["limits"] + q),
+        ("bench_pathtrace", ["cycles"] + q),
+    ]
+
+
+def run_all(build, out, quick, only):
+    raw = out / "raw"
+    logs = out / "logs"
+    raw.mkdir(parents=True, exist_ok=True)
+    logs.mkdir(parents=True, exist_ok=True)
+    record = []
+    todo = [s for s in steps(quick) if not only or s[0] in only]
+    for i, (program, args) in enumerate(todo, 1):
+        exe = build / "bin" / program
+        label = f"{program} {' '.join(args)}".strip()
+        if not exe.exists():
+            print(f"[{i}/{len(todo)}] {label}: {exe} is not built: skipped", flush=True)
+            record.append((label, "not built", 0.0, load1(), load1()))
+            continue
+        print(f"[{i}/{len(todo)}] {label} (load {load1():.2f}) ...", flush=True)
+        before = load1()
+        t0 = time.monotonic()
+        log = logs / f"{program}-{'-'.join(a.strip('-') for a in args) or 'all'}.log"
+        with open(log, "w") as f:
+            rc = subprocess.call([str(exe), *args, "--out", str(raw)], stdout=f, stderr=subprocess.STDOUT)
+        seconds = time.monotonic() - t0
+        status = "ok" if rc == 0 else f"exit {rc} (see {log})"
+        print(f"    {status}, {seconds:.0f} s", flush=True)
+        record.append((label, status, seconds, before, load1()))
+    with open(out / "runs.csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["program", "status", "seconds", "load_before", "load_after"])
+        w.writerows(record)
+
+
+# ---- the collation ----------------------------------------------------------------
+
+class Row:
+    def __init__(self, measure, loom=float("nan"), peer_name="", peer=float("nan"), ratio=float("nan"),
+                 target="", limit=float("nan"), limit_basis="", fraction=float("nan"), load=float("nan"),
+                 note=""):
+        self.__dict__.update(locals())
+        del self.__dict__["self"]
+
+
+def triad(raw):
+    rows = [r for r in read(raw, "stream") if r["kernel"] == "triad"]
+    if not rows:
+        return float("nan"), float("nan")
+    top = max(int(r["threads"]) for r in rows)
+    r = next(r for r in rows if int(r["threads"]) == top)
+    return num(r["median_gb_per_s"]), num(r["best_gb_per_s"])
+
+
+def poisson(raw, bandwidth):
+    rows = read(raw, "poisson_disk")
+    mg = [r for r in rows if r["solver"] == "multigrid" and abs(num(r["tolerance"]) - 2e-3) < 1e-9]
+    cv = [r for r in rows if r["solver"] == "opencv"]
+    if not mg or not cv:
+        return [Row("Poisson blend, 1024² disk, multigrid to 2e-3", note="not run")]
+    m = mg[0]
+    n = int(m["size"])
+    iterations = num(m["iterations"])
+    # Traffic model (docs/poisson.md): per PCG iteration the fused V-cycle
+    # sweeps, residual and transfers move ~250 B per cell and the CG updates
+    # ~180 B (float×4 fields on the region's N×N grid); setup ~510 B per cell.
+    model_bytes = (iterations * 430 + 510) * n * n
+    limit = model_bytes / (bandwidth * 1e9)
+    # The speed-up is of the medians of the same alternating rounds.
+    ratio = num(m["speedup_vs_opencv"])
+    loom = num(m["seconds"])
+    return [Row(f"Poisson blend, {n}² disk, multigrid to 2e-3 (max error {num(m['max_error_255']):.3f}/255)",
+                loom, "cv::seamlessClone", loom * ratio, ratio, "≥ 5×", limit,
+                f"{model_bytes / 1e9:.1f} GB at the triad's {bandwidth:.1f} GB/s", limit / loom,
+                num(m["load_average"]))]
+
+
+def direct_limit(rows, mesh, solves=1):
+    """Best CHOLMOD analysis + factorization + `solves` solves over orderings and BLAS threads."""
+    best = None
+    keys = {(r["ordering"], r.get("blas_threads", "1")) for r in rows
+            if r["mesh"] == mesh and r["part"].startswith("cholmod ")}
+    for key in keys:
+        part = {r["part"]: num(r["seconds"]) for r in rows
+                if r["mesh"] == mesh and (r["ordering"], r.get("blas_threads", "1")) == key}
+        total = part.get("cholmod analyze", 0) + part.get("cholmod factor", 0) + solves * part.get("cholmod solve", 0)
+        if best is None or total < best[0]:
+            best = (total, key, part)
+    return best
+
+
+def tutte(raw):
+    rows = [r for r in read(raw, "parameterize") if r["boundary"] == "circle" and r["weights"] == "uniform"
+            and r["mesh"] == "hemisphere_100k"]
+    limit_rows = read(raw, "parameterize_limit")
+    by = {r["impl"]: r for r in rows}
+    if "loom" not in by:
+        return [Row("Tutte, 100k-face hemisphere", note="not run")]
+    loom = num(by["loom"]["seconds"])
+    peer = by.get("cgal_sparselu")
+    best = direct_limit(limit_rows, "hemisphere_100k")
+    limit, basis = float("nan"), ""
+    if best:
+        limit, (ordering, threads), part = best
+        basis = (f"CHOLMOD alone, {ordering}, {threads} BLAS thread{'s' if threads != '1' else ''}: "
+                 f"analysis {part['cholmod analyze']:.3f} + factorization {part['cholmod factor']:.3f} + "
+                 f"solve {part['cholmod solve']:.3f} s")
+    peer_s = num(peer["seconds"]) if peer else float("nan")
+    return [Row("Tutte (uniform weights), 100k-face hemisphere, UVs to 1e-12 of CGAL's", loom,
+                "CGAL 5.5 + Eigen SparseLU" if peer else "CGAL (not built)", peer_s, peer_s / loom, "≥ 10×",
+                limit, basis, limit / loom, num(by["loom"]["load_average"]))]
+
+
+def arap(raw):
+    rows = read(raw, "arap")
+    ours = [r for r in rows if r["method"] == "loom ARAP to its tolerance (alternating)"]
+    cgal = [r for r in rows if r["method"] == "CGAL ARAP (alternating)"]
+    if not ours or not cgal:
+        return [Row("ARAP to its tolerance, 100k faces", note="not run (CGAL build needed)")]
+    o, c = ours[-1], cgal[-1]
+    iterations = int(num(o["iterations"]))
+    loom, peer = num(o["seconds"]), num(c["seconds"])
+    best = direct_limit(read(raw, "arap_limit"), o["mesh"], iterations)
+    limit, basis = float("nan"), ""
+    if best:
+        limit, (ordering, threads), part = best
+        basis = (f"CHOLMOD alone ({ordering}, {threads} BLAS thread{'s' if threads != '1' else ''}): "
+                 f"analysis + factorization {part['cholmod analyze'] + part['cholmod factor']:.3f} s "
+                 f"+ {iterations} solves × {part['cholmod solve']:.3f} s")
+    return [Row(f"ARAP to its tolerance, {o['mesh']} ({iterations} iterations, energy {num(o['energy']):.6f} "
+                f"vs CGAL's {num(c['energy']):.6f})", loom, "CGAL ARAP_parameterizer_3", peer, peer / loom,
+                "≥ 15×", limit, basis, limit / loom)]
+
+
+def pathtrace(raw):
+    out = []
+    rows = read(raw, "pathtrace_embree")
+    for threads in ("1", "2"):
+        l = [r for r in rows if r["renderer"] == "loom" and r["threads"] == threads and r["size"] == "512"]
+        e = [r for r in rows if r["renderer"] == "embree-pathtracer" and r["threads"] == threads and r["size"] == "512"]
+        if not l or not e:
+            continue
+        lw, ew = num(l[0]["paths_per_s"]), num(e[0]["paths_per_s"])
+        lc, ec = num(l[0]["paths_per_cpu_s"]), num(e[0]["paths_per_cpu_s"])
+        out.append(Row(f"PathTrace paths/s, Cornell box 512², depth 8, {threads} thread{'s' if threads != '1' else ''}"
+                       f" (per CPU second: {lc / ec:.2f}×)", 1 / lw, "Embree's tutorial path tracer", 1 / ew,
+                       lw / ew, "≥ 1.0×", load=num(l[0]["load1"])))
+    for r in read(raw, "pathtrace_rays"):
+        # Written by `bench_pathtrace rays`: PathTrace's ray rate against
+        # Embree's own on the same scene and rays.
+        loom_rate, embree_rate = num(r["loom_rays_per_s"]), num(r["embree_rays_per_s"])
+        out.append(Row(f"PathTrace rays/s against Embree's ray rate, {r['threads']} thread(s)", 1 / loom_rate,
+                       limit=1 / embree_rate, limit_basis=f"Embree alone: {embree_rate / 1e6:.1f} M rays/s",
+                       fraction=loom_rate / embree_rate, load=num(r["load1"])))
+    ratios = read(raw, "pathtrace_cycles_ratios")
+    for scene in sorted({r["scene"] for r in ratios}):
+        vals = [num(r["time_ratio_at_equal_error"]) for r in ratios if r["scene"] == scene and r["renderer"] == "loom"]
+        if vals:
+            out.append(Row(f"PathTrace time to equal error vs Cycles, {scene}, 2 threads "
+                           f"(range {min(vals):.2f}–{max(vals):.2f}× over Cycles' spp)",
+                           peer_name="Blender 3.4 Cycles", ratio=statistics.median(vals), target="≥ 1.5×"))
+    for r in read(raw, "pathtrace_cycles_references"):
+        if r["what"].startswith("reference mean"):
+            out.append(Row(f"PathTrace converged mean vs Cycles, {r['scene']}, {r['what'][len('reference mean, '):]}",
+                           note=f"{num(r['difference_percent']):+.3f} %"))
+    return out
+
+
+def mpm(raw):
+    out = []
+    for r in read(raw, "mpm_limit"):
+        out.append(Row(f"MPM {r['scene']}, {r['threads']} threads", 1 / (num(r["Mps"]) * 1e6),
+                       limit=1 / (num(r["limit_Mps"]) * 1e6), limit_basis=r["basis"],
+                       fraction=num(r["Mps"]) / num(r["limit_Mps"]), load=num(r["load1"])))
+    return out
+
+
+def shading(raw):
+    """Written by `bench_shading limits`: the Render frame against llvmpipe's rates, alternated."""
+    rows = read(raw, "shading_limits")
+    frame = [r for r in rows if r["measure"].startswith("Render frame")]
+    if not frame:
+        return [Row("Render 1920×1080, 100k triangles, 2048² shadow map, 5×5 PCF, 4× MSAA", note="not run")]
+    out = []
+    for r in rows:
+        if r["measure"].startswith("limit:"):
+            what = r["measure"][len("limit: "):].split(" / ")
+            out.append(Row(f"Render 1080p, 100k triangles, 2048² map, 5×5 PCF, 4× MSAA: {what[1]}",
+                           num(r["seconds"]) / num(r["fraction_of_limit"]), limit=num(r["seconds"]),
+                           limit_basis=f"llvmpipe ({r['lp_threads']} threads): {what[0]}",
+                           fraction=num(r["fraction_of_limit"]), load=num(r["load1"])))
+    return out
+
+
+def stages(raw):
+    """Where the direct solvers' time goes: each stage's median wall time, from the same run."""
+    lines = []
+    for name, csv_name in (("Tutte", "parameterize_limit"), ("ARAP", "arap_limit")):
+        rows = [r for r in read(raw, csv_name) if r["ordering"] == "-"]
+        if rows:
+            lines.append("")
+            lines.append(f"{name}, {rows[0]['mesh']}: " +
+                         ", ".join(f"{r['part']} {num(r['seconds']):.3f} s" for r in rows) + ".")
+    return lines
+
+
+def collate(out):
+    raw = out / "raw"
+    bandwidth, best = triad(raw)
+    rows = [Row("STREAM triad, 2 threads (median of runs; best %.1f GB/s)" % best, note=f"{bandwidth:.1f} GB/s")]
+    rows += poisson(raw, bandwidth) + tutte(raw) + arap(raw) + pathtrace(raw) + mpm(raw) + shading(raw)
+    fields = ["measure", "loom", "peer_name", "peer", "ratio", "target", "limit", "limit_basis", "fraction", "load",
+              "note"]
+    with open(out / "limits.csv.tmp", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(fields)
+        for r in rows:
+            w.writerow([getattr(r, k) for k in fields])
+    os.replace(out / "limits.csv.tmp", out / "limits.csv")
+
+    def fmt(x, unit=""):
+        return "" if x != x else (f"{x:.3g}{unit}")
+
+    lines = ["| measure | Loom | peer | ratio | target | limit here | fraction of the limit |",
+             "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        peer = f"{r.peer_name} {fmt(r.peer, ' s')}".strip()
+        loom = fmt(r.loom, " s") or r.note
+        lines.append(f"| {r.measure} | {loom} | {peer} | {('**' + fmt(r.ratio, '×') + '**') if r.ratio == r.ratio else ''}"
+                     f" | {r.target} | {(fmt(r.limit, ' s') + ': ' + r.limit_basis) if r.limit_basis else ''}"
+                     f" | {('**' + f'{r.fraction:.2f}' + '**') if r.fraction == r.fraction else ''} |")
+    lines += stages(raw)
+    runs = out / "runs.csv"
+    if runs.exists():
+        with open(runs) as f:
+            loads = [num(x["load_before"]) for x in csv.DictReader(f)]
+        lines.append("")
+        lines.append(f"One run, {datetime.date.today()}: load {min(loads):.2f}–{max(loads):.2f} at the start of "
+                     f"each program ({runs}).")
+    (out / "limits.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+    plot(out, rows)
+
+
+def plot(out, rows):
+    if not shutil.which("gnuplot"):
+        print("gnuplot is not installed: no plot")
+        return
+    data = [(r.measure.split(",")[0][:28], r.fraction) for r in rows if r.fraction == r.fraction]
+    if not data:
+        return
+    dat = out / "limits.dat"
+    dat.write_text("".join(f'"{name}" {fraction:.4f}\n' for name, fraction in data))
+    script = f"""set terminal pngcairo size 1100,{200 + 40 * len(data)}
+set output '{out / "limits.png"}'
+set title 'Fraction of this machine\\'s limit (1 = at the limit)'
+set style fill solid 0.6
+set yrange [0:1.1]
+set xtics rotate by -30
+set grid ytics
+set arrow from graph 0, first 0.5 to graph 1, first 0.5 nohead dt 2
+plot '{dat}' using 2:xtic(1) with boxes notitle
+"""
+    subprocess.run(["gnuplot"], input=script, text=True, check=False)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--build", default=str(SOURCE / "build"), help="the build folder (default: build)")
+    p.add_argument("--out", default=str(SOURCE / "bench" / "results" / "limits"),
+                   help="where raw CSVs, logs and the table go (default: bench/results/limits)")
+    p.add_argument("--quick", action="store_true", help="pass --quick to every program (a smoke run)")
+    p.add_argument("--collate-only", action="store_true", help="only rebuild the table from OUT/raw")
+    p.add_argument("programs", nargs="*", help="run only these programs (e.g. bench_poisson)")
+    a = p.parse_args()
+    out = Path(a.out)
+    if not a.collate_only:
+        run_all(Path(a.build), out, a.quick, set(a.programs))
+    collate(out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
