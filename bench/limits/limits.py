@@ -62,7 +62,7 @@ def steps(quick):
         ("bench_parameterize", ["--generated", "--uniform"] + q),
         ("bench_arap", ["--generated"] + q),
         ("bench_pathtrace", ["embree", "rays"] + q),
-        ("bench_mpm", ["limit"] + q),
+        ("bench_mpm", ["limit", "nbody"] + q),
         ("bench_shading", ["limits"] + q),
         ("bench_pathtrace", ["cycles"] + q),
     ]
@@ -144,7 +144,7 @@ def direct_limit(rows, mesh, solves=1):
     """Best CHOLMOD analysis + factorization + `solves` solves over orderings and BLAS threads."""
     best = None
     keys = {(r["ordering"], r.get("blas_threads", "1")) for r in rows
-            if r["mesh"] == mesh and r["part"].startswith("cholmod ")}
+            if r["mesh"] == mesh and r["part"].startswith("cholmod ") and r["ordering"] != "-"}
     for key in keys:
         part = {r["part"]: num(r["seconds"]) for r in rows
                 if r["mesh"] == mesh and (r["ordering"], r.get("blas_threads", "1")) == key}
@@ -232,11 +232,23 @@ def pathtrace(raw):
 
 
 def mpm(raw):
+    """Written by `bench_mpm limit`: bytes per particle-substep at the triad measured beside it."""
+    rows = read(raw, "mpm_limit")
+    if not rows:
+        return [Row("MPM particle-substeps", note="not run")]
+    top = max(int(r["threads"]) for r in rows)
     out = []
-    for r in read(raw, "mpm_limit"):
-        out.append(Row(f"MPM {r['scene']}, {r['threads']} threads", 1 / (num(r["Mps"]) * 1e6),
-                       limit=1 / (num(r["limit_Mps"]) * 1e6), limit_basis=r["basis"],
-                       fraction=num(r["Mps"]) / num(r["limit_Mps"]), load=num(r["load1"])))
+    for r in rows:
+        if int(r["threads"]) != top:
+            continue
+        bytes_per = num(r["bytes_per_particle_substep"])
+        loom = 1 / (num(r["Mps_wall"]) * 1e6)
+        limit = bytes_per / (num(r["triad_GB_per_s"]) * 1e9)
+        out.append(Row(f"MPM {r['scene']}, {int(num(r['particles'])):,} particles, grid {r['grid']}, {top} threads "
+                       f"(per particle-substep; {num(r['Mps_wall']):.1f} M/s)", loom,
+                       limit=limit, limit_basis=f"{bytes_per:.0f} B at the triad's {num(r['triad_GB_per_s']):.1f} GB/s; "
+                       f"a loop streaming the same bytes reaches {1 / num(r['fraction_of_proxy']):.2f}× Loom's rate",
+                       fraction=num(r["fraction_of_triad"]), load=num(r["load"])))
     return out
 
 
@@ -308,25 +320,29 @@ def collate(out):
 
 
 def plot(out, rows):
+    """Horizontal bars: each measure's fraction of its limit."""
     if not shutil.which("gnuplot"):
         print("gnuplot is not installed: no plot")
         return
-    data = [(r.measure.split(",")[0][:28], r.fraction) for r in rows if r.fraction == r.fraction]
+    data = [(r.measure.split(" (")[0][:60].replace('"', "'"), r.fraction) for r in rows if r.fraction == r.fraction]
     if not data:
         return
     dat = out / "limits.dat"
-    dat.write_text("".join(f'"{name}" {fraction:.4f}\n' for name, fraction in data))
-    script = f"""set terminal pngcairo size 1100,{200 + 40 * len(data)}
+    dat.write_text("".join(f'"{name}" {fraction:.4f}\n' for name, fraction in reversed(data)))
+    script = f"""set terminal pngcairo size 1200,{160 + 34 * len(data)}
 set output '{out / "limits.png"}'
-set title 'Fraction of this machine\\'s limit (1 = at the limit)'
+set title "Fraction of this machine's limit (1 = at the limit; dashed: half)"
 set style fill solid 0.6
-set yrange [0:1.1]
-set xtics rotate by -30
-set grid ytics
-set arrow from graph 0, first 0.5 to graph 1, first 0.5 nohead dt 2
-plot '{dat}' using 2:xtic(1) with boxes notitle
+set xrange [0:1.1]
+set yrange [-0.6:{len(data) - 0.4}]
+set grid xtics
+set lmargin 62
+set arrow from 0.5, graph 0 to 0.5, graph 1 nohead dt 2
+plot '{dat}' using ($2/2):0:($2/2):(0.35):yticlabels(1) with boxxyerror notitle, \\
+     '' using 2:0:(sprintf("%.2f", $2)) with labels left offset 0.5,0 notitle
 """
     subprocess.run(["gnuplot"], input=script, text=True, check=False)
+    dat.unlink()
 
 
 def main():
