@@ -132,8 +132,9 @@ class LimitRig {
   long long pixels(Target t) const;
 
  private:
-  void frame(Target t, GlProgram& p, bool depth_test, const std::function<void(int)>& draw, int draws);
+  void frame(Target t, GlProgram& p, bool depth_test, const std::function<void()>& draw, int draws);
   GlProgram& program(bool grid, Shading s);
+  const Framebuffer& framebuffer(Target t) const;
 
   GlContext context_;
   RenderFrame render_;
@@ -151,15 +152,20 @@ LimitRig::LimitRig(const RenderFrame& f) : render_(f) {
   image_msaa_ = make_framebuffer(gl, f.width, f.height, f.samples, true);
   shadow_map_ = make_framebuffer(gl, f.shadow_resolution, f.shadow_resolution, 1, false);
   // Sampled by the PCF runs as Render samples its directional map.
-  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) gl.TextureParameteri(shadow_map_.depth_texture, p, GL_NEAREST);
-  for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T}) gl.TextureParameteri(shadow_map_.depth_texture, p, GL_CLAMP_TO_BORDER);
+  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER})
+    gl.TextureParameteri(shadow_map_.depth_texture, p, GL_NEAREST);
+  for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T})
+    gl.TextureParameteri(shadow_map_.depth_texture, p, GL_CLAMP_TO_BORDER);
   const std::string pcf = pcf_fragment(f.pcf_size);
   for (int g = 0; g < 2; ++g) {
     const char* vertex = g ? grid_vertex : fullscreen_vertex;
-    programs_[g][0] = std::make_unique<GlProgram>(gl, "limit constant", Stages{{GL_VERTEX_SHADER, vertex}, {GL_FRAGMENT_SHADER, constant_fragment}});
-    programs_[g][1] = std::make_unique<GlProgram>(gl, "limit depth", Stages{{GL_VERTEX_SHADER, vertex}, {GL_FRAGMENT_SHADER, no_output_fragment}});
+    programs_[g][0] = std::make_unique<GlProgram>(
+        gl, "limit constant", Stages{{GL_VERTEX_SHADER, vertex}, {GL_FRAGMENT_SHADER, constant_fragment}});
+    programs_[g][1] = std::make_unique<GlProgram>(
+        gl, "limit depth", Stages{{GL_VERTEX_SHADER, vertex}, {GL_FRAGMENT_SHADER, no_output_fragment}});
   }
-  programs_[0][2] = std::make_unique<GlProgram>(gl, "limit pcf", Stages{{GL_VERTEX_SHADER, fullscreen_vertex}, {GL_FRAGMENT_SHADER, pcf.c_str()}});
+  programs_[0][2] = std::make_unique<GlProgram>(
+      gl, "limit pcf", Stages{{GL_VERTEX_SHADER, fullscreen_vertex}, {GL_FRAGMENT_SHADER, pcf.c_str()}});
   // n x n cells of two triangles: 2 n² close to the frame's triangle count.
   const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(f.triangles / 2.0))));
   grid_columns_ = n + 1;
@@ -174,7 +180,8 @@ LimitRig::LimitRig(const RenderFrame& f) : render_(f) {
   gl.CreateVertexArrays(1, &empty_vao_);
   gl.CreateVertexArrays(1, &grid_vao_);
   gl.CreateBuffers(1, &grid_buffer_);
-  gl.NamedBufferData(grid_buffer_, static_cast<GLsizeiptr>(indices.size() * sizeof(GLuint)), indices.data(), GL_STATIC_DRAW);
+  gl.NamedBufferData(grid_buffer_, static_cast<GLsizeiptr>(indices.size() * sizeof(GLuint)), indices.data(),
+                     GL_STATIC_DRAW);
   gl.VertexArrayElementBuffer(grid_vao_, grid_buffer_);
   gl.check("setting up the limit runs");
 }
@@ -194,16 +201,19 @@ LimitRig::~LimitRig() {
   gl.DeleteVertexArrays(1, &empty_vao_);
 }
 
+const Framebuffer& LimitRig::framebuffer(Target t) const {
+  return t == Target::shadow_map ? shadow_map_ : t == Target::image ? image_ : image_msaa_;
+}
+
 long long LimitRig::pixels(Target t) const {
-  const Framebuffer& f = t == Target::shadow_map ? shadow_map_ : t == Target::image ? image_ : image_msaa_;
-  return static_cast<long long>(f.width) * f.height;
+  return static_cast<long long>(framebuffer(t).width) * framebuffer(t).height;
 }
 
 GlProgram& LimitRig::program(bool grid, Shading s) { return *programs_[grid ? 1 : 0][static_cast<int>(s)]; }
 
-void LimitRig::frame(Target t, GlProgram& p, bool depth_test, const std::function<void(int)>& draw, int draws) {
+void LimitRig::frame(Target t, GlProgram& p, bool depth_test, const std::function<void()>& draw, int draws) {
   const GlApi& gl = context_.gl();
-  const Framebuffer& f = t == Target::shadow_map ? shadow_map_ : t == Target::image ? image_ : image_msaa_;
+  const Framebuffer& f = framebuffer(t);
   gl.BindFramebuffer(GL_FRAMEBUFFER, f.fbo);
   gl.Viewport(0, 0, f.width, f.height);
   const float background[4] = {0.1f, 0.1f, 0.1f, 0}, far_depth = 1;
@@ -224,7 +234,7 @@ void LimitRig::frame(Target t, GlProgram& p, bool depth_test, const std::functio
   for (int k = 0; k < draws; ++k) {
     // Each draw nearer than the last: every fragment passes GL_LESS and writes.
     p.set("u_depth", 0.9 - 1.8 * (k + 1) / (draws + 1));
-    draw(k);
+    draw();
   }
   gl.Finish();
   gl.BindTextureUnit(0, 0);
@@ -235,7 +245,8 @@ void LimitRig::quads(Target t, Shading s, int quads) {
   GlContext::Current current(context_);
   const GlApi& gl = context_.gl();
   gl.BindVertexArray(empty_vao_);
-  frame(t, program(false, s), t == Target::shadow_map, [&](int) { gl.DrawArrays(GL_TRIANGLES, 0, 3); }, quads);
+  frame(
+      t, program(false, s), t == Target::shadow_map, [&] { gl.DrawArrays(GL_TRIANGLES, 0, 3); }, quads);
 }
 
 void LimitRig::grid(Target t, Shading s) {
@@ -247,7 +258,8 @@ void LimitRig::grid(Target t, Shading s) {
   p.set("u_columns", grid_columns_);
   const long long side = t == Target::shadow_map ? render_.shadow_resolution : 0;
   p.set("u_viewport", side ? Eigen::Vector2d(side, side) : Eigen::Vector2d(render_.width, render_.height));
-  frame(t, p, true, [&](int) { gl.DrawElements(GL_TRIANGLES, grid_indices_, GL_UNSIGNED_INT, nullptr); }, 1);
+  frame(
+      t, p, true, [&] { gl.DrawElements(GL_TRIANGLES, grid_indices_, GL_UNSIGNED_INT, nullptr); }, 1);
 }
 
 // LP_NUM_THREADS as llvmpipe reads it when the first context is made (unset:
@@ -269,22 +281,21 @@ void fill_rate_sweep(LimitRig& rig, bool quick) {
   using T = LimitRig::Target;
   using S = LimitRig::Shading;
   Csv csv("shading_fill_rate", {"target", "quads", "seconds", "mpixels_per_s", "lp_threads", "load1"});
-  const std::vector<std::tuple<const char*, T, S>> cases = {
-      {"1080p 1x constant", T::image, S::constant},
-      {"1080p 4x MSAA constant", T::image_msaa, S::constant},
-      {"2048^2 depth only", T::shadow_map, S::depth_only},
-      {"1080p 4x MSAA PCF gathers", T::image_msaa, S::pcf}};
+  const std::vector<std::tuple<const char*, T, S>> cases = {{"1080p 1x constant", T::image, S::constant},
+                                                            {"1080p 4x MSAA constant", T::image_msaa, S::constant},
+                                                            {"2048^2 depth only", T::shadow_map, S::depth_only},
+                                                            {"1080p 4x MSAA PCF gathers", T::image_msaa, S::pcf}};
   for (const auto& [name, target, shading] : cases)
     for (int q : quick ? std::vector<int>{1, 4, 16} : std::vector<int>{1, 2, 4, 8, 16}) {
-      const auto t = loom::bench::time_median([&, target = target, shading = shading] { rig.quads(target, shading, q); },
-                                              quick ? 3 : 5);
+      const auto t = loom::bench::time_median(
+          [&, target = target, shading = shading] { rig.quads(target, shading, q); }, quick ? 3 : 5);
       csv.row({std::string(name), static_cast<long long>(q), t.median, q * rig.pixels(target) / t.median * 1e-6,
                lp_threads(), loom::bench::load_average()});
     }
   csv.save();
-  loom::bench::plot(csv, {"quads", "mpixels_per_s", "target",
-                          "llvmpipe fill rate vs full-screen quads per frame (" + lp_threads() + " threads)", true, true,
-                          ""});
+  loom::bench::plot(
+      csv, {"quads", "mpixels_per_s", "target",
+            "llvmpipe fill rate vs full-screen quads per frame (" + lp_threads() + " threads)", true, true, ""});
 }
 
 }  // namespace
@@ -319,8 +330,8 @@ void llvmpipe_limits(bool quick, const RenderFrame& render) {
   const double frame = t[0].wall, shadow = median(shadow_s), draw = median(draw_s);
   const double tris = static_cast<double>(rig.grid_triangles());
 
-  Csv csv("shading_limits", {"measure", "seconds", "cpu_seconds", "rate", "rate_unit", "fraction_of_limit",
-                             "lp_threads", "load1"});
+  Csv csv("shading_limits",
+          {"measure", "seconds", "cpu_seconds", "rate", "rate_unit", "fraction_of_limit", "lp_threads", "load1"});
   auto row = [&](const std::string& what, double s, double cpu, double rate, const std::string& unit, double fraction) {
     csv.row({what, s, cpu, rate, unit, fraction, lp_threads(), load});
   };
@@ -338,8 +349,8 @@ void llvmpipe_limits(bool quick, const RenderFrame& render) {
   row("setup: " + G + ", depth only 2048^2", t[5].wall, t[5].cpu, tris / t[5].wall * 1e-6, "Mtriangle/s", 0);
   row("setup: " + G + ", 1080p 4x MSAA", t[6].wall, t[6].cpu, tris / t[6].wall * 1e-6, "Mtriangle/s", 0);
   row("clear 2048^2 depth (frame of no draws)", t[7].wall, t[7].cpu, texels / t[7].wall * 1e-6, "Mtexel/s", 0);
-  row("clear 1080p 4x MSAA colour + depth (frame of no draws)", t[8].wall, t[8].cpu, px / t[8].wall * 1e-6,
-      "Mpixel/s", 0);
+  row("clear 1080p 4x MSAA colour + depth (frame of no draws)", t[8].wall, t[8].cpu, px / t[8].wall * 1e-6, "Mpixel/s",
+      0);
   // The frame at llvmpipe's rates: every pixel (4x MSAA) and map texel once
   // at the raw fill rates; then with the PCF gathers on every pixel; then
   // with each pass's clear and triangles added (the grid runs). The resolve
@@ -353,7 +364,8 @@ void llvmpipe_limits(bool quick, const RenderFrame& render) {
       (shadow_limit + main_limit) / frame);
   row("limit: + clears and triangles / Render shadow + main pass", shadow_limit + main_limit, 0, 0, "",
       (shadow_limit + main_limit) / (shadow + draw));
-  row("limit: shadow pass (triangles + depth fill) / Render shadow pass", shadow_limit, 0, 0, "", shadow_limit / shadow);
+  row("limit: shadow pass (triangles + depth fill) / Render shadow pass", shadow_limit, 0, 0, "",
+      shadow_limit / shadow);
   row("limit: main pass (triangles + fill + PCF) / Render main pass", main_limit, 0, 0, "", main_limit / draw);
   csv.save();
 }

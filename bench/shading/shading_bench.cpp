@@ -23,10 +23,10 @@
 #include "exact_shadows.hpp"
 #include "height_maps.hpp"
 #include "llvmpipe_limits.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 #include "mesh_denoising.hpp"
 #include "rasterizer.hpp"
 #include "shading_scenes.hpp"
-#include "loom/numerics/tangent_frames.hpp"
 
 namespace {
 

@@ -42,7 +42,6 @@ Eigen::Vector3d ambient_of(const Environment& env) {
   return Eigen::Vector3d(mean[0], mean[1], mean[2]) * env.intensity;
 }
 
-
 // GL's rows go bottom-up: the image top row first, as float, with no NaN or
 // infinity (a degenerate frame could make one), in one parallel pass. Rows
 // widen by convertTo: OpenCV picks F16C for half floats at run time (exact,
