@@ -6,7 +6,9 @@
 //    over map resolution, constant bias (acne .. peter-panning), PCF size;
 //  - normal mapping: image difference against true displaced geometry;
 //  - denoising: RMS vertex distance and mean normal angle to the clean
-//    surface, displacement map vs uniform and cotangent smoothing.
+//    surface, displacement map vs uniform and cotangent smoothing;
+//  - limits: llvmpipe's fill rates and triangle rate beside the target
+//    frame, and the fraction of the limit (llvmpipe_limits.hpp).
 // Every row carries the 1-minute load average (the machine is shared).
 #include <algorithm>
 #include <chrono>
@@ -20,10 +22,11 @@
 #include "bench_harness.hpp"
 #include "exact_shadows.hpp"
 #include "height_maps.hpp"
+#include "llvmpipe_limits.hpp"
+#include "loom/numerics/tangent_frames.hpp"
 #include "mesh_denoising.hpp"
 #include "rasterizer.hpp"
 #include "shading_scenes.hpp"
-#include "loom/numerics/tangent_frames.hpp"
 
 namespace {
 
@@ -56,6 +59,24 @@ Scene speed_scene(int triangles) {
   return s;
 }
 
+// The target frame: 1080p, 4x MSAA, a 2048² map with 5x5 PCF.
+RenderOptions target_options() {
+  RenderOptions o;
+  o.width = 1920;
+  o.height = 1080;
+  o.samples = 4;
+  o.shadows = ShadowFilter::pcf;
+  o.pcf_size = 5;
+  o.shadow_resolution = 2048;
+  return o;
+}
+
+long long triangles_of(const Scene& s) {
+  long long n = 0;
+  for (const auto& ob : s.objects) n += ob.mesh->faces();
+  return n;
+}
+
 // only_target: context, first frame and the steady target row, nothing else.
 void speed(bool quick, bool only_target = false) {
   bench::Csv csv("shading_speed", {"case", "triangles", "width", "height", "seconds", "cpu_seconds", "upload_s", "shadow_s",
@@ -65,15 +86,9 @@ void speed(bool quick, bool only_target = false) {
   Rasterizer r;
   const double create = since(t0);
   csv.row({"context+programs", 0LL, 0LL, 0LL, create, loom::bench::process_cpu_seconds() - c0, 0.0, 0.0, 0.0, 0.0, loom::bench::load_average()});
-  RenderOptions o;
-  o.width = 1920;
-  o.height = 1080;
-  o.samples = 4;
-  o.shadows = ShadowFilter::pcf;
-  o.pcf_size = 5;
-  o.shadow_resolution = 2048;
+  const RenderOptions o = target_options();
   const Scene target = speed_scene(100000);
-  const long long tris = target.objects[0].mesh->faces() + target.objects[1].mesh->faces();
+  const long long tris = triangles_of(target);
   RenderTimings first;
   const auto t1 = Clock::now();
   const double c1 = loom::bench::process_cpu_seconds();
@@ -91,9 +106,7 @@ void speed(bool quick, bool only_target = false) {
         },
         runs);
     std::sort(cpu.begin(), cpu.end());
-    long long n = 0;
-    for (const auto& ob : s.objects) n += ob.mesh->faces();
-    csv.row({label, n, static_cast<long long>(opt.width), static_cast<long long>(opt.height), m.median,
+    csv.row({label, triangles_of(s), static_cast<long long>(opt.width), static_cast<long long>(opt.height), m.median,
              cpu[cpu.size() / 2], t.upload, t.shadows, t.draw, t.readback, loom::bench::load_average()});
   };
   steady(target, o, "steady 1080p", 5);
@@ -131,6 +144,22 @@ void speed(bool quick, bool only_target = false) {
   res.save();
   bench::plot(tri, {"triangles", "seconds", "time", "Render time vs triangles (1080p, 4x MSAA, 2048 PCF 5x5)", true, true, ""});
   bench::plot(res, {"megapixels", "seconds", "time", "Render time vs resolution (100k triangles)", false, false, ""});
+}
+
+// The target frame beside llvmpipe's limits, alternating run by run.
+void limits(bool quick) {
+  Rasterizer r;
+  const RenderOptions o = target_options();
+  const Scene target = speed_scene(100000);
+  RenderFrame f;
+  f.run = [&](RenderTimings& t) { r.render(target, o, &t); };
+  f.width = o.width;
+  f.height = o.height;
+  f.samples = o.samples;
+  f.shadow_resolution = o.shadow_resolution;
+  f.pcf_size = o.pcf_size;
+  f.triangles = triangles_of(target);
+  llvmpipe_limits(quick, f);
 }
 
 exact::ShadowComparison shadow_error(Rasterizer& r, Light::Kind kind, const RenderOptions& base) {
@@ -318,11 +347,11 @@ void denoising() {
 
 int main(int argc, char** argv) {
   loom::bench::Cli cli("bench_shading",
-                       "The Render node's rasterizer and the denoising method. Writes shading_*.csv, "
-                       "shadow_*.csv, normal_mapping.csv, denoising*.csv and plots.");
+                       "The Render node's rasterizer, llvmpipe's limits beside it, and the denoising method. "
+                       "Writes shading_*.csv, shadow_*.csv, normal_mapping.csv, denoising*.csv and plots.");
   bool quick = false;
   std::vector<std::string> parts;
-  cli.quick(quick, "fewer triangle counts, shadow-map sizes and biases")
+  cli.quick(quick, "fewer triangle counts, shadow-map sizes and biases; limits: 3 runs, fewer quad counts")
       .modes(parts,
              {{"speed", "context, first frame and steady state against triangles and resolution"},
               {"target", "the issue's target case alone (only when asked for)"},
@@ -330,7 +359,12 @@ int main(int argc, char** argv) {
               {"bias", "shadow errors over the constant bias"},
               {"pcf", "shadow errors over the PCF kernel size"},
               {"normals", "normal mapping against true displaced geometry"},
-              {"denoise", "displacement-map denoising against smoothing"}},
+              {"denoise", "displacement-map denoising against smoothing"},
+              {"limits", "llvmpipe's limits (LP_NUM_THREADS as set, else one thread per CPU): fill rate at "
+                         "1080p with and without 4x MSAA (constant colour, no depth test), depth-only fill at "
+                         "2048², the 5x5 PCF's gathers, 100k-triangle setup; alternated with the target frame; "
+                         "fraction of the limit = limit time / Render's time (shading_limits.csv, "
+                         "shading_fill_rate.csv + plot)"}},
              "parts to run (default: all but target)");
   cli.parse(argc, argv);
   auto want = [&](const char* p) { return parts.empty() || std::find(parts.begin(), parts.end(), p) != parts.end(); };
@@ -341,5 +375,6 @@ int main(int argc, char** argv) {
   if (want("pcf") || want("shadows")) shadow_pcf();
   if (want("normals")) normal_mapping();
   if (want("denoise")) denoising();
+  if (want("limits")) limits(quick);
   return 0;
 }
