@@ -13,9 +13,10 @@
 //     particle-substep × rate / triad bandwidth. Also the core's clock, peak
 //     SSE2 flop rate and divider rate (core_rate.hpp), for the compute limits
 //     with callgrind's counts.
-//   count: a few substeps of one scene and nothing else, to count instructions:
-//     valgrind --tool=callgrind --toggle-collect='loom::mpm::Solver<2>::substep*'
-//       build/bin/bench_mpm count --scene 0 --particles 100000 --substeps 2
+//   count: a few substeps of one scene and nothing else, to count instructions
+//     (on one thread: callgrind's toggle counts only the thread that enters it):
+//     valgrind --tool=callgrind --toggle-collect='loom::mpm::Solver<*>::substep*'
+//       build/bin/bench_mpm count --threads 1 --scene 0 --particles 100000 --substeps 2
 //   nbody: the NBody node's direct sum (orbits.cpp), pair interactions per
 //     second on one thread (the code is serial), for `n` bodies with mass.
 //   error: the centre of mass and the particle positions of an elastic block
@@ -335,12 +336,17 @@ int main(int argc, char** argv) {
                         "(mpm_limit, mpm_core_rate)"},
               {"nbody", "the NBody direct sum: pair interactions per second (mpm_nbody)"},
               {"error", "an elastic block's error over Δt and grid resolution (mpm_error_*)"},
-              {"count", "only --substeps substeps of --scene, for callgrind (not in the default set)"}},
+              {"count", "only --substeps substeps of --scene, for callgrind with --threads 1 (not in the default set)"}},
              "parts to run (default: all but count)")
       .option("--scene", scene, "count: 0 2D fluid, 1 2D elastic, 2 3D fluid, 3 3D elastic (-1: all)")
       .option("--particles", particles, "count: particles")
       .option("--substeps", substeps, "count: substeps");
   cli.parse(argc, argv);
+  if (scene < -1 || scene >= static_cast<int>(scenes().size()) || particles < 1 || substeps < 0) {
+    std::fprintf(stderr, "bench_mpm: --scene must be -1..%d, --particles at least 1, --substeps at least 0\n",
+                 static_cast<int>(scenes().size()) - 1);
+    return 2;
+  }
   if (max_threads == 0) max_threads = static_cast<int>(std::thread::hardware_concurrency());
   if (loom::bench::wants(modes, "throughput")) run_throughput(max_threads, quick);
   if (loom::bench::wants(modes, "limit")) run_limit(max_threads, quick);
