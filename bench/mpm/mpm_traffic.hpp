@@ -4,7 +4,7 @@
 //
 // Bytes are counted as STREAM counts them: each byte read or written once per
 // pass, no write-allocate, from what the solver's code touches:
-//   bin  x read; block_of written, then read twice (count, scatter); order written
+//   bin  x read; block_of written (and counted), then read to scatter; order written
 //   P2G  order, x, v, C, mass, volume, material read; the stress reads J, λ
 //        (fluid) or F, μ, λ (solids)
 //   G2P  x read and written; v, C written; fluid: J read and written; solids:
@@ -34,7 +34,7 @@ double particle_bytes(Material m) {
   const double vec = sizeof(typename P::Vec), mat = sizeof(typename P::Mat), real = sizeof(double);
   const double index = sizeof(int), material = sizeof(Material);
   const bool fluid = m == Material::fluid;
-  const double bin = vec + 4 * index;
+  const double bin = vec + 3 * index;
   const double p2g = index + 2 * vec + mat + 2 * real + material + (fluid ? 2 * real : mat + 2 * real);
   const double g2p = 3 * vec + mat + material + 4 * real + (fluid ? 2 * real : 2 * mat + real);
   return bin + p2g + g2p;
@@ -64,7 +64,6 @@ class StreamingProxy {
     order_.resize(static_cast<std::size_t>(n));
     const bool fluid = ps.material[0] == Material::fluid;
     for_particles(n, [&](int p) { block_[p] = static_cast<int>(ps.x[p][0] * 512); });
-    sink_ += sum_particles(n, [&](int p) { return double(block_[p]); });
     for_particles(n, [&](int p) { order_[p] = block_[p] + 1; });
     for_nodes([&](std::size_t i) { grid_[i].setZero(); });
     sink_ += sum_particles(n, [&](int p) {  // P2G's reads
