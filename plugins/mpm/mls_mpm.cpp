@@ -4,10 +4,13 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/partitioner.h>
 
 #include "constitutive.hpp"
 #include "loom/error.hpp"
@@ -106,22 +109,43 @@ template <int D>
 void Solver<D>::bin(const Particles<D>& ps) {
   constexpr int B = block_size(D);
   const int np = ps.size();
+  const int blocks = static_cast<int>(block_start_.size()) - 1;
   block_of_.resize(static_cast<std::size_t>(np));  // allocates only when the count grows
   order_.resize(static_cast<std::size_t>(np));
-  tbb::parallel_for(tbb::blocked_range<int>(0, np, 8192), [&](const tbb::blocked_range<int>& r) {
-    for (int p = r.begin(); p < r.end(); ++p) {
+  // Counting sort, stable: each block's particles stay in index order. Consecutive
+  // chunks of particles are counted and scattered in parallel, each chunk from its
+  // own cursors, which start where the earlier chunks' particles of the block end;
+  // the result is the one stable order, whatever the number of chunks.
+  const int threads = static_cast<int>(
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  const int chunks = std::clamp(np / 2048, 1, threads);
+  cursor_.assign(static_cast<std::size_t>(chunks) * blocks, 0);
+  const auto each_chunk = [&](const auto& body) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& r) {
+      for (int c = r.begin(); c < r.end(); ++c)
+        body(&cursor_[static_cast<std::size_t>(c) * blocks], static_cast<int>(long(np) * c / chunks),
+             static_cast<int>(long(np) * (c + 1) / chunks));
+    }, tbb::simple_partitioner());
+  };
+  each_chunk([&](int* count, int begin, int end) {
+    for (int p = begin; p < end; ++p) {
       int block = 0;
       for (int d = 0; d < D; ++d)
         block = block * blocks_per_axis_ + static_cast<int>(ps.x[p][d] * inv_dx_ - 0.5) / B;
       block_of_[p] = block;
+      ++count[block];
     }
   });
-  // Counting sort, stable: each block's particles stay in index order.
-  std::fill(block_start_.begin(), block_start_.end(), 0);
-  for (int p = 0; p < np; ++p) ++block_start_[block_of_[p] + 1];
-  for (std::size_t b = 1; b < block_start_.size(); ++b) block_start_[b] += block_start_[b - 1];
+  int start = 0;  // counts become cursors: block by block, chunk by chunk
+  for (int b = 0; b < blocks; ++b) {
+    block_start_[b] = start;
+    for (int c = 0; c < chunks; ++c) {
+      int& cursor = cursor_[static_cast<std::size_t>(c) * blocks + b];
+      start += std::exchange(cursor, start);
+    }
+  }
+  block_start_[blocks] = start;
   for (auto& list : colour_blocks_) list.clear();
-  const int blocks = static_cast<int>(block_start_.size()) - 1;
   for (int b = 0; b < blocks; ++b) {
     if (block_start_[b + 1] == block_start_[b]) continue;
     int colour = 0;
@@ -129,10 +153,9 @@ void Solver<D>::bin(const Particles<D>& ps) {
       colour |= ((r % blocks_per_axis_) & 1) << d;
     colour_blocks_[colour].push_back(b);
   }
-  // block_start_ becomes each block's write cursor, then is restored by shifting.
-  for (int p = 0; p < np; ++p) order_[block_start_[block_of_[p]]++] = p;
-  for (int b = blocks; b > 0; --b) block_start_[b] = block_start_[b - 1];
-  block_start_[0] = 0;
+  each_chunk([&](int* cursor, int begin, int end) {
+    for (int p = begin; p < end; ++p) order_[cursor[block_of_[p]]++] = p;
+  });
 }
 
 template <int D>

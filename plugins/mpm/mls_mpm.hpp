@@ -99,6 +99,7 @@ class Solver {
   // Binning workspace, kept across substeps (no allocation per substep).
   int blocks_per_axis_;
   std::vector<int> block_of_, block_start_, order_;
+  std::vector<int> cursor_;  // per chunk of particles and block: a count, then a write cursor
   std::vector<int> colour_blocks_[1 << D];
   std::atomic<long> clamped_{0};
   std::atomic<bool> diverged_{false};  // a particle's new velocity was NaN or infinite
