@@ -249,7 +249,22 @@ def mpm(raw):
                        limit=limit, limit_basis=f"{bytes_per:.0f} B at the triad's {num(r['triad_GB_per_s']):.1f} GB/s; "
                        f"a loop streaming the same bytes reaches {1 / num(r['fraction_of_proxy']):.2f}× Loom's rate",
                        fraction=num(r["fraction_of_triad"]), load=num(r["load"])))
+        # The lower, binding limit (docs/mpm.md, "The limit"): instructions
+        # per particle-substep, counted by callgrind (`bench_mpm count`,
+        # load-independent), issued at Zen 4's 6 a cycle on every core at the
+        # clock measured in this run.
+        per_substep = next((n for prefix, n in INSTRUCTIONS.items() if r["scene"].startswith(prefix)), None)
+        clock = [num(c["clock_ghz"]) for c in read(raw, "mpm_core_rate")]
+        if per_substep and clock:
+            rate = top * clock[0] * 1e9 * 6 / per_substep
+            out.append(Row(f"MPM {r['scene']}, instruction-issue limit", loom, limit=1 / rate,
+                           limit_basis=f"{per_substep:,} instructions at 6 a cycle × {top} cores × {clock[0]:.2f} GHz",
+                           fraction=num(r["Mps_wall"]) * 1e6 / rate, load=num(r["load"])))
     return out
+
+
+# Instructions per particle-substep by scene, from callgrind (docs/mpm.md).
+INSTRUCTIONS = {"2D fluid": 680, "2D elastic": 1037, "3D fluid": 2121, "3D elastic": 3202}
 
 
 def shading(raw):
