@@ -103,7 +103,7 @@ def run_all(build, out, quick, only):
 class Row:
     def __init__(self, measure, loom=float("nan"), peer_name="", peer=float("nan"), ratio=float("nan"),
                  target="", limit=float("nan"), limit_basis="", fraction=float("nan"), load=float("nan"),
-                 note=""):
+                 note="", loom_text="", limit_text=""):
         self.__dict__.update(locals())
         del self.__dict__["self"]
 
@@ -244,11 +244,13 @@ def mpm(raw):
         bytes_per = num(r["bytes_per_particle_substep"])
         loom = 1 / (num(r["Mps_wall"]) * 1e6)
         limit = bytes_per / (num(r["triad_GB_per_s"]) * 1e9)
-        out.append(Row(f"MPM {r['scene']}, {int(num(r['particles'])):,} particles, grid {r['grid']}, {top} threads "
-                       f"(per particle-substep; {num(r['Mps_wall']):.1f} M/s)", loom,
-                       limit=limit, limit_basis=f"{bytes_per:.0f} B at the triad's {num(r['triad_GB_per_s']):.1f} GB/s; "
-                       f"a loop streaming the same bytes reaches {1 / num(r['fraction_of_proxy']):.2f}× Loom's rate",
-                       fraction=num(r["fraction_of_triad"]), load=num(r["load"])))
+        loom_rate = num(r["Mps_wall"]) * 1e6
+        out.append(Row(f"MPM {r['scene']}, {int(num(r['particles'])):,} particles, {top} threads: bandwidth", loom,
+                       limit=limit, limit_basis=f"{bytes_per:.0f} B per particle-substep at the triad's "
+                       f"{num(r['triad_GB_per_s']):.1f} GB/s (a loop streaming the same bytes: "
+                       f"{1 / num(r['fraction_of_proxy']):.1f}× Loom's rate)",
+                       fraction=num(r["fraction_of_triad"]), load=num(r["load"]),
+                       loom_text=f"{loom_rate / 1e6:.1f} M/s", limit_text=f"{1e-6 / limit:.0f} M/s"))
         # The lower, binding limit (docs/mpm.md, "The limit"): instructions
         # per particle-substep, counted by callgrind (`bench_mpm count`,
         # load-independent), issued at Zen 4's 6 a cycle on every core at the
@@ -257,9 +259,10 @@ def mpm(raw):
         clock = [num(c["clock_ghz"]) for c in read(raw, "mpm_core_rate")]
         if per_substep and clock:
             rate = top * clock[0] * 1e9 * 6 / per_substep
-            out.append(Row(f"MPM {r['scene']}, instruction-issue limit", loom, limit=1 / rate,
+            out.append(Row(f"MPM {r['scene']}: instruction issue", loom, limit=1 / rate,
                            limit_basis=f"{per_substep:,} instructions at 6 a cycle × {top} cores × {clock[0]:.2f} GHz",
-                           fraction=num(r["Mps_wall"]) * 1e6 / rate, load=num(r["load"])))
+                           fraction=loom_rate / rate, load=num(r["load"]),
+                           loom_text=f"{loom_rate / 1e6:.1f} M/s", limit_text=f"{rate / 1e6:.0f} M/s"))
     return out
 
 
@@ -277,9 +280,9 @@ def shading(raw):
     for r in rows:
         if r["measure"].startswith("limit:"):
             what = r["measure"][len("limit: "):].split(" / ")
-            out.append(Row(f"Render 1080p, 100k triangles, 2048² map, 5×5 PCF, 4× MSAA: {what[1]}",
+            out.append(Row(f"Render 1080p, 100k triangles, 2048² map, 5×5 PCF, 4× MSAA ({what[1]})",
                            num(r["seconds"]) / num(r["fraction_of_limit"]), limit=num(r["seconds"]),
-                           limit_basis=f"llvmpipe ({r['lp_threads']} threads): {what[0]}",
+                           limit_basis=f"llvmpipe, {r['lp_threads'].split(' ')[0]} threads: {what[0]}",
                            fraction=num(r["fraction_of_limit"]), load=num(r["load1"])))
     return out
 
@@ -317,9 +320,10 @@ def collate(out):
              "|---|---|---|---|---|---|---|"]
     for r in rows:
         peer = f"{r.peer_name} {fmt(r.peer, ' s')}".strip()
-        loom = fmt(r.loom, " s") or r.note
+        loom = r.loom_text or fmt(r.loom, " s") or r.note
+        limit = r.limit_text or fmt(r.limit, " s")
         lines.append(f"| {r.measure} | {loom} | {peer} | {('**' + fmt(r.ratio, '×') + '**') if r.ratio == r.ratio else ''}"
-                     f" | {r.target} | {(fmt(r.limit, ' s') + ': ' + r.limit_basis) if r.limit_basis else ''}"
+                     f" | {r.target} | {(limit + ': ' + r.limit_basis) if r.limit_basis else ''}"
                      f" | {('**' + f'{r.fraction:.2f}' + '**') if r.fraction == r.fraction else ''} |")
     lines += stages(raw)
     runs = out / "runs.csv"
