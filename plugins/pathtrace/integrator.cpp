@@ -119,7 +119,7 @@ struct LambertBsdf {
   }
   float pdf(const Term& t) const { return t.scale; }
   std::optional<Scattered> sample(PixelSampler& sampler) const {
-    const Vec3f wi = sample_cosine_hemisphere(sampler.uniform2());
+    const Vec3f wi = sample_cosine_hemisphere(sampler.uniform2(Decision::direction));
     if (!(wi.z() > 0)) return std::nullopt;
     return Scattered{base, unit(Frame(n).to_world(wi)), wi.z() * kInvPi, false};
   }
@@ -144,8 +144,8 @@ struct FramedBsdf {
   }
   float pdf(const Term& t) const { return bsdf_pdf(m, wo, t.wi_local); }
   std::optional<Scattered> sample(PixelSampler& sampler) const {
-    const float uc = sampler.uniform();
-    const auto bs = bsdf_sample(m, wo, uc, sampler.uniform2());
+    const float uc = sampler.uniform(Decision::lobe);
+    const auto bs = bsdf_sample(m, wo, uc, sampler.uniform2(Decision::direction));
     if (!bs || !(bs->weight.array() > 0).any()) return std::nullopt;
     return Scattered{bs->weight, unit(frame.to_world(bs->wi)), bs->pdf, bs->delta};
   }
@@ -165,8 +165,8 @@ bool occluded(const EmbreeScene& traced, const SurfaceHit& hit, const LightSampl
 template <class Bsdf>
 void sample_direct(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, const Vec3f& beta,
                    bool use_mis, PixelSampler& sampler, PathResult& r) {
-  const Vec2f u = sampler.uniform2();
-  const float ue = c.lights.samples_environment() ? sampler.uniform() : 0.f;  // the map's pixel
+  const Vec2f u = sampler.uniform2(Decision::light);
+  const float ue = c.lights.samples_environment() ? sampler.uniform(Decision::environment_pixel) : 0.f;  // the map's pixel
   const auto ls = c.lights.sample(hit.p, u, ue);
   if (!ls) return;
   const auto t = bsdf.direct(ls->wi);
@@ -267,7 +267,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, PixelSample
     origin = c.traced.offset(hit, v.dir);
     if (c.settings.russian_roulette && depth + 1 >= c.settings.rr_min_depth) {
       const float survive = std::min(0.95f, v.beta.maxCoeff());
-      if (!(sampler.uniform() < survive)) break;
+      if (!(sampler.uniform(Decision::roulette) < survive)) break;
       v.beta /= survive;
     }
     if (!v.beta.allFinite()) break;
@@ -349,7 +349,7 @@ RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, in
       for (int k = 0; k < pass; ++k) {
         if (!c.settings.region.takes_sample(first + k)) continue;
         PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(first + k));
-        const Vec2f j = sampler.uniform2();
+        const Vec2f j = sampler.camera_jitter();
         Vec3f origin, dir;
         cam.ray(2 * (x + j.x()) / W - 1, 1 - 2 * (y + j.y()) / H, &origin, &dir);
         const PathResult p = trace_path(c, origin, dir, sampler);
