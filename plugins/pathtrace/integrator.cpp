@@ -165,8 +165,9 @@ bool occluded(const EmbreeScene& traced, const SurfaceHit& hit, const LightSampl
 template <class Bsdf>
 void sample_direct(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, const Vec3f& beta,
                    bool use_mis, PixelSampler& sampler, PathResult& r) {
-  const Vec2f u = sampler.uniform2(Decision::light);
-  const float ue = c.lights.samples_environment() ? sampler.uniform(Decision::environment_pixel) : 0.f;  // the map's pixel
+  const Vec2f u = c.lights.reads_point() ? sampler.uniform2(Decision::light) : Vec2f::Zero();
+  // The environment map's pixel.
+  const float ue = c.lights.samples_environment() ? sampler.uniform(Decision::environment_pixel) : 0.f;
   const auto ls = c.lights.sample(hit.p, u, ue);
   if (!ls) return;
   const auto t = bsdf.direct(ls->wi);
@@ -217,7 +218,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, PixelSample
   SurfaceHit hit;
   for (int depth = 0;; ++depth) {
     ++r.rays;
-    sampler.start_bounce(depth);
+    sampler.start_bounce(depth, use.nee && c.lights.reads_point());
     if (!c.traced.intersect(origin, v.dir, kInf, &hit, depth == 0)) {
       add_environment(c, v, use, depth, r);
       break;

@@ -90,8 +90,8 @@ inline std::uint32_t shuffled_index(const PairSeeds& s, std::uint32_t reversed_i
 }
 inline Fractions2 owen_sobol_2d(const PairSeeds& s, std::uint32_t reversed_index) {
   const std::uint32_t i = shuffled_index(s, reversed_index);
-  const std::uint64_t scrambled_reversed = std::uint64_t(laine_karras_permutation(sobol_second_reversed(i), s.y)) << 32 |
-                                           laine_karras_permutation(i, s.x);
+  const std::uint64_t scrambled_reversed =
+      std::uint64_t(laine_karras_permutation(sobol_second_reversed(i), s.y)) << 32 | laine_karras_permutation(i, s.x);
   const std::uint64_t f = reverse_bits64(scrambled_reversed);
   return {std::uint32_t(f >> 32), std::uint32_t(f)};
 }
@@ -111,14 +111,15 @@ enum class Decision : std::uint32_t { light, environment_pixel, lobe, direction,
 
 // The numbers one sample of one pixel draws. `sobol`: pair 0 jitters the
 // camera ray, bounce b's decision k takes pair 1 + 5 b + k, so a pair means
-// the same decision in every sample of a pixel. The two pairs nearly every
-// bounce uses (light point, direction) are computed when the bounce starts,
-// before its ray is traced: a scrambled pair is a chain of ~90 cycles of
-// dependent multiplies and bit reversals that the traversal hides, where
-// drawn at the point of use it stalled the path loop (16 % of a path's time
-// on the long paths of the Embree comparison). Bounces from kSobolBounces on
-// draw from the splitmix64 stream instead: their share of the error is small
-// and padded high dimensions stratify little.
+// the same decision in every sample of a pixel. The pairs nearly every
+// bounce uses (direction; light point when the light sampler reads one, i.e.
+// not for a lone point light) are computed when the bounce starts, before
+// its ray is traced: a scrambled pair is a chain of ~90 cycles of dependent
+// multiplies and bit reversals, which the traversal hides; drawn where they
+// are used, they stalled the path loop (16 % of a path's time on the long
+// paths of the Embree comparison). Bounces from kSobolBounces on draw from
+// the splitmix64 stream instead: their share of the error is small and
+// padded high dimensions stratify little.
 // `independent`: the splitmix64 stream of Rng(seed, p, s) in the order of the
 // draws, decisions ignored.
 class PixelSampler {
@@ -137,13 +138,13 @@ class PixelSampler {
     return sobol_ ? to_floats(owen_sobol_2d(pair_seeds(pixel_key_, 0), reversed_index_)) : rng_.uniform2();
   }
 
-  void start_bounce(int depth) {
+  // `light_point`: whether the bounce will draw a point on a light.
+  void start_bounce(int depth, bool light_point) {
     sobol_now_ = sobol_ && depth < kSobolBounces;
     first_pair_ = 1 + std::uint32_t(depth) * kPairsPerBounce;
-    if (sobol_now_) {
-      light_ = sobol_pair(Decision::light);
-      direction_ = sobol_pair(Decision::direction);
-    }
+    light_ready_ = sobol_now_ && light_point;
+    if (light_ready_) light_ = sobol_pair(Decision::light);
+    if (sobol_now_) direction_ = sobol_pair(Decision::direction);
   }
 
   float uniform(Decision d) {
@@ -152,7 +153,8 @@ class PixelSampler {
   }
   Vec2f uniform2(Decision d) {
     if (!sobol_now_) return rng_.uniform2();
-    return d == Decision::light ? light_ : d == Decision::direction ? direction_ : sobol_pair(d);
+    if (d == Decision::direction) return direction_;
+    return d == Decision::light && light_ready_ ? light_ : sobol_pair(d);
   }
 
  private:
@@ -164,7 +166,7 @@ class PixelSampler {
   std::uint64_t pixel_key_;
   std::uint32_t reversed_index_;
   std::uint32_t first_pair_ = 0;
-  bool sobol_, sobol_now_ = false;
+  bool sobol_, sobol_now_ = false, light_ready_ = false;
   Vec2f light_, direction_;
 };
 

@@ -74,7 +74,7 @@ TEST(OwenSobol, OneSampleIsUniformOverPixels) {
       const int n = 1 << 16;
       for (int p = 0; p < n; ++p) {
         PixelSampler sampler(SamplerKind::sobol, 3, std::uint64_t(p), s);
-        sampler.start_bounce(2);
+        sampler.start_bounce(2, true);
         const Vec2f u = prepared ? sampler.uniform2(Decision::light)
                                  : Vec2f(sampler.uniform(Decision::lobe), sampler.uniform(Decision::roulette));
         ++count[int(u.y() * 64) * 64 + int(u.x() * 64)];
@@ -93,8 +93,8 @@ TEST(OwenSobol, EachDecisionHasItsOwnPair) {
   for (std::uint64_t p : {0ull, 17ull, 40000ull})
     for (std::uint64_t s : {0ull, 3ull, 250ull}) {
       PixelSampler a(SamplerKind::sobol, 9, p, s), b(SamplerKind::sobol, 9, p, s);
-      a.start_bounce(1);
-      b.start_bounce(1);
+      a.start_bounce(1, true);
+      b.start_bounce(1, false);
       b.uniform(Decision::lobe);
       b.uniform2(Decision::light);
       EXPECT_EQ(a.uniform2(Decision::direction), b.uniform2(Decision::direction));
