@@ -8,6 +8,7 @@
 //   adaptive     relMSE against time, adaptive thresholds vs uniform spp
 //   bvh          BVH build time of a 1M-triangle mesh
 //   cycles       Blender's Cycles side by side (cycles_peer.hpp)
+//   rays         Embree's own ray rate on the rays PathTrace casts, the limit (ray_rate.hpp)
 // relMSE = mean over pixels and channels of (x - ref)² / (ref² + 0.01).
 #include <chrono>
 #include <cmath>
@@ -28,6 +29,7 @@
 #include "image_codec.hpp"
 #include "image_error.hpp"
 #include "integrator.hpp"
+#include "ray_rate.hpp"
 #include "scenes.hpp"
 #include "sphere_mesh.hpp"
 
@@ -418,6 +420,7 @@ int main(int argc, char** argv) {
               {"adaptive", "adaptive thresholds against uniform spp"},
               {"bvh", "BVH build time of a 1M-triangle mesh"},
               {"cycles", "against Blender's Cycles (2 threads): relMSE per second, time to equal error"},
+              {"rays", "Embree alone on the rays PathTrace casts (the limit of its ray cost), 1 and 2 threads"},
               {"throughput", "paths per second, 1 thread (only when asked for)"}},
              "sections to run (default: all but throughput)");
   cli.parse(argc, argv);
@@ -435,6 +438,7 @@ int main(int argc, char** argv) {
   }
   if (on("environment")) bench_environment();
   if (on("adaptive")) bench_adaptive();
+  if (on("rays")) bench::bench_ray_rate(quick);
   if (on("cycles")) bench::bench_cycles(quick);
   return 0;
 }

@@ -18,8 +18,6 @@ namespace loom::pathtrace {
 
 namespace {
 
-constexpr unsigned kCameraMask = 1, kShadowMask = 2;
-
 // Fills a ray in three 16-byte stores. Embree's kernels load org|tnear and
 // dir|time as 16-byte vectors first thing; filled field by field (4-byte
 // stores), that load cannot be forwarded from the store buffer and waits for

@@ -91,17 +91,30 @@ class EmbreeScene {
   float offset_distance(const Vec3f& p) const {
     return 1e-4f * (1 + p.cwiseAbs().maxCoeff()) + 1e-6f * extent_;
   }
-  // Whether the segment from hit (offset) to a point on a light is blocked;
-  // both ends are kept off their surfaces.
-  bool occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const {
+  // The shadow ray from hit (offset) to a point on a light; both ends are
+  // kept off their surfaces. tmax <= 0: nothing between them to test.
+  struct Segment {
+    Vec3f origin, direction;  // direction unit
+    float tmax;
+  };
+  Segment shadow_segment(const SurfaceHit& hit, const Vec3f& light_point) const {
     const Vec3f origin = offset(hit, light_point - hit.p);
     const Vec3f d = light_point - origin;
     const float length2 = d.squaredNorm(), inv_length = inv_sqrt(length2);
     // The segment stops short of the light's surface by the same margin.
-    const float tmax = length2 * inv_length - offset_distance(light_point);
-    if (!(tmax > 0)) return false;
-    return occluded(origin, d * inv_length, tmax);
+    return {origin, d * inv_length, length2 * inv_length - offset_distance(light_point)};
   }
+  // Whether that segment is blocked.
+  bool occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const {
+    const Segment s = shadow_segment(hit, light_point);
+    return s.tmax > 0 && occluded(s.origin, s.direction, s.tmax);
+  }
+
+  // Embree's own handle and ray masks, for measuring Embree alone on the
+  // same BVH (bench_pathtrace rays): camera and bounce rays carry
+  // kCameraMask, shadow rays kShadowMask (objects with casts_shadow off lack it).
+  RTCScene rtc_scene() const { return scene_.get(); }
+  static constexpr unsigned kCameraMask = 1, kShadowMask = 2;
 
  private:
   // Released by their owners, also when the constructor throws half way.

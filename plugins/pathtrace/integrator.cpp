@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "bsdf.hpp"
+#include "camera_rays.hpp"
 #include "light_sampler.hpp"
 #include "normal_mapping.hpp"
 #include "owen_sobol.hpp"
@@ -32,37 +33,6 @@ struct ObjectShading {
   bool lambert = false;  // diffuse: NEE and sampling in closed form, no local frame
 };
 
-struct CameraRays {
-  Vec3f eye, forward, right, up;
-  float tan_half = 1, ortho_half = 1, aspect = 1;
-  bool ortho = false;
-  CameraRays(const Camera& c, int width, int height) {
-    eye = c.eye.cast<float>();
-    forward = (c.target - c.eye).cast<float>();
-    if (!(forward.squaredNorm() > 0)) forward = Vec3f(0, 0, -1);
-    forward.normalize();
-    right = forward.cross(c.up.cast<float>());
-    if (!(right.squaredNorm() > 1e-12f))
-      right = forward.cross(std::fabs(forward.y()) < 0.9f ? Vec3f(0, 1, 0) : Vec3f(1, 0, 0));
-    right.normalize();
-    up = right.cross(forward);
-    tan_half = std::tan(float(c.fov_y) / 2);
-    ortho_half = float(c.ortho_height) / 2;
-    aspect = float(width) / float(height);
-    ortho = c.projection == Camera::Projection::orthographic;
-  }
-  // (sx, sy) in [-1, 1]², y up.
-  void ray(float sx, float sy, Vec3f* origin, Vec3f* dir) const {
-    if (ortho) {
-      *origin = eye + ortho_half * (sx * aspect * right + sy * up);
-      *dir = forward;
-    } else {
-      *origin = eye;
-      *dir = unit(forward + tan_half * (sx * aspect * right + sy * up));
-    }
-  }
-};
-
 struct PathContext {
   const EmbreeScene& traced;
   const std::vector<ObjectShading>& shading;
@@ -78,7 +48,7 @@ struct PathResult {
   Vec3f L = Vec3f::Zero();
   Vec3f albedo = Vec3f::Zero(), normal = Vec3f::Zero();
   float depth = 0;
-  int rays = 0;
+  int rays = 0, shadow_rays = 0;  // closest-hit rays, shadow rays
 };
 
 // Where a path is between bounces: its throughput, the next ray's direction,
@@ -119,7 +89,7 @@ struct LambertBsdf {
   }
   float pdf(const Term& t) const { return t.scale; }
   std::optional<Scattered> sample(PixelSampler& sampler) const {
-    const Vec3f wi = sample_cosine_hemisphere(sampler.uniform2());
+    const Vec3f wi = sample_cosine_hemisphere(sampler.uniform2(Decision::direction));
     if (!(wi.z() > 0)) return std::nullopt;
     return Scattered{base, unit(Frame(n).to_world(wi)), wi.z() * kInvPi, false};
   }
@@ -144,8 +114,8 @@ struct FramedBsdf {
   }
   float pdf(const Term& t) const { return bsdf_pdf(m, wo, t.wi_local); }
   std::optional<Scattered> sample(PixelSampler& sampler) const {
-    const float uc = sampler.uniform();
-    const auto bs = bsdf_sample(m, wo, uc, sampler.uniform2());
+    const float uc = sampler.uniform(Decision::lobe);
+    const auto bs = bsdf_sample(m, wo, uc, sampler.uniform2(Decision::direction));
     if (!bs || !(bs->weight.array() > 0).any()) return std::nullopt;
     return Scattered{bs->weight, unit(frame.to_world(bs->wi)), bs->pdf, bs->delta};
   }
@@ -165,13 +135,14 @@ bool occluded(const EmbreeScene& traced, const SurfaceHit& hit, const LightSampl
 template <class Bsdf>
 void sample_direct(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, const Vec3f& beta,
                    bool use_mis, PixelSampler& sampler, PathResult& r) {
-  const Vec2f u = sampler.uniform2();
-  const float ue = c.lights.samples_environment() ? sampler.uniform() : 0.f;  // the map's pixel
+  const Vec2f u = c.lights.reads_point() ? sampler.uniform2(Decision::light) : Vec2f::Zero();
+  // The environment map's pixel.
+  const float ue = c.lights.samples_environment() ? sampler.uniform(Decision::environment_pixel) : 0.f;
   const auto ls = c.lights.sample(hit.p, u, ue);
   if (!ls) return;
   const auto t = bsdf.direct(ls->wi);
   if (!t.nonzero || !(wo_side * ls->wi.dot(hit.ng) >= 0)) return;
-  if (ls->shadowed && (++r.rays, occluded(c.traced, hit, *ls))) return;
+  if (ls->shadowed && (++r.shadow_rays, occluded(c.traced, hit, *ls))) return;
   const float w = ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf.pdf(t));
   r.L += beta.cwiseProduct(t.factor).cwiseProduct(ls->radiance) * (t.scale * w / ls->pdf);
 }
@@ -217,7 +188,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, PixelSample
   SurfaceHit hit;
   for (int depth = 0;; ++depth) {
     ++r.rays;
-    sampler.start_bounce(depth);
+    sampler.start_bounce(depth, use.nee && c.lights.reads_point());
     if (!c.traced.intersect(origin, v.dir, kInf, &hit, depth == 0)) {
       add_environment(c, v, use, depth, r);
       break;
@@ -267,7 +238,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, PixelSample
     origin = c.traced.offset(hit, v.dir);
     if (c.settings.russian_roulette && depth + 1 >= c.settings.rr_min_depth) {
       const float survive = std::min(0.95f, v.beta.maxCoeff());
-      if (!(sampler.uniform() < survive)) break;
+      if (!(sampler.uniform(Decision::roulette) < survive)) break;
       v.beta /= survive;
     }
     if (!v.beta.allFinite()) break;
@@ -332,7 +303,21 @@ struct Film {
 };
 
 struct RayCounts {
-  std::uint64_t rays = 0, nonfinite = 0;
+  std::uint64_t rays = 0, shadow_rays = 0, nonfinite = 0;
+  void operator+=(const RayCounts& o) {
+    rays += o.rays;
+    shadow_rays += o.shadow_rays;
+    nonfinite += o.nonfinite;
+  }
+};
+// The same, summed over the threads of a render.
+struct SharedRayCounts {
+  std::atomic<std::uint64_t> rays{0}, shadow_rays{0}, nonfinite{0};
+  void operator+=(const RayCounts& o) {
+    rays += o.rays;
+    shadow_rays += o.shadow_rays;
+    nonfinite += o.nonfinite;
+  }
 };
 
 // `pass` more samples for every pixel of a tile that is not done.
@@ -349,11 +334,12 @@ RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, in
       for (int k = 0; k < pass; ++k) {
         if (!c.settings.region.takes_sample(first + k)) continue;
         PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(first + k));
-        const Vec2f j = sampler.uniform2();
+        const Vec2f j = sampler.camera_jitter();
         Vec3f origin, dir;
         cam.ray(2 * (x + j.x()) / W - 1, 1 - 2 * (y + j.y()) / H, &origin, &dir);
         const PathResult p = trace_path(c, origin, dir, sampler);
-        counts.rays += std::uint64_t(p.rays);
+        counts.rays += std::uint64_t(p.rays + p.shadow_rays);
+        counts.shadow_rays += std::uint64_t(p.shadow_rays);
         ++a.n;
         if (!p.L.allFinite()) {
           ++counts.nonfinite;  // counted as a black sample: the mean stays finite
@@ -367,21 +353,16 @@ RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, in
 
 // One pass of `pass` samples per active pixel, in batches of tiles with
 // progress and cancellation (between_batches) on the calling thread.
-void trace_pass(const PathContext& c, const CameraRays& cam, Film& film, int pass, std::atomic<std::uint64_t>& rays,
-                std::atomic<std::uint64_t>& nonfinite, const std::function<void(double)>& between_batches) {
+void trace_pass(const PathContext& c, const CameraRays& cam, Film& film, int pass, SharedRayCounts& counts,
+                const std::function<void(double)>& between_batches) {
   const double total = double(film.width) * film.height * c.settings.spp;
   constexpr int kBatch = 32;  // tiles between progress reports and cancellation checks
   for (int first = 0; first < film.tiles; first += kBatch) {
     const int last = std::min(film.tiles, first + kBatch);
     tbb::parallel_for(tbb::blocked_range<int>(first, last, 1), [&](const tbb::blocked_range<int>& range) {
       RayCounts sum;
-      for (int tile = range.begin(); tile != range.end(); ++tile) {
-        const RayCounts t = trace_tile(c, cam, film, tile, pass);
-        sum.rays += t.rays;
-        sum.nonfinite += t.nonfinite;
-      }
-      rays += sum.rays;
-      nonfinite += sum.nonfinite;
+      for (int tile = range.begin(); tile != range.end(); ++tile) sum += trace_tile(c, cam, film, tile, pass);
+      counts += sum;
     });
     if (between_batches) {
       double done = 0;
@@ -497,19 +478,20 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
   const CameraRays cam(camera, s.width, s.height);
 
   Film film(s.width, s.height);
-  std::atomic<std::uint64_t> rays{0}, nonfinite{0};
+  SharedRayCounts counts;
   std::vector<double> total(s.sum_over_parts ? film.pixels.size() * kSums : 0);  // split by samples: every part's sums
   for (int taken = 0; taken < s.spp;) {
     const int pass = next_pass(s, taken);
-    trace_pass(context, cam, film, pass, rays, nonfinite, between_batches);
+    trace_pass(context, cam, film, pass, counts, between_batches);
     if (s.sum_over_parts) sum_pass_over_parts(film, total, s.sum_over_parts);
     taken += pass;
     if (s.adaptive_threshold > 0 && taken < s.spp) mark_converged(film, s.adaptive_threshold);
   }
   RenderResult out;
   resolve(film, out);
-  out.rays = rays;
-  out.nonfinite = nonfinite;
+  out.rays = counts.rays;
+  out.shadow_rays = counts.shadow_rays;
+  out.nonfinite = counts.nonfinite;
   out.emissive_triangles = lights.emissive_triangles();
   out.environment_sampled = lights.samples_environment();
   return out;

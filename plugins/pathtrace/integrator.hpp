@@ -52,7 +52,8 @@ struct RenderResult {
   cv::Mat depth;    // CV_32FC1 first-hit distance along the ray (0 where nothing is hit)
   cv::Mat samples;  // CV_32FC1 samples taken per pixel
   double mean_spp = 0;
-  std::uint64_t paths = 0, rays = 0;
+  std::uint64_t paths = 0, rays = 0;  // rays: closest-hit and shadow rays traced
+  std::uint64_t shadow_rays = 0;
   std::uint64_t nonfinite = 0;  // samples discarded because they were NaN or infinite
   std::size_t emissive_triangles = 0;
   bool environment_sampled = false;

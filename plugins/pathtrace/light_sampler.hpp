@@ -48,6 +48,9 @@ class LightSampler {
   bool empty() const { return table_.empty(); }
   bool samples_environment() const { return environment_entry_ >= 0 && !table_.empty(); }
   std::size_t emissive_triangles() const { return triangle_count_; }
+  // Whether sample() reads its point u: not for a lone point, spot or
+  // directional light (nothing to select, nothing to place).
+  bool reads_point() const { return !(entries_.size() == 1 && entries_[0].kind == Entry::Kind::light); }
 
   // Defined inline below, so that the path loop (integrator.cpp) can inline
   // it: it runs at every bounce.

@@ -58,63 +58,116 @@ inline std::uint32_t sobol_second_reversed(std::uint32_t i) {
 // 32-bit fraction to float in [0, 1): its top 24 bits, exact.
 inline float fraction_to_float(std::uint32_t x) { return float(x >> 8) * 0x1p-24f; }
 
-// Point `index` of dimension pair `d`'s sequence for one pixel (`pixel_key`:
-// a hash of seed and pixel), as 32-bit fractions.
+// Both halves of a 64-bit word reversed and swapped: one reversal turns the
+// two scrambled coordinates of a pair back for the price of one.
+inline std::uint64_t reverse_bits64(std::uint64_t x) {
+  x = __builtin_bswap64(x);
+  x = ((x >> 4) & 0x0f0f0f0f0f0f0f0full) | ((x & 0x0f0f0f0f0f0f0f0full) << 4);
+  x = ((x >> 2) & 0x3333333333333333ull) | ((x & 0x3333333333333333ull) << 2);
+  return ((x >> 1) & 0x5555555555555555ull) | ((x & 0x5555555555555555ull) << 1);
+}
+
+// The three scrambles of dimension pair d of one pixel (`pixel_key`: a hash
+// of seed and pixel): the index shuffle and one Owen scramble per coordinate.
+struct PairSeeds {
+  std::uint32_t shuffle, x, y;
+};
+inline PairSeeds pair_seeds(std::uint64_t pixel_key, std::uint32_t d) {
+  const std::uint64_t h = Rng::mix(pixel_key + 0x9e3779b97f4a7c15ull * (d + 1));
+  return {std::uint32_t(h), std::uint32_t(h >> 32), std::uint32_t((h * 0xd1342543de82ef95ull) >> 32)};
+}
+
+// Point `index` of one pair's sequence as 32-bit fractions, given
+// reverse_bits(index) (the same for every pair of a sample). The shuffled
+// index i = nested_uniform_scramble(index); Owen scrambling works on reversed
+// fractions, and i is van der Corput's reversed fraction, the second
+// dimension's is sobol_second_reversed(i).
 struct Fractions2 {
   std::uint32_t x, y;
 };
+inline std::uint32_t shuffled_index(const PairSeeds& s, std::uint32_t reversed_index) {
+  return reverse_bits(laine_karras_permutation(reversed_index, s.shuffle));
+}
+inline Fractions2 owen_sobol_2d(const PairSeeds& s, std::uint32_t reversed_index) {
+  const std::uint32_t i = shuffled_index(s, reversed_index);
+  const std::uint64_t scrambled_reversed =
+      std::uint64_t(laine_karras_permutation(sobol_second_reversed(i), s.y)) << 32 | laine_karras_permutation(i, s.x);
+  const std::uint64_t f = reverse_bits64(scrambled_reversed);
+  return {std::uint32_t(f >> 32), std::uint32_t(f)};
+}
+// Its first coordinate alone.
+inline std::uint32_t owen_sobol_1d(const PairSeeds& s, std::uint32_t reversed_index) {
+  return reverse_bits(laine_karras_permutation(shuffled_index(s, reversed_index), s.x));
+}
 inline Fractions2 owen_sobol_2d(std::uint64_t pixel_key, std::uint32_t d, std::uint32_t index) {
-  const std::uint64_t h = Rng::mix(pixel_key + 0x9e3779b97f4a7c15ull * (d + 1));
-  const std::uint32_t shuffle_seed = std::uint32_t(h), x_seed = std::uint32_t(h >> 32);
-  const std::uint32_t y_seed = std::uint32_t((h * 0xd1342543de82ef95ull) >> 32);
-  const std::uint32_t i = nested_uniform_scramble(index, shuffle_seed);
-  return {reverse_bits(laine_karras_permutation(i, x_seed)),
-          reverse_bits(laine_karras_permutation(sobol_second_reversed(i), y_seed))};
+  return owen_sobol_2d(pair_seeds(pixel_key, d), reverse_bits(index));
 }
 
 enum class SamplerKind { sobol, independent };
 
-// The numbers one sample of one pixel draws. `sobol`: each call takes the
-// next dimension pair (a 1D draw uses the first coordinate of its own pair);
-// the path loop starts every bounce at a fixed dimension (start_bounce) so a
-// dimension means the same decision in every sample of a pixel. Bounces from
-// kSobolBounces on draw from the splitmix64 stream instead: their share of
-// the error is small and padded high dimensions stratify little, while a
-// scrambled pair costs ~40 cycles (a third of a path's time on long paths).
-// `independent`: the splitmix64 stream of Rng(seed, p, s), dimensions ignored.
+// The decisions of one bounce; each has its own dimension pair at every
+// bounce (a 1D decision takes the first coordinate of its pair).
+enum class Decision : std::uint32_t { light, environment_pixel, lobe, direction, roulette };
+
+// The numbers one sample of one pixel draws. `sobol`: pair 0 jitters the
+// camera ray, bounce b's decision k takes pair 1 + 5 b + k, so a pair means
+// the same decision in every sample of a pixel. The pairs nearly every
+// bounce uses (direction; light point when the light sampler reads one, i.e.
+// not for a lone point light) are computed when the bounce starts, before
+// its ray is traced: a scrambled pair is a chain of ~90 cycles of dependent
+// multiplies and bit reversals, which the traversal hides; drawn where they
+// are used, they stalled the path loop (16 % of a path's time on the long
+// paths of the Embree comparison). Bounces from kSobolBounces on draw from
+// the splitmix64 stream instead: their share of the error is small and
+// padded high dimensions stratify little.
+// `independent`: the splitmix64 stream of Rng(seed, p, s) in the order of the
+// draws, decisions ignored.
 class PixelSampler {
  public:
   PixelSampler(SamplerKind kind, std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample)
       : rng_(seed, pixel, sample),
         pixel_key_(Rng::mix(seed ^ Rng::mix(pixel + 0x632be59bd9b4e019ull))),
-        index_(std::uint32_t(sample)),
-        sobol_(kind == SamplerKind::sobol),
-        sobol_now_(sobol_) {}
+        reversed_index_(reverse_bits(std::uint32_t(sample))),
+        sobol_(kind == SamplerKind::sobol) {}
 
-  // Dimension pairs: 1 for the camera, then kPairsPerBounce per bounce.
   static constexpr std::uint32_t kPairsPerBounce = 5;
   static constexpr int kSobolBounces = 4;
-  void start_bounce(int depth) {
-    pair_ = 1 + std::uint32_t(depth) * kPairsPerBounce;
-    sobol_now_ = sobol_ && depth < kSobolBounces;
+
+  // Before the first bounce: the camera ray's point in the pixel.
+  Vec2f camera_jitter() {
+    return sobol_ ? to_floats(owen_sobol_2d(pair_seeds(pixel_key_, 0), reversed_index_)) : rng_.uniform2();
   }
 
-  float uniform() {
-    if (!sobol_now_) return rng_.uniform();
-    return fraction_to_float(owen_sobol_2d(pixel_key_, pair_++, index_).x);
+  // `light_point`: whether the bounce will draw a point on a light.
+  void start_bounce(int depth, bool light_point) {
+    sobol_now_ = sobol_ && depth < kSobolBounces;
+    first_pair_ = 1 + std::uint32_t(depth) * kPairsPerBounce;
+    light_ready_ = sobol_now_ && light_point;
+    if (light_ready_) light_ = sobol_pair(Decision::light);
+    if (sobol_now_) direction_ = sobol_pair(Decision::direction);
   }
-  Vec2f uniform2() {
+
+  float uniform(Decision d) {
+    if (!sobol_now_) return rng_.uniform();
+    return fraction_to_float(owen_sobol_1d(seeds(d), reversed_index_));
+  }
+  Vec2f uniform2(Decision d) {
     if (!sobol_now_) return rng_.uniform2();
-    const Fractions2 f = owen_sobol_2d(pixel_key_, pair_++, index_);
-    return {fraction_to_float(f.x), fraction_to_float(f.y)};
+    if (d == Decision::direction) return direction_;
+    return d == Decision::light && light_ready_ ? light_ : sobol_pair(d);
   }
 
  private:
+  static Vec2f to_floats(Fractions2 f) { return {fraction_to_float(f.x), fraction_to_float(f.y)}; }
+  PairSeeds seeds(Decision d) const { return pair_seeds(pixel_key_, first_pair_ + std::uint32_t(d)); }
+  Vec2f sobol_pair(Decision d) const { return to_floats(owen_sobol_2d(seeds(d), reversed_index_)); }
+
   Rng rng_;
   std::uint64_t pixel_key_;
-  std::uint32_t index_;
-  std::uint32_t pair_ = 0;
-  bool sobol_, sobol_now_;
+  std::uint32_t reversed_index_;
+  std::uint32_t first_pair_ = 0;
+  bool sobol_, sobol_now_ = false, light_ready_ = false;
+  Vec2f light_, direction_;
 };
 
 }  // namespace loom::pathtrace

@@ -31,9 +31,10 @@ class Rng {
   std::uint64_t next_u64() { return mix(state_ += 0x9e3779b97f4a7c15ull); }  // splitmix64
   // 24 random bits: at most 1 - 2^-24, so always below 1 (no clamp needed).
   float uniform() { return float(next_u64() >> 40) * 0x1p-24f; }
+  // Two numbers from disjoint bits of one draw (48 of its 64).
   Vec2f uniform2() {
-    const float a = uniform();
-    return {a, uniform()};
+    const std::uint64_t b = next_u64();
+    return {float(b >> 40) * 0x1p-24f, float((b >> 16) & 0xffffffu) * 0x1p-24f};
   }
 
   static std::uint64_t mix(std::uint64_t z) {

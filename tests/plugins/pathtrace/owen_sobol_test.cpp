@@ -65,23 +65,41 @@ TEST(OwenSobol, LaineKarrasBitsDependOnLowerBitsOnly) {
 }
 
 // One sample index over 2^16 pixels: uniform over the unit square (64×64
-// cells, chi-square below dof + 4.5 √(2 dof)).
+// cells, chi-square below dof + 4.5 √(2 dof)), for a pair computed when the
+// bounce starts (light) and one drawn when asked for (lobe and roulette).
 TEST(OwenSobol, OneSampleIsUniformOverPixels) {
-  for (std::uint32_t s : {0u, 5u, 1000u}) {
-    std::vector<int> count(64 * 64, 0);
-    const int n = 1 << 16;
-    for (int p = 0; p < n; ++p) {
-      PixelSampler sampler(SamplerKind::sobol, 3, std::uint64_t(p), s);
-      sampler.start_bounce(2);
-      const Vec2f u = sampler.uniform2();
-      ++count[int(u.y() * 64) * 64 + int(u.x() * 64)];
+  for (std::uint32_t s : {0u, 5u, 1000u})
+    for (const bool prepared : {true, false}) {
+      std::vector<int> count(64 * 64, 0);
+      const int n = 1 << 16;
+      for (int p = 0; p < n; ++p) {
+        PixelSampler sampler(SamplerKind::sobol, 3, std::uint64_t(p), s);
+        sampler.start_bounce(2, true);
+        const Vec2f u = prepared ? sampler.uniform2(Decision::light)
+                                 : Vec2f(sampler.uniform(Decision::lobe), sampler.uniform(Decision::roulette));
+        ++count[int(u.y() * 64) * 64 + int(u.x() * 64)];
+      }
+      const double expected = double(n) / count.size();
+      double chi2 = 0;
+      for (int c : count) chi2 += (c - expected) * (c - expected) / expected;
+      const double dof = double(count.size()) - 1;
+      EXPECT_LT(chi2, dof + 4.5 * std::sqrt(2 * dof)) << "sample " << s << (prepared ? " light" : " lobe, roulette");
     }
-    const double expected = double(n) / count.size();
-    double chi2 = 0;
-    for (int c : count) chi2 += (c - expected) * (c - expected) / expected;
-    const double dof = double(count.size()) - 1;
-    EXPECT_LT(chi2, dof + 4.5 * std::sqrt(2 * dof)) << "sample " << s;
-  }
+}
+
+// A decision's numbers do not depend on which other decisions a bounce drew
+// (a glossy hit draws a lobe before its direction, a diffuse one does not).
+TEST(OwenSobol, EachDecisionHasItsOwnPair) {
+  for (std::uint64_t p : {0ull, 17ull, 40000ull})
+    for (std::uint64_t s : {0ull, 3ull, 250ull}) {
+      PixelSampler a(SamplerKind::sobol, 9, p, s), b(SamplerKind::sobol, 9, p, s);
+      a.start_bounce(1, true);
+      b.start_bounce(1, false);
+      b.uniform(Decision::lobe);
+      b.uniform2(Decision::light);
+      EXPECT_EQ(a.uniform2(Decision::direction), b.uniform2(Decision::direction));
+      EXPECT_EQ(a.uniform(Decision::roulette), b.uniform(Decision::roulette));
+    }
 }
 
 double mean_squared_error(const cv::Mat& a, const cv::Mat& b) {

@@ -1,0 +1,159 @@
+#include "ray_rate.hpp"
+
+#include <cstdint>
+#include <iostream>
+#include <limits>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_reduce.h>
+
+#include "alternating.hpp"
+#include "bench_harness.hpp"
+#include "camera_rays.hpp"
+#include "embree_scene.hpp"
+#include "integrator.hpp"
+#include "scenes.hpp"
+
+namespace loom::pathtrace::bench {
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+enum class RayKind : std::uint8_t { camera, bounce, shadow };
+
+// Rays as Embree takes them, in the order the paths cast them, with what
+// each found when recorded (a surface for closest-hit rays, a blocker for
+// shadow rays), so that the timed loop can be checked to trace the same rays.
+struct RecordedRays {
+  std::vector<RTCRay> rays;
+  std::vector<RayKind> kinds;
+  std::uint64_t paths = 0, shadow = 0, found = 0;
+
+  void add(const Vec3f& o, const Vec3f& d, float tfar, RayKind kind, bool found_something) {
+    const unsigned mask = kind == RayKind::shadow ? EmbreeScene::kShadowMask : EmbreeScene::kCameraMask;
+    rays.push_back({o.x(), o.y(), o.z(), 0.f, d.x(), d.y(), d.z(), 0.f, tfar, mask, 0, 0});
+    kinds.push_back(kind);
+    shadow += kind == RayKind::shadow;
+    found += found_something;
+  }
+};
+
+// The rays PathTrace's path loop (integrator.cpp) casts on a scene of
+// Lambertian surfaces lit by one point light, without roulette: a camera
+// ray; at each hit a shadow ray to the light when the light is in front of
+// the surface (as seen from the incoming ray), then a cosine-distributed
+// bounce; a path ends on a miss, after max_depth hits, or when its
+// throughput is zero (black after red, say).
+RecordedRays record_paths(const Scene& scene, const EmbreeScene& traced, int size, int spp, int max_depth) {
+  const CameraRays cam(*scene.camera, size, size);
+  const Vec3f light = scene.lights.at(0).position.cast<float>();
+  std::vector<Vec3f> albedo;
+  for (const TracedObject& o : traced.objects())
+    albedo.push_back(scene.objects[std::size_t(o.scene_index)].material.base_color.cast<float>());
+  RecordedRays r;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      for (int s = 0; s < spp; ++s) {
+        Rng rng(7, std::uint64_t(y) * size + x, std::uint64_t(s));
+        const Vec2f j = rng.uniform2();
+        Vec3f o, d;
+        cam.ray(2 * (x + j.x()) / size - 1, 1 - 2 * (y + j.y()) / size, &o, &d);
+        ++r.paths;
+        Vec3f beta = Vec3f::Ones();
+        for (int depth = 0; depth < max_depth; ++depth) {
+          SurfaceHit hit;
+          const bool found = traced.intersect(o, d, kInf, &hit, depth == 0);
+          r.add(o, d, kInf, depth == 0 ? RayKind::camera : RayKind::bounce, found);
+          if (!found) break;
+          const Vec3f n = hit.ns.dot(d) > 0 ? Vec3f(-hit.ns) : hit.ns;
+          if (n.dot(light - hit.p) > 0) {
+            const EmbreeScene::Segment seg = traced.shadow_segment(hit, light);
+            if (seg.tmax > 0)
+              r.add(seg.origin, seg.direction, seg.tmax, RayKind::shadow,
+                    traced.occluded(seg.origin, seg.direction, seg.tmax));
+          }
+          beta = beta.cwiseProduct(albedo[std::size_t(hit.object)]);
+          if (!(beta.maxCoeff() > 0)) break;
+          const Vec3f local = sample_cosine_hemisphere(rng.uniform2());
+          if (!(local.z() > 0)) break;
+          d = unit(Frame(n).to_world(local));
+          o = traced.offset(hit, d);
+        }
+      }
+  return r;
+}
+
+// Embree alone: every recorded ray once, rtcIntersect1 or rtcOccluded1 with
+// the context flags PathTrace sets, in blocks of consecutive rays over TBB.
+// Returns how many found a surface or a blocker.
+std::uint64_t trace_recorded(const RecordedRays& r, RTCScene scene) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, r.rays.size(), 4096), std::uint64_t(0),
+      [&](const tbb::blocked_range<std::size_t>& range, std::uint64_t found) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          RTCIntersectContext context;
+          rtcInitIntersectContext(&context);
+          if (r.kinds[i] == RayKind::shadow) {
+            RTCRay ray = r.rays[i];
+            rtcOccluded1(scene, &context, &ray);
+            found += ray.tfar < 0;
+            continue;
+          }
+          context.flags = r.kinds[i] == RayKind::camera ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+                                                        : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+          RTCRayHit rh;
+          rh.ray = r.rays[i];
+          rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+          rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+          rtcIntersect1(scene, &context, &rh);
+          found += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        }
+        return found;
+      },
+      [](std::uint64_t a, std::uint64_t b) { return a + b; });
+}
+
+}  // namespace
+
+void bench_ray_rate(bool quick) {
+  const Scene scene = embree_cornell_box(EMBREE_MODELS);
+  const EmbreeScene traced(scene);
+  RenderSettings s;  // as the `embree` mode renders it
+  s.width = s.height = quick ? 128 : 256;
+  s.spp = 16;
+  s.max_depth = 8;
+  s.russian_roulette = false;
+  const RecordedRays recorded = record_paths(scene, traced, 128, quick ? 4 : 8, s.max_depth);
+  const int passes = quick ? 2 : 4;  // over the recorded rays per timed run
+  const double recorded_per_path = double(recorded.rays.size()) / double(recorded.paths);
+  const double recorded_shadow = double(recorded.shadow) / double(recorded.rays.size());
+  loom::bench::Csv csv("pathtrace_rays",
+                       {"threads", "loom_rays_per_s", "embree_rays_per_s", "fraction", "loom_rays_per_cpu_s",
+                        "embree_rays_per_cpu_s", "fraction_cpu", "loom_rays_per_path", "loom_shadow_share",
+                        "recorded_rays_per_path", "recorded_shadow_share", "outcomes_match", "load1"});
+  for (int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    RenderResult ours;
+    bool same = true;
+    const auto t = loom::bench::time_alternating(
+        quick ? 1 : 3, {[&] { ours = render(scene, *scene.camera, traced, s); },
+                        [&] {
+                          for (int p = 0; p < passes; ++p)
+                            same = trace_recorded(recorded, traced.rtc_scene()) == recorded.found && same;
+                        }});
+    const double loom_rays = double(ours.rays), embree_rays = double(recorded.rays.size()) * passes;
+    const double lw = loom_rays / t[0].wall, ew = embree_rays / t[1].wall;
+    const double lc = loom_rays / t[0].cpu, ec = embree_rays / t[1].cpu;
+    csv.row({(long long)threads, lw, ew, lw / ew, lc, ec, lc / ec, loom_rays / double(ours.paths),
+             double(ours.shadow_rays) / loom_rays, recorded_per_path, recorded_shadow, std::string(same ? "yes" : "no"),
+             loom::bench::load_average()});
+    std::cout << "rays, " << threads << " thread(s): PathTrace " << lw / 1e6 << " M rays/s, Embree alone " << ew / 1e6
+              << " M rays/s: " << 100 * lw / ew << " % of the limit (per CPU second " << 100 * lc / ec << " %)\n";
+  }
+  csv.save();
+}
+
+}  // namespace loom::pathtrace::bench

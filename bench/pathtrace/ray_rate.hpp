@@ -1,0 +1,16 @@
+// The limit of the path tracer's ray cost: Embree alone, on the same BVH and
+// thread count, tracing the rays PathTrace casts (issue 27, "The limit").
+#pragma once
+
+namespace loom::pathtrace::bench {
+
+// `bench_pathtrace rays`: on Embree's Cornell box (the `embree` mode's scene:
+// Lambertian walls, one point light, depth 8, no roulette) records the rays
+// of a sample of paths (camera, bounce and shadow rays, in the order a path
+// casts them), then times, alternating, PathTrace's render and
+// rtcIntersect1 / rtcOccluded1 over the recorded rays in a tight loop, with
+// 1 and 2 threads. Writes pathtrace_rays.csv: both ray rates and PathTrace's
+// fraction of Embree's (the share of its time that is Embree's traversal).
+void bench_ray_rate(bool quick);
+
+}  // namespace loom::pathtrace::bench
