@@ -103,7 +103,7 @@ def run_all(build, out, quick, only):
 class Row:
     def __init__(self, measure, loom=float("nan"), peer_name="", peer=float("nan"), ratio=float("nan"),
                  target="", limit=float("nan"), limit_basis="", fraction=float("nan"), load=float("nan"),
-                 note="", loom_text="", limit_text=""):
+                 note="", loom_text="", limit_text="", label=""):
         self.__dict__.update(locals())
         del self.__dict__["self"]
 
@@ -137,7 +137,7 @@ def poisson(raw, bandwidth):
     return [Row(f"Poisson blend, {n}² disk, multigrid to 2e-3 (max error {num(m['max_error_255']):.3f}/255)",
                 loom, "cv::seamlessClone", loom * ratio, ratio, "≥ 5×", limit,
                 f"{model_bytes / 1e9:.1f} GB at the triad's {bandwidth:.1f} GB/s", limit / loom,
-                num(m["load_average"]))]
+                num(m["load_average"]), label="Poisson 1024² disk: bandwidth")]
 
 
 def direct_limit(rows, mesh, solves=1):
@@ -173,7 +173,7 @@ def tutte(raw):
     peer_s = num(peer["seconds"]) if peer else float("nan")
     return [Row("Tutte (uniform weights), 100k-face hemisphere, UVs to 1e-12 of CGAL's", loom,
                 "CGAL 5.5 + Eigen SparseLU" if peer else "CGAL (not built)", peer_s, peer_s / loom, "≥ 10×",
-                limit, basis, limit / loom, num(by["loom"]["load_average"]))]
+                limit, basis, limit / loom, num(by["loom"]["load_average"]), label="Tutte 100k: CHOLMOD alone")]
 
 
 def arap(raw):
@@ -194,7 +194,7 @@ def arap(raw):
                  f"+ {iterations} solves × {part['cholmod solve']:.3f} s")
     return [Row(f"ARAP to its tolerance, {o['mesh']} ({iterations} iterations, energy {num(o['energy']):.6f} "
                 f"vs CGAL's {num(c['energy']):.6f})", loom, "CGAL ARAP_parameterizer_3", peer, peer / loom,
-                "≥ 15×", limit, basis, limit / loom)]
+                "≥ 15×", limit, basis, limit / loom, label="ARAP 100k: CHOLMOD alone")]
 
 
 def pathtrace(raw):
@@ -216,7 +216,8 @@ def pathtrace(raw):
         loom_rate, embree_rate = num(r["loom_rays_per_s"]), num(r["embree_rays_per_s"])
         out.append(Row(f"PathTrace rays/s against Embree's ray rate, {r['threads']} thread(s)", 1 / loom_rate,
                        limit=1 / embree_rate, limit_basis=f"Embree alone: {embree_rate / 1e6:.1f} M rays/s",
-                       fraction=loom_rate / embree_rate, load=num(r["load1"])))
+                       fraction=loom_rate / embree_rate, load=num(r["load1"]),
+                       label=f"PathTrace, {r['threads']} thread(s): Embree's ray rate"))
     ratios = read(raw, "pathtrace_cycles_ratios")
     for scene in sorted({r["scene"] for r in ratios}):
         vals = [num(r["time_ratio_at_equal_error"]) for r in ratios if r["scene"] == scene and r["renderer"] == "loom"]
@@ -250,7 +251,8 @@ def mpm(raw):
                        f"{num(r['triad_GB_per_s']):.1f} GB/s (a loop streaming the same bytes: "
                        f"{1 / num(r['fraction_of_proxy']):.1f}× Loom's rate)",
                        fraction=num(r["fraction_of_triad"]), load=num(r["load"]),
-                       loom_text=f"{loom_rate / 1e6:.1f} M/s", limit_text=f"{1e-6 / limit:.0f} M/s"))
+                       loom_text=f"{loom_rate / 1e6:.1f} M/s", limit_text=f"{1e-6 / limit:.0f} M/s",
+                       label=f"MPM {scene_name(r['scene'])}: bandwidth"))
         # The lower, binding limit (docs/mpm.md, "The limit"): instructions
         # per particle-substep, counted by callgrind (`bench_mpm count`,
         # load-independent), issued at Zen 4's 6 a cycle on every core at the
@@ -262,8 +264,14 @@ def mpm(raw):
             out.append(Row(f"MPM {r['scene']}: instruction issue", loom, limit=1 / rate,
                            limit_basis=f"{per_substep:,} instructions at 6 a cycle × {top} cores × {clock[0]:.2f} GHz",
                            fraction=loom_rate / rate, load=num(r["load"]),
-                           loom_text=f"{loom_rate / 1e6:.1f} M/s", limit_text=f"{rate / 1e6:.0f} M/s"))
+                           loom_text=f"{loom_rate / 1e6:.1f} M/s", limit_text=f"{rate / 1e6:.0f} M/s",
+                           label=f"MPM {scene_name(r['scene'])}: instruction issue"))
     return out
+
+
+def scene_name(scene):
+    """'2D fluid (mpm88) 512^2' -> '2D fluid'."""
+    return " ".join(w for w in scene.split() if "^" not in w and not w.startswith("("))
 
 
 # Instructions per particle-substep by scene, from callgrind (docs/mpm.md).
@@ -283,7 +291,8 @@ def shading(raw):
             out.append(Row(f"Render 1080p, 100k triangles, 2048² map, 5×5 PCF, 4× MSAA ({what[1]})",
                            num(r["seconds"]) / num(r["fraction_of_limit"]), limit=num(r["seconds"]),
                            limit_basis=f"llvmpipe, {r['lp_threads'].split(' ')[0]} threads: {what[0]}",
-                           fraction=num(r["fraction_of_limit"]), load=num(r["load1"])))
+                           fraction=num(r["fraction_of_limit"]), load=num(r["load1"]),
+                           label=f"Render {what[1].replace('Render ', '')}: {what[0].split(' (')[0]}"))
     return out
 
 
@@ -343,19 +352,20 @@ def plot(out, rows):
     if not shutil.which("gnuplot"):
         print("gnuplot is not installed: no plot")
         return
-    data = [(r.measure.split(" (")[0][:60].replace('"', "'"), r.fraction) for r in rows if r.fraction == r.fraction]
+    data = [((r.label or r.measure.split(" (")[0])[:60].replace('"', "'"), r.fraction)
+            for r in rows if r.fraction == r.fraction]
     if not data:
         return
     dat = out / "limits.dat"
     dat.write_text("".join(f'"{name}" {fraction:.4f}\n' for name, fraction in reversed(data)))
-    script = f"""set terminal pngcairo size 1200,{160 + 34 * len(data)}
+    script = f"""set terminal pngcairo size 1000,{160 + 30 * len(data)} noenhanced
 set output '{out / "limits.png"}'
 set title "Fraction of this machine's limit (1 = at the limit; dashed: half)"
 set style fill solid 0.6
 set xrange [0:1.1]
 set yrange [-0.6:{len(data) - 0.4}]
 set grid xtics
-set lmargin 62
+set lmargin 44
 set arrow from 0.5, graph 0 to 0.5, graph 1 nohead dt 2
 plot '{dat}' using ($2/2):0:($2/2):(0.35):yticlabels(1) with boxxyerror notitle, \\
      '' using 2:0:(sprintf("%.2f", $2)) with labels left offset 0.5,0 notitle
