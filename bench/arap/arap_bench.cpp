@@ -224,8 +224,8 @@ int main(int argc, char** argv) {
   if (large) meshes.push_back(hemisphere(354, 1414));
 
   loom::bench::Csv curve("arap_curve", {"mesh", "method", "iteration", "seconds", "energy"});
-  loom::bench::Csv limit("arap_limit", {"mesh", "part", "ordering", "blas_threads", "seconds", "factor_nonzeros", "flops",
-                                        "load_average"});
+  loom::bench::Csv limit("arap_limit", {"mesh", "part", "ordering", "blas_threads", "seconds", "factor_nonzeros",
+                                        "flops", "load_average"});
   loom::bench::Csv summary("arap", {"mesh", "faces", "method", "seconds", "cpu_seconds", "energy",
                                     "flips", "iterations", "speedup"});
   const int iterations = 100;

@@ -17,25 +17,29 @@ constexpr double kScale = 3.0;
 // every time (first touch then places each page with its thread).
 template <class Body>
 void split(std::size_t n, const Body& body) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, n / 64 + 1),
-                    [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); },
-                    tbb::static_partitioner());
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, n, n / 64 + 1),
+      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); }, tbb::static_partitioner());
 }
 
 }  // namespace
 
 const std::vector<StreamKernel>& stream_kernels() {
   static const std::vector<StreamKernel> kernels = {
-      {"copy", 2, [](double* a, const double* b, const double*, std::size_t i, std::size_t e) {
+      {"copy", 2,
+       [](double* a, const double* b, const double*, std::size_t i, std::size_t e) {
          for (; i < e; ++i) a[i] = b[i];
        }},
-      {"scale", 2, [](double* a, const double* b, const double*, std::size_t i, std::size_t e) {
+      {"scale", 2,
+       [](double* a, const double* b, const double*, std::size_t i, std::size_t e) {
          for (; i < e; ++i) a[i] = kScale * b[i];
        }},
-      {"add", 3, [](double* a, const double* b, const double* c, std::size_t i, std::size_t e) {
+      {"add", 3,
+       [](double* a, const double* b, const double* c, std::size_t i, std::size_t e) {
          for (; i < e; ++i) a[i] = b[i] + c[i];
        }},
-      {"triad", 3, [](double* a, const double* b, const double* c, std::size_t i, std::size_t e) {
+      {"triad", 3,
+       [](double* a, const double* b, const double* c, std::size_t i, std::size_t e) {
          for (; i < e; ++i) a[i] = b[i] + kScale * c[i];
        }},
   };

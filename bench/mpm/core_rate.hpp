@@ -86,7 +86,11 @@ inline double core_divider_rate_once(bool sqrt) {
 // The best of 200 runs of each.
 inline double core_clock_hz() { return best_of(200, core_clock_hz_once); }
 inline double core_peak_flops() { return best_of(200, core_peak_flops_once); }
-inline double core_divisions() { return best_of(200, [] { return core_divider_rate_once(false); }); }
-inline double core_square_roots() { return best_of(200, [] { return core_divider_rate_once(true); }); }
+inline double core_divisions() {
+  return best_of(200, [] { return core_divider_rate_once(false); });
+}
+inline double core_square_roots() {
+  return best_of(200, [] { return core_divider_rate_once(true); });
+}
 
 }  // namespace loom::bench

@@ -133,7 +133,7 @@ void run_throughput(int max_threads, bool quick) {
 // triad, alternating round by round at `threads`. Returns the loop's checksum.
 template <int D>
 double limit_row(loom::bench::Csv& csv, const Scene& scene, Particles<D> ps, int threads, int substeps, int runs,
-               loom::bench::StreamArrays& arrays) {
+                 loom::bench::StreamArrays& arrays) {
   tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
   arrays.touch();
   Settings s;
@@ -146,14 +146,13 @@ double limit_row(loom::bench::Csv& csv, const Scene& scene, Particles<D> ps, int
   Particles<D> proxy_ps = ps;
   traffic::StreamingProxy<D> proxy(nodes, with_mass);
   const auto& triad = loom::bench::stream_kernel("triad");
-  const auto t = loom::bench::time_alternating(
-      runs, {[&] {
-               for (int k = 0; k < substeps; ++k) solver.substep(ps, 2e-5);
-             },
-             [&] {
-               for (int k = 0; k < substeps; ++k) proxy.run(proxy_ps);
-             },
-             [&] { arrays.run(triad); }});
+  const auto t = loom::bench::time_alternating(runs, {[&] {
+                                                        for (int k = 0; k < substeps; ++k) solver.substep(ps, 2e-5);
+                                                      },
+                                                      [&] {
+                                                        for (int k = 0; k < substeps; ++k) proxy.run(proxy_ps);
+                                                      },
+                                                      [&] { arrays.run(triad); }});
   const double work = static_cast<double>(ps.size()) * substeps;
   const double loom_rate = work / t[0].wall, proxy_rate = work / t[1].wall, loom_cpu_rate = work / t[0].cpu;
   const double triad_bandwidth = arrays.bytes(triad) / t[2].wall;
@@ -168,16 +167,16 @@ double limit_row(loom::bench::Csv& csv, const Scene& scene, Particles<D> ps, int
 }
 
 void run_limit(int max_threads, bool quick) {
-  loom::bench::Csv core("mpm_core_rate", {"clock_ghz", "sse2_peak_gflops", "divisions_per_ns", "square_roots_per_ns",
-                                          "load"});
+  loom::bench::Csv core("mpm_core_rate",
+                        {"clock_ghz", "sse2_peak_gflops", "divisions_per_ns", "square_roots_per_ns", "load"});
   core.row({loom::bench::core_clock_hz() * 1e-9, loom::bench::core_peak_flops() * 1e-9,
             loom::bench::core_divisions() * 1e-9, loom::bench::core_square_roots() * 1e-9,
             loom::bench::load_average()});
   core.save();
-  loom::bench::Csv csv("mpm_limit", {"scene", "threads", "particles", "grid", "Mps_wall", "Mps_cpu", "proxy_Mps",
-                                     "particle_bytes", "grid_bytes", "bytes_per_particle_substep", "loom_GB_per_s",
-                                     "proxy_GB_per_s", "triad_GB_per_s", "fraction_of_triad",
-                                     "fraction_of_proxy", "load"});
+  loom::bench::Csv csv("mpm_limit",
+                       {"scene", "threads", "particles", "grid", "Mps_wall", "Mps_cpu", "proxy_Mps", "particle_bytes",
+                        "grid_bytes", "bytes_per_particle_substep", "loom_GB_per_s", "proxy_GB_per_s", "triad_GB_per_s",
+                        "fraction_of_triad", "fraction_of_proxy", "load"});
   const int n = quick ? 200000 : 1000000;
   loom::bench::StreamArrays arrays(quick ? 128 : 256);
   double checksum = 0;  // printed, so that no compiler drops the loops
@@ -221,8 +220,8 @@ void run_nbody(bool quick) {
     NBodySystem s = random_cluster(n);
     const int steps = std::max(1, (quick ? 1 << 22 : 1 << 24) / (n * n));
     const auto t = loom::bench::time_alternating(5, {[&] {
-      for (int k = 0; k < steps; ++k) step(s, 1e-4, Integrator::leapfrog);
-    }})[0];
+                                                   for (int k = 0; k < steps; ++k) step(s, 1e-4, Integrator::leapfrog);
+                                                 }})[0];
     const double pairs = double(n) * (n - 1) * steps;
     csv.row({static_cast<long long>(n), static_cast<long long>(steps), pairs / t.wall * 1e-6, pairs / t.cpu * 1e-6,
              t.cpu / pairs * clock, loom::bench::load_average()});
@@ -331,14 +330,15 @@ int main(int argc, char** argv) {
   std::vector<std::string> modes;
   cli.quick(quick, "200k particles and half the substeps; 0.25 s instead of 1 s of simulation")
       .threads(max_threads, "the throughput runs at 1, 2, 4, ... up to N threads (0: all cores)")
-      .modes(modes,
-             {{"throughput", "particle-substeps per second: 2D 1M @ 512², 3D 1M @ 128³ (mpm_throughput)"},
-              {"limit", "the throughput scenes against the memory-bandwidth limit and the core's rate "
-                        "(mpm_limit, mpm_core_rate)"},
-              {"nbody", "the NBody direct sum: pair interactions per second (mpm_nbody)"},
-              {"error", "an elastic block's error over Δt and grid resolution (mpm_error_*)"},
-              {"count", "only --substeps substeps of --scene, for callgrind with --threads 1 (not in the default set)"}},
-             "parts to run (default: all but count)")
+      .modes(
+          modes,
+          {{"throughput", "particle-substeps per second: 2D 1M @ 512², 3D 1M @ 128³ (mpm_throughput)"},
+           {"limit", "the throughput scenes against the memory-bandwidth limit and the core's rate "
+                     "(mpm_limit, mpm_core_rate)"},
+           {"nbody", "the NBody direct sum: pair interactions per second (mpm_nbody)"},
+           {"error", "an elastic block's error over Δt and grid resolution (mpm_error_*)"},
+           {"count", "only --substeps substeps of --scene, for callgrind with --threads 1 (not in the default set)"}},
+          "parts to run (default: all but count)")
       .option("--scene", scene, "count: 0 2D fluid, 1 2D elastic, 2 3D fluid, 3 3D elastic (-1: all)")
       .option("--particles", particles, "count: particles")
       .option("--substeps", substeps, "count: substeps");

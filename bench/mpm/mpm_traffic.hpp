@@ -76,13 +76,15 @@ class StreamingProxy {
       if (static_cast<long>(i) < with_mass_) grid_[i][0] = 1;
     });
     const double one = 1 + sink_ * 0;  // a run-time 1: the stores below cannot be dropped
-    for_particles(n, [&](int p) {  // G2P's reads and writes
+    for_particles(n, [&](int p) {      // G2P's reads and writes
       const double s = ps.mass[p] + ps.volume[p] + ps.mu[p] + ps.lambda[p] + static_cast<double>(ps.material[p]);
       ps.x[p] *= one;
       ps.v[p].setConstant(s);
       ps.C[p].setConstant(s);
-      if (fluid) ps.J[p] *= one;
-      else ps.F[p] *= one, ps.C[p](0, 0) += ps.J[p];
+      if (fluid)
+        ps.J[p] *= one;
+      else
+        ps.F[p] *= one, ps.C[p](0, 0) += ps.J[p];
     });
   }
   double checksum() const { return sink_; }

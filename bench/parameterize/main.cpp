@@ -93,12 +93,12 @@ void stages_and_limit(const Input& m, int runs, loom::bench::Csv& out) {
   stage("cholmod analyze + factor (loom)", [&] { chol.compute(sys.A); });
   stage("cholmod solve (loom)", [&] { chol.solve(sys.B); });
   for (const auto& t : loom::bench::cholmod_orderings(sys.A, 2, runs)) {
-    out.row({m.name, std::string("cholmod analyze"), t.ordering, (long long)t.blas_threads, t.analyze, t.factor_nonzeros, t.flops,
-             loom::bench::load_average()});
-    out.row({m.name, std::string("cholmod factor"), t.ordering, (long long)t.blas_threads, t.factor, t.factor_nonzeros, t.flops,
-             loom::bench::load_average()});
-    out.row({m.name, std::string("cholmod solve"), t.ordering, (long long)t.blas_threads, t.solve, t.factor_nonzeros, t.flops,
-             loom::bench::load_average()});
+    out.row({m.name, std::string("cholmod analyze"), t.ordering, (long long)t.blas_threads, t.analyze,
+             t.factor_nonzeros, t.flops, loom::bench::load_average()});
+    out.row({m.name, std::string("cholmod factor"), t.ordering, (long long)t.blas_threads, t.factor, t.factor_nonzeros,
+             t.flops, loom::bench::load_average()});
+    out.row({m.name, std::string("cholmod solve"), t.ordering, (long long)t.blas_threads, t.solve, t.factor_nonzeros,
+             t.flops, loom::bench::load_average()});
   }
 }
 
@@ -132,8 +132,8 @@ int main(int argc, char** argv) {
                                          "flipped", "angle_mean", "area_mean", "arap_energy", "max_uv_diff",
                                          "load_average"});
   loom::bench::Csv times("parameterize_times", {"mesh", "faces", "method", "seconds"});
-  loom::bench::Csv limit("parameterize_limit", {"mesh", "part", "ordering", "blas_threads", "seconds", "factor_nonzeros", "flops",
-                                                "load_average"});
+  loom::bench::Csv limit("parameterize_limit", {"mesh", "part", "ordering", "blas_threads", "seconds",
+                                                "factor_nonzeros", "flops", "load_average"});
   for (const Input& m : inputs) {
     const bool big = m.F.rows() > 50000, huge = m.F.rows() > 500000;
     const int runs = quick ? 1 : big ? big_runs : 5;

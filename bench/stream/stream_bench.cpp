@@ -38,9 +38,8 @@ int main(int argc, char** argv) {
       std::vector<double> seconds;
       for (int r = 0; r < runs; ++r) seconds.push_back(arrays.run(k));
       std::sort(seconds.begin(), seconds.end());
-      csv.row({(long long)threads, std::string(k.name), (long long)megabytes,
-               arrays.bytes(k) / seconds.front() * 1e-9, arrays.bytes(k) / seconds[seconds.size() / 2] * 1e-9,
-               loom::bench::load_average()});
+      csv.row({(long long)threads, std::string(k.name), (long long)megabytes, arrays.bytes(k) / seconds.front() * 1e-9,
+               arrays.bytes(k) / seconds[seconds.size() / 2] * 1e-9, loom::bench::load_average()});
     }
   }
   std::printf("checksum %.1f\n", arrays.checksum());

@@ -116,16 +116,18 @@ void Solver<D>::bin(const Particles<D>& ps) {
   // chunks of particles are counted and scattered in parallel, each chunk from its
   // own cursors, which start where the earlier chunks' particles of the block end;
   // the result is the one stable order, whatever the number of chunks.
-  const int threads = static_cast<int>(
-      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  const int threads = static_cast<int>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
   const int chunks = std::clamp(np / 2048, 1, threads);
   cursor_.assign(static_cast<std::size_t>(chunks) * blocks, 0);
   const auto each_chunk = [&](const auto& body) {
-    tbb::parallel_for(tbb::blocked_range<int>(0, chunks, 1), [&](const tbb::blocked_range<int>& r) {
-      for (int c = r.begin(); c < r.end(); ++c)
-        body(&cursor_[static_cast<std::size_t>(c) * blocks], static_cast<int>(long(np) * c / chunks),
-             static_cast<int>(long(np) * (c + 1) / chunks));
-    }, tbb::simple_partitioner());
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, chunks, 1),
+        [&](const tbb::blocked_range<int>& r) {
+          for (int c = r.begin(); c < r.end(); ++c)
+            body(&cursor_[static_cast<std::size_t>(c) * blocks], static_cast<int>(long(np) * c / chunks),
+                 static_cast<int>(long(np) * (c + 1) / chunks));
+        },
+        tbb::simple_partitioner());
   };
   each_chunk([&](int* count, int begin, int end) {
     for (int p = begin; p < end; ++p) {
