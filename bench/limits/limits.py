@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Issue 27's table in one run: every solver and renderer against its peer and
+"""The peer-and-limit table in one run: every solver and renderer against its peer and
 against this machine's limit.
 
 Runs the bench programs one after another on the same machine (so their
