@@ -2,7 +2,7 @@
 
 #include <cholmod.h>
 
-#include <dlfcn.h>
+#include "loom/numerics/blas_threads.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -82,19 +82,11 @@ CholmodTiming time_ordering(Eigen::SparseMatrix<double> A, const char* name, int
 
 }  // namespace
 
-bool set_blas_threads(int n) {
-  using SetThreads = void (*)(int);
-  void* symbol = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
-  if (!symbol) return false;
-  reinterpret_cast<SetThreads>(symbol)(n);
-  return true;
-}
-
 std::vector<CholmodTiming> cholmod_orderings(const Eigen::SparseMatrix<double>& A, int rhs_columns, int runs) {
   std::vector<CholmodTiming> out;
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   for (const int threads : {1, cores}) {
-    if (!set_blas_threads(threads) && threads > 1) break;
+    if (!numerics::set_blas_threads(threads) && threads > 1) break;
     for (const auto& [name, method] : {std::pair<const char*, int>{"default", -1},
                                        {"amd", CHOLMOD_AMD},
                                        {"metis", CHOLMOD_METIS},
@@ -104,7 +96,7 @@ std::vector<CholmodTiming> cholmod_orderings(const Eigen::SparseMatrix<double>& 
     }
     if (cores == 1) break;
   }
-  set_blas_threads(1);
+  numerics::set_blas_threads(1);
   return out;
 }
 

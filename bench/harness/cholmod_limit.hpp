@@ -27,11 +27,6 @@ struct CholmodTiming {
 // BLAS is left on one thread afterwards.
 std::vector<CholmodTiming> cholmod_orderings(const Eigen::SparseMatrix<double>& A, int rhs_columns, int runs);
 
-// OpenBLAS's thread count, looked up at run time as numerics::SparseCholesky
-// does (which sets 1 unless OPENBLAS_NUM_THREADS is set); false when the
-// loaded BLAS has no such call.
-bool set_blas_threads(int n);
-
 // The fastest factorization over the orderings (analysis not counted).
 const CholmodTiming& best_factor(const std::vector<CholmodTiming>& timings);
 

@@ -20,6 +20,7 @@
 #include "alternating.hpp"
 #include "bench_harness.hpp"
 #include "cholmod_limit.hpp"
+#include "loom/numerics/blas_threads.hpp"
 #include "generators.hpp"
 #include "harmonic_map.hpp"
 #include "loom/numerics/boundary_map.hpp"
@@ -80,9 +81,9 @@ void stages_and_limit(const Input& m, int runs, loom::bench::Csv& out) {
   };
   stage("loom total", tutte);
   // What OPENBLAS_NUM_THREADS=2 would give a user on an idle machine.
-  if (loom::bench::set_blas_threads(2)) {
+  if (loom::numerics::set_blas_threads(2)) {
     stage("loom total, 2 BLAS threads", tutte);
-    loom::bench::set_blas_threads(1);
+    loom::numerics::set_blas_threads(1);
   }
   stage("boundary loops", [&] { loops = boundary_loops(m.F); });
   stage("boundary on the circle", [&] { circle = map_boundary(m.V, m.F, loops[0], BoundaryShape::circle); });

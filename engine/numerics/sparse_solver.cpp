@@ -1,4 +1,5 @@
 #include "loom/numerics/sparse_solver.hpp"
+#include "loom/numerics/blas_threads.hpp"
 
 #include <cholmod.h>
 #include <dlfcn.h>
@@ -85,12 +86,7 @@ cholmod_dense view_dense(const Eigen::MatrixXd& B) {
 void blas_on_calling_thread() {
   static std::once_flag once;
   std::call_once(once, [] {
-    if (std::getenv("OPENBLAS_NUM_THREADS")) return;
-    using SetThreads = void (*)(int);
-    void* openblas = dlopen("libopenblas.so.0", RTLD_LAZY | RTLD_NOLOAD);
-    void* symbol = dlsym(openblas ? openblas : RTLD_DEFAULT, "openblas_set_num_threads");
-    if (symbol) reinterpret_cast<SetThreads>(symbol)(1);
-    if (openblas) dlclose(openblas);
+    if (!std::getenv("OPENBLAS_NUM_THREADS")) set_blas_threads(1);
   });
 }
 
@@ -296,5 +292,14 @@ Eigen::MatrixXd SparseLU::solve(const Eigen::MatrixXd& B) const {
 }
 
 const char* SparseLU::backend() const { return "umfpack"; }
+
+bool set_blas_threads(int threads) {
+  using SetThreads = void (*)(int);
+  void* openblas = dlopen("libopenblas.so.0", RTLD_LAZY | RTLD_NOLOAD);
+  void* symbol = dlsym(openblas ? openblas : RTLD_DEFAULT, "openblas_set_num_threads");
+  if (symbol) reinterpret_cast<SetThreads>(symbol)(threads);
+  if (openblas) dlclose(openblas);
+  return symbol != nullptr;
+}
 
 }  // namespace loom::numerics
