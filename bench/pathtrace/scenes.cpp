@@ -12,6 +12,15 @@ namespace loom::pathtrace::bench {
 
 namespace {
 
+// A camera at `eye` looking at `target`, y up, with a vertical field of view in degrees.
+Camera look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, double fov_y_degrees) {
+  Camera camera;
+  camera.eye = eye;
+  camera.target = target;
+  camera.fov_y = fov_y_degrees * M_PI / 180;
+  return camera;
+}
+
 std::shared_ptr<Mesh> ground_quad(double half) {
   auto m = std::make_shared<Mesh>();
   m->V.resize(4, 3);
@@ -100,11 +109,7 @@ Scene embree_cornell_box(const std::filesystem::path& models) {
   light.position = Eigen::Vector3d(213, 300, 227);
   light.intensity = 100000;
   scene.lights.push_back(light);
-  Camera camera;
-  camera.eye = Eigen::Vector3d(278, 273, -800);
-  camera.target = Eigen::Vector3d(278, 273, 0);
-  camera.fov_y = 37 * M_PI / 180;
-  scene.camera = camera;
+  scene.camera = look_at({278, 273, -800}, {278, 273, 0}, 37);
   return scene;
 }
 
@@ -130,11 +135,7 @@ Scene night_scene(bool lamp) {
     l.intensity = 12;
     scene.lights.push_back(l);
   }
-  Camera camera;
-  camera.eye = Eigen::Vector3d(0, 1.8, 7);
-  camera.target = Eigen::Vector3d(0, 0.8, 0);
-  camera.fov_y = 40 * M_PI / 180;
-  scene.camera = camera;
+  scene.camera = look_at({0, 1.8, 7}, {0, 0.8, 0}, 40);
   return scene;
 }
 
@@ -148,11 +149,7 @@ Scene bright_pixel_scene() {
   cv::Mat map(32, 64, CV_32FC3, cv::Scalar::all(0.05));
   map.at<cv::Vec3f>(8, 40) = cv::Vec3f(20000, 20000, 20000);  // a small sun, 45° up
   scene.environment.map = std::make_shared<Image>(map, Encoding::linear);
-  Camera camera;
-  camera.eye = Eigen::Vector3d(0, 2, 5);
-  camera.target = Eigen::Vector3d(0, 0.8, 0);
-  camera.fov_y = 45 * M_PI / 180;
-  scene.camera = camera;
+  scene.camera = look_at({0, 2, 5}, {0, 0.8, 0}, 45);
   return scene;
 }
 
@@ -184,11 +181,7 @@ Scene emissive_mesh_scene() {
   lamp.material.emission = Eigen::Vector3d(12, 10, 8);
   scene.objects.push_back(lamp);
   scene.environment.color = Eigen::Vector3d(0.05, 0.07, 0.1);
-  Camera camera;
-  camera.eye = Eigen::Vector3d(0, 2.2, 7);
-  camera.target = Eigen::Vector3d(0, 0.9, 0);
-  camera.fov_y = 40 * M_PI / 180;
-  scene.camera = camera;
+  scene.camera = look_at({0, 2.2, 7}, {0, 0.9, 0}, 40);
   return scene;
 }
 
