@@ -48,6 +48,7 @@ struct Session::State {
   struct CacheEntry {
     std::vector<Value> outputs;
     std::vector<detail::FileStamp> files;  // what the result read, its upstream's included
+    double seconds = 0;  // what computing it took
     std::uint64_t generation = 0;
     bool state = false;
     std::size_t bytes = 0;  // states only
@@ -64,6 +65,7 @@ struct Session::State {
     int frame = 0;
     std::vector<Value> outputs;
     std::vector<detail::FileStamp> files;
+    double seconds = 0;
     std::uint64_t generation = 0;  // last used
   };
   std::unordered_map<std::uint64_t, LatestState> latest_states;
@@ -169,6 +171,7 @@ struct Evaluation {
   struct MemoryHit {
     const std::vector<Value>* outputs = nullptr;  // null: not in memory
     const std::vector<FileStamp>* files = nullptr;
+    double seconds = 0;
   };
   MemoryHit memory_entry(const NodeState& s, std::uint64_t hash, bool touch);
   // The kept result, read from where kept() finds it, with the files it
@@ -177,6 +180,7 @@ struct Evaluation {
   struct Found {
     std::vector<Value> outputs;
     std::vector<FileStamp> files;
+    double seconds = 0;  // what computing it took, kept with it
     bool from_disk = false;
   };
   std::optional<Found> cache_find(const NodeState& s, std::uint64_t hash);

@@ -13,6 +13,7 @@
 #include "evaluation.hpp"
 #include "graph_groups.hpp"
 #include "graph_time.hpp"
+#include "loom/graph_view.hpp"
 
 namespace loom {
 
@@ -144,6 +145,7 @@ void merge(NodeReport& into, NodeReport&& frame) {
     into.error = std::move(frame.error);
   }
   into.seconds += frame.seconds;
+  into.compute_seconds += frame.compute_seconds;
   into.runs += frame.runs;
   into.memory_hits += frame.memory_hits;
   into.disk_hits += frame.disk_hits;
@@ -152,47 +154,16 @@ void merge(NodeReport& into, NodeReport&& frame) {
       into.warnings.push_back(std::move(w));
 }
 
-// A target naming a group instance ("look", "look.image") is its inner
-// nodes' outputs, reported under the name asked for ("look.image"). Every
-// output of a node inside a group or of a Repeat node ("look.render") is
-// reported as "ID.OUTPUT" each, since such ids hold dots themselves.
-struct InnerTarget {
-  Target target;  // a node of the flat graph
-  std::string name;  // what EvalResult::outputs calls it
-};
-
-std::vector<InnerTarget> inner_targets(const Graph& g, const Registry& registry, const std::vector<Target>& targets) {
-  std::vector<InnerTarget> out;
-  for (Target t : targets) {
-    // "look.render" parses as instance "look", output "render": the inner node.
-    if (!t.output.empty() && g.nodes.count(t.node + "." + t.output)) t = {t.node + "." + t.output, ""};
-    auto inst = g.instances.find(t.node);
-    auto node = g.nodes.find(t.node);
-    if (inst != g.instances.end()) {
-      const auto& outputs = inst->second.interface.outputs;
-      if (!t.output.empty() && !outputs.count(t.output))
-        throw Error("--target: group instance \"" + t.node + "\" (" + inst->second.type + ") has no output \"" +
-                    t.output + "\"");
-      for (const auto& [name, unused] : outputs)
-        if (t.output.empty() || t.output == name) {
-          const Link l = *detail::follow_instance_outputs(g, {t.node, name});
-          out.push_back({{l.node, l.output}, t.node + "." + name});
-        }
-    } else if (t.output.empty() && node != g.nodes.end() && (node->second.repeat || t.node.find('.') != std::string::npos)) {
-      if (const NodeType* type = detail::node_type_of(node->second, registry))
-        for (const auto& o : type->spec.outputs) out.push_back({{t.node, o.name}, t.node + "." + o.name});
-    } else {
-      out.push_back({t, t.output.empty() ? t.node : t.node + "." + t.output});
-    }
-  }
-  return out;
-}
-
 }  // namespace
 
 EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
   auto start = std::chrono::steady_clock::now();
-  const std::vector<InnerTarget> targets = inner_targets(graph, state_->registry, options.targets);
+  std::vector<ResolvedOutput> targets;
+  try {
+    targets = GraphView(graph, state_->registry).outputs(options.targets);
+  } catch (const Error& e) {
+    throw Error(std::string("--target: ") + e.what());
+  }
   State& st = *state_;
   FrameTime time = detail::graph_time(graph);
   const FrameRange range = options.frames ? *options.frames : FrameRange{time.start, time.start};
@@ -226,15 +197,7 @@ EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
       for (std::size_t i = 0; i < e.nodes.size(); ++i)
         if (e.nodes[i]->type->spec.sink) roots.push_back(i);
     } else {
-      for (const auto& [t, name] : targets) {
-        auto it = e.index.find(t.node);
-        if (it == e.index.end()) throw Error("--target names unknown node \"" + t.node + "\"");
-        const detail::NodeState& s = *e.nodes[static_cast<std::size_t>(it->second)];
-        if (!t.output.empty() && s.type->spec.output_index(t.output) < 0)
-          throw Error("--target: node \"" + t.node + "\" (" + s.type->spec.name + ") has no output \"" +
-                      t.output + "\"");
-        roots.push_back(it->second);
-      }
+      for (const auto& [name, t] : targets) roots.push_back(e.index.at(t.node));
     }
     arena.execute([&] { e.execute(roots); });
 
@@ -244,7 +207,7 @@ EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
       merge(result.nodes[sp->node->id], std::move(sp->report));
     }
     result.outputs.clear();  // the targets' values at the latest frame
-    for (const auto& [t, name] : targets) {
+    for (const auto& [name, t] : targets) {
       const detail::NodeState& s = e.at(e.index.at(t.node));
       if (!s.ok) continue;
       if (t.output.empty()) {
@@ -253,6 +216,7 @@ EvalResult Session::evaluate(const Graph& graph, const EvalOptions& options) {
         result.outputs[name] = {
             s.outputs[static_cast<std::size_t>(s.type->spec.output_index(t.output))]};
       }
+      if (count > 1) result.outputs_per_frame[name].push_back(result.outputs[name]);
     }
     if (!e.cancelled()) ++result.frames;
     detail::evict(st, options.state_memory_budget);

@@ -48,6 +48,11 @@ class Expander {
                                                   issues_(issues) {}
 
   Graph level(const Scope& scope, const json& def, const std::string& base);
+  std::vector<fs::path> files_read() const {
+    std::vector<fs::path> files;
+    for (const auto& [path, doc] : files_) files.emplace_back(path);
+    return files;
+  }
   // The graph being loaded is the outermost group of the chain.
   void enter(const fs::path& file) {
     if (!file.empty()) chain_.emplace_back(file.lexically_normal().string(), shown_name(file));
@@ -151,7 +156,6 @@ std::shared_ptr<const Graph> Expander::body(const GroupRef& ref, const Scope& fr
   chain_.emplace_back(ref.identity, shown);
   auto g = std::make_shared<Graph>(level(ref.scope, *ref.def, ref.base));
   chain_.pop_back();
-  for (auto& [id, n] : g->nodes) n.seed_name = ref.name + "/" + n.seed_key();
   if (!g->interface) g->interface.emplace();
   bodies_[ref.identity] = g;
   return g;
@@ -169,6 +173,9 @@ void Expander::add_instance(Graph& g, GraphNode n, const Graph& body) {
   for (const auto& [id, inner] : body.nodes) {
     GraphNode c = inner;
     c.id = prefix + id;
+    // Seeded by its own id in the group, so that grouping nodes (Ctrl+G, or
+    // moving them into a group file) keeps their random numbers.
+    if (c.seed_name.empty()) c.seed_name = id;
     for (auto& [name, b] : c.inputs)
       if (b.link) b.link = prefixed(prefix, *b.link);
     g.nodes.emplace(c.id, std::move(c));
@@ -413,6 +420,7 @@ void expand_groups(const json& doc, Graph& g, Issues& issues) {
   g.nodes = std::move(flat.nodes);
   g.instances = std::move(flat.instances);
   g.interface = std::move(flat.interface);
+  g.group_files = e.files_read();
   if (!g.interface) return;
   // Run on its own, a group file's inputs take their defaults.
   for (const auto& [name, input] : g.interface->inputs) {

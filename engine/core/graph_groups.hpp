@@ -18,6 +18,10 @@ using Issues = std::vector<GraphIssue>;
 // "body" and "cache_iterations".
 std::optional<GraphNode> parse_node(const std::string& id, const json& node, Issues& issues, bool repeat = false);
 
+// graph_parse.cpp: the flat nodes as a version 1 document (what Repeat hashes
+// its body by; graph_to_json refuses a graph with groups).
+json flat_graph_json(const Graph& g);
+
 // graph_groups.cpp: the nodes (and groups, interface) of a version 2 document.
 void expand_groups(const json& doc, Graph& g, Issues& issues);
 

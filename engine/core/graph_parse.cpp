@@ -1,5 +1,6 @@
 // Graph files, structure only: JSON text to Graph and back. Checks against the
 // registry are in graph_validate.cpp, --set in graph_set.cpp.
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -187,7 +188,9 @@ Graph parse_graph_text(std::string_view text, const std::filesystem::path& file)
   return parse_graph(doc, file);
 }
 
-json graph_to_json(const Graph& g) {
+namespace detail {
+
+json flat_graph_json(const Graph& g) {
   json nodes = json::object();
   for (const auto& [id, n] : g.nodes) {
     json inputs = json::object();
@@ -202,6 +205,17 @@ json graph_to_json(const Graph& g) {
   if (g.time) doc["time"] = detail::time_to_json(*g.time);
   if (!g.ui.is_null()) doc["ui"] = g.ui;
   return doc;
+}
+
+}  // namespace detail
+
+json graph_to_json(const Graph& g) {
+  const bool repeat = std::any_of(g.nodes.begin(), g.nodes.end(), [](const auto& n) { return n.second.repeat != nullptr; });
+  if (!g.instances.empty() || repeat || g.interface)
+    throw Error((g.file.empty() ? std::string("the graph") : g.file.string()) +
+                " uses groups or Repeat (\"loom\": 2), which the expanded graph cannot be written back as: "
+                "write the document it was loaded from");
+  return detail::flat_graph_json(g);
 }
 
 bool link_compatible(const TypeInfo& from, const TypeInfo& to) {

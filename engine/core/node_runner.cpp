@@ -93,6 +93,7 @@ bool Evaluation::take_cached(NodeState& s) {
   s.files = std::move(found->files);
   s.ok = true;
   s.report.status = NodeStatus::cached;
+  s.report.compute_seconds += found->seconds;
   (found->from_disk ? s.report.disk_hits : s.report.memory_hits) += 1;
   return true;
 }
@@ -159,6 +160,7 @@ void Evaluation::record(NodeState& s, Outcome outcome) {
   s.report.seconds += outcome.seconds;
   s.report.runs += 1;
   if (outcome.status != NodeStatus::ran) return;
+  s.report.compute_seconds += outcome.seconds;
   s.outputs = std::move(outcome.outputs);
   s.ok = true;
   if (s.cacheable && !cancelled()) cache_put(s, outcome.seconds);

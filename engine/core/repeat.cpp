@@ -22,7 +22,7 @@ namespace {
 // and builds. It enters the Repeat node's hash as its build.
 std::uint64_t body_identity(const RepeatBody& r, const Registry& registry) {
   Hasher h;
-  h.str(graph_to_json(*r.body).dump()).pod(r.cache_iterations);
+  h.str(flat_graph_json(*r.body).dump()).pod(r.cache_iterations);
   for (const auto& [name, input] : r.body->interface->inputs) {
     h.str(name).str(input.declaration.dump());
     for (const Link& t : interface_targets(*r.body, input)) h.str(t.node).str(t.output);

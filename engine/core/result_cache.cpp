@@ -85,7 +85,7 @@ Evaluation::MemoryHit Evaluation::memory_entry(const NodeState& s, std::uint64_t
   if (it != session.cache.end()) {
     if (!still_current(it->second.files)) return {};
     if (touch) it->second.generation = session.generation;
-    return {&it->second.outputs, &it->second.files};
+    return {&it->second.outputs, &it->second.files, it->second.seconds};
   }
   if (!s.type->spec.simulation()) return {};
   auto latest = session.latest_states.find(s.chain);
@@ -93,7 +93,7 @@ Evaluation::MemoryHit Evaluation::memory_entry(const NodeState& s, std::uint64_t
       !still_current(latest->second.files))
     return {};
   if (touch) latest->second.generation = session.generation;
-  return {&latest->second.outputs, &latest->second.files};
+  return {&latest->second.outputs, &latest->second.files, latest->second.seconds};
 }
 
 // A disk entry is counted as kept without reading it; whether its files are
@@ -109,11 +109,11 @@ Kept Evaluation::kept(const NodeState& s, std::uint64_t hash) {
 }
 
 // On disk an entry holds the outputs, then one Json value with the files'
-// stamps (stamps_to_json).
+// stamps (stamps_to_json) and the seconds computing the result took.
 std::optional<Evaluation::Found> Evaluation::cache_find(const NodeState& s, std::uint64_t hash) {
   {
     std::lock_guard lock(session.cache_mutex);
-    if (auto hit = memory_entry(s, hash, true); hit.outputs) return Found{*hit.outputs, *hit.files, false};
+    if (auto hit = memory_entry(s, hash, true); hit.outputs) return Found{*hit.outputs, *hit.files, hit.seconds, false};
   }
   if (!options.disk_cache) return std::nullopt;
   const TypeInfo& stamps_type = type_of<json>();  // registered before the entry names it
@@ -124,6 +124,8 @@ std::optional<Evaluation::Found> Evaluation::cache_find(const NodeState& s, std:
   if (!values || values->size() != outputs.size() + 1 || values->back().type()->storage != stamps_type.storage) return std::nullopt;
   auto files = stamps_from_json(values->back().as<json>());
   if (!files || !still_current(*files)) return std::nullopt;
+  const json& seconds = values->back().as<json>()["seconds"];
+  if (!seconds.is_number()) return std::nullopt;
   values->pop_back();
   for (std::size_t o = 0; o < outputs.size(); ++o)
     if (!is_any(*outputs[o].type) && (*values)[o].type()->storage != outputs[o].type->storage)
@@ -132,10 +134,11 @@ std::optional<Evaluation::Found> Evaluation::cache_find(const NodeState& s, std:
   auto& entry = session.cache[hash];
   entry.outputs = *values;
   entry.files = *files;
+  entry.seconds = seconds.get<double>();
   entry.generation = session.generation;
   entry.state = s.type->spec.simulation();
   entry.bytes = entry.state ? bytes_of(entry.outputs) : 0;
-  return Found{std::move(*values), std::move(*files), true};
+  return Found{std::move(*values), std::move(*files), entry.seconds, true};
 }
 
 // Keeps a result that just ran: in memory, and on disk when DiskCache's rule
@@ -148,6 +151,7 @@ void Evaluation::cache_put(NodeState& s, double seconds) {
     auto& entry = session.cache[s.hash];
     entry.outputs = s.outputs;
     entry.files = s.files;
+    entry.seconds = seconds;
     entry.generation = session.generation;
     entry.state = simulation;
     entry.bytes = simulation ? bytes_of(s.outputs) : 0;
@@ -157,6 +161,7 @@ void Evaluation::cache_put(NodeState& s, double seconds) {
         latest.frame = time.frame;
         latest.outputs = s.outputs;
         latest.files = s.files;
+        latest.seconds = seconds;
       }
       latest.generation = session.generation;
     }
@@ -170,7 +175,9 @@ void Evaluation::cache_put(NodeState& s, double seconds) {
   }
   const int frames = s.time_dependent ? time.last - time.first + 1 : 1;  // a result like it at each frame
   std::vector<Value> stored = s.outputs;
-  stored.push_back(Value::make<json>(stamps_to_json(s.files)));
+  json kept_with = stamps_to_json(s.files);
+  kept_with["seconds"] = seconds;
+  stored.push_back(Value::make<json>(std::move(kept_with)));
   if (disk->store(disk->key(s.hash, s.type->spec.build), stored, slow, frames) > 0 && simulation) {
     std::lock_guard lock(session.cache_mutex);
     session.unsaved_seconds[s.chain] = 0;

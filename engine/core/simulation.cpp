@@ -48,6 +48,7 @@ bool Evaluation::step_to_previous(NodeIndex n) {
     NodeState& step = sub.at(n);
     s.report.runs += step.report.runs;
     s.report.seconds += step.report.seconds;
+    s.report.compute_seconds += step.report.compute_seconds;
     if (!step.ok) {
       s.report.status = step.report.status == NodeStatus::failed ? NodeStatus::failed : NodeStatus::skipped;
       s.report.error = "at frame " + std::to_string(g) + ": " + step.report.error;

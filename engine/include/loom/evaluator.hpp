@@ -38,6 +38,10 @@ struct NodeReport {
   // cached, else pruned.
   NodeStatus status = NodeStatus::pruned;
   double seconds = 0;         // run time of the node body (0 unless ran/failed), summed over frames
+  // What computing its results took, wherever they came from: the body's
+  // run time where it ran, the run time kept with a result read from a cache
+  // (a rerun's or a resumed task's), summed over frames.
+  double compute_seconds = 0;
   int runs = 0;               // frames (or simulation steps) at which the body ran
   int memory_hits = 0;        // frames served by the memory cache
   int disk_hits = 0;          // frames served by the persistent cache
@@ -114,7 +118,10 @@ struct EvalOptions {
 
 struct EvalResult {
   std::map<std::string, NodeReport> nodes;  // every node of the graph
-  std::map<std::string, std::vector<Value>> outputs;  // the targets' outputs
+  std::map<std::string, std::vector<Value>> outputs;  // the targets' outputs at the last frame evaluated
+  // Over several frames: each target's outputs at every frame evaluated, in
+  // frame order (what `--target` prints as a list, one entry per frame).
+  std::map<std::string, std::vector<std::vector<Value>>> outputs_per_frame;
   double total_seconds = 0;
   int frames = 0;  // frames evaluated (fewer than asked when cancelled or failed)
   bool cancelled = false;

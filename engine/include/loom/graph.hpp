@@ -61,9 +61,10 @@ struct GraphNode {
   std::map<std::string, InputBinding> inputs;
   json ui;  // editor layout, kept as is
   SourcePlace place = {};  // empty pointer: /nodes/ID of the graph's own file
-  // What seeds the node's random numbers (with the graph seed): its id, or
-  // for a node of a group "GROUP/INNER", so two instances of a group with
-  // equal inputs compute, hash and share the same results.
+  // What seeds the node's random numbers (with the graph seed): its own id
+  // in the group that wrote it ("render" for "look.render"), so that
+  // grouping nodes keeps their random numbers and two instances of a group
+  // with equal inputs compute, hash and share the same results.
   std::string seed_name = {};
   std::shared_ptr<const RepeatBody> repeat = {};  // set for a node of type "Repeat"
 
@@ -119,6 +120,8 @@ struct Graph {
   // Version 2: the group instances by path, and a group file's own interface.
   std::map<std::string, GroupInstance> instances;
   std::optional<GroupInterface> interface;
+  // The group files the graph was expanded from (absolute, each once).
+  std::vector<std::filesystem::path> group_files;
 
   std::filesystem::path dir() const { return file.empty() ? std::filesystem::current_path()
                                                             : file.parent_path(); }
@@ -185,6 +188,10 @@ LOOM_API NodeType group_node_type(const Graph& group, const std::string& name, c
 // `time.fps` set the graph's time (unless a node is named "time").
 LOOM_API void set_input(Graph& graph, const std::string& assignment);
 
+// The graph as a version 1 document. A graph with groups, Repeat or a group
+// file's interface cannot be written back from its expanded form: throws
+// Error (write the document it was loaded from; `loom submit` copies it,
+// farm/bundle.hpp).
 LOOM_API json graph_to_json(const Graph& graph);
 
 // Whether an output of type `from` may feed an input of type `to`: the same

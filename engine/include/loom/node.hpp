@@ -160,6 +160,9 @@ class LOOM_API NodeSpec {
   std::string state_input, state_output;
   std::vector<InputSpec> inputs;
   std::vector<OutputSpec> outputs;
+  // The file that defines the type when it is not a plugin's library (a
+  // Python node's module): --watch follows it. Empty for C++ node types.
+  std::string source_file;
 
   NodeSpec& describe(std::string text);
   NodeSpec& set_version(int v);
