@@ -105,12 +105,13 @@ class Graph:
     def _changed(self):
         self._prepared = None  # validated for the engine on the next run
 
-    def _prepare(self):
-        """The graph checked and ready for Session.run, kept until it changes
-        (or a Python node is declared again)."""
-        key = _python_nodes.declarations()
+    def _prepare(self, sets=()):
+        """The graph checked and ready for Session.run, with ``sets`` applied
+        (``ID.INPUT=JSON``, as `loom run --set`), kept until it changes (or a
+        Python node is declared again)."""
+        key = (_python_nodes.declarations(), tuple(sets))
         if self._prepared is None or self._prepared[0] != key:
-            self._prepared = (key, _loom.prepare(self._doc, self.file, self._held, []))
+            self._prepared = (key, _loom.prepare(self._doc, self.file, self._held, list(sets)))
         return self._prepared[1]
 
     # --- nodes -----------------------------------------------------------
@@ -215,11 +216,29 @@ class Graph:
             for input in inputs:
                 raise Error(f"/nodes/{id}/inputs/{input}: holds an in-memory value, which a graph file "
                             "cannot: save it (SaveImage, SaveMesh) and load it with a node instead")
+        for where, type in _node_types(self._doc):
+            if type.startswith("py.") and "." not in type[len("py."):]:
+                raise Error(f"{where}/type: \"{type}\" is defined in this notebook or script (__main__), which "
+                            "no other process can import: `loom run` and the editor could not load the saved "
+                            "graph. Move the function into a module on the Python node path "
+                            f"({os.pathsep.join(_python_nodes.node_path())}) and use \"py.MODULE."
+                            f"{type[len('py.'):]}\"")
         _loom.save_graph(self._doc, os.fspath(path))
         self.file = os.path.abspath(path)
 
     def __repr__(self):
         return f"<loom.Graph {len(self)} nodes{' from ' + self.file if self.file else ''}>"
+
+
+def _node_types(doc):
+    """(JSON pointer, type) of every node of a graph document, its inline groups' included."""
+    for id, node in doc.get("nodes", {}).items():
+        if isinstance(node, dict) and isinstance(node.get("type"), str):
+            yield f"/nodes/{id}", node["type"]
+    for name, group in doc.get("groups", {}).items():
+        for id, node in (group.get("nodes", {}) if isinstance(group, dict) else {}).items():
+            if isinstance(node, dict) and isinstance(node.get("type"), str):
+                yield f"/groups/{name}/nodes/{id}", node["type"]
 
 
 def load(path):

@@ -66,6 +66,15 @@ def _source_hash(fn, declaration):
     return int.from_bytes(digest, "little")
 
 
+def _source_file(fn):
+    """The module file defining ``fn`` (what `loom run --watch` follows), or "" (a notebook)."""
+    try:
+        file = inspect.getsourcefile(fn)
+    except TypeError:
+        return ""
+    return os.path.abspath(file) if file and os.path.isfile(file) else ""
+
+
 _declaration_count = 0
 
 
@@ -106,7 +115,8 @@ def node(inputs=None, outputs=None, name=None, doc=None, sink=False, time_depend
         for i in ins:
             if i["name"] not in params and not takes_all:
                 raise Error(f"{full}: input \"{i['name']}\" is not a parameter of {fn.__name__}")
-        flags = {"sink": sink, "time_dependent": time_dependent, "nondeterministic": nondeterministic}
+        flags = {"sink": sink, "time_dependent": time_dependent, "nondeterministic": nondeterministic,
+                 "source_file": _source_file(fn)}
         description = doc or inspect.getdoc(fn) or ""
         declaration = (ins, outs, flags, description, version)
         _loom.declare_node(full, module, fn, description, ins, outs, flags, _source_hash(fn, declaration),

@@ -3,10 +3,11 @@ memory cache, disk cache); run() returns Python values."""
 
 import collections
 import collections.abc
+import json
 import os
 import sys
 
-from . import _docs, _loom
+from . import _loom
 from ._errors import Error, NodeError
 from ._graph import Graph, Node, Output
 
@@ -63,7 +64,8 @@ class _Bar:
 class Result(collections.abc.Mapping):
     """The outputs of a run by target ("ID.OUTPUT", or an Output), the
     ``nodes`` reports (status, seconds, runs, cache hits, error), and
-    ``seconds``. Outputs are those of the last frame run."""
+    ``seconds``. An output kept at several frames is the list of its values,
+    one per frame."""
 
     def __init__(self, graph, raw):
         self._graph = graph
@@ -71,14 +73,7 @@ class Result(collections.abc.Mapping):
         self.seconds = raw["seconds"]
         self.frames = raw["frames"]
         self.cancelled = raw["cancelled"]
-        self._values = {}
-        for key, values in raw["outputs"].items():
-            if "." in key:  # a target "ID.OUTPUT": that one value
-                self._values[key] = values[0]
-                continue
-            names = _docs.describe(graph._doc["nodes"][key]["type"])["outputs"]
-            for o, v in zip(names, values):
-                self._values[f"{key}.{o['name']}"] = v
+        self._values = dict(raw["outputs"])  # by "ID.OUTPUT", named by the engine
 
     def __getitem__(self, key):
         key = _target_text(key)
@@ -127,9 +122,10 @@ class Session:
             raise TypeError(f"run() takes a loom.Graph, got {type(graph).__name__}")
         single = isinstance(targets, (Output, Node, str))
         target_list = [] if targets is None else [targets] if single else list(targets)
+        sets = []
         if set:
-            graph = _with_values(graph, set)
-        prepared = graph._prepare()
+            graph, sets = _with_values(graph, set)
+        prepared = graph._prepare(sets)
         bar = _Bar(len(graph)) if progress is True else None
         callback = None
         if bar is not None:
@@ -158,20 +154,27 @@ class Session:
 
 
 def _with_values(graph, values):
+    """The graph and the ``--set`` assignments for ``values``: a value with a
+    JSON form is given as `loom run --set` gives it (the engine resolves the
+    address: group interface inputs and inner paths too); an in-memory value
+    (an array) is held by a copy of the graph."""
     g = Graph()
     g._doc = graph.to_json()
     g._held = {id: dict(inputs) for id, inputs in graph._held.items()}
     g.file = graph.file
     g._changed()
+    sets = []
     for key, value in values.items():
-        node, _, input = key.partition(".")
-        if node == "time" and "time" not in g and input in ("start", "end", "fps"):
-            g._doc.setdefault("time", {"start": 1, "end": 1, "fps": 24})[input] = value
-            continue
-        if not input:
+        if not isinstance(key, str) or "." not in key.strip("."):
             raise Error(f"set: expected \"ID.INPUT\", got \"{key}\"")
+        try:
+            sets.append(f"{key}={json.dumps(value, allow_nan=False)}")
+            continue
+        except (TypeError, ValueError):
+            pass
+        node, _, input = key.rpartition(".")
         g[node][input] = value
-    return g
+    return g, sets
 
 
 _default = None

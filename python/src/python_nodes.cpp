@@ -168,6 +168,7 @@ NodeType node_type(const std::string& name, const std::string& description, cons
   if (flags["sink"].cast<bool>()) t.spec.set_sink();
   if (flags["time_dependent"].cast<bool>()) t.spec.set_time_dependent();
   if (flags["nondeterministic"].cast<bool>()) t.spec.set_nondeterministic();
+  if (flags.contains("source_file")) t.spec.source_file = flags["source_file"].cast<std::string>();
   t.spec.version = int(source_hash & 0x7fffffff);
   t.spec.build = source_hash;
   t.run = kRunSlots[std::size_t(slot)];

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "loom/disk_cache.hpp"
+#include "loom/graph_view.hpp"
 #include "held_value.hpp"
 #include "python_nodes.hpp"
 #include "values.hpp"
@@ -62,6 +63,7 @@ py::dict report_to_python(const NodeReport& r) {
   py::dict d;
   d["status"] = to_string(r.status);
   d["seconds"] = r.seconds;
+  d["compute_seconds"] = r.compute_seconds;
   d["runs"] = r.runs;
   d["memory_hits"] = r.memory_hits;
   d["disk_hits"] = r.disk_hits;
@@ -139,11 +141,20 @@ py::dict SessionCore::run(const PreparedGraph& prepared_graph, const std::vector
   if (failure) std::rethrow_exception(failure);
 
   py::dict out;
+  // By "ID.OUTPUT", as the engine names them: one value, or over several
+  // frames the list of its values, one per frame.
   py::dict outputs;
-  for (const auto& [id, values] : result.outputs) {
-    py::list l;
-    for (const Value& v : values) l.append(to_python(v));
-    outputs[py::str(id)] = l;
+  {
+    std::lock_guard<std::recursive_mutex> lock(world().mutex);
+    for (const auto& [name, values] : named_outputs_per_frame(GraphView(prepared, world().registry), result)) {
+      if (values.size() == 1) {
+        outputs[py::str(name)] = to_python(values[0]);
+        continue;
+      }
+      py::list frames;
+      for (const Value& v : values) frames.append(to_python(v));
+      outputs[py::str(name)] = frames;
+    }
   }
   py::dict nodes;
   for (const auto& [id, r] : result.nodes)

@@ -1,0 +1,33 @@
+#include "cli/profile.hpp"
+
+namespace loom::runner {
+
+json profile_json(const Graph& graph, const EvalResult& result, double total_seconds,
+                  const std::vector<std::string>& plugins_loaded, const DiskCache* disk) {
+  json nodes = json::object();
+  for (const auto& [id, r] : result.nodes) {
+    json j = {{"type", graph.nodes.at(id).type},
+              {"status", to_string(r.status)},
+              {"seconds", r.seconds},
+              {"compute_seconds", r.compute_seconds},
+              {"runs", r.runs}};
+    if (r.status == NodeStatus::cached) j["source"] = r.runs == 0 && r.disk_hits > 0 ? "disk" : "memory";
+    if (r.disk_hits > 0) j["disk_hits"] = r.disk_hits;
+    if (r.memory_hits > 0) j["memory_hits"] = r.memory_hits;
+    if (!r.error.empty()) j["error"] = r.error;
+    if (!r.warnings.empty()) j["warnings"] = r.warnings;
+    nodes[id] = j;
+  }
+  json profile = {{"total_seconds", total_seconds},
+                  {"frames", result.frames},
+                  {"plugins_loaded", plugins_loaded},
+                  {"nodes", nodes}};
+  if (disk)
+    profile["disk_cache"] = {{"dir", disk->options().dir.string()},
+                             {"bytes_read", disk->bytes_read()},
+                             {"bytes_written", disk->bytes_written()},
+                             {"read_seconds", disk->read_seconds()}};
+  return profile;
+}
+
+}  // namespace loom::runner

@@ -1,0 +1,53 @@
+#include "cli/run_settings.hpp"
+
+#include <iostream>
+
+namespace loom::runner {
+
+std::optional<FrameRange> parse_frame_range(const std::string& text) {
+  FrameRange r;
+  std::size_t dash = text.find('-', 1);  // a leading '-' is a sign
+  try {
+    std::size_t used = 0;
+    r.first = std::stoi(text.substr(0, dash), &used);
+    if (used != (dash == std::string::npos ? text.size() : dash)) return std::nullopt;
+    r.last = r.first;
+    if (dash != std::string::npos) {
+      r.last = std::stoi(text.substr(dash + 1), &used);
+      if (used != text.size() - dash - 1) return std::nullopt;
+    }
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (r.last < r.first) return std::nullopt;
+  return r;
+}
+
+std::optional<LoadedGraph> load_for_run(const std::string& path, const std::vector<std::string>& sets, int* exit) {
+  LoadedGraph g;
+  try {
+    g.graph = load_graph_file(path);
+    for (const auto& s : sets) set_input(g.graph, s);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    *exit = kInvalid;
+    return std::nullopt;
+  }
+  try {
+    g.loader->load_for(node_types_used(g.graph));
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    *exit = kPluginError;
+    return std::nullopt;
+  }
+  try {
+    validate_graph(g.graph, *g.registry, g.loader->searched_description(), g.loader->known_node_types());
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    *exit = kInvalid;
+    return std::nullopt;
+  }
+  return g;
+}
+
+}  // namespace loom::runner

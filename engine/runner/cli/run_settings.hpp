@@ -1,0 +1,45 @@
+// What `loom run` was asked, for the front ends beside it (sweeps, submit).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "loom/disk_cache.hpp"
+#include "loom/evaluator.hpp"
+#include "loom/graph.hpp"
+#include "loom/plugin_loader.hpp"
+
+namespace loom::runner {
+
+// `loom` exit codes (main.cpp's list).
+enum Exit { kOk = 0, kNodeFailed = 1, kInvalid = 2, kPluginError = 3, kInterrupted = 130 };
+
+struct RunSettings {
+  std::string graph_path;
+  std::string out_dir = "out";
+  std::vector<std::string> sets, targets;
+  int threads = 0;
+  bool quiet = false;
+  std::string frames;  // "A-B", "A" or empty: the graph's range
+  std::optional<DiskCache::Options> cache;  // unset: --no-cache
+  bool cache_no_trim = false;
+  bool allow_outside = false;
+  std::string profile_path;  // --profile: empty for none
+};
+
+// "A-B" or "A": the frames to run; nullopt when malformed.
+std::optional<FrameRange> parse_frame_range(const std::string& text);
+
+// A graph with its --set values applied, its plugins loaded and validated.
+struct LoadedGraph {
+  std::unique_ptr<Registry> registry = std::make_unique<Registry>();
+  std::unique_ptr<PluginLoader> loader = std::make_unique<PluginLoader>(*registry);
+  Graph graph;
+};
+// Loads as `loom run` does; on failure prints the error and returns the exit
+// code (kInvalid or kPluginError) in *exit.
+std::optional<LoadedGraph> load_for_run(const std::string& path, const std::vector<std::string>& sets, int* exit);
+
+}  // namespace loom::runner

@@ -1,0 +1,79 @@
+#include "farm/child_process.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+
+extern char** environ;
+
+namespace loom::runner {
+
+namespace {
+std::vector<char*> c_argv(const std::vector<std::string>& argv) {
+  std::vector<char*> v;
+  for (const auto& a : argv) v.push_back(const_cast<char*>(a.c_str()));
+  v.push_back(nullptr);
+  return v;
+}
+}  // namespace
+
+pid_t spawn_process(const std::vector<std::string>& argv, const std::filesystem::path& log, bool own_group) {
+  posix_spawn_file_actions_t files;
+  posix_spawnattr_t attr;
+  posix_spawn_file_actions_init(&files);
+  posix_spawnattr_init(&attr);
+  if (!log.empty()) {
+    posix_spawn_file_actions_addopen(&files, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    posix_spawn_file_actions_adddup2(&files, 1, 2);
+  }
+  if (own_group) {
+    posix_spawnattr_setpgroup(&attr, 0);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+  }
+  pid_t pid = -1;
+  auto args = c_argv(argv);
+  if (posix_spawn(&pid, args[0], &files, &attr, args.data(), environ) != 0) pid = -1;
+  posix_spawn_file_actions_destroy(&files);
+  posix_spawnattr_destroy(&attr);
+  return pid;
+}
+
+int wait_process(pid_t pid, bool* signalled) {
+  int status = 0;
+  if (::waitpid(pid, &status, 0) != pid) return -1;
+  *signalled = WIFSIGNALED(status);
+  return *signalled ? 128 + WTERMSIG(status) : WEXITSTATUS(status);
+}
+
+std::string capture_output(const std::vector<std::string>& argv, int* exit) {
+  int fds[2];
+  *exit = -1;
+  if (::pipe(fds) != 0) return {};
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_adddup2(&files, fds[1], 1);
+  posix_spawn_file_actions_addclose(&files, fds[0]);
+  pid_t pid = -1;
+  auto args = c_argv(argv);
+  const bool started = posix_spawnp(&pid, args[0], &files, nullptr, args.data(), environ) == 0;
+  posix_spawn_file_actions_destroy(&files);
+  ::close(fds[1]);
+  std::string out;
+  char buffer[4096];
+  for (ssize_t n; (n = ::read(fds[0], buffer, sizeof buffer)) != 0;) {
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) break;
+    out.append(buffer, static_cast<std::size_t>(n));
+  }
+  ::close(fds[0]);
+  bool signalled = false;
+  if (started)
+    while ((*exit = wait_process(pid, &signalled)) == -1 && errno == EINTR) {
+    }
+  return out;
+}
+
+}  // namespace loom::runner

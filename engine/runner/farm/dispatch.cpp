@@ -1,0 +1,193 @@
+#include "farm/dispatch.hpp"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+
+#include "farm/child_process.hpp"
+#include "cli/signals.hpp"
+#include "loom/atomic_file.hpp"
+
+namespace loom::runner {
+namespace fs = std::filesystem;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The ids of `ids` in `stage`.
+std::vector<int> in_stage(const JobManifest& m, const std::vector<int>& ids, Stage stage) {
+  std::vector<int> out;
+  for (int id : ids)
+    if (m.tasks.at(static_cast<std::size_t>(id)).stage == stage) out.push_back(id);
+  return out;
+}
+
+// Runs one stage's tasks with up to m.jobs at once; false if one failed.
+bool run_stage(const JobManifest& m, const std::vector<int>& ids) {
+  std::map<pid_t, int> running;
+  std::size_t next = 0;
+  bool ok = true, forwarded = false;
+  while (next < ids.size() || !running.empty()) {
+    while (next < ids.size() && static_cast<int>(running.size()) < m.jobs && !cancel_flag()) {
+      const int id = ids[next++];
+      const pid_t pid = spawn_process({m.loom, "jobs", "task", m.dir.string(), std::to_string(id)}, {}, true);
+      if (pid < 0) {
+        std::cerr << "error: cannot start " << m.loom << "\n";
+        return false;
+      }
+      running[pid] = id;
+    }
+    if (cancel_flag() && !forwarded) {  // as scancel: every process of every running task
+      for (const auto& [pid, id] : running) ::kill(-pid, SIGTERM);
+      forwarded = true;
+      next = ids.size();
+    }
+    if (running.empty()) break;
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, 0);
+    if (pid < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const int id = it->second;
+    running.erase(it);
+    const TaskStatus s = read_status(m.dir, id);
+    ok = ok && s.state == "done";
+    std::fprintf(stderr, "task %d (%s): %s after %d attempt%s, %.2f s\n", id, m.tasks[id].name.c_str(),
+                 s.state.c_str(), s.attempts, s.attempts == 1 ? "" : "s", s.seconds);
+  }
+  return ok && !cancel_flag();
+}
+
+std::string array_list(const std::vector<int>& ids) {
+  std::string list;
+  for (int id : ids) list += (list.empty() ? "" : ",") + std::to_string(id);
+  return list;
+}
+
+}  // namespace
+
+int dispatch_local(const JobManifest& m, const std::vector<int>& ids) {
+  stop_on_signals(false);
+  write_file_atomic(m.dir / "local.pid", std::to_string(::getpid()) + "\n");
+  bool ok = true, previous_ok = true;
+  for (Stage stage : {kSimulate, kWork, kAssemble}) {
+    const auto stage_ids = in_stage(m, ids, stage);
+    if (stage_ids.empty() || cancel_flag()) continue;
+    if (stage == kWork && !previous_ok) {
+      std::cerr << "error: a simulation task failed: its " << stage_ids.size() << " render tasks did not run\n";
+      ok = false;
+      continue;
+    }
+    previous_ok = run_stage(m, stage_ids);
+    ok = ok && previous_ok;
+  }
+  std::error_code ec;
+  fs::remove(m.dir / "local.pid", ec);
+  if (cancel_flag()) {
+    std::cerr << "interrupted: `loom jobs resume " << m.dir.string() << "` runs what is missing\n";
+    return 130;
+  }
+  return ok ? 0 : 1;
+}
+
+int submit_slurm(const JobManifest& m, const std::vector<int>& ids) {
+  std::string previous;
+  for (Stage stage : {kSimulate, kWork, kAssemble}) {
+    const auto stage_ids = in_stage(m, ids, stage);
+    if (stage_ids.empty()) continue;
+    std::vector<std::string> argv = {"sbatch", "--parsable", "--array=" + array_list(stage_ids),
+                                     "--job-name=loom-stage" + std::to_string(stage),
+                                     "--output=" + (m.dir / "logs" / "slurm-%A_%a.out").string()};
+    if (!previous.empty()) {
+      argv.push_back(std::string("--dependency=") + (stage == kAssemble ? "afterany:" : "afterok:") + previous);
+      argv.push_back("--kill-on-invalid-dep=yes");
+    }
+    argv.insert(argv.end(), m.slurm_args.begin(), m.slurm_args.end());
+    argv.push_back((m.dir / "slurm" / ("stage" + std::to_string(stage) + ".sbatch")).string());
+    int exit = 0;
+    std::string out = capture_output(argv, &exit);
+    const std::string job = out.substr(0, out.find_first_of(";\n"));
+    if (exit != 0 || job.empty()) {
+      std::cerr << "error: sbatch failed (exit " << exit << ") for stage " << stage << " of " << m.dir.string() << "\n";
+      return 3;
+    }
+    std::ofstream(m.dir / "slurm" / "jobs", std::ios::app) << job << "\n";
+    std::fprintf(stderr, "submitted %zu task%s as Slurm job %s\n", stage_ids.size(), stage_ids.size() == 1 ? "" : "s",
+                 job.c_str());
+    previous = job;
+  }
+  return 0;
+}
+
+namespace {
+
+// The assemble task runs only when every other task is done.
+std::string missing_tasks(const JobManifest& m) {
+  std::string missing;
+  for (const Task& t : m.tasks)
+    if (t.stage != kAssemble && read_status(m.dir, t.id).state != "done")
+      missing += (missing.empty() ? "" : ", ") + std::to_string(t.id) + " (" + t.name + ")";
+  return missing;
+}
+
+}  // namespace
+
+int run_task(const JobManifest& m, int id) {
+  if (id < 0 || id >= static_cast<int>(m.tasks.size())) {
+    std::cerr << "error: " << m.dir.string() << " has no task " << id << "\n";
+    return 2;
+  }
+  stop_on_signals(false);
+  const Task& task = m.tasks[static_cast<std::size_t>(id)];
+  const auto start = std::chrono::steady_clock::now();
+  TaskStatus s;
+  s.state = "running";
+  s.host = host_name();
+  s.pid = ::getpid();
+  write_status(m.dir, id, s);
+  const fs::path log = task_log(m.dir, id);
+  if (task.stage == kAssemble) {
+    if (std::string missing = missing_tasks(m); !missing.empty()) {
+      s.state = "failed";
+      s.exit = 1;
+      s.message = "not every task is done: " + missing + " (loom jobs resume runs them)";
+      std::ofstream(log, std::ios::app) << "error: " << s.message << "\n";
+      write_status(m.dir, id, s);
+      return 1;
+    }
+  }
+  std::vector<std::string> argv = {m.loom};
+  argv.insert(argv.end(), task.args.begin(), task.args.end());
+  for (s.attempts = 1;; ++s.attempts) {
+    std::ofstream(log, std::ios::app) << "== " << task.name << ": attempt " << s.attempts << " on " << s.host << "\n";
+    const pid_t pid = spawn_process(argv, log, false);
+    bool signalled = false;
+    s.exit = pid < 0 ? 3 : -1;
+    while (pid >= 0 && (s.exit = wait_process(pid, &signalled)) == -1 && errno == EINTR) {
+    }
+    const bool retry = s.exit == 1 || (signalled && !cancel_flag());
+    if (s.exit == 0 || !retry || s.attempts > m.retries || cancel_flag()) break;
+    std::ofstream(log, std::ios::app) << "== exit " << s.exit << ": retrying\n";
+  }
+  s.seconds = seconds_since(start);
+  s.state = s.exit == 0 ? "done" : s.exit == 130 || cancel_flag() ? "cancelled" : "failed";
+  if (cancel_flag() && s.exit != 130) s.exit = 130;
+  s.message = s.exit == 0 ? "" : "exit " + std::to_string(s.exit) + ", see " + log.string();
+  write_status(m.dir, id, s);
+  return s.exit;
+}
+
+}  // namespace loom::runner

@@ -1,0 +1,235 @@
+#include "farm/submit.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+#include "farm/bundle.hpp"
+#include "farm/dispatch.hpp"
+#include "farm/job_folder.hpp"
+#include "farm/jobs.hpp"
+#include "loom/atomic_file.hpp"
+#include "cli/run_settings.hpp"
+#include "sweep/sweep.hpp"
+
+namespace loom::runner {
+namespace fs = std::filesystem;
+
+namespace {
+
+bool on_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::string dirs = path ? path : "";
+  for (std::size_t at = 0; at <= dirs.size();) {
+    const std::size_t end = std::min(dirs.find(':', at), dirs.size());
+    if (::access((fs::path(dirs.substr(at, end - at)) / program).c_str(), X_OK) == 0) return true;
+    at = end + 1;
+  }
+  return false;
+}
+
+std::string self_executable() {
+  std::error_code ec;
+  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string("loom") : p.string();
+}
+
+// What every task's `loom run` is given: the job's copy of the graph, the
+// --set values (input paths made absolute); `worker`: never trims the cache.
+std::vector<std::string> common_args(const SubmitRequest& r, const GraphView& view, const fs::path& job, bool worker) {
+  std::vector<std::string> a = {"run", (job / "graph.json").string(), "--out", fs::absolute(r.run.out_dir).string()};
+  for (const auto& s : r.run.sets) a.insert(a.end(), {"--set", task_assignment(view, s)});
+  if (r.run.threads > 0) a.insert(a.end(), {"--threads", std::to_string(r.run.threads)});
+  if (r.run.allow_outside) a.push_back("--allow-outside-out");
+  if (r.no_cache) {
+    a.push_back("--no-cache");
+    return a;
+  }
+  a.insert(a.end(), {"--cache", fs::absolute(r.cache_dir).string(), "--cache-limit", json(r.cache_limit_mb).dump()});
+  if (worker) a.push_back("--cache-no-trim");
+  return a;
+}
+
+void add_profile(std::vector<std::string>& args, const fs::path& job, int id) {
+  char name[32];
+  std::snprintf(name, sizeof name, "%04d.json", id);
+  args.insert(args.end(), {"--profile", (job / "profiles" / name).string()});
+}
+
+std::string min_seconds(double s) { return json(s).dump(); }
+
+}  // namespace
+
+namespace {
+
+struct Planner {
+  const SubmitRequest& r;
+  const GraphView& view;
+  fs::path job;
+  std::vector<Task> tasks;
+
+  void add(std::string name, Stage stage, std::vector<std::string> args) {
+    const int id = static_cast<int>(tasks.size());
+    add_profile(args, job, id);
+    tasks.push_back({id, std::move(name), stage, std::move(args)});
+  }
+
+  std::vector<std::string> sweep_args(bool assemble) const {
+    std::vector<std::string> a;
+    for (const auto& s : r.sweep.axes) a.insert(a.end(), {"--sweep", s});
+    if (r.sweep.zip) a.push_back("--zip");
+    for (const auto& s : r.sweep.records) a.insert(a.end(), {"--record", s});
+    if (assemble)
+      for (const auto& s : r.sweep.plots) a.insert(a.end(), {"--plot", s});
+    if (!r.run.frames.empty()) a.insert(a.end(), {"--frames", r.run.frames});
+    for (const auto& t : r.run.targets) a.insert(a.end(), {"--target", t});
+    a.insert(a.end(), {"--cache-min-seconds", min_seconds(r.cache_min_seconds)});
+    return a;
+  }
+
+  // One task per --chunk points (default 1), then the tables.
+  void plan_points(std::size_t count) {
+    const std::size_t chunk = r.chunk > 0 ? static_cast<std::size_t>(r.chunk) : 1;
+    for (std::size_t first = 0; first < count; first += chunk) {
+      std::string list;
+      for (std::size_t i = first; i < std::min(count, first + chunk); ++i)
+        list += (list.empty() ? "" : ",") + std::to_string(i);
+      auto a = common_args(r, view, job, true);
+      auto s = sweep_args(false);
+      a.insert(a.end(), s.begin(), s.end());
+      a.insert(a.end(), {"--sweep-points", list});
+      add("points " + list, kWork, a);
+    }
+    auto a = common_args(r, view, job, false);
+    auto s = sweep_args(true);
+    a.insert(a.end(), s.begin(), s.end());
+    a.push_back("--sweep-collect");
+    add("assemble sweep tables", kAssemble, a);
+  }
+
+  void plan_frames(FrameRange range);
+};
+
+// Simulations first (each from the start frame, every state into the shared
+// cache), then contiguous chunks of --chunk frames (the last one clamped at
+// the range's end), then the sequence sinks over the whole range.
+void Planner::plan_frames(FrameRange range) {
+  const RunStages stages = view.stages(r.run.targets);
+  const std::vector<std::string>& simulations = stages.simulations;
+  std::vector<std::string> chunk_targets = stages.per_frame, sequence = stages.sequences;
+  const bool split = r.chunk > 0 ? range.last - range.first + 1 > r.chunk : range.last - range.first + 1 > 10;
+  if (!split) {  // one task runs everything
+    chunk_targets = r.run.targets;
+    sequence.clear();
+  }
+  const std::string whole = std::to_string(range.first) + "-" + std::to_string(range.last);
+  if (split && !r.no_cache)
+    for (const auto& id : simulations) {
+      auto a = common_args(r, view, job, true);
+      a.insert(a.end(), {"--frames", whole, "--target", id, "--cache-min-seconds", "0"});
+      add("simulate " + id + " " + whole, kSimulate, a);
+    }
+  const int chunk = r.chunk > 0 ? r.chunk : 10;
+  for (long first = range.first; first <= range.last; first += chunk) {
+    const long last = std::min<long>(first + chunk - 1, range.last);
+    auto a = common_args(r, view, job, true);
+    const std::string frames = std::to_string(first) + "-" + std::to_string(last);
+    a.insert(a.end(), {"--frames", frames});
+    if (!stages.sequences.empty() || !r.run.targets.empty())
+      for (const auto& t : chunk_targets) a.insert(a.end(), {"--target", t});
+    // What the sequence sinks read is kept, however cheap, for the assemble task.
+    a.insert(a.end(), {"--cache-min-seconds", sequence.empty() ? min_seconds(r.cache_min_seconds) : "0"});
+    add("frames " + frames, kWork, a);
+  }
+  if (sequence.empty()) return;
+  auto a = common_args(r, view, job, false);
+  a.insert(a.end(), {"--frames", whole});
+  for (const auto& id : sequence) a.insert(a.end(), {"--target", id});
+  add("assemble " + whole, kAssemble, a);
+}
+
+}  // namespace
+
+namespace {
+
+void write_slurm_scripts(const JobManifest& m) {
+  for (int stage : {kSimulate, kWork, kAssemble}) {
+    const std::string script =
+        "#!/bin/sh\n"
+        "# Stage " + std::to_string(stage) + " of a loom job: one array element per task; the element's index\n"
+        "# is the task id in manifest.json. `loom submit` passes --array and --dependency.\n"
+        "exec '" + m.loom + "' jobs task '" + m.dir.string() + "' \"$SLURM_ARRAY_TASK_ID\"\n";
+    const fs::path path = m.dir / "slurm" / ("stage" + std::to_string(stage) + ".sbatch");
+    write_file_atomic(path, script);
+    fs::permissions(path, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
+  }
+}
+
+// A job folder from an earlier submit is replaced, unless one of its tasks runs.
+bool clear_job_folder(const fs::path& job) {
+  if (fs::exists(job / "manifest.json")) {
+    try {
+      const JobManifest old = load_manifest(job);
+      for (const Task& t : old.tasks)
+        if (const TaskStatus s = read_status(job, t.id); s.state == "running" && still_running(old, s)) {
+          std::cerr << "error: task " << t.id << " of the job in " << job.string()
+                    << " is running: `loom jobs cancel` it first, or give another --job-dir\n";
+          return false;
+        }
+    } catch (const std::exception&) {
+    }
+  }
+  std::error_code ec;
+  for (const char* sub : {"logs", "status", "slurm", "profiles"}) fs::remove_all(job / sub, ec);
+  return true;
+}
+
+}  // namespace
+
+int submit(SubmitRequest& r) {
+  int exit = 0;
+  auto g = load_for_run(r.run.graph_path, r.run.sets, &exit);
+  if (!g) return exit;
+  const GraphView view(g->graph, *g->registry);
+  if (r.cache_dir.empty()) r.cache_dir = (fs::path(r.run.out_dir) / ".loom-cache").string();
+  const fs::path job = fs::absolute(r.job_dir.empty() ? fs::path(r.run.out_dir) / ".loom-job" : fs::path(r.job_dir));
+  Planner plan{r, view, job, {}};
+  std::optional<FrameRange> range;
+  if (!r.run.frames.empty() && !(range = parse_frame_range(r.run.frames))) {
+    std::cerr << "error: --frames: expected A-B or A (whole frame numbers, A <= B), got \"" << r.run.frames << "\"\n";
+    return 2;
+  }
+  if (!range && g->graph.time) range = FrameRange{g->graph.time->start, g->graph.time->end};
+  if (r.sweep.active()) {
+    const auto count = check_sweep(r.sweep, r.run, *g);
+    if (!count) return 2;
+    plan.plan_points(*count);
+  } else if (range) {
+    plan.plan_frames(*range);
+  } else {
+    auto a = common_args(r, view, job, false);
+    for (const auto& t : r.run.targets) a.insert(a.end(), {"--target", t});
+    plan.add("run", kWork, a);
+  }
+  if (r.to.empty()) r.to = on_path("sbatch") ? "slurm" : "local";
+  const int cores = static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));
+  JobManifest m{job, self_executable(), r.to, r.retries, r.jobs > 0 ? r.jobs : cores, r.slurm_args, plan.tasks};
+  try {
+    if (!clear_job_folder(job)) return 2;
+    save_manifest(m);
+    write_bundle(view, *g->registry, job);
+    write_slurm_scripts(m);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+  std::fprintf(stderr, "job folder: %s (%zu tasks, %s)\n", job.c_str(), m.tasks.size(), m.to.c_str());
+  if (r.dry_run) return 0;
+  std::vector<int> ids;
+  for (const Task& t : m.tasks) ids.push_back(t.id);
+  return m.to == "slurm" ? submit_slurm(m, ids) : dispatch_local(m, ids);
+}
+
+}  // namespace loom::runner

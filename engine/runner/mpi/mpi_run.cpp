@@ -1,0 +1,236 @@
+// `loom run` over MPI ranks: what each rank evaluates (mpi_run.hpp).
+//
+// Frames (several frames, or --mpi-split frames): rank r evaluates the r-th
+// of `size` contiguous blocks of the range. Simulations are stepped first, in
+// order, by rank 0, every state stored in the persistent cache; the ranks then
+// read each state of their frames from it (docs/architecture.md, "Frames and
+// simulations over MPI ranks"). Sequence sinks (SaveVideo) run on rank 0
+// after every rank's frames, reading the frames back from the same cache.
+//
+// Tiles (one frame; with --mpi-split samples, nodes that declare sample
+// passes are split by samples instead): every pixel-independent node the targets need is
+// split alone, in dependency order: every rank computes its interleaved tiles
+// and they are gathered on every rank (MpiWorld::split). Each of these
+// evaluations also targets the nodes split before it, so that the memory
+// cache keeps them all; rank 0 then evaluates the targets, finding them there.
+#include "mpi/mpi_run.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <set>
+
+#include "loom/disk_cache.hpp"
+#include "loom/graph_view.hpp"
+#include "mpi/mpi_settings.hpp"
+#include "mpi/mpi_world.hpp"
+
+namespace loom::runner {
+namespace {
+
+// The run's targets as addresses: --target's, or empty for every sink.
+std::vector<std::string> target_texts(const EvalOptions& options) {
+  std::vector<std::string> texts;
+  for (const Target& t : options.targets) texts.push_back(t.output.empty() ? t.node : t.node + "." + t.output);
+  return texts;
+}
+
+std::vector<Target> as_targets(const std::vector<std::string>& texts) {
+  std::vector<Target> targets;
+  for (const auto& t : texts) targets.push_back(parse_target(t));
+  return targets;
+}
+
+// failed, then skipped, then ran, then cached, then pruned (NodeReport's order).
+int precedence(NodeStatus s) {
+  switch (s) {
+    case NodeStatus::failed: return 4;
+    case NodeStatus::skipped: return 3;
+    case NodeStatus::ran: return 2;
+    case NodeStatus::cached: return 1;
+    case NodeStatus::pruned: return 0;
+  }
+  return 0;
+}
+
+// `part`'s reports added to `into` (runs and hits summed, the status by
+// precedence), and its outputs when they are what the run asked for.
+void merge(EvalResult& into, const EvalResult& part, bool outputs = true) {
+  for (const auto& [id, r] : part.nodes) {
+    NodeReport& n = into.nodes[id];
+    n.seconds += r.seconds;
+    n.compute_seconds += r.compute_seconds;
+    n.runs += r.runs;
+    n.memory_hits += r.memory_hits;
+    n.disk_hits += r.disk_hits;
+    n.warnings.insert(n.warnings.end(), r.warnings.begin(), r.warnings.end());
+    if (precedence(r.status) > precedence(n.status)) {
+      n.status = r.status;
+      n.error = r.error;
+    }
+  }
+  if (outputs)
+    for (const auto& [target, values] : part.outputs) into.outputs.emplace(target, values);
+  into.frames = std::max(into.frames, part.frames);
+  into.cancelled = into.cancelled || part.cancelled;
+}
+
+// A rank whose part failed or was cancelled ends every rank: the others may
+// be waiting for its tiles or its frames.
+void end_every_rank_unless_ok(MpiWorld& world, const Graph& graph, const EvalResult& r) {
+  if (r.cancelled) {
+    std::cerr << "rank " << world.rank() << ": interrupted: ending every rank\n";
+    world.abort(kInterrupted);
+  }
+  if (r.ok()) return;
+  for (const auto& [id, n] : r.nodes)
+    if (n.status == NodeStatus::failed)
+      std::cerr << "error: rank " << world.rank() << ": node \"" << id << "\" (" << graph.nodes.at(id).type
+                << ") failed: " << n.error << "\n";
+  std::cerr << "rank " << world.rank() << ": a node failed: ending every rank\n";
+  world.abort(kNodeFailed);
+}
+
+// The persistent cache with every result stored, however cheap: how states
+// reach the ranks that render them and frames the sequence sinks on rank 0.
+// Without --cache, a folder of the run's own in the (shared) output folder.
+DiskCache::Options storing_everything(const EvalOptions& options) {
+  DiskCache::Options o;
+  if (options.disk_cache) o = options.disk_cache->options();
+  else o.dir = options.output_dir / ".loom-mpi-cache";
+  o.min_seconds = 0;
+  o.read_entry_seconds = 0;
+  o.read_mb_per_s = 1e300;
+  o.max_sequence_share = 1;  // up to --cache-limit; frames beyond it are computed again on rank 0
+  return o;
+}
+
+EvalResult evaluate_frames(MpiWorld& world, Session& session, const GraphView& view, const EvalOptions& options,
+                           FrameRange range) {
+  const Graph& graph = view.graph();
+  const RunStages stages = view.stages(target_texts(options));
+  const std::vector<Target> work = as_targets(stages.per_frame), sequence = as_targets(stages.sequences),
+                            simulations = as_targets(stages.simulations);
+
+  std::optional<DiskCache> store;
+  if (!sequence.empty() || !simulations.empty()) store.emplace(storing_everything(options));
+  EvalResult result;
+  auto evaluate = [&](std::vector<Target> targets, FrameRange frames) {
+    EvalOptions o = options;
+    o.targets = std::move(targets);
+    o.frames = frames;
+    if (store) o.disk_cache = &*store;
+    const EvalResult r = session.evaluate(graph, o);
+    end_every_rank_unless_ok(world, graph, r);
+    merge(result, r, !options.targets.empty());  // what the run asked for, as one process prints it
+  };
+  if (!simulations.empty()) {
+    if (world.rank() == 0) evaluate(simulations, range);
+    world.barrier();
+  }
+  const long frames = long(range.last) - range.first + 1;
+  const int first = range.first + int(frames * world.rank() / world.size());
+  const int last = range.first + int(frames * (world.rank() + 1) / world.size()) - 1;
+  if (first <= last && !work.empty()) evaluate(work, {first, last});
+  world.barrier();
+  if (world.rank() == 0 && !sequence.empty()) evaluate(sequence, range);
+  if (world.rank() == 0 && store && options.disk_cache) store->trim();
+  if (world.rank() == 0 && store && !options.disk_cache) {
+    std::error_code ec;
+    std::filesystem::remove_all(store->options().dir, ec);
+  }
+  return result;
+}
+
+// How evenly the static split shared a node's work: each rank's time in the
+// node's body (the gather excluded), the slowest over the mean.
+void report_balance(const MpiWorld& world, const std::string& node, bool by_samples,
+                    const std::vector<double>& seconds) {
+  if (world.rank() != 0) return;
+  double sum = 0, slowest = 0;
+  for (double s : seconds) {
+    sum += s;
+    slowest = std::max(slowest, s);
+  }
+  const double mean = sum / double(seconds.size());
+  std::fprintf(stderr, "mpi: %s: %s computed in %.3f s on the slowest of %zu ranks, %.3f s on average "
+               "(imbalance %.3f)\n",
+               node.c_str(), by_samples ? "sample passes" : "tiles", slowest, seconds.size(), mean,
+               mean > 0 ? slowest / mean : 1.0);
+}
+
+EvalResult evaluate_tiles(MpiWorld& world, Session& session, const GraphView& view, const EvalOptions& options,
+                          FrameRange range) {
+  const Graph& graph = view.graph();
+  EvalResult parts;
+  std::vector<Target> split_so_far;  // targets of each evaluation, so the memory cache keeps them all
+  for (const auto& id : view.upstream(target_texts(options))) {
+    const NodeSpec& spec = view.type(id).spec;
+    if (!spec.pixel_independent) continue;
+    split_so_far.push_back({id, ""});
+    const int kept = session.cached_frames(graph, id, range, options).empty() ? 0 : 1;
+    if (world.min_over_ranks(kept) == 1) continue;
+    EvalOptions o = options;
+    o.targets = split_so_far;
+    const bool by_samples = mpi_settings().split == "samples" && spec.sample_passes;
+    const auto split = world.split(id, mpi_settings().tile, by_samples);
+    o.pixel_split = split.get();
+    // A rank that found the result would not compute its tiles while the others wait for them.
+    if (world.max_over_ranks(kept) == 1) o.disk_cache = nullptr;
+    const EvalResult r = session.evaluate(graph, o);
+    end_every_rank_unless_ok(world, graph, r);
+    report_balance(world, id, by_samples, world.gather_all(r.nodes.at(id).seconds));
+    merge(parts, r, false);
+  }
+  if (split_so_far.empty() && world.rank() == 0)
+    std::fprintf(stderr, "mpi: one frame and no pixel-independent node: rank 0 runs the graph, %d ranks wait\n",
+                 world.size() - 1);
+  if (world.rank() != 0) return parts;
+  EvalResult whole = session.evaluate(graph, options);
+  merge(whole, parts, false);
+  return whole;
+}
+
+}  // namespace
+
+EvalResult evaluate_on_ranks(Session& session, const Graph& graph, const Registry& registry,
+                             const EvalOptions& options) {
+  MpiWorld* world = mpi_world();
+  if (!world) return session.evaluate(graph, options);
+  const int start = graph.time ? graph.time->start : 1;
+  const FrameRange range = options.frames ? *options.frames : FrameRange{start, start};
+  const std::string& split = mpi_settings().split;
+  const GraphView view(graph, registry);
+  if (split == "frames" || (split == "auto" && range.last > range.first))
+    return evaluate_frames(*world, session, view, options, range);
+  return evaluate_tiles(*world, session, view, options, range);
+}
+
+int run_sweep_on_ranks(const SweepRequest& request, const RunSettings& settings) {
+  MpiWorld* world = mpi_world();
+  if (!world) return run_sweep(request, settings);
+  if (!request.only.empty() || request.collect) {
+    std::cerr << "error: --sweep-points and --sweep-collect are a farm task's options, not for mpirun\n";
+    return kInvalid;
+  }
+  int exit = kOk;
+  const auto loaded = load_for_run(settings.graph_path, settings.sets, &exit);
+  if (!loaded) return exit;
+  const auto count = check_sweep(request, settings, *loaded);
+  if (!count) return kInvalid;
+  SweepRequest mine = request;
+  for (std::size_t i = std::size_t(world->rank()); i < *count; i += std::size_t(world->size()))
+    mine.only += (mine.only.empty() ? "" : ",") + std::to_string(i);
+  int code = mine.only.empty() ? kOk : run_sweep(mine, settings);
+  if (code == kInterrupted) world->abort(kInterrupted);
+  code = world->max_over_ranks(code);  // every rank's points are written
+  if (world->rank() == 0) {
+    SweepRequest tables = request;
+    tables.collect = true;
+    code = std::max(code, run_sweep(tables, settings));
+  }
+  return code;
+}
+
+}  // namespace loom::runner
