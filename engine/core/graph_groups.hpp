@@ -48,7 +48,7 @@ namespace loom::detail {
 InputSpec interface_input_spec(const std::string& name, const json& declaration);
 
 // The type of a node: a Repeat node's own (repeat.cpp) or the registry's;
-// null when unknown.
+// null when unknown or when a Repeat's body is invalid (validation says why).
 const NodeType* node_type_of(const GraphNode& node, const Registry& registry);
 
 }  // namespace loom::detail

@@ -202,12 +202,12 @@ void collect_issues(const Graph& g, const Registry& registry, const std::string&
                     const std::vector<std::string>& known_types, Issues& issues, std::set<const Graph*>& bodies) {
   const auto fed = fed_by_interface(g);
   for (const auto& [id, n] : g.nodes) {
-    const NodeType* t = nullptr;
-    try {
-      t = detail::node_type_of(n, registry);
-    } catch (const Error& e) {  // a Repeat whose body's interface is invalid
-      issues.push_back(at_node(n, node_base(n) + "/body", e.what()));
-    }
+    const NodeType* t = detail::node_type_of(n, registry);
+    if (n.repeat && !t) try {
+        detail::repeat_node_type(*n.repeat, registry);
+      } catch (const Error& e) {  // a body whose interface is invalid, or that steps time
+        issues.push_back(at_node(n, node_base(n) + "/body", e.what()));
+      }
     if (n.repeat && bodies.insert(n.repeat->body.get()).second)
       collect_issues(*n.repeat->body, registry, searched, known_types, issues, bodies);
     if (t) {

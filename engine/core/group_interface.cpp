@@ -56,8 +56,12 @@ InputSpec interface_input_spec(const std::string& name, const json& d) {
 }
 
 const NodeType* node_type_of(const GraphNode& node, const Registry& registry) {
-  if (node.repeat) return &repeat_node_type(*node.repeat, registry);
-  return registry.find(node.type);
+  if (!node.repeat) return registry.find(node.type);
+  try {
+    return &repeat_node_type(*node.repeat, registry);
+  } catch (const Error&) {  // an invalid body: validation reports why (repeat_node_type)
+    return nullptr;
+  }
 }
 
 }  // namespace loom::detail

@@ -124,8 +124,9 @@ std::optional<Evaluation::Found> Evaluation::cache_find(const NodeState& s, std:
   if (!values || values->size() != outputs.size() + 1 || values->back().type()->storage != stamps_type.storage) return std::nullopt;
   auto files = stamps_from_json(values->back().as<json>());
   if (!files || !still_current(*files)) return std::nullopt;
-  const json& seconds = values->back().as<json>()["seconds"];
-  if (!seconds.is_number()) return std::nullopt;
+  const json& kept_with = values->back().as<json>();
+  if (!kept_with.contains("seconds") || !kept_with["seconds"].is_number()) return std::nullopt;
+  const double seconds = kept_with["seconds"].get<double>();
   values->pop_back();
   for (std::size_t o = 0; o < outputs.size(); ++o)
     if (!is_any(*outputs[o].type) && (*values)[o].type()->storage != outputs[o].type->storage)
@@ -134,7 +135,7 @@ std::optional<Evaluation::Found> Evaluation::cache_find(const NodeState& s, std:
   auto& entry = session.cache[hash];
   entry.outputs = *values;
   entry.files = *files;
-  entry.seconds = seconds.get<double>();
+  entry.seconds = seconds;
   entry.generation = session.generation;
   entry.state = s.type->spec.simulation();
   entry.bytes = entry.state ? bytes_of(entry.outputs) : 0;

@@ -144,6 +144,29 @@ def node_path():
     return path
 
 
+_imported = {}  # module name -> (file, its modification stamp) when the provider imported it
+
+
+def _stamp(file):
+    try:
+        st = os.stat(file)
+        return (st.st_mtime_ns, st.st_size)
+    except (OSError, TypeError):
+        return None
+
+
+def _import_current(module):
+    """Imports ``module``, or reloads it when its file changed since (a `loom run
+    --watch` rerun after an edit must run the new definitions, not the old)."""
+    loaded = sys.modules.get(module)
+    if loaded is not None and module in _imported and _stamp(_imported[module][0]) != _imported[module][1]:
+        loaded = importlib.reload(loaded)
+    elif loaded is None:
+        loaded = importlib.import_module(module)
+    file = getattr(loaded, "__file__", None)
+    _imported[module] = (file, _stamp(file))
+
+
 def import_node_module(type):
     """Imports the module a "py.MODULE.NAME" type names (the `python` plugin's provider)."""
     module, _, _ = type[len("py."):].rpartition(".")
@@ -154,7 +177,7 @@ def import_node_module(type):
         if folder not in sys.path:
             sys.path.insert(0, folder)
     try:
-        importlib.import_module(module)
+        _import_current(module)
     except ModuleNotFoundError as e:
         if e.name != module:
             raise

@@ -5,6 +5,7 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 
+#include <cstdlib>
 #include <string>
 
 #include "loom/registry.hpp"
@@ -29,12 +30,21 @@ std::string python_error() {
 // until the process ends). Signal handlers stay the runner's: Ctrl-C cancels
 // through the engine, not as a KeyboardInterrupt. The GIL is released at
 // the end, for node bodies to take on the engine's threads.
+//
+// The interpreter is the one Loom was built for (LOOM_PYTHON_EXECUTABLE, whose
+// libpython the plugin loaded): left to itself, Python takes its prefix from
+// the first `python3` on PATH, and a venv or pyenv interpreter there has
+// another standard library and no numpy — every Python node then failed with
+// "could not import module loom" (issue 37). PYTHONHOME still overrides.
 void start_interpreter() {
   PyConfig config;
   PyConfig_InitPythonConfig(&config);
   config.install_signal_handlers = 0;
   config.parse_argv = 0;
-  PyStatus status = Py_InitializeFromConfig(&config);
+  PyStatus status = PyStatus_Ok();
+  if (!std::getenv("PYTHONHOME"))
+    status = PyConfig_SetBytesString(&config, &config.program_name, LOOM_PYTHON_EXECUTABLE);
+  if (!PyStatus_Exception(status)) status = Py_InitializeFromConfig(&config);
   PyConfig_Clear(&config);
   if (PyStatus_Exception(status))
     throw loom::Error(std::string("cannot start Python: ") + (status.err_msg ? status.err_msg : "unknown error"));

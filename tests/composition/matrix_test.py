@@ -17,7 +17,7 @@ import sys
 import tempfile
 import time
 
-LOOM, SOURCE, TEST_PLUGINS = sys.argv[1:4]
+LOOM, SOURCE, TEST_PLUGINS = map(os.path.abspath, sys.argv[1:4])
 ARGS = sys.argv[4:]
 sys.path.insert(0, os.path.join(SOURCE, "tests", "farm"))
 import slurm_cluster  # noqa: E402
@@ -274,7 +274,7 @@ class Simulation(Feature):
 class Tiled(Feature):
     name = "tiled node (PathTrace)"
     interface = ("trace.spp", 2)
-    record = "trace.stats"
+    record = "trace.image"
     tiled = True
 
     def write(self):
@@ -295,7 +295,7 @@ class Sequence(Feature):
         return write_json(os.path.join(self.folder, "g.json"), doc({
             "board": {"type": "Checkerboard", "inputs": {"size": [32, 32], "cells": 4}},
             "time": {"type": "Time"},
-            "power": {"type": "Math", "inputs": {"a": {"from": "time.seconds"}, "b": 2.0, "op": "multiply"}},
+            "power": {"type": "Math", "inputs": {"a": {"from": "time.seconds"}, "b": 1.0, "op": "add"}},
             "twist": {"type": "ImageWarp", "inputs": {"image": {"from": "board.image"}, "method": "idw",
                                                       "pairs": [[8, 8, 10, 6], [24, 24, 20, 26]],
                                                       "idw_power": {"from": "power.result"}}},

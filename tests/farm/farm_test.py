@@ -94,6 +94,32 @@ class SweepTest(unittest.TestCase):
     def tearDown(self):
         shutil.rmtree(self.dir, ignore_errors=True)
 
+    def test_a_rerun_from_the_cache_reports_what_each_point_took_to_compute(self):
+        """Issue 35, finding 6: points read back from the persistent cache kept
+        `"status": "ran"` and reported a Sleep of 200 ms as 8e-6 s."""
+        g = write_graph(self.dir, {
+            "s": {"type": "Sleep", "inputs": {"value": 1.0, "ms": 100}},
+            "w": {"type": "WriteText", "inputs": {"value": {"from": "s.value"}, "path": "v.txt"}}})
+        cache = os.path.join(self.dir, "cache")
+        runs = []
+        for k in (1, 2):
+            out = os.path.join(self.dir, f"sweep{k}")
+            loom("run", g, "--out", out, "--cache", cache, "--sweep", "s.ms=100,200",
+                 "--profile", os.path.join(self.dir, f"profile{k}.json"))
+            runs.append(csv_rows(os.path.join(out, "sweep.csv")))
+        first, second = runs
+        self.assertEqual([r["source"] for r in first], ["computed", "computed"])
+        self.assertEqual([r["source"] for r in second], ["cached", "cached"])
+        for a, b, ms in zip(first, second, (100, 200)):
+            # The sleep's own time, whether it ran or was read back.
+            self.assertGreaterEqual(float(a["s.seconds"]), ms / 1000)
+            self.assertEqual(float(b["s.seconds"]), float(a["s.seconds"]))
+            self.assertLess(float(b["run_seconds"]), ms / 1000)  # the rerun itself did not sleep
+        profile = json.loads(read(os.path.join(self.dir, "profile2.json")))
+        self.assertEqual(sorted(profile["points"]), ["0", "1"])  # --profile with --sweep: one per point
+        self.assertEqual(profile["points"]["1"]["nodes"]["s"]["status"], "cached")
+        self.assertEqual(profile["points"]["1"]["nodes"]["s"]["compute_seconds"], float(second[1]["s.seconds"]))
+
     def test_points_equal_separate_set_runs_and_share_upstream_results(self):
         g = arap_graph(self.dir)
         out = os.path.join(self.dir, "sweep")

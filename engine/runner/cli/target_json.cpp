@@ -4,14 +4,10 @@
 
 namespace loom::runner {
 
-namespace {
-
 json value_json(const Value& v) {
   if (v.type() && v.type()->to_json) return v.to_json();
   return {{"type", v.type() ? v.type()->name : "empty"}, {"summary", v.summary()}};
 }
-
-}  // namespace
 
 std::string target_json(const Graph& graph, const Registry& registry, const EvalResult& result) {
   json out = json::object();

@@ -9,6 +9,10 @@
 
 namespace loom::runner {
 
+// A value as --json and --record give it: its JSON form (numbers at full
+// precision, lists, JSON), or {"type": …, "summary": …} for any other.
+json value_json(const Value& value);
+
 // {"ID.OUTPUT": value, ...}: a value with a JSON form (numbers at full
 // precision, lists, JSON) as itself, any other as {"type": …, "summary": …};
 // an output kept at several frames as the list of its values in frame order.

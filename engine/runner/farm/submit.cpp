@@ -226,7 +226,14 @@ int submit(SubmitRequest& r) {
     return 1;
   }
   std::fprintf(stderr, "job folder: %s (%zu tasks, %s)\n", job.c_str(), m.tasks.size(), m.to.c_str());
-  if (r.dry_run) return 0;
+  if (r.dry_run) {  // what would run: each task, its stage and its command
+    for (const Task& t : m.tasks) {
+      std::string command = "loom";
+      for (const auto& a : t.args) command += " " + a;
+      std::fprintf(stdout, "task %d (stage %d) %s: %s\n", t.id, static_cast<int>(t.stage), t.name.c_str(), command.c_str());
+    }
+    return 0;
+  }
   std::vector<int> ids;
   for (const Task& t : m.tasks) ids.push_back(t.id);
   return m.to == "slurm" ? submit_slurm(m, ids) : dispatch_local(m, ids);

@@ -1,5 +1,6 @@
 #include "sweep/sweep.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -8,6 +9,7 @@
 
 #include "cli/profile.hpp"
 #include "cli/signals.hpp"
+#include "cli/target_json.hpp"
 #include "loom/atomic_file.hpp"
 #include "sweep/sweep_axes.hpp"
 #include "sweep/sweep_table.hpp"
@@ -96,7 +98,6 @@ json recorded_values(const SweepRequest& r, const Graph& graph, const Registry& 
   json records = json::object();
   const GraphView view(graph, registry);
   const auto named = named_outputs_per_frame(view, result);
-  auto value_json = [](const Value& v) { return v && v.type()->to_json ? v.type()->to_json(v.data()) : json(v.summary()); };
   for (const auto& rec : r.records)
     for (const ResolvedOutput& o : view.outputs(rec))
       for (const auto& [name, values] : named) {
@@ -197,6 +198,9 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
   std::vector<json> points;
   json profiles = json::object();
   const auto start = std::chrono::steady_clock::now();
+  const std::size_t selected =
+      r.collect ? 0 : static_cast<std::size_t>(std::count(plan.selected.begin(), plan.selected.end(), true));
+  std::size_t done = 0;
   for (std::size_t i = 0; i < plan.points.size(); ++i) {
     if (!plan.selected[i] || r.collect || cancel_flag()) {
       points.push_back(read_point(s.out_dir, i, plan.points[i]));
@@ -204,7 +208,9 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
     }
     points.push_back(run_point(r, s, plan, i, session, *g, disk ? &*disk : nullptr, profiles));
     if (!s.quiet)
-      std::fprintf(stderr, "point %zu of %zu (%s): %s, %s, in %.3f s\n", i + 1, plan.points.size(),
+      // Points are numbered from 0 everywhere (points/0003, --sweep-points 3,
+      // `loom jobs status`); the bracket counts this run's progress.
+      std::fprintf(stderr, "[%zu/%zu] point %zu (%s): %s, %s, in %.3f s\n", ++done, selected, i,
                    plan.points[i].values.dump().c_str(), points.back()["status"].get<std::string>().c_str(),
                    points.back()["source"].get<std::string>().c_str(), points.back()["run_seconds"].get<double>());
   }
