@@ -10,6 +10,7 @@ A new graph feature adds a row (FEATURES), a new driver a column (DRIVERS).
 import filecmp
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -23,7 +24,7 @@ sys.path.insert(0, os.path.join(SOURCE, "tests", "farm"))
 import slurm_cluster  # noqa: E402
 
 BUILD = os.path.dirname(os.path.dirname(os.path.realpath(LOOM)))
-ENV = dict(os.environ, LOOM_PLUGIN_PATH=TEST_PLUGINS, OMP_NUM_THREADS="1")
+ENV = dict(os.environ, LOOM_PLUGIN_PATH=TEST_PLUGINS)
 MPIEXEC = shutil.which("mpiexec")
 MPI_ENV = dict(ENV, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 # Core binding left to mpiexec's default where it can bind (a driver must not
@@ -134,7 +135,9 @@ class Plain(Feature):
     def write(self):
         nodes = dict(LOOK["nodes"])
         nodes["board"] = {"type": "Checkerboard", "inputs": {"size": [24, 24], "cells": 4}}
-        return write_json(os.path.join(self.folder, "g.json"), doc({**nodes, **look_sinks_plain()}, version=1))
+        path = os.path.join(self.folder, "g.json")
+        self.edits.append(("graph file", path, lambda d: d["nodes"]["board"]["inputs"].update(cells=2)))
+        return write_json(path, doc({**nodes, **look_sinks_plain()}, version=1))
 
 
 def look_sinks_plain():
@@ -179,6 +182,22 @@ class LibraryGroup(Feature):
                                                        "width": 32, "height": 24}},
                  "save": {"type": "SaveImage", "inputs": {"image": {"from": "look.image"}, "path": "studio.png"}}}
         return write_json(os.path.join(self.folder, "g.json"), doc(nodes))
+
+
+class SearchPathGroup(Feature):
+    name = "library group (LOOM_GRAPH_PATH)"
+    interface = ("look.cells", 6)
+    inner = ("look.board.size", [20, 20])
+    record = "look.value"
+
+    def write(self):
+        group = write_json(os.path.join(self.folder, "library", "lookalike.json"), {"loom": 2, **LOOK})
+        self.edits.append(("library group", group, lambda d: d["inputs"]["cells"].update(default=9)))
+        return write_json(os.path.join(self.folder, "g.json"),
+                          doc({"look": {"type": "lookalike"}, **look_sinks("look")}))
+
+    def env(self):
+        return {"LOOM_GRAPH_PATH": os.path.join(self.folder, "library")}
 
 
 class NestedGroups(Feature):
@@ -304,14 +323,15 @@ class Sequence(Feature):
             time_range=(1, 5), version=1))
 
 
-FEATURES = [Plain, InlineGroup, GroupFile, LibraryGroup, NestedGroups, RepeatLiteral, RepeatLinked, PythonNode,
+FEATURES = [Plain, InlineGroup, GroupFile, LibraryGroup, SearchPathGroup, NestedGroups, RepeatLiteral, RepeatLinked, PythonNode,
             Simulation, Tiled, Sequence]
 
 
 # --- drivers: each runs a feature's graph its way and compares ------------------
 
 def feature_env(feature):
-    return dict(ENV, **(feature.env() if hasattr(feature, "env") else {}))
+    # os.environ now, not at start: the private Slurm cluster sets SLURM_CONF when it starts.
+    return dict(os.environ, LOOM_PLUGIN_PATH=TEST_PLUGINS, **(feature.env() if hasattr(feature, "env") else {}))
 
 
 def reference(feature, work, *args, fresh=False):
@@ -393,14 +413,29 @@ def d_cache_rerun(feature, work):
 def submit_cell(feature, work, to):
     out = os.path.join(work, "submit-" + to)
     args = ["submit", feature.graph, "--to", to, "--out", out, "--chunk", "2", "-j", "2"]
-    p = loom(*args, env=feature_env(feature), check=False, timeout=300)
+    if to == "local":
+        # The job runs from its folder alone: the group files the graph was made
+        # from are moved away between writing the job and running it.
+        loom(*args, "--dry-run", env=feature_env(feature))
+        away = [p for p in (os.path.join(feature.folder, d) for d in ("parts", "library")) if os.path.isdir(p)]
+        for p in away:
+            os.rename(p, p + ".away")
+        try:
+            p = loom("jobs", "resume", os.path.join(out, ".loom-job"), "-j", "2", env=feature_env(feature),
+                     check=False, timeout=300)
+        finally:
+            for p_ in away:
+                os.rename(p_ + ".away", p_)
+    else:
+        p = loom(*args, env=feature_env(feature), check=False, timeout=300)
     if p.returncode != 0:
         raise AssertionError(f"loom submit: exit {p.returncode}\n{p.stderr[-3000:]}")
     if to == "slurm":
         CLUSTER.wait_idle(timeout=120)
         status = loom("jobs", "status", os.path.join(out, ".loom-job"), check=False, env=feature_env(feature))
-        if "failed" in status.stdout or status.returncode != 0:
-            raise AssertionError(status.stdout + status.stderr)
+        counts = re.search(r"(\d+) tasks: (\d+) done", status.stdout)
+        if status.returncode != 0 or not counts or counts.group(1) != counts.group(2):
+            raise AssertionError("not every task is done:\n" + status.stdout + status.stderr)
     same_files(reference(feature, work), out)
 
 
@@ -459,7 +494,7 @@ def wait_for(predicate, seconds, what):
 
 def d_watch(feature, work):
     if not feature.edits:
-        raise NotApplicable("no file besides the graph (the graph file itself: every row's plain run)")
+        raise NotApplicable("no file to edit in this row (the graph file's edit is the plain row's)")
     out = os.path.join(work, "watch")
     originals = {path: open(path).read() for _, path, _ in feature.edits}
     proc = subprocess.Popen([LOOM, "run", feature.graph, "--out", out, "--no-cache", "--watch"], env=feature_env(feature),
@@ -536,6 +571,31 @@ def refusals(work):
         yield what, ok, p.stderr.strip().splitlines()[-1] if p.stderr.strip() else f"exit {p.returncode}"
 
 
+def invariants(work):
+    """(what, passed, detail): rules across rows. Grouping nodes — inline, in a
+    group file, nested — keeps their random numbers (issue 35, finding 11)."""
+    folder = os.path.join(work, "grouping")
+    rand = {"rand": {"type": "Random"}, "text": {"type": "WriteText", "inputs": {"value": {"from": "rand.value"}, "path": "r.txt"}}}
+    wrapped = {"outputs": {"value": {"from": "rand.value"}}, "nodes": {"rand": {"type": "Random"}}}
+    write_json(os.path.join(folder, "wrapped.json"), {"loom": 2, **wrapped})
+    sink = {"text": {"type": "WriteText", "inputs": {"value": {"from": "w.value"}, "path": "r.txt"}}}
+    graphs = {"plain": doc(rand, version=1),
+              "inline group": doc({"w": {"type": "Wrapped"}, **sink}, {"Wrapped": wrapped}),
+              "group file": doc({"w": {"type": "wrapped.json"}, **sink}),
+              "nested groups": doc({"w": {"type": "Outer"}, **sink},
+                                   {"Wrapped": wrapped, "Outer": {"outputs": {"value": {"from": "in.value"}},
+                                                                  "nodes": {"in": {"type": "Wrapped"}}}})}
+    texts = {}
+    for name, d in graphs.items():
+        g = write_json(os.path.join(folder, name.replace(" ", "-") + ".json"), d)
+        out = os.path.join(folder, "out-" + name.replace(" ", "-"))
+        loom("run", g, "--out", out, "--no-cache", "-q")
+        with open(os.path.join(out, "r.txt")) as f:
+            texts[name] = f.read().strip()
+    same = len(set(texts.values())) == 1
+    yield "grouping a node keeps its random numbers", same, ", ".join(f"{k}: {v}" for k, v in texts.items())
+
+
 def main():
     only = drivers = None
     if "--only" in ARGS:
@@ -587,6 +647,11 @@ def main():
                 row.append(f"{mark} {time.monotonic() - start:4.1f}s" if mark in ("ok", "FAIL") else mark)
             rows.append((cls.name, row))
             print(f"{cls.name}: {' | '.join(row)}", flush=True)
+        for what, ok, detail in invariants(root):
+            counts["passed" if ok else "failed"] += 1
+            if not ok:
+                failures.append((what, "invariant", detail))
+            print(f"invariant: {what}: {'ok' if ok else 'FAIL'} ({detail})")
         for what, ok, detail in refusals(root):
             counts["passed" if ok else "failed"] += 1
             if not ok:
