@@ -332,6 +332,25 @@ TEST(Repeat, NIterationsEqualNCopiesWiredByHand) {
   EXPECT_EQ(engine.output<double>(repeated(link("clock.frame")), "loop.x"), 3.0);
 }
 
+// Issue 38, item 8: with cache_iterations a body runs on the outer session,
+// whose per-node scratch was keyed by the bare id: the body's "keep" found the
+// top-level "keep"'s value.
+TEST(Repeat, ABodyNodeNeverSharesScratchWithATopLevelNodeOfItsId) {
+  testing::Engine engine({LOOM_TEST_PLUGIN_DIR});
+  const json body = {{"inputs", {{"x", {{"type", "Float"}, {"to", {"keep.value"}}}}}},
+                     {"outputs", {{"x", {{"from", "keep.value"}}}}},
+                     {"nodes", {{"keep", {{"type", "FirstValue"}}}}}};
+  const json doc = {{"loom", 2},
+                    {"groups", {{"Keep", body}}},
+                    {"nodes",
+                     {{"keep", {{"type", "FirstValue"}, {"inputs", {{"value", 1.0}}}}},
+                      {"loop", {{"type", "Repeat"}, {"body", "Keep"}, {"cache_iterations", true},
+                                {"inputs", {{"count", 1}, {"x", 2.0}}}}}}}};
+  const auto run = engine.run(doc, {"keep.value", "loop.x"});
+  EXPECT_EQ(run.output<double>("keep.value"), 1.0);
+  EXPECT_EQ(run.output<double>("loop.x"), 2.0);
+}
+
 // SmoothMesh's own loop of `steps` is the reference for 12 iterations of one step.
 TEST(Repeat, TwelveIterationsOfOneSmoothingStepEqualSmoothMeshsOwnTwelveSteps) {
   testing::Engine engine;
