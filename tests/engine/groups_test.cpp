@@ -119,6 +119,41 @@ TEST(Groups, AGroupedImageIsByteIdenticalToTheFlatOne) {
   EXPECT_EQ(0, std::memcmp(a.pixels.data, b.pixels.data, a.pixels.total() * a.pixels.elemSize()));
 }
 
+bool same_bytes(const Image& a, const Image& b) {
+  return a.pixels.total() * a.pixels.elemSize() == b.pixels.total() * b.pixels.elemSize() &&
+         std::memcmp(a.pixels.data, b.pixels.data, a.pixels.total() * a.pixels.elemSize()) == 0;
+}
+
+// Issue 42, item 1: the library's `studio` framed its mesh anew at every frame;
+// its `camera` input keeps the view where the Camera node puts it. The group
+// with a camera renders what the same chain wired by hand renders.
+TEST(Groups, TheStudioLibraryGroupLooksThroughTheCameraGiven) {
+  testing::Engine engine;
+  const json mesh = {{"type", "UVSphere"}, {"inputs", {{"rings", 8}, {"segments", 12}}}};
+  const json camera = {{"type", "Camera"}, {"inputs", {{"eye", {1.5, 1.0, 3.0}}, {"fov_degrees", 30}}}};
+  json grouped = {{"loom", 2},
+                  {"nodes", {{"ball", mesh}, {"paint", {{"type", "Material"}}}, {"cam", camera},
+                             {"look", {{"type", "studio"},
+                                       {"inputs", {{"mesh", link("ball.mesh")}, {"material", link("paint.material")},
+                                                   {"camera", link("cam.scene")}, {"width", 40}, {"height", 30}}}}}}}};
+  const json flat = {
+      {"loom", 1},
+      {"nodes",
+       {{"ball", mesh}, {"paint", {{"type", "Material"}}}, {"cam", camera},
+        {"light", {{"type", "Light"}, {"inputs", {{"kind", "directional"}, {"direction", {-0.3, -0.5, -1}},
+                                                  {"intensity", 2.5}, {"casts_shadow", false}}}}},
+        {"sky", {{"type", "Environment"}, {"inputs", {{"color", {0.3, 0.3, 0.3}}}}}},
+        {"object", {{"type", "Object"}, {"inputs", {{"mesh", link("ball.mesh")}, {"material", link("paint.material")}}}}},
+        {"scene", {{"type", "MergeScenes"}, {"inputs", {{"a", link("object.scene")}, {"b", link("light.scene")},
+                                                       {"c", link("sky.scene")}, {"d", link("cam.scene")}}}}},
+        {"render", {{"type", "Render"}, {"inputs", {{"scene", link("scene.scene")}, {"shadows", "off"},
+                                                    {"extra_images", false}, {"width", 40}, {"height", 30}}}}}}}};
+  const Image through_camera = engine.output<Image>(grouped, "look.image");
+  EXPECT_TRUE(same_bytes(through_camera, engine.output<Image>(flat, "render.image")));
+  grouped["nodes"]["look"]["inputs"].erase("camera");
+  EXPECT_FALSE(same_bytes(through_camera, engine.output<Image>(grouped, "look.image")));  // the automatic framing
+}
+
 // Sleep passes its value on after `ms`: the group's inner node runs once for
 // two instances fed equal values, twice for different values.
 json two_instances(double a, double b) {
