@@ -4,6 +4,101 @@
 
 namespace loom::editor {
 
+namespace {
+
+// The most telling status first, as the engine's report over frames.
+int severity(NodeStatus s) {
+  switch (s) {
+    case NodeStatus::failed:
+      return 4;
+    case NodeStatus::skipped:
+      return 3;
+    case NodeStatus::ran:
+      return 2;
+    case NodeStatus::cached:
+      return 1;
+    case NodeStatus::pruned:
+      return 0;
+  }
+  return 0;
+}
+
+// A group instance's status: its inner nodes' most telling one, their times
+// summed, the first failure's message naming the inner node.
+NodeReport instance_report(const EvalResult& result, const std::vector<std::string>& inner) {
+  NodeReport sum;
+  for (const auto& id : inner) {
+    auto it = result.nodes.find(id);
+    if (it == result.nodes.end()) continue;
+    const NodeReport& r = it->second;
+    if (severity(r.status) > severity(sum.status)) {
+      sum.status = r.status;
+      sum.error = r.error.empty() ? std::string() : id + ": " + r.error;
+    }
+    sum.seconds += r.seconds;
+    sum.compute_seconds += r.compute_seconds;
+    sum.runs += r.runs;
+    for (const auto& w : r.warnings) sum.warnings.push_back(id + ": " + w);
+  }
+  return sum;
+}
+
+// Whether the view can name the target (a node deleted while a request
+// was queued cannot).
+bool resolves(const GraphView& view, const Target& t) {
+  try {
+    view.outputs(t.output.empty() ? t.node : t.node + "." + t.output);
+    return true;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+// The preview's targets: NODE.OUTPUT for every output of every node of the
+// top graph and of the level `prefix` names (nodes and group instances whose
+// path is PREFIX + an id), sinks left out: nothing is written.
+std::vector<Target> preview_targets(const GraphView& view, const std::string& prefix) {
+  auto directly_under = [](const std::string& path, const std::string& p) {
+    return path.size() > p.size() && path.compare(0, p.size(), p) == 0 && path.find('.', p.size()) == std::string::npos;
+  };
+  auto at_level = [&](const std::string& path) {
+    return directly_under(path, "") || (!prefix.empty() && directly_under(path, prefix));
+  };
+  std::vector<std::string> ids;
+  for (const auto& [id, node] : view.graph().nodes)
+    if (at_level(id)) ids.push_back(id);
+  for (const auto& [id, instance] : view.graph().instances)
+    if (at_level(id)) ids.push_back(id);
+  std::vector<Target> targets;
+  for (const auto& id : ids) {
+    const NodeSpec& spec = view.type(id).spec;
+    if (spec.sink) continue;
+    for (const auto& o : spec.outputs) targets.push_back({id, o.name});
+  }
+  return targets;
+}
+
+}  // namespace
+
+const NodeReport* Evaluation::report(const std::string& node) const {
+  if (auto it = result.nodes.find(node); it != result.nodes.end()) return &it->second;
+  auto it = instance_reports.find(node);
+  return it == instance_reports.end() ? nullptr : &it->second;
+}
+
+Value Evaluation::output(const std::string& node, const std::string& output) const {
+  if (!view || !view->has(node)) return {};
+  try {
+    for (const ResolvedOutput& r : view->outputs(node + "." + output)) {
+      auto it = result.outputs.find(r.name);
+      if (it != result.outputs.end() && it->second.size() == 1) return it->second[0];
+    }
+  } catch (const Error&) {
+    // Not an output of that node (the document changed since): no value.
+  }
+  return {};
+}
+
 // Collects node progress from the engine's worker threads.
 class EvaluationController::Progress : public Observer {
  public:
@@ -113,32 +208,38 @@ void EvaluationController::work() {
 std::shared_ptr<Evaluation> EvaluationController::run(const EvalRequest& request) {
   auto eval = std::make_shared<Evaluation>();
   eval->revision = request.revision;
+  eval->preview = request.preview;
   const auto start = std::chrono::steady_clock::now();
   progress_->reset();
   try {
-    Graph graph = parse_graph(request.document, request.file);
-    validate_graph(graph, registry_);
-    // A target naming a node that is gone (deleted while queued) is dropped.
-    for (const Target& t : request.targets)
-      if (graph.nodes.count(t.node)) eval->targets.push_back(t);
-    if (!request.targets.empty() && eval->targets.empty()) {
+    auto graph = std::make_shared<Graph>(parse_graph(request.document, request.file));
+    validate_graph(*graph, registry_);
+    eval->graph = graph;
+    eval->view = std::make_shared<GraphView>(*graph, registry_);
+    const std::vector<Target> asked =
+        request.preview ? preview_targets(*eval->view, *request.preview) : request.targets;
+    for (const Target& t : asked)
+      if (resolves(*eval->view, t)) eval->targets.push_back(t);
+    if ((request.preview || !request.targets.empty()) && eval->targets.empty()) {
       eval->seconds = 0;
       return eval;
     }
     EvalOptions options;
     options.targets = eval->targets;
     options.threads = threads_;
-    options.output_dir = request.output_dir.empty() ? graph.dir() : request.output_dir;
+    options.output_dir = request.output_dir.empty() ? graph->dir() : request.output_dir;
     options.observer = progress_.get();
     options.cancel = &cancel_;
     options.frames = request.frames;
     if (request.frames) eval->frame = request.frames->last;
-    eval->result = session_.evaluate(graph, options);
+    eval->result = session_.evaluate(*graph, options);
+    for (const auto& [path, instance] : graph->instances)
+      eval->instance_reports[path] = instance_report(eval->result, eval->view->inner_nodes(path));
     // Also after a cancelled run: what it stepped is kept.
     eval->frames_of = request.frames_of;
-    if (graph.time && graph.nodes.count(request.frames_of))
+    if (graph->time && graph->nodes.count(request.frames_of))
       eval->cached_frames =
-          session_.cached_frames(graph, request.frames_of, {graph.time->start, graph.time->end}, options);
+          session_.cached_frames(*graph, request.frames_of, {graph->time->start, graph->time->end}, options);
   } catch (const GraphError& e) {
     for (const GraphIssue& issue : e.issues()) eval->issues.push_back(locate_issue(issue));
   } catch (const std::exception& e) {

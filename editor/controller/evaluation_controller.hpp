@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "loom/evaluator.hpp"
+#include "loom/graph_view.hpp"
 #include "model/node_issue.hpp"
 
 namespace loom::editor {
@@ -29,7 +30,11 @@ namespace loom::editor {
 struct EvalRequest {
   json document;                     // the graph file's JSON
   std::filesystem::path file;        // for relative input paths and messages
-  std::vector<Target> targets;       // empty: every sink
+  std::vector<Target> targets;       // empty: every sink (unless `preview`)
+  // Set: the preview instead of `targets`: every output of every node that
+  // is not a sink, of the top graph and of the group level whose nodes are
+  // named with this prefix ("look." inside instance look; "" for none).
+  std::optional<std::string> preview;
   std::filesystem::path output_dir;  // where sinks write
   std::uint64_t revision = 0;        // the model's revision this came from
   std::optional<FrameRange> frames;  // unset: the graph's start frame
@@ -41,14 +46,29 @@ struct EvalRequest {
 // A finished (or cancelled, or invalid) evaluation.
 struct Evaluation {
   std::uint64_t revision = 0;
+  std::optional<std::string> preview;  // the request's (unset: its targets or the sinks)
   std::vector<Target> targets;
   EvalResult result;
+  // The graph evaluated and the engine's view of it (null when it did not
+  // load): what each result is called, which nodes a group instance holds.
+  std::shared_ptr<const Graph> graph;
+  std::shared_ptr<const GraphView> view;
+  // Each group instance's status, summed over its inner nodes (by path).
+  std::map<std::string, NodeReport> instance_reports;
   std::vector<NodeIssue> issues;   // validation: the graph did not run
   std::string error;               // anything else that stopped the run
   double seconds = 0;              // wall time from start to finish
   int frame = 0;                   // the (last) frame evaluated; 0: no frames asked for
   std::string frames_of;           // the request's
   std::vector<int> cached_frames;  // frames of `frames_of` the session keeps, after this run
+
+  // A node's report by its path in the evaluated graph: a flat node's, or a
+  // group instance's summary; null when the run did not reach it.
+  const NodeReport* report(const std::string& node) const;
+  // The value of NODE.OUTPUT (a flat node or a group instance, by path) at
+  // the last frame evaluated, found under the name the engine's view gives
+  // it; empty when it was not a target or did not compute.
+  Value output(const std::string& node, const std::string& output) const;
 };
 
 // What a node is doing right now, for the canvas while a run is under way.

@@ -3,6 +3,8 @@
 // column taller than the screen wraps into another.
 #pragma once
 
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "loom/registry.hpp"
@@ -17,14 +19,22 @@ struct CanvasRect {
 // Where a new node of this size goes: the free spot nearest to `wanted` (its
 // top-left corner), keeping a margin from every taken rectangle; `wanted`
 // itself when nothing is free within reach.
-// A node's box on the canvas, in canvas units: 220 wide, a header and
-// footer of 48 and 22 per socket row (the canvas draws it so).
-constexpr double kNodeWidth = 220;
+// A node's box on the canvas, in canvas units (the canvas draws it so):
+// 220 wide; a header of two lines (the id, the type under it), a row of 22
+// per socket and a footer for the status.
+constexpr double kNodeWidth = 220, kNodeHeader = 44, kNodeRow = 22, kNodeFooter = 20;
 double node_height(const NodeType* type);
 
 CanvasPoint free_spot(const std::vector<CanvasRect>& taken, CanvasPoint wanted, double width, double height);
 
-// Gives every node of the graph JSON `doc` that has no "ui"/"pos" one.
-void place_unplaced_nodes_in(json& doc, const Registry& registry);
+// A node's declaration (its "type": registered, a group, a Repeat's body),
+// from its JSON; null when unknown.
+using TypeLookup = std::function<const NodeType*(const json& node)>;
+
+// Gives every node of the graph JSON `doc` that has no "ui"/"pos" one: in
+// columns by depth along links, each as tall as its declaration makes it,
+// moved to the nearest free spot when a placed node is in the way. No two
+// boxes overlap.
+void place_unplaced_nodes_in(json& doc, const TypeLookup& type_of);
 
 }  // namespace loom::editor

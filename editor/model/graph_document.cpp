@@ -3,11 +3,14 @@
 #include "auto_layout.hpp"
 #include "group_library.hpp"
 #include "input_link.hpp"
+#include "json_object.hpp"
 
 #include <algorithm>
 #include <cctype>
+#include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 
 #include "loom/atomic_file.hpp"
 
@@ -33,13 +36,21 @@ std::string snake_case(const std::string& type) {
 }  // namespace
 
 GraphDocument::GraphDocument(const Registry& registry)
-    : registry_(registry), doc_(empty_graph()), group_types_(registry) {}
+    : registry_(registry), doc_(empty_graph()), group_types_(registry) {
+  // A group file being edited declares what its JSON says now, not its file.
+  group_types_.set_open_files([this](const std::filesystem::path& file) -> const json* {
+    auto it = files_.find(file.string());
+    return it == files_.end() ? nullptr : &it->second.doc;
+  });
+}
 
 void GraphDocument::clear() {
   doc_ = empty_graph();
   layout_ = {};
+  read_text_.reset();
   file_.clear();
   path_.clear();
+  files_.clear();
   group_types_.rescan();
   history_.clear();
   saved_state_ = history_.state();
@@ -51,6 +62,7 @@ void GraphDocument::load(const std::filesystem::path& file) {
   const json doc = read_json_file(file, text);
   load_json(doc, std::filesystem::absolute(file));
   layout_ = scan_json_layout(text);
+  read_text_ = text;
 }
 
 void GraphDocument::load_json(const json& document, const std::filesystem::path& file) {
@@ -58,7 +70,9 @@ void GraphDocument::load_json(const json& document, const std::filesystem::path&
   doc_ = document;
   file_ = file;
   layout_ = {};
+  read_text_.reset();
   path_.clear();
+  files_.clear();
   group_types_.rescan();
   place_unplaced_nodes();
   history_.clear();
@@ -77,9 +91,51 @@ std::string GraphDocument::text() const {
 void GraphDocument::save(const std::filesystem::path& file) {
   const std::string written = text();
   write_file_atomic(file, written);
+  save_group_files();
   layout_ = scan_json_layout(written);
+  read_text_ = written;
   file_ = std::filesystem::absolute(file);
   saved_state_ = history_.state();
+}
+
+void GraphDocument::save_group_files() {
+  for (auto& [path, level] : files_) {
+    if (level.doc == level.saved) continue;
+    const std::string written = write_json(level.doc, level.layout);
+    write_file_atomic(path, written);
+    level.layout = scan_json_layout(written);
+    level.read_text = written;
+    level.saved = level.doc;
+  }
+}
+
+std::vector<std::filesystem::path> GraphDocument::edited_group_files() const {
+  std::vector<std::filesystem::path> edited;
+  for (const auto& [path, level] : files_)
+    if (level.doc != level.saved) edited.emplace_back(path);
+  return edited;
+}
+
+namespace {
+
+// Whether `file` holds other text than `known` (a missing file holds none:
+// saving over it loses nothing).
+bool differs_on_disk(const std::filesystem::path& file, const std::string& known) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return false;
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str() != known;
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> GraphDocument::changed_on_disk() const {
+  std::vector<std::filesystem::path> changed;
+  if (!file_.empty() && read_text_ && differs_on_disk(file_, *read_text_)) changed.push_back(file_);
+  for (const auto& [path, level] : files_)
+    if (level.doc != level.saved && differs_on_disk(path, level.read_text)) changed.emplace_back(path);
+  return changed;
 }
 
 std::vector<std::string> GraphDocument::node_ids() const {
@@ -106,10 +162,21 @@ std::string GraphDocument::type_name(const std::string& id) const {
   return n.contains("type") && n["type"].is_string() ? n["type"].get<std::string>() : std::string();
 }
 
-const NodeType* GraphDocument::node_type(const std::string& id) const { return find_type(type_name(id)); }
+const NodeType* GraphDocument::node_type(const std::string& id) const { return declaration(node_json(id), scope()); }
 
 const NodeType* GraphDocument::find_type(const std::string& type) const {
-  return group_types_.find(type, groups(), dir());
+  return group_types_.find(type, scope_groups(), scope().dir);
+}
+
+// A Repeat node is declared by its body (loom::repeat_declaration), any
+// other node by its type.
+const NodeType* GraphDocument::declaration(const json& node, const LevelScope& s) const {
+  if (!node.is_object() || !node.contains("type") || !node["type"].is_string()) return nullptr;
+  const json& groups = is_object_with(*s.root, "groups") ? (*s.root)["groups"] : empty_object();
+  const std::string type = node["type"].get<std::string>();
+  if (type != "Repeat") return group_types_.find(type, groups, s.dir);
+  const json body = node.value("body", json());
+  return body.is_string() ? group_types_.repeat(body.get<std::string>(), groups, s.dir) : nullptr;
 }
 
 CanvasPoint GraphDocument::position(const std::string& id) const {
@@ -141,7 +208,7 @@ json GraphDocument::literal(const std::string& id, const std::string& input) con
 }
 
 void GraphDocument::begin_edit(std::string label, const std::string& merge_key) {
-  history_.record(doc_, std::move(label), merge_key);
+  history_.record(snapshot(), std::move(label), merge_key);
   group_types_.edited();
   ++revision_;
 }
@@ -269,7 +336,61 @@ json GraphDocument::evaluated_part() const {
   strip(doc);
   if (doc.contains("groups") && doc["groups"].is_object())
     for (auto& [name, group] : doc["groups"].items()) strip(group);
+  inline_edited_group_files(doc);
   return doc;
+}
+
+namespace {
+
+// A group file's definition as an inline group of another file: its ".json"
+// types made absolute (they were relative to its own folder), its layout left out.
+json as_inline_group(json def, const std::filesystem::path& folder) {
+  def.erase("loom");
+  def.erase("groups");
+  def.erase("ui");
+  if (!is_object_with(def, "nodes")) return def;
+  for (auto& [id, node] : def["nodes"].items()) {
+    if (!node.is_object()) continue;
+    node.erase("ui");
+    for (const char* key : {"type", "body"}) {
+      const json named = node.value(key, json());
+      if (!named.is_string()) continue;
+      const std::filesystem::path type = named.get<std::string>();
+      if (type.extension() == ".json" && type.is_relative()) node[key] = (folder / type).lexically_normal().string();
+    }
+  }
+  return def;
+}
+
+}  // namespace
+
+// Group files edited and not saved are evaluated as the editor shows them:
+// each becomes an inline group under the very type the graph's nodes name it
+// by (the engine looks inline groups up before files), so nothing else of
+// the document changes. Its own inline groups come along unless the graph
+// has groups of those names; a group file used only by other group files is
+// evaluated as saved.
+void GraphDocument::inline_edited_group_files(json& doc) const {
+  if (edited_group_files().empty()) return;
+  std::set<std::string> named;
+  auto collect = [&](const json& level) {
+    if (!is_object_with(level, "nodes")) return;
+    for (const auto& [id, node] : level["nodes"].items())
+      for (const char* key : {"type", "body"})
+        if (node.is_object() && node.contains(key) && node[key].is_string()) named.insert(node[key]);
+  };
+  collect(doc_);
+  for (const auto& [name, group] : groups().items()) collect(group);
+  for (const std::string& type : named) {
+    const std::filesystem::path* file = group_types_.file_of(type, groups(), dir());
+    auto open = file ? files_.find(file->string()) : files_.end();
+    if (open == files_.end() || open->second.doc == open->second.saved) continue;
+    const json& edited = open->second.doc;
+    if (is_object_with(edited, "groups"))
+      for (const auto& [name, group] : edited["groups"].items())
+        if (!doc["groups"].contains(name)) doc["groups"][name] = as_inline_group(group, file->parent_path());
+    doc["groups"][type] = as_inline_group(edited, file->parent_path());
+  }
 }
 
 void GraphDocument::reset_input(const std::string& id, const std::string& input) {
@@ -376,10 +497,26 @@ void GraphDocument::set_frame(int frame) {
   doc_["ui"]["frame"] = frame;
 }
 
+// What an undo step keeps: the graph and every group file opened in it.
+json GraphDocument::snapshot() const {
+  json files = json::object();
+  for (const auto& [path, level] : files_) files[path] = level.doc;
+  return {{"graph", doc_}, {"files", files}};
+}
+
+void GraphDocument::restore(json snapshot) {
+  doc_ = std::move(snapshot["graph"]);
+  json& files = snapshot["files"];
+  // A file opened after the step was recorded was as read then.
+  for (auto& [path, level] : files_) level.doc = files.contains(path) ? std::move(files[path]) : level.saved;
+}
+
 // The frame is not part of the history: undo and redo keep the current one.
 bool GraphDocument::step_history(bool (EditHistory::*step)(json&)) {
   const json ui = doc_.value("ui", json());
-  if (!(history_.*step)(doc_)) return false;
+  json current = snapshot();
+  if (!(history_.*step)(current)) return false;
+  restore(std::move(current));
   group_types_.edited();
   trim_path();
   if (ui.is_null())
@@ -393,6 +530,9 @@ bool GraphDocument::step_history(bool (EditHistory::*step)(json&)) {
 bool GraphDocument::undo() { return step_history(&EditHistory::undo); }
 bool GraphDocument::redo() { return step_history(&EditHistory::redo); }
 
-void GraphDocument::place_unplaced_nodes() { place_unplaced_nodes_in(doc_, registry_); }
+void GraphDocument::place_unplaced_nodes() {
+  const LevelScope top{&doc_, dir(), {}};
+  place_unplaced_nodes_in(doc_, [&](const json& node) { return declaration(node, top); });
+}
 
 }  // namespace loom::editor

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,8 +37,13 @@ class GraphDocument {
   void load_json(const json& document, const std::filesystem::path& file = {});
   // Atomic write in the layout of the file read (json_layout.hpp: key order,
   // one-line arrays and objects kept); the document becomes clean and `file`
-  // its path.
+  // its path. Group files an edit changed (edited_group_files()) are
+  // written too, each in its own layout.
   void save(const std::filesystem::path& file);
+  // The files save() would overwrite that another program changed since
+  // they were read or last saved (the graph's file, edited group files):
+  // ask before saving over them.
+  std::vector<std::filesystem::path> changed_on_disk() const;
   // The text save() writes.
   std::string text() const;
 
@@ -105,6 +111,7 @@ class GraphDocument {
   bool redo();
 
   // The document without layout ("ui" fields): what evaluation depends on.
+  // Group files edited and not yet saved are in it as inline groups.
   json evaluated_part() const;
 
   // The graph's "time" range, or none (no "time", or an invalid one).
@@ -125,15 +132,30 @@ class GraphDocument {
   const std::vector<std::string>& path() const { return path_; }  // group node ids, outermost first
   // "look.inner." for the path [look, inner]: how the engine names inner nodes.
   std::string path_prefix() const;
-  // Enters group node `id` of this level; false unless it uses an inline group.
+  // Enters group node `id` of this level: an inline group, a group file
+  // (read once, then edited in memory and written by save()) or a Repeat
+  // node's body. False for a node that is none of those. Throws GraphError
+  // when its group file cannot be read.
   bool enter(const std::string& id);
   // Leaves to the first `depth` levels of the path (0: the top graph).
   void leave(std::size_t depth);
   // The inline group being edited, or "" at the top.
   std::string group_name() const;
+  // A group instance or a Repeat node: a node that can be entered.
   bool is_group_node(const std::string& id) const;
-  // The group file a node's type names, or empty (not a group file).
+  bool is_repeat(const std::string& id) const;
+  // The body group a Repeat node names ("" for another node).
+  std::string repeat_body(const std::string& id) const;
+  // Whether the level shown is a Repeat node's body (its nodes are not nodes
+  // of the evaluated graph: iterations run apart and keep no values).
+  bool in_repeat_body() const;
+  // The group file a node's type (or Repeat body) names, or empty (not a group file).
   std::filesystem::path group_file(const std::string& id) const;
+  // The group file whose nodes are shown, or empty (the graph or an inline group).
+  std::filesystem::path level_file() const;
+  // Group files opened by enter() that an edit changed since they were read
+  // or saved: save() writes them.
+  std::vector<std::filesystem::path> edited_group_files() const;
   // Whether this level has an interface to promote to (a group, or a group file's top).
   bool has_interface() const;
   // This level's interface inputs ({} when none).
@@ -159,6 +181,22 @@ class GraphDocument {
   // The interface output that node.output is, or "".
   std::string exported_as(const std::string& id, const std::string& output) const;
 
+  // One instance (as `loom run --set look.render.width=640` sets one): inside
+  // a group, the node the level was entered from gives values to the
+  // group's interface inputs. An inner input is set for that instance only
+  // by promoting it (its default the value every instance had, so no other
+  // instance changes) and giving the instance `value`: one undo step.
+  // Returns the interface input's name.
+  std::string set_for_instance(const std::string& id, const std::string& input, json value);
+  // The value the entered instance gives interface input `name` (null when
+  // unset or linked), and its link.
+  json instance_literal(const std::string& name) const;
+  std::optional<Link> instance_link(const std::string& name) const;
+  void set_instance_input(const std::string& name, json value, const std::string& merge_key = {});
+  void reset_instance_input(const std::string& name);
+  // The node the level shown was entered from ("" at the top).
+  std::string instance_id() const { return path_.empty() ? std::string() : path_.back(); }
+
   // Group types for the node search: this file's inline groups and the library's.
   std::vector<const NodeType*> group_types() const;
   // Reads the group files again (the library may have changed).
@@ -175,10 +213,36 @@ class GraphDocument {
   bool step_history(bool (EditHistory::*step)(json&));
   json& node_json(const std::string& id);
   const json& node_json(const std::string& id) const;
-  // The object holding the level's "nodes": the document or an inline group.
+  // Where a level's types are looked up: the document holding its inline
+  // "groups" (the graph or a group file) and the folder its paths are
+  // relative to.
+  struct LevelScope {
+    const json* root = nullptr;
+    std::filesystem::path dir;
+    std::filesystem::path file;  // the group file, empty for the graph
+  };
+  // A group file opened inside the document.
+  struct GroupFileLevel {
+    json doc;
+    JsonLayout layout;      // of the text read, for a faithful save
+    std::string read_text;  // what was read or last written: another program's change is seen
+    json saved;             // the JSON as read (and laid out) or last written
+  };
+  // The object holding the level's "nodes": the document, an inline group or a group file.
   json& level();
   const json& level() const;
-  const json* level_at(std::size_t depth) const;
+  const json* level_at(std::size_t depth, LevelScope* scope = nullptr) const;
+  LevelScope scope() const;  // of the level shown
+  const json& scope_groups() const;
+  json& scope_root();
+  const NodeType* declaration(const json& node, const LevelScope& scope) const;
+  void open_group_file(const std::filesystem::path& file);
+  json snapshot() const;
+  void inline_edited_group_files(json& doc) const;
+  void restore(json snapshot);
+  void save_group_files();
+  json& instance_inputs();
+  const json* instance_node() const;
   json& nodes() { return level()["nodes"]; }
   const json& nodes() const { return level()["nodes"]; }
   std::filesystem::path dir() const;
@@ -196,6 +260,8 @@ class GraphDocument {
   std::filesystem::path file_;
   EditHistory history_;
   JsonLayout layout_;  // of the file read, or last written
+  std::optional<std::string> read_text_;         // what was read from file_ or last written there
+  std::map<std::string, GroupFileLevel> files_;  // group files entered, by canonical path
   std::vector<std::string> path_;
   GroupTypes group_types_;
   std::uint64_t saved_state_ = 0;

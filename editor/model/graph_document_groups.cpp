@@ -66,13 +66,16 @@ void rewire(json& nodes, const std::map<std::pair<std::string, std::string>, std
 
 std::string GraphDocument::group(const std::vector<std::string>& ids, const std::string& name) {
   const Grouping g = grouping_of(*this, nodes(), ids);
-  const std::string type = name.empty() ? unique_name("Group", [&](const std::string& n) {
-    return groups().contains(n) || registry_.find(n) != nullptr;
-  }) : name;
-  if (registry_.find(type) || groups().contains(type))
+  const std::string type = name.empty()
+                               ? unique_name("Group",
+                                             [&](const std::string& n) {
+                                               return scope_groups().contains(n) || registry_.find(n) != nullptr;
+                                             })
+                               : name;
+  if (registry_.find(type) || scope_groups().contains(type))
     throw Error("cannot name the group \"" + type + "\": a node type or group of that name exists");
   begin_edit("group " + std::to_string(g.definition["nodes"].size()) + " nodes as " + type);
-  doc_["groups"][type] = g.definition;
+  scope_root()["groups"][type] = g.definition;
   const std::string id = add_group_node(type, ids, g.instance_inputs);
   rewire(nodes(), g.consumers, id);
   return id;
@@ -85,11 +88,12 @@ std::string GraphDocument::group_to_file(const std::vector<std::string>& ids, co
   // Inline groups the selection uses go with it: the file must stand alone.
   json used = json::object();
   for (const auto& [id, node] : g.definition["nodes"].items())
-    if (const std::string t = node.value("type", std::string()); groups().contains(t)) used[t] = groups()[t];
+    if (const std::string t = node.value("type", std::string()); scope_groups().contains(t))
+      used[t] = scope_groups()[t];
   if (!used.empty()) contents["groups"] = used;
   write_file_atomic(file, write_json(contents, JsonLayout{}));
   const fs::path absolute = fs::absolute(file);
-  const std::string type = absolute.lexically_relative(fs::absolute(dir())).generic_string();
+  const std::string type = absolute.lexically_relative(fs::absolute(scope().dir)).generic_string();
   begin_edit("group " + std::to_string(g.definition["nodes"].size()) + " nodes into " + file.filename().string());
   group_types_.rescan();
   const std::string id = add_group_node(type, ids, g.instance_inputs);
@@ -100,21 +104,21 @@ std::string GraphDocument::group_to_file(const std::vector<std::string>& ids, co
 std::vector<std::string> GraphDocument::ungroup(const std::string& id) {
   const std::string type = type_name(id);
   json definition;
-  if (groups().contains(type))
-    definition = groups()[type];
+  if (scope_groups().contains(type))
+    definition = scope_groups()[type];
   else if (const fs::path file = group_file(id); !file.empty())
-    definition = read_group_file(file);
+    definition = files_.count(file.string()) ? files_.at(file.string()).doc : read_group_file(file);
   else
     throw Error(id + " is not a group node");
   // A group file's own inline groups come along (the same name must mean the same group).
-  const json file_groups = is_object_with(definition, "groups") && !groups().contains(type) ? definition["groups"]
-                                                                                           : empty_object();
+  const json file_groups =
+      is_object_with(definition, "groups") && !scope_groups().contains(type) ? definition["groups"] : empty_object();
   for (const auto& [name, group] : file_groups.items())
-    if (registry_.find(name) || (groups().contains(name) && groups()[name] != group))
+    if (registry_.find(name) || (scope_groups().contains(name) && scope_groups()[name] != group))
       throw Error("cannot ungroup " + id + ": its file's group \"" + name + "\" differs from this graph's");
   const Ungrouping u = dissolve_group(id, node_json(id), definition, [&](const std::string& n) { return has_node(n); });
   begin_edit("ungroup " + id);
-  for (const auto& [name, group] : file_groups.items()) doc_["groups"][name] = group;
+  for (const auto& [name, group] : file_groups.items()) scope_root()["groups"][name] = group;
   const CanvasPoint at = position(id);
   nodes().erase(id);
   std::vector<std::string> added;
@@ -139,6 +143,7 @@ std::vector<std::string> GraphDocument::ungroup(const std::string& id) {
 
 // Inline groups that no node of the file uses any more.
 void GraphDocument::drop_unused_groups() {
+  if (!scope().file.empty()) return;  // a group file's own groups are left as they are
   for (bool dropped = true; dropped && doc_.contains("groups");) {
     const std::vector<std::string> used = types_used();
     std::vector<std::string> unused;
@@ -171,6 +176,61 @@ std::string GraphDocument::exported_as(const std::string& id, const std::string&
 
 std::string GraphDocument::promoted_as(const std::string& id, const std::string& input) const {
   return has_interface() ? interface_input_of(level(), id, input) : std::string();
+}
+
+const json* GraphDocument::instance_node() const {
+  const json* parent = path_.empty() ? nullptr : level_at(path_.size() - 1);
+  return parent ? &(*parent)["nodes"][path_.back()] : nullptr;
+}
+
+json& GraphDocument::instance_inputs() {
+  const json* node = instance_node();
+  if (!node) throw Error("no group entered: an instance's values are given inside one");
+  return const_cast<json&>(*node)["inputs"];
+}
+
+json GraphDocument::instance_literal(const std::string& name) const {
+  const json* node = instance_node();
+  if (!node || !is_object_with(*node, "inputs") || !(*node)["inputs"].contains(name)) return nullptr;
+  const json& v = (*node)["inputs"][name];
+  return input_link(v) ? json() : v;
+}
+
+std::optional<Link> GraphDocument::instance_link(const std::string& name) const {
+  const json* node = instance_node();
+  if (!node || !is_object_with(*node, "inputs") || !(*node)["inputs"].contains(name)) return std::nullopt;
+  return input_link((*node)["inputs"][name]);
+}
+
+void GraphDocument::set_instance_input(const std::string& name, json value, const std::string& merge_key) {
+  if (instance_literal(name) == value) return;
+  begin_edit("set " + instance_id() + "." + name, merge_key);
+  instance_inputs()[name] = std::move(value);
+}
+
+void GraphDocument::reset_instance_input(const std::string& name) {
+  if (instance_literal(name).is_null() && !instance_link(name)) return;
+  begin_edit("reset " + instance_id() + "." + name);
+  json& inputs = instance_inputs();
+  inputs.erase(name);
+  if (inputs.empty()) const_cast<json&>(*instance_node()).erase("inputs");
+}
+
+std::string GraphDocument::set_for_instance(const std::string& id, const std::string& input, json value) {
+  if (path_.empty()) throw Error("enter a group first: an instance's values are given inside one");
+  std::string name = promoted_as(id, input);
+  if (name.empty()) {
+    const NodeType* t = node_type(id);
+    const InputSpec* declared = t ? t->spec.find_input(input) : nullptr;
+    if (!declared) throw Error(id + " has no input \"" + input + "\"");
+    if (link(id, input)) throw Error(id + "." + input + " is linked inside the group: it takes no value");
+    begin_edit("set " + id + "." + input + " for " + instance_id() + " only");
+    name = promote_input(level(), id, input, *declared);
+  } else {
+    begin_edit("set " + instance_id() + "." + name);
+  }
+  instance_inputs()[name] = std::move(value);
+  return name;
 }
 
 }  // namespace loom::editor

@@ -1,6 +1,7 @@
 #include "group_types.hpp"
 
 #include "loom/builtin_types.hpp"
+#include "loom/graph_view.hpp"
 
 namespace loom::editor {
 
@@ -63,8 +64,40 @@ GroupTypes::GroupTypes(const Registry& registry) : registry_(registry) {}
 const NodeType* GroupTypes::find(const std::string& type, const json& groups, const fs::path& dir) const {
   if (const NodeType* t = registry_.find(type)) return t;
   if (groups.is_object() && groups.contains(type) && groups[type].is_object()) return inline_type(type, groups, dir);
-  if (const fs::path* file = resolved(type, dir)) return file_type(*file);
+  if (const fs::path* file = resolved(type, dir)) {
+    if (const json* doc = open_ ? open_(*file) : nullptr) return open_file_type(*file, *doc);
+    return file_type(*file);
+  }
   return nullptr;
+}
+
+const fs::path* GroupTypes::file_of(const std::string& type, const json& groups, const fs::path& dir) const {
+  if (registry_.find(type) || (groups.is_object() && groups.contains(type))) return nullptr;
+  return resolved(type, dir);
+}
+
+const NodeType* GroupTypes::repeat(const std::string& body, const json& groups, const fs::path& dir) const {
+  const std::string key = dir.string() + "\n" + body;
+  if (auto it = repeats_.find(key); it != repeats_.end()) return it->second.get();
+  const NodeType* group = is_group(body, groups, dir) ? find(body, groups, dir) : nullptr;
+  std::unique_ptr<NodeType> t;
+  try {
+    if (group) t = std::make_unique<NodeType>(repeat_declaration(*group, body));
+  } catch (const Error&) {
+    // A body declaring "count": validation says so; the node shows as unknown.
+  }
+  return (repeats_[key] = std::move(t)).get();
+}
+
+const NodeType* GroupTypes::open_file_type(const fs::path& file, const json& doc) const {
+  const std::string key = file.string();
+  if (auto it = opened_.find(key); it != opened_.end()) return it->second.get();
+  if (!resolving_.insert(key).second) return nullptr;
+  const json groups = doc.value("groups", json::object());
+  auto inner = [&](const std::string& type) { return find(type, groups, file.parent_path()); };
+  auto t = std::make_unique<NodeType>(interface_node_type(file.stem().string(), file.string(), doc, inner));
+  resolving_.erase(key);
+  return (opened_[key] = std::move(t)).get();
 }
 
 const fs::path* GroupTypes::resolved(const std::string& type, const fs::path& dir) const {
@@ -125,8 +158,11 @@ std::vector<const NodeType*> GroupTypes::library() const {
 
 void GroupTypes::edited() {
   retired_.clear();
-  for (auto& [name, t] : inline_) retired_.push_back(std::move(t));
-  inline_.clear();
+  for (auto* built : {&inline_, &opened_, &repeats_}) {
+    for (auto& [name, t] : *built)
+      if (t) retired_.push_back(std::move(t));
+    built->clear();
+  }
 }
 
 void GroupTypes::rescan() {

@@ -38,6 +38,17 @@ class GroupTypes {
   // `groups` and whose file lies in `dir`; null when it names nothing known.
   const NodeType* find(const std::string& type, const json& groups, const std::filesystem::path& dir) const;
   bool is_group(const std::string& type, const json& groups, const std::filesystem::path& dir) const;
+  // A Repeat node's declaration for its body group `body` (the engine's
+  // rule, loom::repeat_declaration); null when the body is no group.
+  const NodeType* repeat(const std::string& body, const json& groups, const std::filesystem::path& dir) const;
+  // The group file (canonical) a type names from `dir`, or null: an inline
+  // group or a registered type names none.
+  const std::filesystem::path* file_of(const std::string& type, const json& groups,
+                                       const std::filesystem::path& dir) const;
+  // Group files opened for editing: their types come from this JSON, not
+  // from the disk. `open` takes a canonical path; null when not open.
+  using OpenFiles = std::function<const json*(const std::filesystem::path& file)>;
+  void set_open_files(OpenFiles open) { open_ = std::move(open); }
   // The library's groups (LOOM_GRAPH_PATH, graphs/lib), for the search.
   std::vector<const NodeType*> library() const;
 
@@ -59,7 +70,12 @@ class GroupTypes {
   const Registry& registry_;
   mutable std::map<std::string, std::filesystem::path> resolved_;
   mutable std::optional<std::vector<LibraryGroup>> library_;
-  mutable std::map<std::string, std::unique_ptr<NodeType>> inline_, files_;
+  const NodeType* open_file_type(const std::filesystem::path& file, const json& doc) const;
+
+  OpenFiles open_;
+  // Built from the document's JSON (inline groups, open files, Repeat
+  // bodies): rebuilt after every edit. From the disk: kept until rescan().
+  mutable std::map<std::string, std::unique_ptr<NodeType>> inline_, opened_, repeats_, files_;
   mutable std::vector<std::unique_ptr<NodeType>> retired_;
   mutable std::set<std::string> resolving_;  // guards a group that uses itself
 };

@@ -26,7 +26,13 @@ void Breadcrumbs::draw(EditorState& state, const std::string& graph_name) {
     ImGui::PopID();
   }
   ImGui::SameLine();
-  ImGui::TextDisabled("  editing the group: every node of this type changes");
+  const std::filesystem::path file = state.doc.level_file();
+  if (state.doc.in_repeat_body())
+    ImGui::TextDisabled("  a Repeat body: its iterations keep no values to show");
+  else if (!file.empty())
+    ImGui::TextDisabled("  editing %s: Save writes it, for every graph that uses it", file.filename().c_str());
+  else
+    ImGui::TextDisabled("  editing the group: every node of this type changes");
   if (go_to < path.size()) state.leave(go_to);
 }
 

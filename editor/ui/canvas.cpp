@@ -76,6 +76,13 @@ std::string fit_text(ImFont* face, float size, const std::string& text, float ro
   return {};
 }
 
+// What a node's header says under its id: its type, and a Repeat's body.
+std::string type_label(const GraphDocument& doc, const std::string& id) {
+  const std::string type = doc.type_name(id);
+  if (!doc.is_repeat(id)) return type;
+  return "Repeat of " + doc.repeat_body(id);
+}
+
 }  // namespace
 
 ImU32 type_color(const TypeInfo& type) {
@@ -307,8 +314,7 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
   const ImVec2 z = ImVec2(b.width, b.height) * zoom_;
   const NodeType* t = state.doc.node_type(id);
   const NodeReport* report = state.report(id);
-  auto live_it = state.live.find(id);
-  const LiveNode* live = live_it == state.live.end() ? nullptr : &live_it->second;
+  const LiveNode* live = state.live_node(id);
   const bool selected = state.selection.count(id) > 0;
   const float font = kUiFontSize * zoom_;
   ImFont* face = font_for(font);
@@ -330,7 +336,11 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
     draw->AddRectFilled(a + ImVec2(0, (kHeader - 4) * zoom_), a + ImVec2(z.x, kHeader * zoom_), kGroupColor);
   if (state.viewed == id) draw->AddCircleFilled(a + ImVec2(z.x - 10 * zoom_, 13 * zoom_), 4 * zoom_, IM_COL32_WHITE);
   const std::string title = state.doc.collapsed(id) ? "> " + id : id;
-  draw->AddText(face, font, a + ImVec2(8, 5) * zoom_, IM_COL32_WHITE, title.c_str());
+  draw->AddText(face, font, a + ImVec2(8, 4) * zoom_, IM_COL32_WHITE, title.c_str());
+  // The type under the id (a group's file, a Repeat's body), for every kind of node.
+  if (detail)
+    draw->AddText(face, font * 0.8f, a + ImVec2(8, 22) * zoom_, IM_COL32(225, 225, 230, 255),
+                  fit_text(face, font * 0.8f, type_label(state.doc, id), (kWidth - 16) * zoom_).c_str());
   if (!t) {
     draw->AddText(face, font, a + ImVec2(8, kHeader + 2) * zoom_, IM_COL32(255, 120, 120, 255),
                   ("unknown type " + state.doc.type_name(id)).c_str());

@@ -6,10 +6,14 @@
 
 #include <imgui.h>
 
+#include "model/auto_layout.hpp"
+
 namespace loom::editor::canvas_geometry {
 
-// Node box layout in canvas units (scaled by the zoom on screen).
-constexpr float kWidth = 220, kHeader = 28, kRow = 22, kFooter = 20, kSocket = 5.5f;
+// Node box layout in canvas units (scaled by the zoom on screen), as the
+// automatic layout places boxes (model/auto_layout.hpp).
+constexpr float kWidth = float(kNodeWidth), kHeader = float(kNodeHeader), kRow = float(kNodeRow),
+                kFooter = float(kNodeFooter), kSocket = 5.5f;
 // Below this zoom node text is left out (under ~8 px it is a grey smear).
 constexpr float kLabelZoom = 0.5f;
 // Frame-all never zooms out below this (16 px text at 0.75 is 12 px, as

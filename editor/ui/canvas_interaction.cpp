@@ -45,9 +45,10 @@ void Canvas::handle_mouse(EditorState& state) {
       const NodeReport* r = state.report(id);
       if (r && !r->error.empty())
         ImGui::SetTooltip("%s", r->error.c_str());
+      else if (doc.is_repeat(id))
+        ImGui::SetTooltip("Repeat: double-click to enter its body");
       else if (doc.is_group_node(id))
-        ImGui::SetTooltip("group %s: double-click to %s", doc.type_name(id).c_str(),
-                          doc.group_file(id).empty() ? "enter it" : "open its file");
+        ImGui::SetTooltip("group %s: double-click to enter it", doc.type_name(id).c_str());
     }
   }
 
@@ -232,7 +233,7 @@ void Canvas::handle_keys(EditorState& state) {
 void ungroup_selection(EditorState& state) {
   std::set<std::string> added;
   for (const auto& id : state.selection)
-    if (state.doc.has_node(id) && state.doc.is_group_node(id))
+    if (state.doc.has_node(id) && state.doc.is_group_node(id) && !state.doc.is_repeat(id))
       for (const auto& inner : state.doc.ungroup(id)) added.insert(inner);
   if (!added.empty()) state.selection = added;
 }

@@ -19,18 +19,13 @@ namespace fs = std::filesystem;
 Value EditorState::upstream_value(const std::string& id, const std::string& input) const {
   auto l = doc.link(id, input);
   if (!eval || !l || !doc.has_node(l->node)) return {};
-  const NodeType* t = doc.node_type(l->node);
-  auto it = eval->result.outputs.find(engine_id(l->node));
-  if (!t || it == eval->result.outputs.end()) return {};
-  const int o = t->spec.output_index(l->output);
-  return o >= 0 && o < int(it->second.size()) ? it->second[std::size_t(o)] : Value();
+  return eval->output(engine_id(l->node), l->output);
 }
 
 Value EditorState::viewed_output(int index) const {
-  if (!eval || viewed.empty()) return {};
-  auto it = eval->result.outputs.find(engine_id(viewed));
-  if (it == eval->result.outputs.end() || index < 0 || index >= int(it->second.size())) return {};
-  return it->second[std::size_t(index)];
+  const NodeType* t = eval && !viewed.empty() && doc.has_node(viewed) ? doc.node_type(viewed) : nullptr;
+  if (!t || index < 0 || index >= int(t->spec.outputs.size())) return {};
+  return eval->output(engine_id(viewed), t->spec.outputs[std::size_t(index)].name);
 }
 
 EditorApp::EditorApp(EditorOptions options)
@@ -82,10 +77,55 @@ void EditorApp::open(const fs::path& file) {
   message_ = "opened " + doc_.file().string();
 }
 
-void EditorApp::save(const fs::path& file) {
+bool EditorApp::save(const fs::path& file) {
+  std::vector<fs::path> changed = doc_.changed_on_disk();
+  // Saved elsewhere, the file read is not overwritten (group files still are).
+  if (fs::absolute(file) != doc_.file())
+    changed.erase(std::remove(changed.begin(), changed.end(), doc_.file()), changed.end());
+  if (!changed.empty()) {
+    conflict_ = {file, changed, true};
+    return false;
+  }
+  save_over(file);
+  return true;
+}
+
+void EditorApp::save_over(const fs::path& file) {
   doc_.save(file);
   remember(doc_.file());
   message_ = "saved " + doc_.file().string();
+}
+
+// Another program changed a file Save would overwrite: overwrite it (then do
+// what waited for the save), or keep the file and the unsaved work.
+void EditorApp::conflict_prompt() {
+  if (conflict_.open_popup) {
+    ImGui::OpenPopup("Changed on disk");
+    conflict_.open_popup = false;
+  }
+  overwrite_button_.reset();
+  if (!ImGui::BeginPopupModal("Changed on disk", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) return;
+  for (const auto& f : conflict_.changed) ImGui::Text("%s was changed by another program", f.string().c_str());
+  ImGui::Text("since it was opened or last saved here. Saving overwrites those changes.");
+  if (ImGui::Button("Overwrite")) {
+    try {
+      save_over(conflict_.file);
+      perform(std::exchange(pending_action_, MenuAction::none), pending_file_);
+    } catch (const std::exception& e) {
+      message_ = e.what();
+    }
+    conflict_ = {};
+    ImGui::CloseCurrentPopup();
+  }
+  overwrite_button_ = std::make_pair(ImGui::GetItemRectMin(), ImGui::GetItemRectMax());
+  ImGui::SameLine();
+  if (ImGui::Button("Cancel")) {
+    pending_action_ = MenuAction::none;
+    message_ = "not saved: " + conflict_.changed.front().string() + " changed on disk";
+    conflict_ = {};
+    ImGui::CloseCurrentPopup();
+  }
+  ImGui::EndPopup();
 }
 
 void EditorApp::load_recent() {
@@ -111,39 +151,26 @@ void EditorApp::remember(const fs::path& file) {
   }
 }
 
-// Every non-sink node of the top graph and, inside a group, of the level
-// shown (by their paths, as the engine names inner nodes).
-std::vector<Target> EditorApp::preview_targets() const {
-  std::vector<Target> targets;
-  for (const auto& id : doc_.root_node_ids()) {
-    const NodeType* t = doc_.find_type(doc_.document()["nodes"][id].value("type", std::string()));
-    if (t && !t->spec.sink) targets.push_back({id, ""});
-  }
-  if (!doc_.path().empty())
-    for (const auto& id : doc_.node_ids()) {
-      const NodeType* t = doc_.node_type(id);
-      if (t && !t->spec.sink) targets.push_back({state_.engine_id(id), ""});
-    }
-  return targets;
-}
-
 void EditorApp::sync_evaluation() {
   if (!reload_pending_.empty()) return;  // the registry is about to change
   const auto range = doc_.time_range();
   const int frame = range ? doc_.frame() : 0;
+  // The level shown decides which inner nodes the preview asks for.
+  const std::string level = doc_.path_prefix();
   if (doc_.revision() == submitted_revision_ && frame == submitted_frame_ && state_.viewed == submitted_viewed_ &&
-      !write_outputs_)
+      level == submitted_level_ && !write_outputs_)
     return;
   submitted_revision_ = doc_.revision();
   // Layout edits (moving, collapsing) change nothing evaluated: the running
   // evaluation goes on, and its result stays current.
   json evaluated = doc_.evaluated_part();
-  const bool changed = evaluated != submitted_document_ || frame != submitted_frame_;
+  const bool changed = evaluated != submitted_document_ || frame != submitted_frame_ || level != submitted_level_;
   if (!changed && state_.viewed == submitted_viewed_ && !write_outputs_) return;
   submitted_document_ = evaluated;
   evaluated_revision_ = doc_.revision();
   submitted_frame_ = frame;
   submitted_viewed_ = state_.viewed;
+  submitted_level_ = level;
   EvalRequest r;
   r.document = std::move(evaluated);
   r.file = doc_.file().empty() ? fs::current_path() / "untitled.json" : doc_.file();
@@ -151,18 +178,20 @@ void EditorApp::sync_evaluation() {
   r.revision = doc_.revision();
   if (range) r.frames = write_outputs_ ? FrameRange{range->start, range->end} : FrameRange{frame, frame};
   r.frames_of = state_.viewed.empty() ? std::string() : state_.engine_id(state_.viewed);
-  if (!write_outputs_) r.targets = preview_targets();
+  // The preview: every node of the top graph and of the level shown, by the
+  // paths the engine gives inner nodes.
+  if (!write_outputs_) r.preview = level;
   // Viewing another node changes nothing evaluated (every non-sink node is
   // already), only whose cached frames are marked: it waits for the run.
-  if (write_outputs_ || !r.targets.empty() || doc_.node_ids().empty())
-    controller_->submit(std::move(r), /*cancel_running=*/changed && !doc_.merging());
+  controller_->submit(std::move(r), /*cancel_running=*/changed && !doc_.merging());
   write_outputs_ = false;
 }
 
 bool EditorApp::evaluation_current() const {
   const auto& e = state_.eval;
   return !controller_->busy() && e && e->revision == evaluated_revision_ && submitted_revision_ == doc_.revision() &&
-         submitted_frame_ == (doc_.time_range() ? doc_.frame() : 0) && e->frame == submitted_frame_;
+         submitted_frame_ == (doc_.time_range() ? doc_.frame() : 0) && e->frame == submitted_frame_ &&
+         e->preview == std::optional<std::string>(doc_.path_prefix());
 }
 
 // A rebuilt plugin is loaded again once the worker has let go of the
@@ -211,7 +240,7 @@ void EditorApp::take_results() {
   state_.eval = *finished;
   // A run of the sinks ("Write outputs") has no preview values (and, with
   // frames, ends at the last frame): preview the current frame again.
-  if (state_.eval->targets.empty() && !doc_.node_ids().empty()) {
+  if (!state_.eval->preview && !doc_.node_ids().empty()) {
     submitted_document_ = json();
     submitted_revision_ = ~0ull;
   }
@@ -265,9 +294,8 @@ void EditorApp::unsaved_prompt() {
   if (ImGui::Button("Save")) {
     if (doc_.file().empty()) {
       files_.open("save", "Save the graph as", fs::current_path() / "untitled.json", true);
-    } else {
-      save(doc_.file());
-      perform(pending_action_, pending_file_);
+    } else if (save(doc_.file())) {
+      perform(std::exchange(pending_action_, MenuAction::none), pending_file_);
     }
     ImGui::CloseCurrentPopup();
   }
@@ -469,7 +497,31 @@ PaneRects EditorApp::pane_rects() const {
   return r;
 }
 
+// No editor action may end the process and lose unsaved work: whatever a
+// frame throws becomes the message over the canvas, and ImGui's stacks are
+// unwound to the frame's start so the next frame draws normally.
 void EditorApp::draw(Window& window) {
+  try {
+    draw_frame(window);
+  } catch (const std::exception& e) {
+    ImGui::ErrorCheckEndFrameRecover(nullptr);
+    message_ = e.what();
+  }
+}
+
+// One pane's contents; what it throws is shown, and the pane's window is
+// unwound to its Begin so the other panes still draw this frame.
+template <class Draw>
+void EditorApp::guarded(Draw&& draw) {
+  try {
+    draw();
+  } catch (const std::exception& e) {
+    ImGui::ErrorCheckEndWindowRecover(nullptr);
+    message_ = e.what();
+  }
+}
+
+void EditorApp::draw_frame(Window& window) {
   hot_reload();
   take_results();
   shortcuts();
@@ -499,21 +551,22 @@ void EditorApp::draw(Window& window) {
     ImGui::SameLine();
     if (ImGui::SmallButton("x")) message_.clear();
   }
-  breadcrumbs_.draw(state_, doc_.file().empty() ? "untitled" : doc_.file().filename().string());
-  canvas_.draw(state_);
+  guarded([&] {
+    breadcrumbs_.draw(state_, doc_.file().empty() ? "untitled" : doc_.file().filename().string());
+    canvas_.draw(state_);
+  });
   ImGui::End();
-  if (!state_.open_request.empty()) request(MenuAction::open, std::exchange(state_.open_request, {}));
 
   ImGui::SetNextWindowPos(ImVec2(at.x + left, at.y));
   ImGui::SetNextWindowSize(ImVec2(size.x - left, props));
   ImGui::Begin("Properties", nullptr, fixed | ImGuiWindowFlags_HorizontalScrollbar);
-  properties_.draw(state_, files_);
+  guarded([&] { properties_.draw(state_, files_); });
   ImGui::End();
 
   ImGui::SetNextWindowPos(ImVec2(at.x + left, at.y + props));
   ImGui::SetNextWindowSize(ImVec2(size.x - left, size.y - props));
   ImGui::Begin("Viewer", nullptr, fixed | ImGuiWindowFlags_NoScrollWithMouse);
-  viewer();
+  guarded([&] { viewer(); });
   ImGui::End();
 
   panes_.canvas = splitter("##split canvas", ImVec2(at.x + left - 4, at.y), ImVec2(8, size.y), true, left,
@@ -537,14 +590,14 @@ void EditorApp::draw(Window& window) {
   if (auto file = files_.take("group-file")) group_into_file(*file);
   if (auto file = files_.take("save")) {
     try {
-      save(*file);
-      perform(pending_action_, pending_file_);
+      if (save(*file)) perform(std::exchange(pending_action_, MenuAction::none), pending_file_);
     } catch (const std::exception& e) {
       message_ = e.what();
+      pending_action_ = MenuAction::none;
     }
-    pending_action_ = MenuAction::none;
   }
   unsaved_prompt();
+  conflict_prompt();
   timeline_.tick(state_, evaluation_current());
   sync_evaluation();
 }

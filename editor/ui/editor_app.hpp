@@ -11,7 +11,9 @@
 #include <deque>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "breadcrumbs.hpp"
@@ -72,7 +74,14 @@ class EditorApp {
 
   // Throws GraphError when the file is not a graph (the document is unchanged).
   void open(const std::filesystem::path& file);
-  void save(const std::filesystem::path& file);
+  // Saves, unless another program changed a file it would overwrite since
+  // it was read or saved here (GraphDocument::changed_on_disk): then asks
+  // first ("Overwrite" or "Cancel") and returns false.
+  bool save(const std::filesystem::path& file);
+  // The files the open "Changed on disk" question is about (empty: none),
+  // and where its Overwrite button was drawn last frame.
+  const std::vector<std::filesystem::path>& save_conflict() const { return conflict_.changed; }
+  std::optional<std::pair<ImVec2, ImVec2>> overwrite_button() const { return overwrite_button_; }
   // One frame of UI, between Window::begin_frame and end_frame.
   void draw(Window& window);
   bool quit_requested() const { return quit_; }
@@ -104,7 +113,9 @@ class EditorApp {
   void write_outputs() { write_outputs_ = true; }
 
  private:
-  std::vector<Target> preview_targets() const;
+  void draw_frame(Window& window);
+  template <class Draw>
+  void guarded(Draw&& draw);
   void group_menu();
   void group_into_file(const std::filesystem::path& file);
   void take_results();
@@ -113,6 +124,8 @@ class EditorApp {
   void hot_reload();
   void viewer();
   void unsaved_prompt();
+  void conflict_prompt();
+  void save_over(const std::filesystem::path& file);
   void request(MenuAction action, std::filesystem::path file = {});
   void perform(MenuAction action, const std::filesystem::path& file);
   void remember(const std::filesystem::path& file);
@@ -142,10 +155,19 @@ class EditorApp {
   std::uint64_t evaluated_revision_ = ~0ull;  // the revision submitted_document_ came from
   int submitted_frame_ = 0;                   // 0: the graph has no time range
   std::string submitted_viewed_;              // whose cached frames were asked for
+  std::string submitted_level_;               // the level previewed (GraphDocument::path_prefix)
   bool write_outputs_ = false, quit_ = false;
   MenuAction pending_action_ = MenuAction::none;
   std::filesystem::path pending_file_;
   bool prompt_open_ = false;
+  // A save waiting for an answer: the file to write and what changed on disk.
+  struct SaveConflict {
+    std::filesystem::path file;
+    std::vector<std::filesystem::path> changed;
+    bool open_popup = false;
+  };
+  SaveConflict conflict_;
+  std::optional<std::pair<ImVec2, ImVec2>> overwrite_button_;
   std::vector<std::filesystem::path> recent_;
   std::string message_;
   int viewed_output_ = 0;

@@ -24,24 +24,22 @@ struct EditorState {
   std::map<std::string, std::map<std::string, std::string>> issues;
 
   // Set when the canvas shows another level (a group entered or left): the
-  // canvas frames it once. A group file to open instead of entering.
+  // canvas frames it once.
   bool level_changed = false;
-  std::filesystem::path open_request;
 
   // The engine names a node inside the group entered by its path ("look.render").
   std::string engine_id(const std::string& id) const { return doc.path_prefix() + id; }
-  const NodeReport* report(const std::string& id) const {
-    if (!eval) return nullptr;
-    auto it = eval->result.nodes.find(engine_id(id));
-    return it == eval->result.nodes.end() ? nullptr : &it->second;
+  // The node's last report: a flat node's, or a group instance's summary.
+  const NodeReport* report(const std::string& id) const { return eval ? eval->report(engine_id(id)) : nullptr; }
+  // What the node is doing in the running evaluation, or null.
+  const LiveNode* live_node(const std::string& id) const {
+    auto it = live.find(engine_id(id));
+    return it == live.end() ? nullptr : &it->second;
   }
-  // Enters a group node (an inline group), or asks to open its group file.
+  // Enters a group node (an inline group, a group file, a Repeat body) in
+  // this document: the instance's values stay shown.
   void enter(const std::string& id) {
-    if (doc.enter(id)) {
-      show_level();
-    } else if (auto file = doc.group_file(id); !file.empty()) {
-      open_request = file;
-    }
+    if (doc.enter(id)) show_level();
   }
   void leave(std::size_t depth) {
     if (depth >= doc.path().size()) return;

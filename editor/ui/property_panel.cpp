@@ -20,6 +20,7 @@ void numbers(const json& v, T* out, int n) {
 }
 
 const ImVec4 kError(1, 0.5f, 0.5f, 1);
+const ImVec4 kGroupText(0.8f, 0.65f, 1, 1);  // what the group's interface gives
 constexpr float kMinWidget = 180;  // the narrowest a widget column gets before the pane scrolls
 
 void tooltip(const InputSpec& spec) {
@@ -113,6 +114,7 @@ void PropertyPanel::draw(EditorState& state, FileDialog& files) {
     buttons_.clear();
   }
   rects_node_ = id;
+  enter_button_.reset();
   const NodeType* t = doc.node_type(id);
   ImGui::Text("%s", id.c_str());
   ImGui::SameLine();
@@ -122,7 +124,8 @@ void PropertyPanel::draw(EditorState& state, FileDialog& files) {
     return;
   }
   ImGui::TextWrapped("%s", t->spec.description.c_str());
-  group_actions(state, id);
+  // Entering or ungrouping leaves this level: the node is not here any more.
+  if (group_actions(state, id)) return;
   if (const NodeReport* r = state.report(id)) {
     if (!r->error.empty()) ImGui::TextColored(kError, "%s", r->error.c_str());
     for (const auto& w : r->warnings) ImGui::TextColored(ImVec4(1, 0.8f, 0.4f, 1), "warning: %s", w.c_str());
@@ -165,30 +168,78 @@ void PropertyPanel::draw(EditorState& state, FileDialog& files) {
   ImGui::EndTable();
 }
 
-// For a group node: enter it (or open its file) and ungroup it. Inside a
-// group: how to promote an input.
-void PropertyPanel::group_actions(EditorState& state, const std::string& id) {
+// For a group node: enter it and ungroup it. Inside a group: how to promote
+// an input. True when the node left the level shown (entered, ungrouped).
+bool PropertyPanel::group_actions(EditorState& state, const std::string& id) {
   GraphDocument& doc = state.doc;
   if (doc.is_group_node(id)) {
-    const bool file = !doc.group_file(id).empty();
-    if (ImGui::SmallButton(file ? "open group file" : "enter group")) state.enter(id);
+    const bool repeat = doc.is_repeat(id);
+    const bool clicked = ImGui::SmallButton(repeat ? "enter body" : "enter group");
+    enter_button_ = Rect{ImGui::GetItemRectMin(), ImGui::GetItemRectMax()};
+    if (clicked) {
+      state.enter(id);
+      return true;
+    }
+    if (repeat) return false;
     ImGui::SameLine();
     if (ImGui::SmallButton("ungroup")) {
       const auto added = doc.ungroup(id);
       state.selection = {added.begin(), added.end()};
+      return true;
     }
   } else if (doc.has_interface()) {
     ImGui::TextDisabled("right-click an input's name to make it an input of the group");
   }
+  return false;
 }
 
-// Right-click on an input's name inside a group: "promote to group input".
+// Right-click on an input's name inside a group: "promote to group input",
+// or set it for the instance entered only (promoted, the instance given the
+// value it has now: nothing evaluated changes until it is edited).
 void PropertyPanel::promote_menu(EditorState& state, const std::string& id, const InputSpec& spec) {
   GraphDocument& doc = state.doc;
   if (!doc.has_interface() || doc.link(id, spec.name) || !doc.promoted_as(id, spec.name).empty()) return;
   if (ImGui::BeginPopupContextItem("promote")) {
     if (ImGui::MenuItem("Promote to group input")) doc.promote(id, spec.name);
+    const std::string instance = doc.instance_id();
+    if (!instance.empty() && ImGui::MenuItem(("Set for this instance only (" + instance + ")").c_str())) {
+      const json literal = doc.literal(id, spec.name);
+      doc.set_for_instance(id, spec.name, literal.is_null() ? spec.default_value : literal);
+    }
     ImGui::EndPopup();
+  }
+}
+
+// An inner input fed by the interface, inside the instance entered: the
+// value that instance gives (editable here; other instances keep theirs).
+void PropertyPanel::draw_instance_input(EditorState& state, FileDialog& files, const InputSpec& spec,
+                                        const std::string& name) {
+  GraphDocument& doc = state.doc;
+  const std::string instance = doc.instance_id();
+  ImGui::AlignTextToFramePadding();
+  if (auto l = doc.instance_link(name)) {
+    ImGui::TextColored(kGroupText, "<- %s.%s <- %s.%s", instance.c_str(), name.c_str(), l->node.c_str(),
+                       l->output.c_str());
+    widgets_[spec.name] = {ImGui::GetItemRectMin(), ImGui::GetItemRectMax()};
+    return;
+  }
+  ImGui::TextColored(kGroupText, "%s:", instance.c_str());
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("the value instance %s gives the group's input %s; other instances keep theirs", instance.c_str(),
+                      name.c_str());
+  ImGui::SameLine();
+  const json literal = doc.instance_literal(name);
+  const json declared = doc.interface_inputs().value(name, json::object());
+  const json value = !literal.is_null() ? literal : declared.value("default", spec.default_value);
+  json next;
+  const bool changed = edit_literal(state, files, instance + "." + name, spec, value, next);
+  widgets_[spec.name] = {ImGui::GetItemRectMin(), ImGui::GetItemRectMax()};
+  if (ImGui::IsItemDeactivated()) doc.end_merge();
+  if (changed) doc.set_instance_input(name, next, "instance:" + instance + "." + name);
+  if (!literal.is_null()) {
+    ImGui::TableSetColumnIndex(2);
+    if (ImGui::SmallButton("reset")) doc.reset_instance_input(name);
+    buttons_[spec.name] = {ImGui::GetItemRectMin(), ImGui::GetItemRectMax()};
   }
 }
 
@@ -198,8 +249,9 @@ void PropertyPanel::draw_input(EditorState& state, FileDialog& files, const std:
   ImGui::TableSetColumnIndex(1);
   buttons_.erase(spec.name);
   if (const std::string promoted = doc.promoted_as(id, spec.name); !promoted.empty()) {
+    if (!doc.instance_id().empty()) return draw_instance_input(state, files, spec, promoted);
     ImGui::AlignTextToFramePadding();
-    ImGui::TextColored(ImVec4(0.8f, 0.65f, 1, 1), "<- group input %s", promoted.c_str());
+    ImGui::TextColored(kGroupText, "<- group input %s", promoted.c_str());
     widgets_[spec.name] = {ImGui::GetItemRectMin(), ImGui::GetItemRectMax()};
     return;
   }

@@ -35,6 +35,8 @@ class PropertyPanel {
   std::optional<Rect> button_rect(const std::string& input) const { return find(buttons_, input); }
   // The pane's visible region last frame.
   Rect visible_rect() const { return visible_; }
+  // Where the selected group node's "enter group" button was drawn last frame.
+  std::optional<Rect> enter_button_rect() const { return enter_button_; }
 
  private:
   static std::optional<Rect> find(const std::map<std::string, Rect>& rects, const std::string& input) {
@@ -43,8 +45,9 @@ class PropertyPanel {
     return it->second;
   }
   void draw_input(EditorState& state, FileDialog& files, const std::string& id, const InputSpec& spec);
-  void group_actions(EditorState& state, const std::string& id);
+  bool group_actions(EditorState& state, const std::string& id);
   void promote_menu(EditorState& state, const std::string& id, const InputSpec& spec);
+  void draw_instance_input(EditorState& state, FileDialog& files, const InputSpec& spec, const std::string& name);
   bool edit_literal(EditorState& state, FileDialog& files, const std::string& id, const InputSpec& spec,
                     const json& value, json& next);
   bool edit_json_text(const std::string& key, const json& value, json& next);
@@ -52,6 +55,7 @@ class PropertyPanel {
   std::map<std::string, std::string> error_;  // why that text was not applied
   std::map<std::string, Rect> widgets_, labels_, buttons_;
   Rect visible_{};
+  std::optional<Rect> enter_button_;
   std::string rects_node_;
 };
 

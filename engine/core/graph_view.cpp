@@ -97,6 +97,17 @@ const NodeType& GraphView::type(const std::string& id) const {
   return *t;
 }
 
+std::vector<std::string> GraphView::inner_nodes(const std::string& instance) const {
+  std::vector<std::string> ids;
+  if (!graph_.instances.count(instance)) return ids;
+  // An instance's inner nodes are spliced in under "PATH." (graph_groups.cpp).
+  const std::string prefix = instance + ".";
+  for (auto it = graph_.nodes.lower_bound(prefix);
+       it != graph_.nodes.end() && it->first.compare(0, prefix.size(), prefix) == 0; ++it)
+    ids.push_back(it->first);
+  return ids;
+}
+
 std::vector<std::string> GraphView::sinks() const {
   std::vector<std::string> ids;
   for (const auto& [id, n] : graph_.nodes)
@@ -236,6 +247,26 @@ std::vector<fs::path> GraphView::files() const {
     if (!type->spec.source_file.empty()) add(type->spec.source_file);
   }
   return files;
+}
+
+NodeType repeat_declaration(const NodeType& body, const std::string& body_name) {
+  NodeType type = body;
+  NodeSpec& spec = type.spec;
+  spec.name = "Repeat";
+  spec.description = "runs group " + body_name + " count times" +
+                     (body.spec.description.empty() ? "" : " (" + body.spec.description + ")");
+  for (const auto& s : spec.inputs)
+    if (s.name == "count") throw Error("the body declares an input \"count\": Repeat's own input has that name");
+  // "iteration" (Int or Float) is fed by Repeat itself: 0 .. count-1.
+  std::vector<InputSpec> own;
+  for (auto& s : spec.inputs)
+    if (s.name != "iteration" || (s.type != &type_of<int>() && s.type != &type_of<double>()))
+      own.push_back(std::move(s));
+  spec.inputs.clear();
+  spec.input<int>("count", 1, "how many times the body runs; 0 passes the threaded inputs through").at_least(0);
+  for (auto& s : own) spec.inputs.push_back(std::move(s));
+  for (auto& o : spec.outputs) o.description = "the body's output after the last iteration";
+  return type;
 }
 
 std::vector<std::pair<std::string, Value>> named_outputs(const GraphView& view,

@@ -11,6 +11,7 @@
 
 #include "evaluation.hpp"
 #include "graph_groups.hpp"
+#include "loom/graph_view.hpp"
 #include "loom/hash.hpp"
 
 namespace loom::detail {
@@ -47,23 +48,9 @@ void inherit_flags(NodeSpec& spec, const Graph& body, const Registry& registry) 
 }
 
 std::unique_ptr<NodeType> build_type(const RepeatBody& r, const Registry& registry) {
-  auto type = std::make_unique<NodeType>(group_node_type(*r.body, r.body_type, "engine", registry));
+  auto type = std::make_unique<NodeType>(
+      repeat_declaration(group_node_type(*r.body, r.body_type, "engine", registry), r.body_type));
   NodeSpec& spec = type->spec;
-  spec.name = "Repeat";
-  spec.description = "runs group " + r.body_type + " count times" + (spec.description.empty() ? "" : " (" + spec.description + ")");
-  for (const auto& s : spec.inputs)
-    if (s.name == "count") throw Error("the body declares an input \"count\": Repeat's own input has that name");
-  // "iteration" (Int or Float) is fed by Repeat itself: 0 .. count-1.
-  spec.inputs.erase(std::remove_if(spec.inputs.begin(), spec.inputs.end(),
-                                   [](const InputSpec& s) {
-                                     return s.name == "iteration" && (s.type == &type_of<int>() || s.type == &type_of<double>());
-                                   }),
-                    spec.inputs.end());
-  std::vector<InputSpec> own = std::move(spec.inputs);
-  spec.inputs.clear();
-  spec.input<int>("count", 1, "how many times the body runs; 0 passes the threaded inputs through").at_least(0);
-  for (auto& s : own) spec.inputs.push_back(std::move(s));
-  for (auto& o : spec.outputs) o.description = "the body's output after the last iteration";
   inherit_flags(spec, *r.body, registry);
   spec.build = body_identity(r, registry);
   return type;

@@ -59,7 +59,7 @@ TEST(EditorHotReload, RebuiltPluginIsReloadedAndOnlyWhatUsedItRecomputes) {
   ASSERT_TRUE(settle(120)) << app.message();
   auto eval = app.state().eval;
   ASSERT_TRUE(eval->result.ok()) << app.message();
-  const Image before = eval->result.outputs.at("exposure").at(0).as<Image>();
+  const Image before = eval->output("exposure", "image").as<Image>();
   const json document = app.document().document();
 
   // The author's edit: twice the gain. Then their build, while the editor runs.
@@ -97,7 +97,7 @@ TEST(EditorHotReload, RebuiltPluginIsReloadedAndOnlyWhatUsedItRecomputes) {
   EXPECT_EQ(eval->result.nodes.at("warp").status, NodeStatus::ran);
   EXPECT_EQ(eval->result.nodes.at("board").status, NodeStatus::cached);
   EXPECT_EQ(eval->result.nodes.at("other").status, NodeStatus::cached);
-  const Image after = eval->result.outputs.at("exposure").at(0).as<Image>();
+  const Image after = eval->output("exposure", "image").as<Image>();
   ASSERT_EQ(after.pixels.size(), before.pixels.size());
   EXPECT_LT(cv::norm(after.pixels, before.pixels * 2.0, cv::NORM_INF), 1e-6);
   EXPECT_GT(cv::norm(before.pixels, cv::NORM_INF), 0.05);

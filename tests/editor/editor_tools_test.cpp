@@ -32,7 +32,7 @@ TEST(EditorTools, PoissonRegionDragsOverTheTarget) {
   ASSERT_TRUE(h.settle());
   const ImageView view = h.app.image_view();
   ASSERT_GT(view.scale, 0);
-  const Image target = state.eval->result.outputs.at("target").at(0).as<Image>();
+  const Image target = state.eval->output("target", "image").as<Image>();
 
   // Drag the region by (+200, +100) target pixels.
   h.drag(view.to_screen(128, 128), view.to_screen(328, 228), 0, 20);
@@ -40,7 +40,7 @@ TEST(EditorTools, PoissonRegionDragsOverTheTarget) {
   EXPECT_NEAR(offset[0].get<double>(), 200, 1.0 / view.scale + 1);
   EXPECT_NEAR(offset[1].get<double>(), 100, 1.0 / view.scale + 1);
   ASSERT_TRUE(h.settle());
-  const Image blended = state.eval->result.outputs.at("blend").at(0).as<Image>();
+  const Image blended = state.eval->output("blend", "image").as<Image>();
   const int ox = offset[0].get<int>(), oy = offset[1].get<int>();
   // The old place is the target again; the new one is not.
   EXPECT_LT(cv::norm(at(blended, 128, 128) - at(target, 128, 128)), 1e-6);
@@ -102,7 +102,7 @@ TEST(EditorTools, DrawShapesAppendsFigures) {
   EXPECT_EQ(figures[1]["type"], "freehand");
   EXPECT_GE(figures[1]["points"].size(), 5u);
   ASSERT_TRUE(h.settle());
-  const Image drawn = state.eval->result.outputs.at("drawing").at(0).as<Image>();
+  const Image drawn = state.eval->output("drawing", "image").as<Image>();
   // Inside the rectangle: the fill; far from both figures: the background.
   EXPECT_LT(cv::norm(at(drawn, 80, 70) - cv::Vec3f(1, 0, 0)), 0.02) << at(drawn, 80, 70);
   EXPECT_LT(cv::norm(at(drawn, 200, 60) - cv::Vec3f(1, 1, 1)), 0.02);

@@ -157,7 +157,7 @@ TEST(EditorUi, WarpToolDragMovesTheWarp) {
   ASSERT_TRUE(h.settle());
   const ImageView view = h.app.image_view();
   ASSERT_GT(view.scale, 0) << "the viewer shows no image";
-  const Image board = state.eval->result.outputs.at("board").at(0).as<Image>();
+  const Image board = state.eval->output("board", "image").as<Image>();
 
   // Drag q of the fifth pair from (80, 80) to (150, 100).
   h.drag(view.to_screen(80, 80), view.to_screen(150, 100), 0, 12);
@@ -172,7 +172,7 @@ TEST(EditorUi, WarpToolDragMovesTheWarp) {
 
   // Inverse warping shows source p at the new q: the board's color at (80, 80),
   // which differs from what the board has at (150, 100).
-  const Image warped = state.eval->result.outputs.at("warp").at(0).as<Image>();
+  const Image warped = state.eval->output("warp", "image").as<Image>();
   const int qx = int(after[4][2].get<double>()), qy = int(after[4][3].get<double>());
   const cv::Vec3f at_q = warped.pixels.at<cv::Vec3f>(qy, qx);
   const cv::Vec3f source_p = board.pixels.at<cv::Vec3f>(80, 80);

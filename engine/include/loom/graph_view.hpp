@@ -72,6 +72,11 @@ class LOOM_API GraphView {
   // node type (inputs as declared, outputs typed by the inner outputs).
   const NodeType& type(const std::string& id) const;
 
+  // The nodes of the flat graph inside group instance `instance` (at any
+  // depth of its inner groups), sorted; empty for any other id. What a
+  // front end sums to show an instance's status.
+  std::vector<std::string> inner_nodes(const std::string& instance) const;
+
   // The sinks of the graph (a Repeat whose body writes files is one), by id.
   std::vector<std::string> sinks() const;
 
@@ -101,6 +106,14 @@ class LOOM_API GraphView {
   const Registry& registry_;
   std::map<std::string, std::unique_ptr<NodeType>> instance_types_;
 };
+
+// Repeat's declaration for a body group declared as `body` (a group's node
+// type: GraphView::type of an instance, group_node_type of a file): "count"
+// (Int >= 0) first, then the body's inputs but an Int or Float "iteration"
+// (Repeat feeds it), and the body's outputs. Front ends that draw a Repeat
+// node before its graph validates ask this, as the engine does. Throws Error
+// when the body declares an input "count".
+LOOM_API NodeType repeat_declaration(const NodeType& body, const std::string& body_name);
 
 // Outputs as an evaluation of view.graph() reports them (EvalResult::outputs,
 // or one frame of outputs_per_frame), each under its "ID.OUTPUT" name: a
