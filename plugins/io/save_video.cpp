@@ -9,8 +9,9 @@ struct SaveVideo {
   static constexpr const char* name = "SaveVideo";
   static void declare(loom::NodeSpec& s) {
     s.describe("Writes the image of every frame of the run, in order, as one MP4 video: H.264 (avc1) "
-               "where OpenCV's FFmpeg can encode it, else MPEG-4 Part 2 (mp4v). The file appears at the "
-               "run's last frame (a temporary file renamed); a cancelled or failed run leaves none.")
+               "where FFmpeg has libx264, else MPEG-4 Part 2 (mp4v). The file appears at the "
+               "run's last frame (a temporary file renamed); a cancelled or failed run leaves none. One encoder "
+               "thread and fixed settings: the same frames give the same bytes whatever cores the process sees.")
         .set_sequence_sink()
         .input<loom::Image>("image", "this frame's image (every frame the same size)")
         .input<std::string>("path", "the .mp4 file to write, relative to the output folder").output_file()

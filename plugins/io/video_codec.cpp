@@ -5,8 +5,9 @@
 
 #include <fcntl.h>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/videoio.hpp>
 #include <unistd.h>
+
+#include "video_encoder.hpp"
 
 namespace loom::io {
 namespace fs = std::filesystem;
@@ -21,7 +22,7 @@ VideoSequence::VideoSequence(fs::path path, double fps, VideoCodec codec)
 
 VideoSequence::~VideoSequence() {
   if (finished_) return;
-  if (writer_) writer_->release();
+  encoder_.reset();  // closes the staging file before it is removed
   temp_->discard();
 }
 
@@ -29,44 +30,24 @@ void VideoSequence::open(int width, int height) {
   std::error_code ec;
   if (path_.has_parent_path()) fs::create_directories(path_.parent_path(), ec);
   if (ec) throw Error("cannot create folder " + path_.parent_path().string() + ": " + ec.message());
-  // OpenCV says only "cannot open" for any failure: try the folder first, so
-  // a read-only or missing one is named as such, not as a missing codec.
+  // Try the folder first, so a read-only or missing one is named as such, in
+  // the system's words, not as a codec's failure.
   const int fd = ::open(temp_->path().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
   if (fd < 0) throw Error("cannot write " + path_.string() + ": " + std::strerror(errno));
   ::close(fd);
-  struct Choice {
-    const char* fourcc;
-    const char* name;
-  };
-  std::vector<Choice> choices;
-  if (codec_ != VideoCodec::mpeg4) choices.push_back({"avc1", "avc1 (H.264)"});
-  if (codec_ != VideoCodec::h264) choices.push_back({"mp4v", "mp4v (MPEG-4 Part 2)"});
-  for (const Choice& c : choices) {
-    auto writer = std::make_unique<cv::VideoWriter>();
-    try {
-      writer->open(temp_->path().string(), cv::CAP_FFMPEG,
-                   cv::VideoWriter::fourcc(c.fourcc[0], c.fourcc[1], c.fourcc[2], c.fourcc[3]), fps_,
-                   cv::Size(width, height), true);
-    } catch (const cv::Exception&) {
-      continue;
-    }
-    if (writer->isOpened()) {
-      writer_ = std::move(writer);
-      codec_name_ = c.name;
-      return;
-    }
-  }
-  temp_->discard();
-  throw Error(std::string("OpenCV's FFmpeg backend cannot encode ") +
-              (codec_ == VideoCodec::h264 ? "H.264" : codec_ == VideoCodec::mpeg4 ? "MPEG-4" : "H.264 or MPEG-4") +
-              " video here (is libopencv-videoio built with FFmpeg?)");
+  const bool h264 = codec_ != VideoCodec::mpeg4 && VideoEncoder::available(VideoEncoder::Codec::h264);
+  if (codec_ == VideoCodec::h264 && !h264)
+    throw Error("this FFmpeg cannot encode H.264 (libx264): use codec \"mp4v\" or \"auto\"");
+  encoder_ = std::make_unique<VideoEncoder>(temp_->path(), h264 ? VideoEncoder::Codec::h264 : VideoEncoder::Codec::mpeg4,
+                                            width, height, fps_);
+  codec_name_ = h264 ? "avc1 (H.264)" : "mp4v (MPEG-4 Part 2)";
 }
 
 void VideoSequence::add(const Image& frame) {
   if (frame.empty()) throw Error("the image is empty: nothing to add to the video");
   require_finite(frame, "the image");
   const int width = frame.width() + frame.width() % 2, height = frame.height() + frame.height() % 2;
-  if (!writer_) {
+  if (!encoder_) {
     open(width, height);
     width_ = width;
     height_ = height;
@@ -78,28 +59,34 @@ void VideoSequence::add(const Image& frame) {
                 std::to_string(frame_height_) + ": every frame must have the same size");
   }
   cv::Mat m = with_encoding(frame, Encoding::srgb).pixels;
-  cv::Mat bgr;
+  cv::Mat rgb;
   switch (m.channels()) {
-    case 1: cv::cvtColor(m, bgr, cv::COLOR_GRAY2BGR); break;
+    case 1: cv::cvtColor(m, rgb, cv::COLOR_GRAY2RGB); break;
     case 2: {
       cv::Mat gray;
       cv::extractChannel(m, gray, 0);
-      cv::cvtColor(gray, bgr, cv::COLOR_GRAY2BGR);
+      cv::cvtColor(gray, rgb, cv::COLOR_GRAY2RGB);
       break;
     }
-    case 3: cv::cvtColor(m, bgr, cv::COLOR_RGB2BGR); break;
-    default: cv::cvtColor(m, bgr, cv::COLOR_RGBA2BGR); break;
+    case 3: rgb = m; break;
+    default: cv::cvtColor(m, rgb, cv::COLOR_RGBA2RGB); break;
   }
-  bgr.convertTo(bgr, CV_8U, 255.0);  // saturates to [0, 255]
-  if (bgr.cols != width_ || bgr.rows != height_)
-    cv::copyMakeBorder(bgr, bgr, 0, height_ - bgr.rows, 0, width_ - bgr.cols, cv::BORDER_REPLICATE);
-  writer_->write(bgr);
+  rgb.convertTo(rgb, CV_8U, 255.0);  // saturates to [0, 255]
+  if (rgb.cols != width_ || rgb.rows != height_)
+    cv::copyMakeBorder(rgb, rgb, 0, height_ - rgb.rows, 0, width_ - rgb.cols, cv::BORDER_REPLICATE);
+  if (!rgb.isContinuous()) rgb = rgb.clone();
+  encoder_->write_rgb(rgb.ptr<std::uint8_t>());
   ++frames_;
 }
 
 void VideoSequence::finish() {
-  if (!writer_) throw Error("no frames: nothing to write to " + path_.string());
-  writer_->release();
+  if (!encoder_) throw Error("no frames: nothing to write to " + path_.string());
+  try {
+    encoder_->finish();
+  } catch (const Error& e) {
+    throw Error("cannot write " + path_.string() + ": " + e.what());
+  }
+  encoder_.reset();
   verify();
   temp_->commit();
   finished_ = true;
@@ -114,11 +101,10 @@ void VideoSequence::verify() const {
   const int error = errno;
   ::close(fd);
   if (!synced) throw Error(fail + std::strerror(error));
-  cv::VideoCapture check(temp_->path().string(), cv::CAP_FFMPEG);
-  const double count = check.isOpened() ? check.get(cv::CAP_PROP_FRAME_COUNT) : 0;
-  if (static_cast<int>(count) != frames_)
-    throw Error(fail + "the encoder's file holds " + std::to_string(static_cast<int>(count)) + " of " +
-                std::to_string(frames_) + " frames (is the disk full, or a file size limit reached?)");
+  const int count = count_video_frames(temp_->path());
+  if (count != frames_)
+    throw Error(fail + "the encoder's file holds " + std::to_string(count) + " of " + std::to_string(frames_) +
+                " frames (is the disk full, or a file size limit reached?)");
 }
 
 }  // namespace loom::io

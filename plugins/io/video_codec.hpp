@@ -1,6 +1,7 @@
-// Video files from a sequence of loom::Images, through OpenCV's videoio
-// (FFmpeg backend on Debian). Frames arrive in order; the file appears only
-// when finished.
+// Video files from a sequence of loom::Images, written with FFmpeg's
+// libavcodec and libavformat directly (one encoder thread, fixed options), so
+// the bytes of an MP4 do not depend on the cores a process sees. Frames
+// arrive in order; the file appears only when finished.
 #pragma once
 
 #include <filesystem>
@@ -10,20 +11,17 @@
 #include "loom/image.hpp"
 #include "loom/temporary_file.hpp"
 
-namespace cv {
-class VideoWriter;
-}
-
 namespace loom::io {
 
 enum class VideoCodec { automatic, h264, mpeg4 };
 
+class VideoEncoder;  // video_encoder.cpp: FFmpeg's contexts
+
 // Writes to a staging file beside `path` (loom/temporary_file.hpp: removed
 // on every exit short of SIGKILL) and renames it over `path` in finish(),
-// after reading it back: OpenCV's writer reports no write errors, so a video
-// cut short by a full disk is caught by its frame count. Destroyed
-// unfinished (cancelled, failed), it removes the staging file, so a partial
-// video is never seen.
+// after reading it back: the file is synced and its frames are counted, so a
+// video cut short by a full disk is caught. Destroyed unfinished (cancelled,
+// failed), it removes the staging file, so a partial video is never seen.
 class VideoSequence {
  public:
   VideoSequence(std::filesystem::path path, double fps, VideoCodec codec);
@@ -48,7 +46,7 @@ class VideoSequence {
   std::unique_ptr<TemporaryFile> temp_;
   double fps_;
   VideoCodec codec_;
-  std::unique_ptr<cv::VideoWriter> writer_;
+  std::unique_ptr<VideoEncoder> encoder_;
   std::string codec_name_;
   int width_ = 0, height_ = 0, frames_ = 0;
   int frame_width_ = 0, frame_height_ = 0;  // before padding

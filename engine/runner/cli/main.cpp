@@ -1,4 +1,4 @@
-// The `loom` command: run, validate, list nodes and plugins.
+// The `loom` command: run, validate, list nodes and plugins, describe image files.
 //
 // Exit codes: 0 success; 1 a node failed (other outputs still written);
 // 2 invalid graph or usage; 3 plugin load error; 130 interrupted.
@@ -27,6 +27,7 @@
 #include "cli/run_settings.hpp"
 #include "farm/farm_commands.hpp"
 #include "cli/group_listing.hpp"
+#include "cli/image_info.hpp"
 #include "sweep/sweep.hpp"
 #include "mpi/mpi_run.hpp"
 
@@ -315,6 +316,11 @@ int main(int argc, char** argv) {
                       "print (or write with --output) the manifest of this plugin library");
   plugins->add_option("--output", manifest_out, "with --manifest: the file to write");
 
+  std::vector<std::string> info_files;
+  auto* info = app.add_subcommand("info", "Print image files' layers and channels, and the node, seed and frame "
+                                          "that made them.");
+  info->add_option("file", info_files, "image files (EXR, PNG, TIFF, JPEG, ...)")->required();
+
   std::string plugin_name, plugin_dir = ".";
   auto* scaffold = app.add_subcommand("new-plugin", "Write a new plugin to start from: builds and tests as written.");
   scaffold->add_option("name", plugin_name, "plugin name: a-z, 0-9 and _, starting with a letter")->required();
@@ -344,6 +350,7 @@ int main(int argc, char** argv) {
   if (*validate) return cmd_validate(graph_path);
   if (*nodes) return cmd_nodes(type, as_json, as_markdown);
   if (*plugins) return cmd_plugins(manifest_lib, manifest_out);
+  if (*info) return loom::runner::image_info(info_files);
   if (*scaffold) return loom::runner::new_plugin(plugin_name, plugin_dir);
   return kInvalid;
 }
