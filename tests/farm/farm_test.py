@@ -294,6 +294,39 @@ class Dispatch:
         for f in range(1, 10):  # x(f) = v (f - 1) / fps, the exact integral
             self.assertEqual(read(os.path.join(out, f"x_{f:02}.txt")), f"{(f - 1) * 1.0:.6f}\n")
 
+    def test_an_interrupted_simulation_in_segments_resumes_from_its_last_state(self):
+        tally = os.path.join(self.dir, "tally")  # every step's frame, as it starts (TallyIntegrate)
+        g = write_graph(self.dir, {
+            "sim": {"type": "TallyIntegrate", "inputs": {"x": 0, "v": 24, "ms": 300, "tally": tally}},
+            "w": {"type": "WriteText", "inputs": {"value": {"from": "sim.x"}, "path": "x_{frame:02}.txt"}}}, (1, 9))
+        out = os.path.join(self.dir, "out")
+        proc = self.submit(g, out, "--chunk", "9", "--sim-chunk", "3", background=True)
+        job = os.path.join(out, ".loom-job")
+        deadline = time.time() + 60
+        while not (os.path.exists(tally) and "5" in read(tally).split()) and time.time() < deadline:
+            time.sleep(0.02)
+        if self.to == "local":
+            proc.send_signal(signal.SIGINT)  # Ctrl-C, in the second segment
+        else:
+            loom("jobs", "cancel", job)
+        code = self.wait(proc)
+        if self.to == "local":
+            self.assertEqual(code, 130)
+        tasks = json.loads(read(os.path.join(job, "manifest.json")))["tasks"]
+        self.assertEqual([(t["name"], t["wave"]) for t in tasks],
+                         [("simulate sim 1-3", 0), ("simulate sim 4-6", 1), ("simulate sim 7-9", 2), ("frames 1-9", 0)])
+        st = statuses(job)
+        self.assertEqual((st[0]["state"], st[1]["state"]), ("done", "cancelled"))
+        self.assertNotIn(2, st)  # the next segment never started
+        p = self.resume(job)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertEqual([s["state"] for s in statuses(job).values()], ["done"] * 4)
+        steps = [int(f) for f in read(tally).split()]
+        self.assertEqual(sorted(set(steps)), list(range(1, 10)))
+        self.assertLessEqual(len(steps) - 9, 3, steps)  # at most the segment interrupted
+        for f in range(1, 10):  # as one uninterrupted run: x(f) = v (f - 1) / fps
+            self.assertEqual(read(os.path.join(out, f"x_{f:02}.txt")), f"{(f - 1) * 1.0:.6f}\n")
+
     def test_a_chunk_killed_once_is_retried_and_resume_runs_only_what_is_missing(self):
         g = frames_graph(self.dir, 600)
         out = os.path.join(self.dir, "out")

@@ -48,6 +48,12 @@ int wait_process(pid_t pid, bool* signalled) {
   return *signalled ? 128 + WTERMSIG(status) : WEXITSTATUS(status);
 }
 
+std::string own_executable() {
+  std::error_code ec;
+  const std::filesystem::path p = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string() : p.string();
+}
+
 std::string capture_output(const std::vector<std::string>& argv, int* exit) {
   int fds[2];
   *exit = -1;

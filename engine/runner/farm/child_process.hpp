@@ -19,6 +19,9 @@ pid_t spawn_process(const std::vector<std::string>& argv, const std::filesystem:
 // Returns -1 with errno EINTR when a signal arrives first.
 int wait_process(pid_t pid, bool* signalled);
 
+// The path of this process's executable (/proc/self/exe), or "" when unknown.
+std::string own_executable();
+
 // Runs argv and returns its standard output (the exit code in *exit).
 std::string capture_output(const std::vector<std::string>& argv, int* exit);
 

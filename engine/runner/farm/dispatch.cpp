@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -29,6 +30,15 @@ std::vector<int> in_stage(const JobManifest& m, const std::vector<int>& ids, Sta
   std::vector<int> out;
   for (int id : ids)
     if (m.tasks.at(static_cast<std::size_t>(id)).stage == stage) out.push_back(id);
+  return out;
+}
+
+// `ids` (of one stage) by wave, in order: a wave runs after the one before it.
+std::vector<std::vector<int>> waves(const JobManifest& m, const std::vector<int>& ids) {
+  std::map<int, std::vector<int>> by_wave;
+  for (int id : ids) by_wave[m.tasks.at(static_cast<std::size_t>(id)).wave].push_back(id);
+  std::vector<std::vector<int>> out;
+  for (auto& [wave, in_wave] : by_wave) out.push_back(std::move(in_wave));
   return out;
 }
 
@@ -71,6 +81,29 @@ bool run_stage(const JobManifest& m, const std::vector<int>& ids) {
   return ok && !cancel_flag();
 }
 
+// Runs a stage's waves in order; a wave runs only if the one before succeeded.
+bool run_waves(const JobManifest& m, const std::vector<int>& ids) {
+  bool ok = true;
+  for (const auto& wave : waves(m, ids)) {
+    if (cancel_flag()) return false;
+    if (!ok) {
+      std::cerr << "error: a simulation segment failed: " << wave.size() << " later segment"
+                << (wave.size() == 1 ? "" : "s") << " did not run\n";
+      return false;
+    }
+    ok = run_stage(m, wave);
+  }
+  return ok;
+}
+
+// One job array per stage, and per wave within a stage, in the order they run.
+std::vector<std::pair<Stage, std::vector<int>>> slurm_arrays(const JobManifest& m, const std::vector<int>& ids) {
+  std::vector<std::pair<Stage, std::vector<int>>> out;
+  for (Stage stage : {kSimulate, kWork, kAssemble})
+    for (auto& wave : waves(m, in_stage(m, ids, stage))) out.emplace_back(stage, std::move(wave));
+  return out;
+}
+
 std::string array_list(const std::vector<int>& ids) {
   std::string list;
   for (int id : ids) list += (list.empty() ? "" : ",") + std::to_string(id);
@@ -91,7 +124,7 @@ int dispatch_local(const JobManifest& m, const std::vector<int>& ids) {
       ok = false;
       continue;
     }
-    previous_ok = run_stage(m, stage_ids);
+    previous_ok = run_waves(m, stage_ids);
     ok = ok && previous_ok;
   }
   std::error_code ec;
@@ -105,9 +138,7 @@ int dispatch_local(const JobManifest& m, const std::vector<int>& ids) {
 
 int submit_slurm(const JobManifest& m, const std::vector<int>& ids) {
   std::string previous;
-  for (Stage stage : {kSimulate, kWork, kAssemble}) {
-    const auto stage_ids = in_stage(m, ids, stage);
-    if (stage_ids.empty()) continue;
+  for (const auto& [stage, stage_ids] : slurm_arrays(m, ids)) {
     std::vector<std::string> argv = {"sbatch", "--parsable", "--array=" + array_list(stage_ids),
                                      "--job-name=loom-stage" + std::to_string(stage),
                                      "--output=" + (m.dir / "logs" / "slurm-%A_%a.out").string()};
@@ -115,6 +146,10 @@ int submit_slurm(const JobManifest& m, const std::vector<int>& ids) {
       argv.push_back(std::string("--dependency=") + (stage == kAssemble ? "afterany:" : "afterok:") + previous);
       argv.push_back("--kill-on-invalid-dep=yes");
     }
+    // A task whose node fails is run again on another (docs/farm.md, "Lost
+    // nodes"), unless --slurm-arg=--no-requeue, which comes after; the folder
+    // loom submit ran in need not exist on the nodes.
+    argv.insert(argv.end(), {"--requeue", "--chdir=" + m.dir.string()});
     argv.insert(argv.end(), m.slurm_args.begin(), m.slurm_args.end());
     argv.push_back((m.dir / "slurm" / ("stage" + std::to_string(stage) + ".sbatch")).string());
     int exit = 0;
@@ -143,6 +178,26 @@ std::string missing_tasks(const JobManifest& m) {
   return missing;
 }
 
+std::string try_end(int exit, bool signalled) {
+  if (exit == 0) return "done";
+  return signalled ? "signal " + std::to_string(exit - 128) : "exit " + std::to_string(exit);
+}
+
+// The tries before this run of the task, from its status. One that the status
+// says is running ended without a word: its node died or its process was
+// killed (SIGKILL), and Slurm requeued the task (SLURM_RESTART_COUNT) or
+// `loom jobs resume` runs it again.
+std::vector<TaskTry> earlier_tries(const JobManifest& m, int id) {
+  TaskStatus before = read_status(m.dir, id);
+  if (before.state == "running") {
+    const char* restarts = std::getenv("SLURM_RESTART_COUNT");
+    const bool requeued = restarts && std::atoi(restarts) > 0;
+    before.tries.push_back(
+        {before.host, requeued ? "lost (its node failed; requeued by Slurm)" : "lost (its process vanished)", 0});
+  }
+  return before.tries;
+}
+
 }  // namespace
 
 int run_task(const JobManifest& m, int id) {
@@ -154,9 +209,15 @@ int run_task(const JobManifest& m, int id) {
   const Task& task = m.tasks[static_cast<std::size_t>(id)];
   const auto start = std::chrono::steady_clock::now();
   TaskStatus s;
+  s.tries = earlier_tries(m, id);
   s.state = "running";
   s.host = host_name();
   s.pid = ::getpid();
+  // This node's own loom runs the task, not the submitting machine's path:
+  // nodes may have Loom installed at different prefixes.
+  s.loom = own_executable();
+  if (s.loom.empty()) s.loom = m.loom;
+  s.attempts = static_cast<int>(s.tries.size()) + 1;
   write_status(m.dir, id, s);
   const fs::path log = task_log(m.dir, id);
   if (task.stage == kAssemble) {
@@ -164,24 +225,31 @@ int run_task(const JobManifest& m, int id) {
       s.state = "failed";
       s.exit = 1;
       s.message = "not every task is done: " + missing + " (loom jobs resume runs them)";
+      s.tries.push_back({s.host, "exit 1", 0});
       std::ofstream(log, std::ios::app) << "error: " << s.message << "\n";
       write_status(m.dir, id, s);
       return 1;
     }
   }
-  std::vector<std::string> argv = {m.loom};
+  std::vector<std::string> argv = {s.loom};
   argv.insert(argv.end(), task.args.begin(), task.args.end());
-  for (s.attempts = 1;; ++s.attempts) {
-    std::ofstream(log, std::ios::app) << "== " << task.name << ": attempt " << s.attempts << " on " << s.host << "\n";
+  for (int attempt = 1;; ++attempt) {
+    std::ofstream(log, std::ios::app) << "== " << task.name << ": attempt " << s.attempts << " on " << s.host << " ("
+                                      << s.loom << ")\n";
+    const auto tried = std::chrono::steady_clock::now();
     const pid_t pid = spawn_process(argv, log, false);
     bool signalled = false;
     s.exit = pid < 0 ? 3 : -1;
     while (pid >= 0 && (s.exit = wait_process(pid, &signalled)) == -1 && errno == EINTR) {
     }
+    s.tries.push_back({s.host, try_end(s.exit, signalled), seconds_since(tried)});
     const bool retry = s.exit == 1 || (signalled && !cancel_flag());
-    if (s.exit == 0 || !retry || s.attempts > m.retries || cancel_flag()) break;
+    if (s.exit == 0 || !retry || attempt > m.retries || cancel_flag()) break;
     std::ofstream(log, std::ios::app) << "== exit " << s.exit << ": retrying\n";
+    s.attempts = static_cast<int>(s.tries.size()) + 1;
+    write_status(m.dir, id, s);  // should this node be lost now, the next run knows the tries so far
   }
+  s.attempts = static_cast<int>(s.tries.size());
   s.seconds = seconds_since(start);
   s.state = s.exit == 0 ? "done" : s.exit == 130 || cancel_flag() ? "cancelled" : "failed";
   if (cancel_flag() && s.exit != 130) s.exit = 130;

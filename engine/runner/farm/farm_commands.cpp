@@ -40,6 +40,13 @@ Commands::Commands(CLI::App& app) {
   submit_->add_option("-j,--jobs", r.jobs, "local: tasks at once (default: the cores)")->check(CLI::PositiveNumber);
   submit_->add_option("--slurm-arg", r.slurm_args, "passed to sbatch, e.g. --slurm-arg=--partition=gpu (repeatable)")
       ->allow_extra_args(false);
+  submit_
+      ->add_option("--sim-chunk", r.sim_chunk,
+                   "simulations as chained tasks of this many frames, each continuing from the last stored state")
+      ->check(CLI::PositiveNumber);
+  submit_->add_option("--loom", r.node_loom,
+                      "Slurm: the loom each node runs, a name on its PATH or a path (default: loom on the "
+                      "node's PATH, else this one's path)");
   submit_->add_flag("--dry-run", r.dry_run, "write the job folder, submit nothing");
   submit_->add_option("--set", r.run.sets, "override an input: ID.INPUT=JSON (repeatable; baked into the job)");
   submit_->add_option("--target", r.run.targets, "evaluate ID or ID.OUTPUT instead of the sinks (repeatable)");

@@ -23,6 +23,10 @@ struct Task {
   std::string name;              // "frames 1-12", "simulate sim", "point 3", "assemble"
   Stage stage = kWork;
   std::vector<std::string> args;  // after the loom executable
+  // Within a stage, wave w runs after wave w - 1 succeeded: the segments of a
+  // simulation split by --sim-chunk (each continues from the state the one
+  // before stored). 0 for every other task.
+  int wave = 0;
 };
 
 struct JobManifest {
@@ -33,6 +37,17 @@ struct JobManifest {
   int jobs = 1;                   // local: processes at once
   std::vector<std::string> slurm_args;
   std::vector<Task> tasks;
+  // What the Slurm scripts run on each node: empty: `loom` on the node's PATH,
+  // else `loom` above; a name: found on the node's PATH; a path: that file.
+  std::string node_loom;
+};
+
+// One run of a task that ended, kept so that `loom jobs status` can say on
+// which node each try ran and why it was tried again.
+struct TaskTry {
+  std::string host;
+  std::string end;  // "done", "exit 1", "signal 9", "lost" (ended without a word: its node died)
+  double seconds = 0;
 };
 
 struct TaskStatus {
@@ -42,6 +57,8 @@ struct TaskStatus {
   double seconds = 0;
   std::string host, message;
   long pid = 0;                   // of `loom jobs task` on `host`
+  std::string loom;               // the executable that ran it (each node's own)
+  std::vector<TaskTry> tries;     // the tries that ended before this one
 };
 
 // This machine's name, as the status files record it.

@@ -13,6 +13,19 @@
 namespace loom::runner {
 namespace fs = std::filesystem;
 
+namespace {
+
+// A task tried more than once: where each try ran and how it ended, which is
+// why the next one ran ("n2 lost (its node failed; requeued by Slurm), n1 done").
+void print_tries(const TaskStatus& s) {
+  if (s.tries.size() < 2) return;
+  std::string line;
+  for (const TaskTry& t : s.tries) line += (line.empty() ? "" : ", ") + t.host + " " + t.end;
+  std::printf("      tries: %s\n", line.c_str());
+}
+
+}  // namespace
+
 int jobs_status(const JobManifest& m) {
   std::map<std::string, int> counts;
   for (const Task& t : m.tasks) {
@@ -20,6 +33,7 @@ int jobs_status(const JobManifest& m) {
     ++counts[s.state];
     std::printf("%4d  %-9s %-28s attempts %d  %7.2f s  %s%s\n", t.id, s.state.c_str(), t.name.c_str(), s.attempts,
                 s.seconds, s.host.c_str(), s.message.empty() ? "" : ("  " + s.message).c_str());
+    print_tries(s);
   }
   std::printf("%zu tasks: %d done, %d failed, %d cancelled, %d running, %d pending (%s)\n", m.tasks.size(),
               counts["done"], counts["failed"], counts["cancelled"], counts["running"], counts["pending"],

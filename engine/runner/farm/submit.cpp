@@ -30,6 +30,19 @@ bool on_path(const std::string& program) {
   return false;
 }
 
+// The file `program` names on PATH, or "".
+std::string which(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  std::string dirs = path ? path : "";
+  for (std::size_t at = 0; at <= dirs.size();) {
+    const std::size_t end = std::min(dirs.find(':', at), dirs.size());
+    const fs::path candidate = fs::path(dirs.substr(at, end - at)) / program;
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate.string();
+    at = end + 1;
+  }
+  return "";
+}
+
 std::string self_executable() {
   std::error_code ec;
   const fs::path p = fs::read_symlink("/proc/self/exe", ec);
@@ -73,7 +86,7 @@ struct Planner {
   void add(std::string name, Stage stage, std::vector<std::string> args) {
     const int id = static_cast<int>(tasks.size());
     add_profile(args, job, id);
-    tasks.push_back({id, std::move(name), stage, std::move(args)});
+    tasks.push_back({id, std::move(name), stage, std::move(args), 0});
   }
 
   std::vector<std::string> sweep_args(bool assemble) const {
@@ -110,7 +123,28 @@ struct Planner {
   }
 
   void plan_frames(FrameRange range);
+  void plan_simulations(const std::vector<std::string>& simulations, FrameRange range);
 };
+
+// Each simulation from the start frame, every state into the shared cache: in
+// one task, or (--sim-chunk K) in segments of K frames, segment w in wave w,
+// each continuing from the state the one before stored (the engine steps on
+// from the latest stored state), so a lost node or a Ctrl-C costs at most the
+// segment it interrupted.
+void Planner::plan_simulations(const std::vector<std::string>& simulations, FrameRange range) {
+  const long size = r.sim_chunk > 0 ? r.sim_chunk : range.last - range.first + 1;
+  for (const auto& id : simulations) {
+    int wave = 0;
+    for (long first = range.first; first <= range.last; first += size, ++wave) {
+      const std::string frames =
+          std::to_string(first) + "-" + std::to_string(std::min<long>(first + size - 1, range.last));
+      auto a = common_args(r, view, job, true);
+      a.insert(a.end(), {"--frames", frames, "--target", id, "--cache-min-seconds", "0"});
+      add("simulate " + id + " " + frames, kSimulate, a);
+      tasks.back().wave = wave;
+    }
+  }
+}
 
 // Simulations first (each from the start frame, every state into the shared
 // cache), then contiguous chunks of --chunk frames (the last one clamped at
@@ -119,18 +153,14 @@ void Planner::plan_frames(FrameRange range) {
   const RunStages stages = view.stages(r.run.targets);
   const std::vector<std::string>& simulations = stages.simulations;
   std::vector<std::string> chunk_targets = stages.per_frame, sequence = stages.sequences;
-  const bool split = r.chunk > 0 ? range.last - range.first + 1 > r.chunk : range.last - range.first + 1 > 10;
+  const bool split = (r.sim_chunk > 0 && !simulations.empty()) ||
+                     (r.chunk > 0 ? range.last - range.first + 1 > r.chunk : range.last - range.first + 1 > 10);
   if (!split) {  // one task runs everything
     chunk_targets = r.run.targets;
     sequence.clear();
   }
   const std::string whole = std::to_string(range.first) + "-" + std::to_string(range.last);
-  if (split && !r.no_cache)
-    for (const auto& id : simulations) {
-      auto a = common_args(r, view, job, true);
-      a.insert(a.end(), {"--frames", whole, "--target", id, "--cache-min-seconds", "0"});
-      add("simulate " + id + " " + whole, kSimulate, a);
-    }
+  if (split && !r.no_cache) plan_simulations(simulations, range);
   const int chunk = r.chunk > 0 ? r.chunk : 10;
   for (long first = range.first; first <= range.last; first += chunk) {
     const long last = std::min<long>(first + chunk - 1, range.last);
@@ -154,13 +184,26 @@ void Planner::plan_frames(FrameRange range) {
 
 namespace {
 
+// The script's lines that set $loom: the node's own loom (nodes may have it at
+// different prefixes), found when the task starts on the node.
+std::string node_loom_lines(const JobManifest& m) {
+  if (!m.node_loom.empty())
+    return "loom=$(command -v '" + m.node_loom + "') || { echo \"error: no " + m.node_loom +
+           " on $(hostname) (PATH=$PATH)\" >&2; exit 3; }\n";
+  return "# Each node's own: `loom` on the node's PATH, else the path that submitted.\n"
+         "loom=$(command -v loom) || loom='" +
+         m.loom + "'\n";
+}
+
 void write_slurm_scripts(const JobManifest& m) {
   for (int stage : {kSimulate, kWork, kAssemble}) {
-    const std::string script =
-        "#!/bin/sh\n"
-        "# Stage " + std::to_string(stage) + " of a loom job: one array element per task; the element's index\n"
-        "# is the task id in manifest.json. `loom submit` passes --array and --dependency.\n"
-        "exec '" + m.loom + "' jobs task '" + m.dir.string() + "' \"$SLURM_ARRAY_TASK_ID\"\n";
+    const std::string script = "#!/bin/sh\n"
+                               "# Stage " +
+                               std::to_string(stage) +
+                               " of a loom job: one array element per task; the element's index\n"
+                               "# is the task id in manifest.json. `loom submit` passes --array and --dependency.\n" +
+                               node_loom_lines(m) + "exec \"$loom\" jobs task '" + m.dir.string() +
+                               "' \"$SLURM_ARRAY_TASK_ID\"\n";
     const fs::path path = m.dir / "slurm" / ("stage" + std::to_string(stage) + ".sbatch");
     write_file_atomic(path, script);
     fs::permissions(path, fs::perms::owner_exec | fs::perms::group_exec, fs::perm_options::add);
@@ -193,6 +236,11 @@ int submit(SubmitRequest& r) {
   auto g = load_for_run(r.run.graph_path, r.run.sets, &exit);
   if (!g) return exit;
   const GraphView view(g->graph, *g->registry);
+  if (r.sim_chunk > 0 && r.no_cache) {
+    std::cerr << "error: --sim-chunk hands each segment's last state to the next through the shared cache: "
+                 "not with --no-cache\n";
+    return 2;
+  }
   if (r.cache_dir.empty()) r.cache_dir = (fs::path(r.run.out_dir) / ".loom-cache").string();
   const fs::path job = fs::absolute(r.job_dir.empty() ? fs::path(r.run.out_dir) / ".loom-job" : fs::path(r.job_dir));
   Planner plan{r, view, job, {}};
@@ -215,7 +263,8 @@ int submit(SubmitRequest& r) {
   }
   if (r.to.empty()) r.to = on_path("sbatch") ? "slurm" : "local";
   const int cores = static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));
-  JobManifest m{job, self_executable(), r.to, r.retries, r.jobs > 0 ? r.jobs : cores, r.slurm_args, plan.tasks};
+  JobManifest m{job,          self_executable(), r.to,       r.retries, r.jobs > 0 ? r.jobs : cores,
+                r.slurm_args, plan.tasks,        r.node_loom};
   try {
     if (!clear_job_folder(job)) return 2;
     save_manifest(m);
@@ -226,6 +275,14 @@ int submit(SubmitRequest& r) {
     return 1;
   }
   std::fprintf(stderr, "job folder: %s (%zu tasks, %s)\n", job.c_str(), m.tasks.size(), m.to.c_str());
+  if (m.to == "slurm" && m.node_loom.empty()) {
+    // The scripts prefer the nodes' own `loom`: say so when it is not this one.
+    std::error_code ec;
+    const std::string here = which("loom");
+    if (!here.empty() && !fs::equivalent(here, m.loom, ec))
+      std::fprintf(stderr, "note: tasks run `loom` on each node's PATH (here %s, not %s); --loom PATH picks one\n",
+                   here.c_str(), m.loom.c_str());
+  }
   if (r.dry_run) {  // what would run: each task, its stage and its command
     for (const Task& t : m.tasks) {
       std::string command = "loom";

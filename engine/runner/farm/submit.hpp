@@ -19,6 +19,11 @@ struct SubmitRequest {
   double cache_limit_mb = 10240, cache_min_seconds = 0.05;
   bool no_cache = false, dry_run = false;
   std::vector<std::string> slurm_args;
+  // --sim-chunk: a simulation as chained tasks of this many frames (0: one task).
+  int sim_chunk = 0;
+  // --loom: what the Slurm tasks run on each node (empty: `loom` on the node's
+  // PATH, else the submitting loom's path).
+  std::string node_loom;
 };
 
 // Validates, writes the job folder and (unless dry_run) submits or runs it.

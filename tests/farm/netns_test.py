@@ -1,0 +1,201 @@
+"""`loom submit` on a private cluster of three nodes made of Linux namespaces
+(netns_cluster.py), one cluster start for every case: frames spread over the
+nodes, each running its own Loom from its own install folder; a node killed
+mid-job, whose task Slurm requeues on another; a simulation in segments
+(--sim-chunk) whose node is killed half-way. Usage: netns_test.py LOOM
+SOURCE_DIR TEST_PLUGIN_DIR [unittest arguments]. Exits 77 (ctest's skip),
+saying why, where namespaces or Slurm are not available."""
+import glob
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import netns_cluster
+
+LOOM, SOURCE, TEST_PLUGINS = map(os.path.abspath, sys.argv[1:4])
+del sys.argv[1:4]
+os.environ["LOOM_PLUGIN_PATH"] = TEST_PLUGINS  # Sleep, WriteText, FrameNumber, TallyIntegrate
+# The build every node sees at its own prefix (/opt/loom-nK); its bin/, where
+# LOOM lies, is hidden from the nodes: nothing may run the submitter's path.
+BUILD = os.path.dirname(os.path.dirname(os.path.abspath(LOOM)))
+os.environ["PATH"] = "/usr/local/bin:" + os.environ.get("PATH", "/usr/bin:/bin")  # the nodes' loom is there
+
+
+def loom(*args, check=True, timeout=300):
+    p = subprocess.run([LOOM, *map(str, args)], capture_output=True, text=True, timeout=timeout)
+    if check and p.returncode != 0:
+        raise AssertionError(f"loom {' '.join(map(str, args))}: exit {p.returncode}\n{p.stdout}\n{p.stderr}")
+    return p
+
+
+def read(path, mode="r"):
+    with open(path, mode) as f:
+        return f.read()
+
+
+def write_graph(folder, nodes, time_range):
+    path = os.path.join(folder, "graph.json")
+    with open(path, "w") as f:
+        json.dump({"loom": 1, "seed": 3, "nodes": nodes,
+                   "time": {"start": time_range[0], "end": time_range[1], "fps": 24}}, f)
+    return path
+
+
+def statuses(job):
+    return {int(os.path.basename(p)[:4]): json.loads(read(p)) for p in glob.glob(os.path.join(job, "status", "*.json"))}
+
+
+def wait_for(predicate, timeout, what):
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.05)
+    raise TimeoutError(what)
+
+
+def files(folder):
+    return sorted(f for f in os.listdir(folder) if f not in (".loom-job", ".loom-cache"))
+
+
+class MultiNode(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        reason = netns_cluster.unavailable_reason()
+        if reason:
+            raise unittest.SkipTest(reason)
+        cls.cluster = netns_cluster.NetnsCluster(3, install=BUILD, hide=[os.path.dirname(os.path.abspath(LOOM))])
+        start = time.time()
+        try:
+            cls.cluster.start()
+        except Exception:
+            cls.cluster.stop()
+            raise
+        print(f"\n3 nodes started in {time.time() - start:.2f} s", file=sys.stderr)
+
+    @classmethod
+    def tearDownClass(cls):
+        start = time.time()
+        cls.cluster.stop()
+        print(f"cluster stopped in {time.time() - start:.2f} s", file=sys.stderr)
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="case-", dir=self.cluster.shared)  # every node sees it
+        os.chmod(self.dir, 0o755)
+        self.started = time.time()
+
+    def tearDown(self):
+        print(f"{self.id().split('.')[-1]}: {time.time() - self.started:.1f} s", file=sys.stderr)
+        shutil.rmtree(self.dir, ignore_errors=True)
+        for n in self.cluster.nodes:  # a case that killed a node leaves the next ones three
+            if not n.pid_ns:
+                self.cluster.restart_node(n)
+
+    def submit(self, graph, out, *args):
+        p = subprocess.run([LOOM, "submit", graph, "--to", "slurm", "--out", out, *map(str, args)],
+                           capture_output=True, text=True, timeout=60)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        return os.path.join(out, ".loom-job")
+
+    def running_on(self, job, task):
+        """The node `task` runs on, once its `loom run` has started there."""
+        def started():
+            st = statuses(job).get(task, {})
+            log = os.path.join(job, "logs", f"task-{task:04}.log")
+            return st.get("state") == "running" and os.path.exists(log) and "attempt" in read(log) and st["host"]
+        return wait_for(started, 60, f"task {task} never ran")
+
+    def node(self, name):
+        return next(n for n in self.cluster.nodes if n.name == name)
+
+    def test_frames_spread_over_nodes_each_running_its_own_install(self):
+        g = os.path.join(SOURCE, "graphs", "time-twist-sequence.json")
+        out, ref = os.path.join(self.dir, "out"), os.path.join(self.dir, "ref")
+        job = self.submit(g, out, "--frames", "1-8", "--chunk", "2")
+        self.cluster.wait_idle(120)
+        loom("run", g, "--out", ref, "--frames", "1-8", "--no-cache", "-q")
+        st = statuses(job)
+        self.assertEqual([s["state"] for s in st.values()], ["done"] * 5, loom("jobs", "status", job, check=False).stdout)
+        hosts = {s["host"] for s in st.values()}
+        self.assertTrue(hosts <= {"n1", "n2", "n3"} and len(hosts) >= 2, hosts)
+        for s in st.values():  # the node's own loom, found on its PATH, not the submitter's path
+            self.assertEqual(s["loom"], f"/opt/loom-{s['host']}/bin/loom")
+        for f in sorted(os.listdir(os.path.join(ref, "frames"))):
+            self.assertEqual(read(os.path.join(out, "frames", f), "rb"), read(os.path.join(ref, "frames", f), "rb"), f)
+        self.assertEqual(read(os.path.join(out, "twist.mp4"), "rb"), read(os.path.join(ref, "twist.mp4"), "rb"))
+        # The assemble task, on whichever node, read every frame from the shared cache.
+        assemble = json.loads(read(os.path.join(job, "profiles", "0004.json")))["nodes"]["twist"]
+        self.assertEqual((assemble["runs"], assemble["disk_hits"]), (0, 8))
+
+    def test_a_lost_node_s_task_runs_again_on_another(self):
+        g = write_graph(self.dir, {
+            "f": {"type": "FrameNumber"},
+            "s": {"type": "Sleep", "inputs": {"value": {"from": "f.value"}, "ms": 3000}},
+            "w": {"type": "WriteText", "inputs": {"value": {"from": "s.value"}, "path": "f_{frame:02}.txt"}}}, (1, 6))
+        out, ref = os.path.join(self.dir, "out"), os.path.join(self.dir, "ref")
+        job = self.submit(g, out, "--chunk", "1", "--no-cache")
+        host = self.running_on(job, 1)
+        time.sleep(0.5)  # inside the Sleep
+        killed = time.time()
+        self.cluster.kill_node(self.node(host))  # a crash: every process of the node at once
+        self.cluster.wait_idle(120)
+        print(f"node {host} killed: the job ended {time.time() - killed:.1f} s later", file=sys.stderr)
+        st = statuses(job)
+        self.assertEqual([st[i]["state"] for i in range(6)], ["done"] * 6, loom("jobs", "status", job, check=False).stdout)
+        tries = st[1]["tries"]
+        self.assertEqual(tries[0]["host"], host)
+        self.assertTrue(tries[0]["end"].startswith("lost"), tries)
+        self.assertIn("requeued by Slurm", tries[0]["end"])
+        self.assertNotEqual(tries[-1]["host"], host)
+        self.assertEqual(tries[-1]["end"], "done")
+        self.assertEqual(st[1]["attempts"], len(tries))
+        report = loom("jobs", "status", job).stdout
+        self.assertIn(f"tries: {host} lost (its node failed; requeued by Slurm), {tries[-1]['host']} done", report)
+        loom("run", g, "--out", ref, "--no-cache", "-q")
+        self.assertEqual(files(out), files(ref))  # every frame, no partial or temporary file
+        for f in files(ref):
+            self.assertEqual(read(os.path.join(out, f), "rb"), read(os.path.join(ref, f), "rb"), f)
+
+    def test_a_simulation_in_segments_loses_at_most_one_when_its_node_dies(self):
+        tally = os.path.join(self.dir, "tally")
+        g = write_graph(self.dir, {
+            "sim": {"type": "TallyIntegrate", "inputs": {"x": 0, "v": 24, "ms": 600, "tally": tally}},
+            "w": {"type": "WriteText", "inputs": {"value": {"from": "sim.x"}, "path": "x_{frame:02}.txt"}}}, (1, 12))
+        out, ref = os.path.join(self.dir, "out"), os.path.join(self.dir, "ref")
+        job = self.submit(g, out, "--chunk", "6", "--sim-chunk", "4")
+        tasks = json.loads(read(os.path.join(job, "manifest.json")))["tasks"]
+        self.assertEqual([(t["name"], t["wave"]) for t in tasks][:3],
+                         [("simulate sim 1-4", 0), ("simulate sim 5-8", 1), ("simulate sim 9-12", 2)])
+        host = self.running_on(job, 1)
+        wait_for(lambda: os.path.exists(tally) and read(tally).split().count("7"), 60, "frame 7 never started")
+        self.cluster.kill_node(self.node(host))  # half-way: frames 5 and 6 stored, 7 being stepped
+        self.cluster.wait_idle(150)
+        st = statuses(job)
+        self.assertEqual([s["state"] for s in st.values()], ["done"] * 5, loom("jobs", "status", job, check=False).stdout)
+        self.assertTrue(st[1]["tries"][0]["end"].startswith("lost"), st[1]["tries"])
+        steps = [int(f) for f in read(tally).split()]
+        self.assertEqual(sorted(set(steps)), list(range(1, 13)))
+        recomputed = len(steps) - 12
+        print(f"segments of 4 frames, node {host} killed at frame 7: {recomputed} frame(s) computed again "
+              f"(steps in order: {steps})", file=sys.stderr)
+        self.assertLessEqual(recomputed, 4)
+        self.assertGreaterEqual(recomputed, 1)  # the step it was killed in
+        for task in (3, 4):  # the renders re-simulated nothing
+            self.assertEqual(json.loads(read(os.path.join(job, "profiles", f"{task:04}.json")))["nodes"]["sim"]["runs"], 0)
+        os.remove(tally)
+        loom("run", g, "--out", ref, "--no-cache", "-q")
+        self.assertEqual(files(out), files(ref))
+        for f in files(ref):
+            self.assertEqual(read(os.path.join(out, f), "rb"), read(os.path.join(ref, f), "rb"), f)
+
+
+if __name__ == "__main__":
+    result = unittest.main(exit=False, verbosity=2).result
+    ran = result.testsRun - len(result.skipped)
+    sys.exit(1 if not result.wasSuccessful() else 77 if ran == 0 else 0)
