@@ -31,10 +31,15 @@ struct EditorState {
   std::string engine_id(const std::string& id) const { return doc.path_prefix() + id; }
   // The node's last report: a flat node's, or a group instance's summary.
   const NodeReport* report(const std::string& id) const { return eval ? eval->report(engine_id(id)) : nullptr; }
-  // What the node is doing in the running evaluation, or null.
+  // What the node is doing in the running evaluation, or null; a group
+  // node runs while one of its inner nodes does.
   const LiveNode* live_node(const std::string& id) const {
-    auto it = live.find(engine_id(id));
-    return it == live.end() ? nullptr : &it->second;
+    const std::string path = engine_id(id);
+    if (auto it = live.find(path); it != live.end()) return &it->second;
+    if (live.empty() || !eval || !eval->view) return nullptr;
+    for (const auto& inner : eval->view->inner_nodes(path))
+      if (auto it = live.find(inner); it != live.end()) return &it->second;
+    return nullptr;
   }
   // Enters a group node (an inline group, a group file, a Repeat body) in
   // this document: the instance's values stay shown.

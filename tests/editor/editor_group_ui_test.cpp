@@ -214,6 +214,33 @@ TEST(EditorGroups, ARepeatNodeIsDrawnWithItsPinsAndItsBodyEntered) {
   h.screenshot("repeat-body");
 }
 
+// A group node shows its inner node's progress while that node runs (the
+// first evaluation gives the view that says which nodes are inside it).
+TEST(EditorGroups, AGroupNodeRunsWhileItsInnerNodeRuns) {
+  Harness h(1600, 900, /*test_plugins=*/true);
+  h.app.open(test::write_graph(json::parse(R"({"loom": 2, "groups": {"Slow": {
+      "inputs": {"ms": {"type": "Int", "default": 1, "to": ["s.ms"]}},
+      "outputs": {"value": {"from": "s.value"}},
+      "nodes": {"s": {"type": "Sleep", "inputs": {"value": 2}}}}},
+    "nodes": {"g": {"type": "Slow"}}})"),
+                               "slow-group.json"));
+  ASSERT_TRUE(h.settle());
+  auto& state = h.app.state();
+  EXPECT_EQ(state.live_node("g"), nullptr);
+  h.app.document().set_input("g", "ms", 3000);
+  const LiveNode* live = nullptr;
+  for (int i = 0; i < 400 && !live; ++i) {
+    h.frame();
+    live = state.live_node("g");
+  }
+  ASSERT_NE(live, nullptr);
+  EXPECT_TRUE(live->running);
+  ASSERT_TRUE(h.settle());
+  EXPECT_EQ(state.live_node("g"), nullptr);
+  EXPECT_EQ(state.report("g")->status, NodeStatus::ran);
+  EXPECT_EQ(state.eval->output("g", "value").as<double>(), 2);
+}
+
 TEST(EditorGroups, SavingOverAFileChangedOnDiskAsksFirst) {
   Harness h(1600, 900);
   const fs::path file = write_group_graph("conflict");
