@@ -153,8 +153,10 @@ TEST(ImageLayers, EveryHeaderSaysWhichNodeMadeIt) {
     "png": {"type": "SaveImage", "inputs": {"image": {"from": "board.image"}, "path": "b.png"}},
     "tif": {"type": "SaveImage", "inputs": {"image": {"from": "board.image"}, "path": "b.tif", "depth": "16"}},
     "jpg": {"type": "SaveImage", "inputs": {"image": {"from": "board.image"}, "path": "b.jpg"}},
-    "exr": {"type": "SaveImage", "inputs": {"image": {"from": "board.image"}, "path": "b.exr", "depth": "half", "tiled": true}},
-    "layers": {"type": "SaveLayers", "inputs": {"image": {"from": "board.image"}, "albedo": {"from": "board.image"}, "path": "l.exr"}}}})";
+    "exr": {"type": "SaveImage",
+            "inputs": {"image": {"from": "board.image"}, "path": "b.exr", "depth": "half", "tiled": true}},
+    "layers": {"type": "SaveLayers",
+               "inputs": {"image": {"from": "board.image"}, "albedo": {"from": "board.image"}, "path": "l.exr"}}}})";
   std::string out;
   ASSERT_EQ(test::run_loom("run " + (dir / "g.json").string() + " --out " + (dir / "out").string(), &out), 0) << out;
   for (const std::string node : {"png", "tif", "jpg", "exr", "layers"}) {
