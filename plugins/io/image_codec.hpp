@@ -29,15 +29,15 @@ using Metadata = std::vector<std::pair<std::string, std::string>>;
 // Refuses, before decoding, a file whose header declares more than
 // `max_pixels` pixels (or a zero size). `layer` names a layer of a layered or
 // multi-part EXR ("albedo"); "" reads the unnamed channels.
-Image read_image(const std::filesystem::path& path, Decode decode,
-                 std::uint64_t max_pixels = kDefaultMaxImagePixels, const std::string& layer = "");
+Image read_image(const std::filesystem::path& path, Decode decode, std::uint64_t max_pixels = kDefaultMaxImagePixels,
+                 const std::string& layer = "");
 
 // Encodes by the image's tag (8/16-bit files get sRGB values, float files
 // linear ones), clamps integer formats to [0, 1], writes atomically. JPEG and
 // BMP are 8-bit only; EXR and HDR are float only (EXR also half). Throws on
 // NaN pixels. `tiled`: EXR and TIFF in 64×64 tiles.
-void write_image(const Image& image, const std::filesystem::path& path, Depth depth,
-                 const Metadata& metadata = {}, bool tiled = false);
+void write_image(const Image& image, const std::filesystem::path& path, Depth depth, const Metadata& metadata = {},
+                 bool tiled = false);
 
 // One layer of a layered EXR: its name and what its channels are called
 // ({"R", "G", "B"}, {"X", "Y", "Z"}, {"Z"}); images of 1 channel write as
@@ -51,7 +51,7 @@ struct NamedImage {
 // Several images into one OpenEXR file (linear float or half), as channels
 // "<name>.<channel>" of one part (Blender's and Nuke's multi-layer EXR) or,
 // with `parts`, one part per image.
-void write_layers(const std::vector<NamedImage>& layers, const std::filesystem::path& path, bool half,
-                  bool tiled, bool parts, const Metadata& metadata);
+void write_layers(const std::vector<NamedImage>& layers, const std::filesystem::path& path, bool half, bool tiled,
+                  bool parts, const Metadata& metadata);
 
 }  // namespace loom::io

@@ -44,8 +44,7 @@ struct ImageFiles {
   // 8/16-bit or float samples in a known order, or more than max_pixels.
   ImageLayer (*read)(const std::filesystem::path& path, const std::string& layer, std::uint64_t max_pixels);
   // Writes every layer (all of one size) into one file, by its extension.
-  void (*write)(const std::vector<ImageLayer>& layers, const std::filesystem::path& path,
-                const WriteOptions& options);
+  void (*write)(const std::vector<ImageLayer>& layers, const std::filesystem::path& path, const WriteOptions& options);
 };
 constexpr int kImageFilesVersion = 1;
 

@@ -12,7 +12,8 @@ struct LoadImage {
                "`linear` decodes them (for rendering), `keep` keeps the encoded values (for image editing, "
                "as OpenCV and the course do). A layered or multi-part EXR gives one layer, named by `layer`; "
                "a file whose channels are not gray, gray+alpha, RGB, RGBA, XYZ or one channel is refused.")
-        .input<std::string>("path", "the image file, relative to the graph file").input_file()
+        .input<std::string>("path", "the image file, relative to the graph file")
+        .input_file()
         .enum_input("decode", loom::io::Decode::linear,
                     {{loom::io::Decode::linear, "linear"}, {loom::io::Decode::keep, "keep"}},
                     "decode sRGB to linear, or keep encoded values")

@@ -21,8 +21,8 @@ void print_layers(std::ostringstream& text, const OIIO::ImageSpec& spec) {
     const auto dot = name.rfind('.');
     const std::string layer = dot == std::string::npos ? "" : name.substr(0, dot);
     if (!channels.count(layer)) order.push_back(layer);
-    channels[layer] += " " + (dot == std::string::npos ? name : name.substr(dot + 1)) + " (" +
-                       spec.channelformat(c).c_str() + ")";
+    channels[layer] +=
+        " " + (dot == std::string::npos ? name : name.substr(dot + 1)) + " (" + spec.channelformat(c).c_str() + ")";
   }
   for (const auto& layer : order)
     text << "  layer " << (layer.empty() ? "\"\"" : layer) << ":" << channels[layer] << "\n";

@@ -96,9 +96,8 @@ Selection select_in(const Part& part, const std::string& layer, bool whole_part,
   }
   for (const auto& order : known_orders()) {
     if (order.size() != found.size()) continue;
-    if (!std::all_of(order.begin(), order.end(), [&](const std::string& n) {
-          return std::find(held.begin(), held.end(), n) != held.end();
-        }))
+    if (!std::all_of(order.begin(), order.end(),
+                     [&](const std::string& n) { return std::find(held.begin(), held.end(), n) != held.end(); }))
       continue;
     for (const auto& n : order) s.indices.push_back(lookup(n));
     s.names = order;
@@ -110,8 +109,9 @@ Selection select_in(const Part& part, const std::string& layer, bool whole_part,
 
 Selection select(const std::vector<Part>& parts, const std::string& layer, const std::string& what) {
   const auto missing = [&] {
-    return Error("cannot read " + what + ": it has no layer " + (layer.empty() ? "\"\" (unnamed)" : "\"" + layer + "\"") +
-                 "; it holds " + joined(layer_names(parts)) + " (name one with LoadImage's layer)");
+    return Error("cannot read " + what + ": it has no layer " +
+                 (layer.empty() ? "\"\" (unnamed)" : "\"" + layer + "\"") + "; it holds " + joined(layer_names(parts)) +
+                 " (name one with LoadImage's layer)");
   };
   if (parts.size() > 1) {  // a multi-part file: a part by its name, else a channel prefix within a part
     for (const Part& p : parts)
@@ -133,9 +133,12 @@ OIIO::TypeDesc kept_type(const OIIO::ImageSpec& spec, const Selection& s, const 
   bool floating = false, eight = false, sixteen = false;
   for (int c : s.indices) {
     const OIIO::TypeDesc t = spec.channelformat(c);
-    if (t == OIIO::TypeDesc::HALF || t == OIIO::TypeDesc::FLOAT || t == OIIO::TypeDesc::DOUBLE) floating = true;
-    else if (t == OIIO::TypeDesc::UINT8) eight = true;
-    else if (t == OIIO::TypeDesc::UINT16) sixteen = true;
+    if (t == OIIO::TypeDesc::HALF || t == OIIO::TypeDesc::FLOAT || t == OIIO::TypeDesc::DOUBLE)
+      floating = true;
+    else if (t == OIIO::TypeDesc::UINT8)
+      eight = true;
+    else if (t == OIIO::TypeDesc::UINT16)
+      sixteen = true;
     else
       throw Error("cannot read " + what + ": it holds " + std::string(t.c_str()) +
                   " samples (Loom reads 8- and 16-bit unsigned and float)");

@@ -14,7 +14,9 @@ namespace loom::io::oiio {
 namespace {
 
 OIIO::TypeDesc oiio_type(int cv_depth) {
-  return cv_depth == CV_8U ? OIIO::TypeDesc::UINT8 : cv_depth == CV_16U ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::FLOAT;
+  return cv_depth == CV_8U    ? OIIO::TypeDesc::UINT8
+         : cv_depth == CV_16U ? OIIO::TypeDesc::UINT16
+                              : OIIO::TypeDesc::FLOAT;
 }
 
 std::string channel_name(const std::string& layer, const std::string& channel) {
@@ -68,8 +70,7 @@ void check_layers(const std::vector<ImageLayer>& layers, const std::string& what
 
 void write_part(OIIO::ImageOutput& out, const cv::Mat& pixels, const std::string& what) {
   const cv::Mat data = pixels.isContinuous() ? pixels : pixels.clone();
-  if (!out.write_image(oiio_type(data.depth()), data.data))
-    throw Error("cannot write " + what + ": " + out.geterror());
+  if (!out.write_image(oiio_type(data.depth()), data.data)) throw Error("cannot write " + what + ": " + out.geterror());
 }
 
 }  // namespace

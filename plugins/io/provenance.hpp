@@ -14,8 +14,7 @@
 namespace loom::io {
 
 inline Metadata provenance(const Context& ctx) {
-  const std::string node = ctx.node_id(), seed = std::to_string(ctx.seed()),
-                    frame = std::to_string(ctx.time().frame);
+  const std::string node = ctx.node_id(), seed = std::to_string(ctx.seed()), frame = std::to_string(ctx.time().frame);
   // ImageDescription is the one attribute PNG, TIFF, JPEG and EXR all keep;
   // the loom: attributes are for tools that list attributes (EXR, PNG).
   return {{"loom:node", node},

@@ -15,7 +15,9 @@ struct SaveImage {
                "and the frame (`loom info FILE` prints them; BMP and HDR have no place for them).")
         .set_sink()
         .input<loom::Image>("image", "the image to write")
-        .input<std::string>("path", "the file to write, relative to the output folder; {frame:04} in it becomes the frame number (one file per frame)").output_file()
+        .input<std::string>("path", "the file to write, relative to the output folder; {frame:04} in it becomes the "
+                                    "frame number (one file per frame)")
+        .output_file()
         .enum_input("depth", loom::io::Depth::u8,
                     {{loom::io::Depth::u8, "8"},
                      {loom::io::Depth::u16, "16"},

@@ -48,7 +48,8 @@ struct SaveLayers {
     std::vector<loom::io::NamedImage> layers;
     for (const LayerInput& l : layer_inputs())
       if (in.has(l.name)) layers.push_back({l.name, in.get<loom::Image>(l.name), l.channels});
-    if (layers.empty()) throw loom::Error("no image linked: link at least one of image, albedo, normal, depth, samples");
+    if (layers.empty())
+      throw loom::Error("no image linked: link at least one of image, albedo, normal, depth, samples");
     const std::string& path = in.get<std::string>("path");
     loom::io::write_layers(layers, path, in.get<Precision>("precision") == Precision::f16, in.get<bool>("tiled"),
                            in.get<bool>("parts"), loom::io::provenance(ctx));

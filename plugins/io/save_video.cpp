@@ -14,8 +14,10 @@ struct SaveVideo {
                "thread and fixed settings: the same frames give the same bytes whatever cores the process sees.")
         .set_sequence_sink()
         .input<loom::Image>("image", "this frame's image (every frame the same size)")
-        .input<std::string>("path", "the .mp4 file to write, relative to the output folder").output_file()
-        .input<double>("fps", 0.0, "frames per second; 0: the graph's rate").range(0, 1000)
+        .input<std::string>("path", "the .mp4 file to write, relative to the output folder")
+        .output_file()
+        .input<double>("fps", 0.0, "frames per second; 0: the graph's rate")
+        .range(0, 1000)
         .enum_input("codec", loom::io::VideoCodec::automatic,
                     {{loom::io::VideoCodec::automatic, "auto"},
                      {loom::io::VideoCodec::h264, "h264"},

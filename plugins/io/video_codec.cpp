@@ -4,8 +4,8 @@
 #include <cstring>
 
 #include <fcntl.h>
-#include <opencv2/imgproc.hpp>
 #include <unistd.h>
+#include <opencv2/imgproc.hpp>
 
 #include "video_encoder.hpp"
 
@@ -38,8 +38,8 @@ void VideoSequence::open(int width, int height) {
   const bool h264 = codec_ != VideoCodec::mpeg4 && VideoEncoder::available(VideoEncoder::Codec::h264);
   if (codec_ == VideoCodec::h264 && !h264)
     throw Error("this FFmpeg cannot encode H.264 (libx264): use codec \"mp4v\" or \"auto\"");
-  encoder_ = std::make_unique<VideoEncoder>(temp_->path(), h264 ? VideoEncoder::Codec::h264 : VideoEncoder::Codec::mpeg4,
-                                            width, height, fps_);
+  encoder_ = std::make_unique<VideoEncoder>(
+      temp_->path(), h264 ? VideoEncoder::Codec::h264 : VideoEncoder::Codec::mpeg4, width, height, fps_);
   codec_name_ = h264 ? "avc1 (H.264)" : "mp4v (MPEG-4 Part 2)";
 }
 
@@ -61,15 +61,21 @@ void VideoSequence::add(const Image& frame) {
   cv::Mat m = with_encoding(frame, Encoding::srgb).pixels;
   cv::Mat rgb;
   switch (m.channels()) {
-    case 1: cv::cvtColor(m, rgb, cv::COLOR_GRAY2RGB); break;
+    case 1:
+      cv::cvtColor(m, rgb, cv::COLOR_GRAY2RGB);
+      break;
     case 2: {
       cv::Mat gray;
       cv::extractChannel(m, gray, 0);
       cv::cvtColor(gray, rgb, cv::COLOR_GRAY2RGB);
       break;
     }
-    case 3: rgb = m; break;
-    default: cv::cvtColor(m, rgb, cv::COLOR_RGBA2RGB); break;
+    case 3:
+      rgb = m;
+      break;
+    default:
+      cv::cvtColor(m, rgb, cv::COLOR_RGBA2RGB);
+      break;
   }
   rgb.convertTo(rgb, CV_8U, 255.0);  // saturates to [0, 255]
   if (rgb.cols != width_ || rgb.rows != height_)

@@ -28,9 +28,7 @@ void check(int code, const std::string& what) {
   if (code < 0) throw Error("FFmpeg cannot " + what + ": " + av_message(code));
 }
 
-const char* encoder_name(VideoEncoder::Codec codec) {
-  return codec == VideoEncoder::Codec::h264 ? "libx264" : "mpeg4";
-}
+const char* encoder_name(VideoEncoder::Codec codec) { return codec == VideoEncoder::Codec::h264 ? "libx264" : "mpeg4"; }
 
 // The time base OpenCV's writer chose (cap_ffmpeg_impl.hpp): the frame rate as
 // a fraction with a power-of-ten denominator, within 0.001 of it. Kept so the

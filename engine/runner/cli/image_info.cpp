@@ -28,8 +28,8 @@ int image_info(const std::vector<std::string>& files) {
   using Entry = char* (*)(const char*, int*);
   auto entry = handle ? reinterpret_cast<Entry>(::dlsym(handle, "loom_image_info")) : nullptr;
   if (!entry) {
-    std::cerr << "error: cannot load " << library.string() << ": " << (handle ? "no loom_image_info in it" : ::dlerror())
-              << "\n";
+    std::cerr << "error: cannot load " << library.string() << ": "
+              << (handle ? "no loom_image_info in it" : ::dlerror()) << "\n";
     return kPluginError;
   }
   int exit = kOk;

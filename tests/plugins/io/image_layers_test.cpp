@@ -10,6 +10,8 @@
 #include <ImfInputPart.h>
 #include <ImfMultiPartInputFile.h>
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "image_codec.hpp"
 #include "run_loom.hpp"
@@ -153,8 +155,10 @@ TEST(ImageLayers, EveryHeaderSaysWhichNodeMadeIt) {
     "png": {"type": "SaveImage", "inputs": {"image": {"from": "board.image"}, "path": "b.png"}},
     "tif": {"type": "SaveImage", "inputs": {"image": {"from": "board.image"}, "path": "b.tif", "depth": "16"}},
     "jpg": {"type": "SaveImage", "inputs": {"image": {"from": "board.image"}, "path": "b.jpg"}},
-    "exr": {"type": "SaveImage", "inputs": {"image": {"from": "board.image"}, "path": "b.exr", "depth": "half", "tiled": true}},
-    "layers": {"type": "SaveLayers", "inputs": {"image": {"from": "board.image"}, "albedo": {"from": "board.image"}, "path": "l.exr"}}}})";
+    "exr": {"type": "SaveImage",
+            "inputs": {"image": {"from": "board.image"}, "path": "b.exr", "depth": "half", "tiled": true}},
+    "layers": {"type": "SaveLayers",
+               "inputs": {"image": {"from": "board.image"}, "albedo": {"from": "board.image"}, "path": "l.exr"}}}})";
   std::string out;
   ASSERT_EQ(test::run_loom("run " + (dir / "g.json").string() + " --out " + (dir / "out").string(), &out), 0) << out;
   for (const std::string node : {"png", "tif", "jpg", "exr", "layers"}) {
@@ -173,6 +177,34 @@ TEST(ImageLayers, EveryHeaderSaysWhichNodeMadeIt) {
   const std::string info = oiiotool_info(dir / "out" / "b.png");
   if (info.empty()) GTEST_SKIP() << "oiiotool (openimageio-tools) is not installed";
   EXPECT_NE(info.find("loom:node: \"png\""), std::string::npos) << info;
+}
+
+// OpenCV's codecs (libpng, libtiff, libjpeg: not OpenImageIO's readers) read
+// back exactly what was written: 8/16-bit values as quantized, and colour
+// under a transparent or half-transparent alpha untouched (OpenImageIO
+// divides colour by alpha on writing unless told the alpha is unassociated).
+TEST(ImageFiles, AnotherReaderFindsTheValuesAndTheAlphaAsStored) {
+  const fs::path dir = test::temp_dir();
+  Image rgba = noise(4, 0, 1, 8);
+  rgba.encoding = Encoding::srgb;
+  rgba.pixels.at<cv::Vec4f>(2, 3)[3] = 0.0f;  // transparent: its colour must survive
+  rgba.pixels.at<cv::Vec4f>(5, 7)[3] = 0.5f;
+  struct Case {
+    const char* name;
+    io::Depth depth;
+    int cv_depth;
+    double scale;
+  };
+  for (const Case& c : {Case{"a.png", io::Depth::u8, CV_8U, 255}, Case{"a.tif", io::Depth::u16, CV_16U, 65535},
+                        Case{"b.png", io::Depth::u16, CV_16U, 65535}}) {
+    io::write_image(rgba, dir / c.name, c.depth);
+    cv::Mat read = cv::imread((dir / c.name).string(), cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(read.type(), CV_MAKETYPE(c.cv_depth, 4)) << c.name;
+    cv::cvtColor(read, read, cv::COLOR_BGRA2RGBA);
+    cv::Mat expected;
+    rgba.pixels.convertTo(expected, c.cv_depth, c.scale);
+    EXPECT_EQ(cv::norm(read, expected, cv::NORM_INF), 0.0) << c.name;
+  }
 }
 
 // Two writes a second apart give the same bytes: no time of writing in a header.
