@@ -2,7 +2,8 @@
 (netns_cluster.py), one cluster start for every case: frames spread over the
 nodes, each running its own Loom from its own install folder; a node killed
 mid-job, whose task Slurm requeues on another; a simulation in segments
-(--sim-chunk) whose node is killed half-way. Usage: netns_test.py LOOM
+(--sim-chunk) whose node is killed half-way; `srun --mpi=pmix` tiles over the
+three nodes, each rank its node's own loom. Usage: netns_test.py LOOM
 SOURCE_DIR TEST_PLUGIN_DIR [unittest arguments]. Exits 77 (ctest's skip),
 saying why, where namespaces or Slurm are not available."""
 import glob
@@ -192,6 +193,28 @@ class MultiNode(unittest.TestCase):
         self.assertEqual(files(out), [f"x_{f:02}.txt" for f in range(1, 13)])
         for f in range(1, 13):
             self.assertEqual(read(os.path.join(out, f"x_{f:02}.txt")), f"{(f - 1) * 1.0:.6f}\n")
+
+    def test_mpi_tiles_over_three_nodes_equal_one_process(self):
+        if not os.path.exists(os.path.join(BUILD, "lib", "libloom_mpi.so")):
+            self.skipTest("loom was built without MPI")
+        plugins = subprocess.run(["srun", "--mpi=list"], capture_output=True, text=True)
+        if "pmix" not in plugins.stdout + plugins.stderr:
+            self.skipTest("Slurm has no PMIx plugin")
+        g = os.path.join(SOURCE, "graphs", "pathtrace-cornell-box.json")
+        out, ref = os.path.join(self.dir, "mpi"), os.path.join(self.dir, "ref")
+        net = str(self.cluster.net)
+        # Over TCP on the bridge only (as root: allowed explicitly); `loom` as each
+        # node finds it on its PATH: its own install.
+        env = dict(os.environ, OMPI_MCA_btl="tcp,self", OMPI_MCA_btl_tcp_if_include=net,
+                   OMPI_MCA_oob_tcp_if_include=net, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        p = subprocess.run(["srun", "--mpi=pmix", "-N3", "-n3", "--chdir", self.dir, "loom", "run", g, "--out", out,
+                            "--threads", "1", "--no-cache"], capture_output=True, text=True, timeout=180, env=env)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        self.assertIn("tiles computed", p.stdout + p.stderr)
+        loom("run", g, "--out", ref, "--threads", "1", "--no-cache", "-q")
+        self.assertEqual(files(out), files(ref))
+        for f in files(ref):  # bit for bit the image of one process
+            self.assertEqual(read(os.path.join(out, f), "rb"), read(os.path.join(ref, f), "rb"), f)
 
 
 if __name__ == "__main__":
