@@ -195,18 +195,9 @@ class MultiNode(unittest.TestCase):
             self.assertEqual(read(os.path.join(out, f"x_{f:02}.txt")), f"{(f - 1) * 1.0:.6f}\n")
 
     def test_mpi_tiles_over_three_nodes_equal_one_process(self):
-        if not os.path.exists(os.path.join(BUILD, "lib", "libloom_mpi.so")):
-            self.skipTest("loom was built without MPI")
-        plugins = subprocess.run(["srun", "--mpi=list"], capture_output=True, text=True)
-        if "pmix" not in plugins.stdout + plugins.stderr:
-            self.skipTest("Slurm has no PMIx plugin")
         g = os.path.join(SOURCE, "graphs", "pathtrace-cornell-box.json")
         out, ref = os.path.join(self.dir, "mpi"), os.path.join(self.dir, "ref")
-        net = str(self.cluster.net)
-        # Over TCP on the bridge only (as root: allowed explicitly); `loom` as each
-        # node finds it on its PATH: its own install.
-        env = dict(os.environ, OMPI_MCA_btl="tcp,self", OMPI_MCA_btl_tcp_if_include=net,
-                   OMPI_MCA_oob_tcp_if_include=net, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        env = self.mpi_env()  # `loom` below: as each node finds it on its PATH, its own install
         p = subprocess.run(["srun", "--mpi=pmix", "-N3", "-n3", "--chdir", self.dir, "loom", "run", g, "--out", out,
                             "--threads", "1", "--no-cache"], capture_output=True, text=True, timeout=180, env=env)
         self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
@@ -215,6 +206,46 @@ class MultiNode(unittest.TestCase):
         self.assertEqual(files(out), files(ref))
         for f in files(ref):  # bit for bit the image of one process
             self.assertEqual(read(os.path.join(out, f), "rb"), read(os.path.join(ref, f), "rb"), f)
+
+    def mpi_env(self):
+        """MPI over TCP on the bridge only (as root: allowed explicitly)."""
+        if not os.path.exists(os.path.join(BUILD, "lib", "libloom_mpi.so")):
+            self.skipTest("loom was built without MPI")
+        plugins = subprocess.run(["srun", "--mpi=list"], capture_output=True, text=True)
+        if "pmix" not in plugins.stdout + plugins.stderr:
+            self.skipTest("Slurm has no PMIx plugin")
+        net = str(self.cluster.net)
+        return dict(os.environ, OMPI_MCA_btl="tcp,self", OMPI_MCA_btl_tcp_if_include=net,
+                    OMPI_MCA_oob_tcp_if_include=net, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+
+    def test_an_mpi_run_whose_node_dies_ends_with_a_clear_message_and_no_file(self):
+        g = os.path.join(SOURCE, "graphs", "pathtrace-cornell-box.json")
+        out = os.path.join(self.dir, "mpi")
+        proc = subprocess.Popen(["srun", "--mpi=pmix", "-N3", "-n3", "--chdir", self.dir, "loom", "run", g, "--out", out,
+                                 "--threads", "1", "--no-cache", "--set", "trace.spp=1024"],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=self.mpi_env())
+
+        def ranks_running():  # a `loom run` in every node
+            return all(any("loom" in cmd and "run" in cmd for cmd in map(_cmdline, netns_cluster.pids_in_namespace(n.pid_ns)))
+                       for n in self.cluster.nodes)
+        wait_for(ranks_running, 60, "the ranks never started")
+        time.sleep(2)  # tracing
+        killed = time.time()
+        self.cluster.kill_node(self.node("n2"))  # rank 1's
+        text, _ = proc.communicate(timeout=120)
+        ended = time.time() - killed
+        print(f"node n2 killed under an MPI run: srun ended {ended:.1f} s later, exit {proc.returncode}", file=sys.stderr)
+        self.assertNotEqual(proc.returncode, 0, text)
+        self.assertIn("Node failure on n2", text)
+        self.assertLess(ended, 60)
+        self.assertEqual(files(out) if os.path.exists(out) else [], [])  # no partial image
+
+
+def _cmdline(pid):
+    try:
+        return read(f"/proc/{pid}/cmdline").replace("\0", " ")
+    except OSError:
+        return ""
 
 
 if __name__ == "__main__":
