@@ -157,9 +157,10 @@ class NetnsCluster(slurm_cluster.SlurmCluster):
     with `loom` on the node's PATH (/usr/local/bin/loom in the node): nodes
     with Loom installed at different prefixes. `hide`: folders the nodes see
     empty (the submitting machine's install, so that nothing runs it).
+    `pid_ranges`: each node's PIDs from a range of its own (see _node_script).
     `shared`: a folder every node sees at the same path (/tmp is each node's own)."""
 
-    def __init__(self, nodes=3, cpus=1, install=None, hide=()):
+    def __init__(self, nodes=3, cpus=1, install=None, hide=(), pid_ranges=True):
         clean_stale()
         self.tag = f"{PREFIX}{os.getpid()}"
         self.dir = tempfile.mkdtemp(prefix=f"loom-netns-{os.getpid()}-", dir=SHARED_ROOT)
@@ -170,6 +171,7 @@ class NetnsCluster(slurm_cluster.SlurmCluster):
         self.cpus = cpus
         self.install = install
         self.hide = list(hide)
+        self.pid_ranges = pid_ranges
         self.net = _free_subnet()
         self.host_addr = str(self.net[1])
         self.bridge = f"{self.tag}br"
@@ -240,6 +242,16 @@ PartitionName=debug Nodes={names} Default=YES MaxTime=INFINITE State=UP
 
     def _node_script(self, n):
         lines = ["set -e", f"hostname {n.name}", "mount -t tmpfs tmpfs /tmp", "mount -t tmpfs tmpfs /dev/shm"]
+        # Each node's PIDs from a range of its own, as separate machines' mostly
+        # differ: fresh PID namespaces would give every node the same PIDs in the
+        # same order, and Loom names staging files in a shared folder by PID alone
+        # (engine/core/temporary_file.cpp: ".loomtmp-PID-N"), so two nodes writing
+        # into one folder at once would take each other's file. Reported as a
+        # defect (issue 36); `pid_ranges=False` shows it.
+        if self.pid_ranges:
+            with open("/proc/sys/kernel/pid_max") as f:
+                span = int(f.read()) // (len(self.nodes) + 1)
+            lines.append(f"echo {n.k * span} > /proc/sys/kernel/ns_last_pid")
         if self.install:
             # The node's own install folder and a `loom` on its PATH (as a site's
             # /usr/local/bin), hidden from the host and the other nodes.

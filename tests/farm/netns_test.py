@@ -2,7 +2,8 @@
 (netns_cluster.py), one cluster start for every case: frames spread over the
 nodes, each running its own Loom from its own install folder; a node killed
 mid-job, whose task Slurm requeues on another; a simulation in segments
-(--sim-chunk) whose node is killed half-way. Usage: netns_test.py LOOM
+(--sim-chunk) whose node is killed half-way; `srun --mpi=pmix` tiles over the
+three nodes, each rank its node's own loom. Usage: netns_test.py LOOM
 SOURCE_DIR TEST_PLUGIN_DIR [unittest arguments]. Exits 77 (ctest's skip),
 saying why, where namespaces or Slurm are not available."""
 import glob
@@ -138,7 +139,7 @@ class MultiNode(unittest.TestCase):
             "f": {"type": "FrameNumber"},
             "s": {"type": "Sleep", "inputs": {"value": {"from": "f.value"}, "ms": 3000}},
             "w": {"type": "WriteText", "inputs": {"value": {"from": "s.value"}, "path": "f_{frame:02}.txt"}}}, (1, 6))
-        out, ref = os.path.join(self.dir, "out"), os.path.join(self.dir, "ref")
+        out = os.path.join(self.dir, "out")
         job = self.submit(g, out, "--chunk", "1", "--no-cache")
         host = self.running_on(job, 1)
         time.sleep(0.5)  # inside the Sleep
@@ -157,17 +158,17 @@ class MultiNode(unittest.TestCase):
         self.assertEqual(st[1]["attempts"], len(tries))
         report = loom("jobs", "status", job).stdout
         self.assertIn(f"tries: {host} lost (its node failed; requeued by Slurm), {tries[-1]['host']} done", report)
-        loom("run", g, "--out", ref, "--no-cache", "-q")
-        self.assertEqual(files(out), files(ref))  # every frame, no partial or temporary file
-        for f in files(ref):
-            self.assertEqual(read(os.path.join(out, f), "rb"), read(os.path.join(ref, f), "rb"), f)
+        # Every frame as one `loom run` writes it (WriteText: "%f\n"), and no partial or temporary file.
+        self.assertEqual(files(out), [f"f_{f:02}.txt" for f in range(1, 7)])
+        for f in range(1, 7):
+            self.assertEqual(read(os.path.join(out, f"f_{f:02}.txt")), f"{f:.6f}\n")
 
     def test_a_simulation_in_segments_loses_at_most_one_when_its_node_dies(self):
         tally = os.path.join(self.dir, "tally")
         g = write_graph(self.dir, {
             "sim": {"type": "TallyIntegrate", "inputs": {"x": 0, "v": 24, "ms": 600, "tally": tally}},
             "w": {"type": "WriteText", "inputs": {"value": {"from": "sim.x"}, "path": "x_{frame:02}.txt"}}}, (1, 12))
-        out, ref = os.path.join(self.dir, "out"), os.path.join(self.dir, "ref")
+        out = os.path.join(self.dir, "out")
         job = self.submit(g, out, "--chunk", "6", "--sim-chunk", "4")
         tasks = json.loads(read(os.path.join(job, "manifest.json")))["tasks"]
         self.assertEqual([(t["name"], t["wave"]) for t in tasks][:3],
@@ -188,11 +189,63 @@ class MultiNode(unittest.TestCase):
         self.assertGreaterEqual(recomputed, 1)  # the step it was killed in
         for task in (3, 4):  # the renders re-simulated nothing
             self.assertEqual(json.loads(read(os.path.join(job, "profiles", f"{task:04}.json")))["nodes"]["sim"]["runs"], 0)
-        os.remove(tally)
-        loom("run", g, "--out", ref, "--no-cache", "-q")
+        # As one uninterrupted run: x(f) = v (f - 1) / fps, the exact integral, and no other file.
+        self.assertEqual(files(out), [f"x_{f:02}.txt" for f in range(1, 13)])
+        for f in range(1, 13):
+            self.assertEqual(read(os.path.join(out, f"x_{f:02}.txt")), f"{(f - 1) * 1.0:.6f}\n")
+
+    def test_mpi_tiles_over_three_nodes_equal_one_process(self):
+        g = os.path.join(SOURCE, "graphs", "pathtrace-cornell-box.json")
+        out, ref = os.path.join(self.dir, "mpi"), os.path.join(self.dir, "ref")
+        env = self.mpi_env()  # `loom` below: as each node finds it on its PATH, its own install
+        p = subprocess.run(["srun", "--mpi=pmix", "-N3", "-n3", "--chdir", self.dir, "loom", "run", g, "--out", out,
+                            "--threads", "1", "--no-cache"], capture_output=True, text=True, timeout=180, env=env)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
+        self.assertIn("tiles computed", p.stdout + p.stderr)
+        loom("run", g, "--out", ref, "--threads", "1", "--no-cache", "-q")
         self.assertEqual(files(out), files(ref))
-        for f in files(ref):
+        for f in files(ref):  # bit for bit the image of one process
             self.assertEqual(read(os.path.join(out, f), "rb"), read(os.path.join(ref, f), "rb"), f)
+
+    def mpi_env(self):
+        """MPI over TCP on the bridge only (as root: allowed explicitly)."""
+        if not os.path.exists(os.path.join(BUILD, "lib", "libloom_mpi.so")):
+            self.skipTest("loom was built without MPI")
+        plugins = subprocess.run(["srun", "--mpi=list"], capture_output=True, text=True)
+        if "pmix" not in plugins.stdout + plugins.stderr:
+            self.skipTest("Slurm has no PMIx plugin")
+        net = str(self.cluster.net)
+        return dict(os.environ, OMPI_MCA_btl="tcp,self", OMPI_MCA_btl_tcp_if_include=net,
+                    OMPI_MCA_oob_tcp_if_include=net, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+
+    def test_an_mpi_run_whose_node_dies_ends_with_a_clear_message_and_no_file(self):
+        g = os.path.join(SOURCE, "graphs", "pathtrace-cornell-box.json")
+        out = os.path.join(self.dir, "mpi")
+        proc = subprocess.Popen(["srun", "--mpi=pmix", "-N3", "-n3", "--chdir", self.dir, "loom", "run", g, "--out", out,
+                                 "--threads", "1", "--no-cache", "--set", "trace.spp=1024"],
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=self.mpi_env())
+
+        def ranks_running():  # a `loom run` in every node
+            return all(any("loom" in cmd and "run" in cmd for cmd in map(_cmdline, netns_cluster.pids_in_namespace(n.pid_ns)))
+                       for n in self.cluster.nodes)
+        wait_for(ranks_running, 60, "the ranks never started")
+        time.sleep(2)  # tracing
+        killed = time.time()
+        self.cluster.kill_node(self.node("n2"))  # rank 1's
+        text, _ = proc.communicate(timeout=120)
+        ended = time.time() - killed
+        print(f"node n2 killed under an MPI run: srun ended {ended:.1f} s later, exit {proc.returncode}", file=sys.stderr)
+        self.assertNotEqual(proc.returncode, 0, text)
+        self.assertIn("Node failure on n2", text)
+        self.assertLess(ended, 60)
+        self.assertEqual(files(out) if os.path.exists(out) else [], [])  # no partial image
+
+
+def _cmdline(pid):
+    try:
+        return read(f"/proc/{pid}/cmdline").replace("\0", " ")
+    except OSError:
+        return ""
 
 
 if __name__ == "__main__":
