@@ -76,6 +76,11 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   } else if (graph.time) {
     options.frames = loom::FrameRange{graph.time->start, graph.time->end};
   }
+  if (options.frames)
+    if (auto problem = loom::runner::frame_count_problem(*options.frames, frames.empty() ? "the graph's time range" : "--frames")) {
+      std::cerr << "error: " << *problem << "\n";
+      return kInvalid;
+    }
   std::optional<loom::DiskCache> disk;
   if (!cache.disabled) {
     try {
