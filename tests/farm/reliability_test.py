@@ -167,6 +167,20 @@ class JobFolderTest(unittest.TestCase):
         self.assertEqual([status(self.job, i)["state"] for i in (0, 1)], ["done", "done"])
         self.assertIn("attempt 1", read(os.path.join(self.job, "logs", "task-0000.log")))
 
+    # item 2: a task whose output was deleted after it ended is run again
+    def test_resume_runs_again_a_done_task_whose_output_is_gone(self):
+        self.dry_run()
+        self.assertEqual(loom("jobs", "resume", self.job).returncode, 0)
+        os.remove(os.path.join(self.out, "f_03.txt"))
+        before = os.path.getmtime(os.path.join(self.job, "status", "0000.json"))
+        p = loom("jobs", "resume", self.job)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        self.assertIn("task 1 (frames 3-4) is done but", p.stderr)
+        self.assertIn("resuming 1 of 2 tasks", p.stderr)
+        self.assertEqual(read(os.path.join(self.out, "f_03.txt")), "3.000000\n")
+        self.assertEqual(os.path.getmtime(os.path.join(self.job, "status", "0000.json")), before)
+        self.assertIn("every task of", loom("jobs", "resume", self.job).stderr)
+
     # item 4: a folder that is not a job folder is never cleared or overwritten
     def test_job_dir_on_an_ordinary_folder_is_refused_and_left_alone(self):
         g = frames_graph(self.dir, 1)

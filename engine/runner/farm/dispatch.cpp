@@ -96,10 +96,14 @@ int dispatch_local(const JobManifest& m, const std::vector<int>& asked) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;
   }
-  // What another dispatcher finished while this one waited to start is not run again.
+  // What another dispatcher finished after this process started (between
+  // its reading the statuses and taking the lock) is not run again.
   std::vector<int> ids;
-  for (int id : asked)
-    if (read_status(m.dir, id).state != "done") ids.push_back(id);
+  for (int id : asked) {
+    std::error_code ec;
+    const auto written = fs::last_write_time(task_status_path(m.dir, id), ec);
+    if (ec || written < process_started() || read_status(m.dir, id).state != "done") ids.push_back(id);
+  }
   stop_on_signals(false);
   bool ok = true, previous_ok = true;
   for (Stage stage : {kSimulate, kWork, kAssemble}) {

@@ -171,6 +171,12 @@ void append_line(const fs::path& file, const std::string& line) {
   append_to(fd, file, line);
 }
 
+namespace {
+const fs::file_time_type g_started = fs::file_time_type::clock::now();
+}  // namespace
+
+fs::file_time_type process_started() { return g_started; }
+
 unsigned long long process_start_time(long pid) {
   if (pid <= 0) return 0;
   const std::string stat = read_text("/proc/" + std::to_string(pid) + "/stat");

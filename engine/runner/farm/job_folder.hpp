@@ -77,6 +77,9 @@ void append_line(const std::filesystem::path& file, const std::string& line);
 // one of them is a symbolic link (it would send the job's files elsewhere).
 void check_job_subfolders(const std::filesystem::path& job);
 
+// When this process started (as file times are kept).
+std::filesystem::file_time_type process_started();
+
 // The start time of process `pid` in clock ticks after boot (field 22 of
 // /proc/PID/stat), or 0 when no such process runs.
 unsigned long long process_start_time(long pid);

@@ -5,10 +5,16 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <algorithm>
 #include <map>
+#include <optional>
+#include <sstream>
 
 #include "farm/child_process.hpp"
 #include "farm/dispatch.hpp"
+#include "cli/run_settings.hpp"
+#include "loom/frame_pattern.hpp"
+#include "loom/graph_view.hpp"
 
 namespace loom::runner {
 namespace fs = std::filesystem;
@@ -53,9 +59,79 @@ bool still_running(const JobManifest& m, const TaskStatus& s, int id) {
   return slurm_jobs_queued(m);
 }
 
+namespace {
+
+// The value after `flag` in a task's arguments, every one of them.
+std::vector<std::string> arguments_of(const Task& t, const std::string& flag) {
+  std::vector<std::string> values;
+  for (std::size_t k = 0; k + 1 < t.args.size(); ++k)
+    if (t.args[k] == flag) values.push_back(t.args[k + 1]);
+  return values;
+}
+
+// The files a task that ended "done" wrote, as far as the job's graph tells:
+// a sweep point's point.json, the sweep tables, and each sink's literal output
+// paths over the task's frames. Linked paths cannot be known: not listed.
+std::vector<fs::path> expected_outputs(const Task& t, const LoadedGraph& g) {
+  const auto out = arguments_of(t, "--out");
+  if (out.empty()) return {};
+  const fs::path dir = out.front();
+  std::vector<fs::path> files;
+  if (std::find(t.args.begin(), t.args.end(), "--sweep-collect") != t.args.end()) return {dir / "sweep.csv"};
+  for (const std::string& list : arguments_of(t, "--sweep-points")) {
+    std::istringstream points(list);
+    for (std::string i; std::getline(points, i, ',');)
+      files.push_back(dir / "points" / (std::string(4 - std::min<std::size_t>(4, i.size()), '0') + i) / "point.json");
+    return files;
+  }
+  Graph graph = g.graph;
+  for (const std::string& set : arguments_of(t, "--set")) set_input(graph, set);
+  const GraphView view(graph, *g.registry);
+  std::vector<std::string> nodes;
+  for (const std::string& target : arguments_of(t, "--target")) nodes.push_back(parse_target(target).node);
+  if (nodes.empty()) nodes = view.sinks();
+  const auto frames = arguments_of(t, "--frames");
+  const std::optional<FrameRange> range = frames.empty() ? std::nullopt : parse_frame_range(frames.front());
+  for (const std::string& id : nodes) {
+    auto n = graph.nodes.find(id);
+    if (n == graph.nodes.end() || !view.has(id)) continue;
+    for (const InputSpec& spec : view.type(id).spec.inputs) {
+      auto b = n->second.inputs.find(spec.name);
+      if (spec.role != InputRole::output_file || b == n->second.inputs.end() || b->second.link ||
+          !b->second.literal.is_string())
+        continue;
+      const std::string path = b->second.literal;
+      if (!range && path.find('{') != std::string::npos) continue;  // which frame it names is the evaluator's
+      for (long f = range ? range->first : 0; f <= (range ? range->last : 0); ++f)
+        files.push_back((dir / expand_frame_pattern(path, static_cast<int>(f))).lexically_normal());
+    }
+  }
+  return files;
+}
+
+// A task whose status says "done" but one of whose files is gone (deleted
+// after the run) is run again: resume used to exit 0 with the frame missing.
+bool outputs_missing(const Task& t, const std::optional<LoadedGraph>& graph) {
+  if (!graph) return false;
+  try {
+    for (const fs::path& f : expected_outputs(t, *graph))
+      if (!fs::exists(f)) {
+        std::cerr << "task " << t.id << " (" << t.name << ") is done but " << f.string() << " is missing: running it again\n";
+        return true;
+      }
+  } catch (const std::exception&) {
+    // Its outputs cannot be told from the graph: its status stands.
+  }
+  return false;
+}
+
+}  // namespace
+
 // On Slurm as new arrays of only those ids, locally in the foreground.
 int jobs_resume(JobManifest& m, int jobs) {
   std::vector<int> ids;
+  std::optional<LoadedGraph> graph;
+  int unused = 0;
   for (const Task& t : m.tasks) {
     const TaskStatus s = read_status(m.dir, t.id);
     const std::string& state = s.state;
@@ -63,7 +139,9 @@ int jobs_resume(JobManifest& m, int jobs) {
       std::cerr << "error: task " << t.id << " (" << t.name << ") is running: wait for it or `loom jobs cancel`\n";
       return 2;
     }
-    if (state != "done") ids.push_back(t.id);
+    if (state == "done" && !graph && fs::exists(m.dir / "graph.json"))
+      graph = load_for_run((m.dir / "graph.json").string(), {}, &unused);
+    if (state != "done" || outputs_missing(t, graph)) ids.push_back(t.id);
   }
   if (ids.empty()) {
     std::cerr << "every task of " << m.dir.string() << " is done\n";
