@@ -451,6 +451,31 @@ class GroupLimitTest(unittest.TestCase):
         self.assertIn('node "loop" (Repeat) failed: input "count": a Float value arrived', p.stderr)
 
 
+class SignalTest(unittest.TestCase):
+    # still open from round 2: SIGTERM during a run exited 130 with no error line
+    def test_a_stop_signal_ends_the_run_with_an_error_line_naming_it(self):
+        d = tempfile.mkdtemp(prefix="loom-signal37-")
+        try:
+            g = write_json(os.path.join(d, "g.json"), {"loom": 1, "nodes": {
+                "s": {"type": "Sleep", "inputs": {"value": 1, "ms": 20000}},
+                "w": {"type": "WriteText", "inputs": {"value": {"from": "s.value"}, "path": "v.txt"}}}})
+            p = subprocess.Popen([LOOM, "run", g, "--out", os.path.join(d, "o"), "--no-cache"],
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            deadline = time.time() + 30
+            while time.time() < deadline:  # until the run catches SIGTERM (SigCgt bit 15)
+                caught = [l for l in read(f"/proc/{p.pid}/status").splitlines() if l.startswith("SigCgt:")]
+                if caught and int(caught[0].split()[1], 16) & (1 << (signal.SIGTERM - 1)):
+                    break
+                time.sleep(0.02)
+            p.send_signal(signal.SIGTERM)
+            _, err = p.communicate(timeout=30)
+            self.assertEqual(p.returncode, 130, err)
+            self.assertIn("error: interrupted by SIGTERM: the nodes still running were cancelled", err)
+            self.assertFalse(os.path.exists(os.path.join(d, "o", "v.txt")))
+        finally:
+            shutil.rmtree(d, ignore_errors=True)
+
+
 class WatchTest(unittest.TestCase):
     # item 16: a FIFO given as the graph blocked before Ctrl-C was handled
     def test_a_fifo_as_the_graph_is_refused_at_once(self):
@@ -472,6 +497,61 @@ class WatchTest(unittest.TestCase):
             self.assertIn("is a FIFO", err)
         finally:
             shutil.rmtree(d, ignore_errors=True)
+
+
+MPIEXEC = shutil.which("mpiexec")
+MPI_ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+MPI_ARGS = ["--oversubscribe", "--bind-to", "none", "--mca", "btl", "self,vader", "--mca", "oob_tcp_if_include", "lo",
+            "--mca", "btl_vader_single_copy_mechanism", "none"]
+
+
+@unittest.skipUnless(MPIEXEC and os.path.exists(os.path.join(os.path.dirname(os.path.dirname(LOOM)), "lib",
+                                                             "libloom_mpi.so")), "no mpiexec or libloom_mpi")
+class MpiLeftoversTest(unittest.TestCase):
+    """Item 15: .loom-mpi-cache left in --out; ranks given --out folders of their own."""
+
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="loom-mpi37-")
+
+    def tearDown(self):
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+    def test_ranks_with_an_out_of_their_own_are_refused(self):
+        g = frames_graph(self.dir, 1)
+        a, b = os.path.join(self.dir, "a"), os.path.join(self.dir, "b")
+        cmd = [MPIEXEC, *MPI_ARGS, "-n", "1", LOOM, "run", g, "--out", a, "--no-cache", ":",
+               "-n", "1", LOOM, "run", g, "--out", b, "--no-cache"]
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=240, env=MPI_ENV)
+        self.assertNotEqual(p.returncode, 0, p.stderr)
+        self.assertIn("is not one folder on every rank", p.stderr)
+
+    def test_sigterm_to_every_rank_leaves_no_mpi_cache(self):
+        g = write_json(os.path.join(self.dir, "g.json"), {"loom": 1, "time": {"start": 1, "end": 40, "fps": 24},
+            "nodes": {"sim": {"type": "Integrate", "inputs": {"x": 0, "v": 24, "ms": 100}},
+                      "w": {"type": "WriteText", "inputs": {"value": {"from": "sim.x"}, "path": "x_{frame:02}.txt"}}}})
+        out = os.path.join(self.dir, "out")
+        run = subprocess.Popen([MPIEXEC, "-n", "2", *MPI_ARGS, LOOM, "run", g, "--out", out, "--no-cache"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=MPI_ENV)
+        store = os.path.join(out, ".loom-mpi-cache")
+        deadline = time.time() + 60
+        while not os.path.isdir(store) and time.time() < deadline:
+            time.sleep(0.05)
+        self.assertTrue(os.path.isdir(store))
+        time.sleep(0.5)  # rank 0 simulating, rank 1 waiting
+        ranks = [int(e) for e in filter(str.isdigit, os.listdir("/proc"))
+                 if read_quiet(f"/proc/{e}/cmdline").split("\0")[:2] == [LOOM, "run"]]
+        for pid in ranks:
+            os.kill(pid, signal.SIGTERM)
+        _, err = run.communicate(timeout=60)
+        self.assertNotEqual(run.returncode, 0)
+        self.assertFalse(os.path.exists(store), err)
+
+
+def read_quiet(path):
+    try:
+        return read(path)
+    except OSError:
+        return ""
 
 
 if __name__ == "__main__":

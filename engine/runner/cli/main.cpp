@@ -145,7 +145,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
     }
   }
   if (result.cancelled) {
-    std::cerr << "interrupted\n";
+    std::cerr << loom::runner::interrupted_message() << "\n";
     return kInterrupted;
   }
   return result.ok() ? kOk : kNodeFailed;

@@ -244,7 +244,7 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
     if (!write_sweep_tables(s.out_dir, plan.axes, points, r.plots, s.quiet)) exit = kNodeFailed;
   }
   if (cancel_flag()) {
-    std::cerr << "interrupted\n";
+    std::cerr << interrupted_message() << "\n";
     return kInterrupted;
   }
   for (std::size_t i = 0; i < points.size(); ++i)
