@@ -17,8 +17,9 @@
 // rate, but not the frame): a parameter change gives a new chain and so new
 // states at every frame; a change downstream leaves the chain alone.
 //
-// The seed (graph seed + node id) is in it because any node may draw from
-// ctx.rng(): two nodes with equal inputs but different ids may differ.
+// The seed (graph seed + the node's own id where it is written, "render" for
+// "look.render") is in it because any node may draw from ctx.rng(): two nodes
+// with equal inputs but different ids may differ.
 #include "computation_hash.hpp"
 
 #include <filesystem>

@@ -142,12 +142,18 @@ struct Evaluation {
   const FrameTime time;  // step is set per node
   const BindingPlace place;  // what paths bound to inputs resolve against
   // A simulation stepping through frames evaluates the graph at each frame
-  // with its previous outputs handed in here (see step_to in evaluator.cpp).
+  // with its previous outputs handed in here (see step_to_previous in simulation.cpp).
   std::optional<NodeIndex> fed_node;
   std::vector<Value> fed_previous;
   // A Repeat body's iteration: values fed to inner inputs (node id, input) with
   // the hash each stands for (repeat.cpp).
   const std::map<std::pair<std::string, std::string>, std::pair<Value, std::uint64_t>>* fed_inputs = nullptr;
+  // What the ids of this evaluation's nodes are prefixed with in the
+  // session's per-node state (scratch, sequence state): a Repeat body's node
+  // "save" is "loop.save" there, so that with cache_iterations (the outer
+  // session) it never shares the state of a top-level "save".
+  std::string scope;
+  std::string scoped_id(const NodeState& s) const { return scope + s.node->id; }
 
   Evaluation(Session::State& s, const Graph& g, const EvalOptions& o, FrameTime t)
       : session(s), graph(g), options(o), graph_dir(g.dir()), time(t),

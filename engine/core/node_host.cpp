@@ -59,7 +59,7 @@ bool Host::input_set(int i) const {
 
 std::shared_ptr<void> Host::sequence_state(const std::function<std::shared_ptr<void>()>& make) {
   std::lock_guard lock(e_.session.sequence_mutex);
-  auto& state = e_.session.sequences[s_.node->id];
+  auto& state = e_.session.sequences[e_.scoped_id(s_)];
   if (!state) state = make();
   return state;
 }
@@ -78,12 +78,12 @@ void Host::report(bool warning, std::string text) {
   if (e_.options.observer) e_.options.observer->node_message(s_.node->id, warning, text);
 }
 
-// The session's scratch store: per node id, the most recently used keys.
+// The session's scratch store: per node (scoped id), the most recently used keys.
 std::shared_ptr<void> Host::scratch(std::uint64_t key, const std::function<std::shared_ptr<void>()>& make) {
   auto& session = e_.session;
   {
     std::lock_guard lock(session.scratch_mutex);
-    auto& list = session.scratch[s_.node->id];
+    auto& list = session.scratch[e_.scoped_id(s_)];
     for (auto it = list.begin(); it != list.end(); ++it)
       if (it->first == key) {
         auto entry = *it;
@@ -94,7 +94,7 @@ std::shared_ptr<void> Host::scratch(std::uint64_t key, const std::function<std::
   }
   std::shared_ptr<void> made = make();  // outside the lock: may be slow
   std::lock_guard lock(session.scratch_mutex);
-  auto& list = session.scratch[s_.node->id];
+  auto& list = session.scratch[e_.scoped_id(s_)];
   list.emplace_front(key, made);
   if (list.size() > Session::State::kScratchPerNode) list.pop_back();
   return made;

@@ -122,6 +122,7 @@ class RepeatRun {
     if (!repeat_.cache_iterations) ++state_.generation;  // the outer session's is the outer frame's
     Evaluation e(state_, body_, options_, outer_.time);
     e.fed_inputs = &fed;
+    e.scope = outer_.scoped_id(s_) + ".";
     e.build();
     std::vector<NodeIndex> roots;  // the body's outputs and its sinks (a body may only write files)
     for (const auto& [name, from] : body_.interface->outputs) roots.push_back(e.index.at(from.node));

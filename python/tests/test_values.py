@@ -3,6 +3,7 @@ round trips, meshes, JSON, and clear errors for what an input cannot take."""
 
 import json
 import os
+import shutil
 
 import numpy as np
 import pytest
@@ -115,6 +116,7 @@ def test_bad_literal_inputs():
 
 
 def test_load_and_save_give_the_runner_and_editor_files(tmp_path):
+    shutil.copytree(os.path.join(REPO, "graphs", "groups"), tmp_path / "groups")  # what groups-file.json uses
     for name in sorted(n for n in os.listdir(os.path.join(REPO, "graphs")) if n.endswith(".json")):
         path = os.path.join(REPO, "graphs", name)
         g = loom.load(path)

@@ -119,6 +119,41 @@ TEST(Groups, AGroupedImageIsByteIdenticalToTheFlatOne) {
   EXPECT_EQ(0, std::memcmp(a.pixels.data, b.pixels.data, a.pixels.total() * a.pixels.elemSize()));
 }
 
+bool same_bytes(const Image& a, const Image& b) {
+  return a.pixels.total() * a.pixels.elemSize() == b.pixels.total() * b.pixels.elemSize() &&
+         std::memcmp(a.pixels.data, b.pixels.data, a.pixels.total() * a.pixels.elemSize()) == 0;
+}
+
+// Issue 42, item 1: the library's `studio` framed its mesh anew at every frame;
+// its `camera` input keeps the view where the Camera node puts it. The group
+// with a camera renders what the same chain wired by hand renders.
+TEST(Groups, TheStudioLibraryGroupLooksThroughTheCameraGiven) {
+  testing::Engine engine;
+  const json mesh = {{"type", "UVSphere"}, {"inputs", {{"rings", 8}, {"segments", 12}}}};
+  const json camera = {{"type", "Camera"}, {"inputs", {{"eye", {1.5, 1.0, 3.0}}, {"fov_degrees", 30}}}};
+  json grouped = {{"loom", 2},
+                  {"nodes", {{"ball", mesh}, {"paint", {{"type", "Material"}}}, {"cam", camera},
+                             {"look", {{"type", "studio"},
+                                       {"inputs", {{"mesh", link("ball.mesh")}, {"material", link("paint.material")},
+                                                   {"camera", link("cam.scene")}, {"width", 40}, {"height", 30}}}}}}}};
+  const json flat = {
+      {"loom", 1},
+      {"nodes",
+       {{"ball", mesh}, {"paint", {{"type", "Material"}}}, {"cam", camera},
+        {"light", {{"type", "Light"}, {"inputs", {{"kind", "directional"}, {"direction", {-0.3, -0.5, -1}},
+                                                  {"intensity", 2.5}, {"casts_shadow", false}}}}},
+        {"sky", {{"type", "Environment"}, {"inputs", {{"color", {0.3, 0.3, 0.3}}}}}},
+        {"object", {{"type", "Object"}, {"inputs", {{"mesh", link("ball.mesh")}, {"material", link("paint.material")}}}}},
+        {"scene", {{"type", "MergeScenes"}, {"inputs", {{"a", link("object.scene")}, {"b", link("light.scene")},
+                                                       {"c", link("sky.scene")}, {"d", link("cam.scene")}}}}},
+        {"render", {{"type", "Render"}, {"inputs", {{"scene", link("scene.scene")}, {"shadows", "off"},
+                                                    {"extra_images", false}, {"width", 40}, {"height", 30}}}}}}}};
+  const Image through_camera = engine.output<Image>(grouped, "look.image");
+  EXPECT_TRUE(same_bytes(through_camera, engine.output<Image>(flat, "render.image")));
+  grouped["nodes"]["look"]["inputs"].erase("camera");
+  EXPECT_FALSE(same_bytes(through_camera, engine.output<Image>(grouped, "look.image")));  // the automatic framing
+}
+
 // Sleep passes its value on after `ms`: the group's inner node runs once for
 // two instances fed equal values, twice for different values.
 json two_instances(double a, double b) {
@@ -330,6 +365,25 @@ TEST(Repeat, NIterationsEqualNCopiesWiredByHand) {
   }
   // count from a link: the frame number (Time.frame is 1 without "time").
   EXPECT_EQ(engine.output<double>(repeated(link("clock.frame")), "loop.x"), 3.0);
+}
+
+// Issue 38, item 8: with cache_iterations a body runs on the outer session,
+// whose per-node scratch was keyed by the bare id: the body's "keep" found the
+// top-level "keep"'s value.
+TEST(Repeat, ABodyNodeNeverSharesScratchWithATopLevelNodeOfItsId) {
+  testing::Engine engine({LOOM_TEST_PLUGIN_DIR});
+  const json body = {{"inputs", {{"x", {{"type", "Float"}, {"to", {"keep.value"}}}}}},
+                     {"outputs", {{"x", {{"from", "keep.value"}}}}},
+                     {"nodes", {{"keep", {{"type", "FirstValue"}}}}}};
+  const json doc = {{"loom", 2},
+                    {"groups", {{"Keep", body}}},
+                    {"nodes",
+                     {{"keep", {{"type", "FirstValue"}, {"inputs", {{"value", 1.0}}}}},
+                      {"loop", {{"type", "Repeat"}, {"body", "Keep"}, {"cache_iterations", true},
+                                {"inputs", {{"count", 1}, {"x", 2.0}}}}}}}};
+  const auto run = engine.run(doc, {"keep.value", "loop.x"});
+  EXPECT_EQ(run.output<double>("keep.value"), 1.0);
+  EXPECT_EQ(run.output<double>("loop.x"), 2.0);
 }
 
 // SmoothMesh's own loop of `steps` is the reference for 12 iterations of one step.

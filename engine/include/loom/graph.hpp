@@ -34,9 +34,9 @@ struct Link {
 };
 
 // The one parser of the names written "ID.MEMBER" (links "ID.OUTPUT",
-// targets, --set's "ID.INPUT"): the member after the last '.', the node before
-// it; nullopt when either is empty or there is no '.'. Node ids and input and
-// output names hold no '.', so the split is unambiguous.
+// targets, --set's "ID.INPUT"): the member after the last '.', the node before it; nullopt when either is
+// empty or there is no '.'. Input and output names hold no '.', so paths of nodes in groups split too
+// ("look.render.width"); what an address names is the answer of loom/graph_view.hpp, not of the split.
 LOOM_API std::optional<Link> parse_link(std::string_view text);
 
 struct InputBinding {

@@ -35,87 +35,50 @@ namespace {
 using loom::runner::kOk, loom::runner::kNodeFailed, loom::runner::kInvalid, loom::runner::kPluginError,
     loom::runner::kInterrupted;
 
-// Where the persistent cache lives and how it behaves (`--cache`, `--no-cache`).
-struct CacheSettings {
-  std::string dir;  // empty: the default folder
-  bool disabled = false;
-  bool no_trim = false;  // a farm worker: the assemble task trims
-  double limit_mb = 10240;
-  double min_seconds = 0.05;
+using loom::runner::RunSettings;
 
-  loom::DiskCache::Options options() const {
-    loom::DiskCache::Options o;
-    o.dir = dir.empty() ? loom::DiskCache::default_dir() : std::filesystem::path(dir);
-    o.max_bytes = static_cast<std::uint64_t>(limit_mb * 1024 * 1024);
-    o.min_seconds = min_seconds;
-    if (min_seconds == 0) o.read_mb_per_s = 1e300;  // store every result, however cheap to recompute
-    return o;
-  }
-};
-
-int cmd_run(const std::string& graph_path, const std::string& out_dir,
-            const std::vector<std::string>& sets, const std::vector<std::string>& targets,
-            int threads, const std::string& profile_path, bool quiet, const std::string& frames,
-            const CacheSettings& cache, bool allow_outside, bool print_json) {
-  auto start = std::chrono::steady_clock::now();
-  quiet = quiet || loom::runner::mpi_rank() > 0;  // an MPI run's summary is rank 0's
-  int exit = kOk;
-  auto loaded = loom::runner::load_for_run(graph_path, sets, &exit);
-  if (!loaded) return exit;
-  const loom::Registry& registry = *loaded->registry;
-  const loom::PluginLoader& loader = *loaded->loader;
-  const loom::Graph& graph = loaded->graph;
-
+// The evaluation options of `loom run` as `s` asks: frames, targets, threads,
+// output folder, cancellation; the disk cache is opened into `disk`. Nullopt,
+// after saying why, for a malformed --frames or a folder that is not a cache.
+std::optional<loom::EvalOptions> run_options(const RunSettings& s, const loom::Graph& graph,
+                                             std::optional<loom::DiskCache>& disk) {
   loom::EvalOptions options;
-  if (!frames.empty()) {
-    options.frames = loom::runner::parse_frame_range(frames);
+  if (!s.frames.empty()) {
+    options.frames = loom::runner::parse_frame_range(s.frames);
     if (!options.frames) {
-      std::cerr << "error: --frames: expected A-B or A (whole frame numbers, A <= B), got \"" << frames << "\"\n";
-      return kInvalid;
+      std::cerr << "error: --frames: expected A-B or A (whole frame numbers, A <= B), got \"" << s.frames << "\"\n";
+      return std::nullopt;
     }
   } else if (graph.time) {
     options.frames = loom::FrameRange{graph.time->start, graph.time->end};
   }
   if (options.frames)
-    if (auto problem = loom::runner::frame_count_problem(*options.frames, frames.empty() ? "the graph's time range" : "--frames")) {
+    if (auto problem = loom::runner::frame_count_problem(*options.frames,
+                                                         s.frames.empty() ? "the graph's time range" : "--frames")) {
       std::cerr << "error: " << *problem << "\n";
-      return kInvalid;
+      return std::nullopt;
     }
-  std::optional<loom::DiskCache> disk;
-  if (!cache.disabled) {
+  if (!s.cache.disabled) {
     try {
-      disk.emplace(cache.options());
+      disk.emplace(s.cache.options());
     } catch (const loom::Error& e) {  // a folder that is not a Loom cache
       std::cerr << "error: " << e.what() << "\n";
-      return kInvalid;
+      return std::nullopt;
     }
     options.disk_cache = &*disk;
   }
-  for (const auto& t : targets) options.targets.push_back(loom::parse_target(t));
-  options.threads = threads;
-  options.output_dir = std::filesystem::absolute(out_dir);
-  options.allow_outside_output = allow_outside;
+  for (const auto& t : s.targets) options.targets.push_back(loom::parse_target(t));
+  options.threads = s.threads;
+  options.output_dir = std::filesystem::absolute(s.out_dir);
+  options.allow_outside_output = s.allow_outside;
   options.cancel = &loom::runner::cancel_flag();
-  loom::runner::ConsoleObserver observer(quiet);
-  options.observer = &observer;
-  if (options.targets.empty()) {
-    if (loom::GraphView(graph, registry).sinks().empty())
-      std::cerr << "warning: " << graph_path
-                << " has no sink nodes (e.g. SaveImage): nothing to run; name outputs with --target\n";
-  }
+  return options;
+}
 
-  loom::runner::stop_on_signals();
-  loom::EvalResult result;
-  try {
-    loom::Session session(registry);
-    result = loom::runner::evaluate_on_ranks(session, graph, registry, options);
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
-    return kInvalid;
-  }
-  observer.stop();
-  if (disk && !cache.no_trim && disk->bytes_written() > 0) disk->trim();  // a run that stored nothing scans nothing
-
+// What a run prints when it ends: failed nodes, the requested outputs (rank 0
+// of an MPI run only) and, unless quiet, the counts.
+void print_result(const RunSettings& s, const loom::Graph& graph, const loom::Registry& registry,
+                  const loom::EvalResult& result, double total) {
   std::map<loom::NodeStatus, int> counts;
   for (const auto& [id, r] : result.nodes) {
     ++counts[r.status];
@@ -123,22 +86,53 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
       std::cerr << "error: node \"" << id << "\" (" << graph.nodes.at(id).type << ") failed: " << r.error
                 << "\n";
   }
-  if (loom::runner::mpi_rank() == 0)  // an MPI run prints rank 0's
-    std::cout << (print_json ? loom::runner::target_json(graph, registry, result)
-                             : loom::runner::target_lines(graph, registry, result));
-  double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!quiet) {
-    std::string over = result.frames > 1 ? " over " + std::to_string(result.frames) + " frames" : "";
-    std::fprintf(stderr, "%d ran, %d cached, %d pruned, %d skipped, %d failed%s in %.3f s\n",
-                 counts[loom::NodeStatus::ran], counts[loom::NodeStatus::cached],
-                 counts[loom::NodeStatus::pruned], counts[loom::NodeStatus::skipped],
-                 counts[loom::NodeStatus::failed], over.c_str(), total);
+  if (loom::runner::mpi_rank() == 0)
+    std::cout << (s.print_json ? loom::runner::target_json(graph, registry, result)
+                               : loom::runner::target_lines(graph, registry, result));
+  if (s.quiet || loom::runner::mpi_rank() > 0) return;  // an MPI run's summary is rank 0's
+  const std::string over = result.frames > 1 ? " over " + std::to_string(result.frames) + " frames" : "";
+  std::fprintf(stderr, "%d ran, %d cached, %d pruned, %d skipped, %d failed%s in %.3f s\n",
+               counts[loom::NodeStatus::ran], counts[loom::NodeStatus::cached], counts[loom::NodeStatus::pruned],
+               counts[loom::NodeStatus::skipped], counts[loom::NodeStatus::failed], over.c_str(), total);
+}
+
+int cmd_run(const RunSettings& s) {
+  const auto start = std::chrono::steady_clock::now();
+  int exit = kOk;
+  auto loaded = loom::runner::load_for_run(s.graph_path, s.sets, &exit);
+  if (!loaded) return exit;
+  const loom::Registry& registry = *loaded->registry;
+  const loom::Graph& graph = loaded->graph;
+  const loom::GraphView view(graph, registry);
+  std::optional<loom::DiskCache> disk;
+  auto options = run_options(s, graph, disk);
+  if (!options) return kInvalid;
+  loom::runner::ConsoleObserver observer(s.quiet || loom::runner::mpi_rank() > 0);
+  options->observer = &observer;
+  if (options->targets.empty() && view.sinks().empty())
+    std::cerr << "warning: " << s.graph_path
+              << " has no sink nodes (e.g. SaveImage): nothing to run; name outputs with --target\n";
+
+  loom::runner::stop_on_signals();
+  loom::EvalResult result;
+  try {
+    loom::Session session(registry);
+    result = loom::runner::evaluate_on_ranks(session, graph, registry, *options);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return kInvalid;
   }
-  if (!profile_path.empty()) {
-    const loom::json profile =
-        loom::runner::profile_json(graph, result, total, loader.loaded_names(), disk ? &*disk : nullptr);
+  observer.stop();
+  if (disk && !s.cache.no_trim && disk->bytes_written() > 0) disk->trim();  // a run that stored nothing scans nothing
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  print_result(s, graph, registry, result, total);
+  if (!s.profile_path.empty()) {
     try {
-      loom::write_file_atomic(profile_path, profile.dump(2) + "\n");
+      loom::write_file_atomic(s.profile_path, loom::runner::profile_json(graph, result, total,
+                                                                         loaded->loader->loaded_names(),
+                                                                         disk ? &*disk : nullptr)
+                                                  .dump(2) +
+                                                  "\n");
     } catch (const loom::Error& e) {
       std::cerr << "error: " << e.what() << "\n";
       return kNodeFailed;
@@ -151,7 +145,7 @@ int cmd_run(const std::string& graph_path, const std::string& out_dir,
   return result.ok() ? kOk : kNodeFailed;
 }
 
-int cmd_cache(const std::string& action, const CacheSettings& settings) try {
+int cmd_cache(const std::string& action, const loom::runner::CacheSettings& settings) try {
   loom::DiskCache cache(settings.options());
   if (action == "clear") {
     cache.clear();
@@ -259,6 +253,42 @@ int cmd_plugins(const std::string& manifest_library, const std::string& manifest
 
 }  // namespace
 
+void add_cache_options(CLI::App* app, loom::runner::CacheSettings& cache) {
+  app->add_option("--cache", cache.dir, "persistent cache folder (default: $XDG_CACHE_HOME/loom)");
+  app->add_option("--cache-limit", cache.limit_mb, "cache size limit in MB (least recently used out)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+}
+
+// `loom run`'s command line, one option per line, read top to bottom like `loom run --help`.
+CLI::App* add_run_command(CLI::App& app, RunSettings& s, loom::runner::SweepRequest& sweep, bool& watch) {
+  auto* run = app.add_subcommand("run", "Run a graph: evaluate its sinks (or --target outputs).");
+  run->add_option("graph", s.graph_path, "graph file (JSON)")->required();
+  run->add_option("--out", s.out_dir, "folder for output files (relative output paths)")->capture_default_str();
+  run->add_option("--set", s.sets, "override an input: ID.INPUT=JSON (repeatable)");
+  run->add_option("--target", s.targets, "evaluate ID or ID.OUTPUT instead of the sinks (repeatable)");
+  run->add_option("--threads", s.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  run->add_option("--profile", s.profile_path, "write a JSON profile of the run to this file (with --sweep: per point)");
+  run->add_flag("--quiet,-q", s.quiet, "print only errors and requested outputs");
+  run->add_flag("--json", s.print_json, "print the requested outputs as one JSON object, each value in full");
+  run->add_flag("--watch", watch,
+                "run again whenever the graph, a group file, a Python node module or an input file it reads "
+                "changes; Ctrl-C ends");
+  run->add_option("--frames", s.frames, "frames to run, A-B or A (default: the graph's \"time\" range)");
+  add_cache_options(run, s.cache);
+  run->add_flag("--no-cache", s.cache.disabled, "neither read nor write the persistent cache");
+  run->add_option("--cache-min-seconds", s.cache.min_seconds,
+                  "store only results whose node takes this long over the run's frames (docs/time.md)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  run->add_flag("--cache-no-trim", s.cache.no_trim, "never trim the cache to its limit (farm workers sharing one)");
+  run->add_flag("--allow-outside-out", s.allow_outside,
+                "let output paths be absolute or climb out of --out with \"..\" (refused otherwise)");
+  loom::runner::add_sweep_options(run, sweep);
+  loom::runner::add_mpi_options(run);
+  return run;
+}
+
 // Longer than our ~80-line rule on purpose: it is the command line's
 // declaration, one option per line, read top to bottom like `loom --help`.
 int main(int argc, char** argv) {
@@ -267,49 +297,15 @@ int main(int argc, char** argv) {
                "130 interrupted."};
   app.require_subcommand(1);
 
-  std::string graph_path, out_dir = "out", profile_path, type, manifest_lib, manifest_out;
-  std::vector<std::string> sets, targets;
-  int threads = 0;
-  bool quiet = false, as_json = false, as_markdown = false, allow_outside = false, watch = false;
-
-  auto* run = app.add_subcommand("run", "Run a graph: evaluate its sinks (or --target outputs).");
-  run->add_option("graph", graph_path, "graph file (JSON)")->required();
-  run->add_option("--out", out_dir, "folder for output files (relative output paths)")
-      ->capture_default_str();
-  run->add_option("--set", sets, "override an input: ID.INPUT=JSON (repeatable)");
-  run->add_option("--target", targets, "evaluate ID or ID.OUTPUT instead of the sinks (repeatable)");
-  run->add_option("--threads", threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
-  run->add_option("--profile", profile_path, "write a JSON profile of the run to this file");
-  run->add_flag("--quiet,-q", quiet, "print only errors and requested outputs");
-  bool print_json = false;
-  run->add_flag("--json", print_json, "print the requested outputs as one JSON object, each value in full");
-  std::string frames;
-  CacheSettings cache;
-  run->add_flag("--watch", watch, "run again whenever the graph or an input file it reads changes; Ctrl-C ends");
-  run->add_option("--frames", frames, "frames to run, A-B or A (default: the graph's \"time\" range)");
-  auto cache_options = [&cache](CLI::App* app) {
-    app->add_option("--cache", cache.dir, "persistent cache folder (default: $XDG_CACHE_HOME/loom)");
-    app->add_option("--cache-limit", cache.limit_mb, "cache size limit in MB (least recently used out)")
-        ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-  };
-  cache_options(run);
-  run->add_flag("--no-cache", cache.disabled, "neither read nor write the persistent cache");
-  run->add_option("--cache-min-seconds", cache.min_seconds,
-                  "store only results whose node takes this long over the run's frames (docs/time.md)")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
-  run->add_flag("--cache-no-trim", cache.no_trim, "never trim the cache to its limit (farm workers sharing one)");
+  std::string graph_path, type, manifest_lib, manifest_out;
+  bool as_json = false, as_markdown = false, watch = false;
+  RunSettings settings;
   loom::runner::SweepRequest sweep;
-  loom::runner::add_sweep_options(run, sweep);
-  loom::runner::add_mpi_options(run);
-
+  auto* run = add_run_command(app, settings, sweep, watch);
   auto* cache_cmd = app.add_subcommand("cache", "Show or clear the persistent result cache.");
   std::string cache_action;
   cache_cmd->add_option("action", cache_action, "info or clear")->required()->check(CLI::IsMember({"info", "clear"}));
-  cache_options(cache_cmd);
-  run->add_flag("--allow-outside-out", allow_outside,
-                "let output paths be absolute or climb out of --out with \"..\" (refused otherwise)");
+  add_cache_options(cache_cmd, settings.cache);
 
   auto* validate = app.add_subcommand("validate", "Check a graph without running it.");
   validate->add_option("graph", graph_path, "graph file (JSON)")->required();
@@ -345,17 +341,12 @@ int main(int argc, char** argv) {
     if (int refused = loom::runner::start_mpi_if_launched(watch)) return refused;
   if (*run && watch) {
     loom::runner::stop_on_signals(false);  // waiting for a change is not a run to end in 5 s
-    return loom::runner::watch(graph_path, loom::runner::cancel_flag(), [&] {
-      return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside, print_json);
-    });
+    return loom::runner::watch(settings.graph_path, loom::runner::cancel_flag(), [&] { return cmd_run(settings); });
   }
   if (farm->chosen()) return farm->run();
-  if (*run && sweep.active())
-    return loom::runner::run_sweep_on_ranks(sweep, {graph_path, out_dir, sets, targets, threads, quiet, frames,
-                                           cache.disabled ? std::nullopt : std::optional(cache.options()),
-                                           cache.no_trim, allow_outside, profile_path});
-  if (*run) return cmd_run(graph_path, out_dir, sets, targets, threads, profile_path, quiet, frames, cache, allow_outside, print_json);
-  if (*cache_cmd) return cmd_cache(cache_action, cache);
+  if (*run && sweep.active()) return loom::runner::run_sweep_on_ranks(sweep, settings);
+  if (*run) return cmd_run(settings);
+  if (*cache_cmd) return cmd_cache(cache_action, settings.cache);
   if (*validate) return cmd_validate(graph_path);
   if (*nodes) return cmd_nodes(type, as_json, as_markdown);
   if (*plugins) return cmd_plugins(manifest_lib, manifest_out);

@@ -60,8 +60,6 @@ std::string node_text(const NodeType& type, bool detailed) {
     text += "  simulation: steps " + s.state_input + " (frame f-1) to " + s.state_output + " (frame f)\n";
   else if (s.time_dependent)
     text += "  time-dependent: evaluated once per frame\n";
-  if (s.simulation()) text += "  simulation step: " + s.state_input + " -> " + s.state_output + " each frame\n";
-  else if (s.time_dependent) text += "  time-dependent: evaluated at every frame\n";
   for (const auto& in : s.inputs) {
     text += "  in  " + in.name + ": " + in.type->name + " " +
             (in.has_default() ? "= " + default_text(in) : "(" + default_text(in) + ")");

@@ -5,6 +5,15 @@
 
 namespace loom::runner {
 
+DiskCache::Options CacheSettings::options() const {
+  DiskCache::Options o;
+  o.dir = dir.empty() ? DiskCache::default_dir() : std::filesystem::path(dir);
+  o.max_bytes = static_cast<std::uint64_t>(limit_mb * 1024 * 1024);
+  o.min_seconds = min_seconds;
+  if (min_seconds == 0) o.read_mb_per_s = 1e300;  // store every result, however cheap to recompute
+  return o;
+}
+
 std::optional<FrameRange> parse_frame_range(const std::string& text) {
   FrameRange r;
   std::size_t dash = text.find('-', 1);  // a leading '-' is a sign

@@ -16,15 +16,28 @@ namespace loom::runner {
 // `loom` exit codes (main.cpp's list).
 enum Exit { kOk = 0, kNodeFailed = 1, kInvalid = 2, kPluginError = 3, kInterrupted = 130 };
 
+// Where the persistent cache lives and how it behaves (`--cache`,
+// `--cache-limit`, `--no-cache`, `--cache-min-seconds`, `--cache-no-trim`).
+struct CacheSettings {
+  std::string dir;  // empty: the default folder
+  bool disabled = false;
+  bool no_trim = false;  // a farm worker: the assemble task trims
+  double limit_mb = 10240;
+  double min_seconds = 0.05;
+
+  DiskCache::Options options() const;
+};
+
+// What `loom run` was asked (its command line), for run, sweeps and MPI.
 struct RunSettings {
   std::string graph_path;
   std::string out_dir = "out";
   std::vector<std::string> sets, targets;
   int threads = 0;
   bool quiet = false;
+  bool print_json = false;  // --json
   std::string frames;  // "A-B", "A" or empty: the graph's range
-  std::optional<DiskCache::Options> cache;  // unset: --no-cache
-  bool cache_no_trim = false;
+  CacheSettings cache;
   bool allow_outside = false;
   std::string profile_path;  // --profile: empty for none
 };

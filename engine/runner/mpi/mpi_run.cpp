@@ -1,11 +1,12 @@
 // `loom run` over MPI ranks: what each rank evaluates (mpi_run.hpp).
 //
 // Frames (several frames, or --mpi-split frames): rank r evaluates the r-th
-// of `size` contiguous blocks of the range. Simulations are stepped first, in
+// of `size` contiguous blocks of the range. The stages are the engine's
+// (GraphView::stages): the simulations the targets read are stepped first, in
 // order, by rank 0, every state stored in the persistent cache; the ranks then
-// read each state of their frames from it (docs/architecture.md, "Frames and
-// simulations over MPI ranks"). Sequence sinks (SaveVideo) run on rank 0
-// after every rank's frames, reading the frames back from the same cache.
+// read each state of their frames from it (docs/architecture.md, "One run over
+// MPI ranks": "Simulations: one rank steps"). Sequence sinks (SaveVideo) run
+// on rank 0 after every rank's frames, reading the frames back from the same cache.
 //
 // Tiles (one frame; with --mpi-split samples, nodes that declare sample
 // passes are split by samples instead): every pixel-independent node the targets need is

@@ -146,7 +146,10 @@ json run_point(const SweepRequest& r, const RunSettings& s, const Plan& plan, st
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   json nodes = json::object();
   double compute = 0;
-  int computed = 0, read = 0;  // nodes computed in this run, nodes read from the disk cache
+  // Nodes computed in this run and nodes read from the disk cache: the
+  // point's source. Sinks always run (they write files), so they say nothing of it.
+  int computed = 0, read = 0;
+  const GraphView view(graph, registry);
   for (const auto& [id, report] : result.nodes) {
     if (report.status == NodeStatus::pruned) continue;
     nodes[id] = {{"status", to_string(report.status)},
@@ -154,6 +157,7 @@ json run_point(const SweepRequest& r, const RunSettings& s, const Plan& plan, st
                  {"source", source_of(report)}};
     if (!report.error.empty()) nodes[id]["error"] = report.error;
     compute += report.compute_seconds;
+    if (view.type(id).spec.sink) continue;
     computed += report.runs > 0;
     read += report.disk_hits > 0;
   }
@@ -207,7 +211,7 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
     return kInvalid;
   }
   std::optional<DiskCache> disk;
-  if (s.cache) disk.emplace(*s.cache);
+  if (!s.cache.disabled) disk.emplace(s.cache.options());
   stop_on_signals();
   Session session(*g->registry);
   std::vector<json> points;
@@ -230,7 +234,7 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
                    plan.points[i].values.dump().c_str(), points.back()["status"].get<std::string>().c_str(),
                    points.back()["source"].get<std::string>().c_str(), points.back()["run_seconds"].get<double>());
   }
-  if (disk && !s.cache_no_trim && disk->bytes_written() > 0) disk->trim();
+  if (disk && !s.cache.no_trim && disk->bytes_written() > 0) disk->trim();
   if (!s.profile_path.empty() && !r.collect) {  // a profile per point run, by index
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     try {
