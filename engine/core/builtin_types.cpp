@@ -36,13 +36,19 @@ double number(const json& j, const char* what) {
 }
 
 int integer(const json& j, const char* what) {
-  if (j.is_number_integer()) {
+  bool whole = j.is_number_integer();
+  if (j.is_number_unsigned()) {
+    if (j.get<unsigned long long>() <= 2147483647ULL) return static_cast<int>(j.get<unsigned long long>());
+  } else if (j.is_number_integer()) {
     auto v = j.get<long long>();
     if (v >= -2147483647LL && v <= 2147483647LL) return static_cast<int>(v);
   } else if (j.is_number_float()) {
     double d = j.get<double>();
-    if (std::floor(d) == d && std::abs(d) < 2147483647.0) return static_cast<int>(d);
+    whole = std::isfinite(d) && std::floor(d) == d;
+    if (whole && std::abs(d) < 2147483647.0) return static_cast<int>(d);
   }
+  // A whole number past 32 bits is not "not an integer": say what the limit is.
+  if (whole) throw Error(describe_json(j) + " is beyond what an Int holds (-2147483647 to 2147483647)");
   expected(what, j);
 }
 

@@ -3,6 +3,7 @@
 // body: a Graph of its inner nodes with ids relative to the group, and its
 // interface. An instance splices the body in under "INSTANCE.", records its
 // interface, and the values given to it are fed to the inner inputs.
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -42,10 +43,30 @@ bool is_object_with(const json& j, const char* key) { return j.is_object() && j.
 const std::set<std::string> kInterfaceKeys = {"type", "default", "min", "max", "choices",
                                               "optional", "description", "to"};
 
+// What stands at `p` when it is not a regular file ("a directory"), or "".
+std::string kind_of(const fs::path& p) {
+  std::error_code ec;
+  switch (fs::status(p, ec).type()) {
+    case fs::file_type::directory: return "a directory";
+    case fs::file_type::fifo: return "a FIFO (named pipe)";
+    case fs::file_type::character: return "a character device";
+    case fs::file_type::block: return "a block device";
+    case fs::file_type::socket: return "a socket";
+    default: return "";
+  }
+}
+
 class Expander {
  public:
   Expander(const fs::path& top, Issues& issues) : top_dir_(top.empty() ? fs::path() : top.parent_path()),
-                                                  issues_(issues) {}
+                                                  issues_(issues) {
+    if (const char* text = std::getenv("LOOM_MAX_GROUP_NODES"); text && *text) {
+      char* end = nullptr;
+      const unsigned long long n = std::strtoull(text, &end, 10);
+      if (*end == '\0' && n > 0 && text[0] != '-') node_limit_ = static_cast<std::size_t>(n);
+      else issues_.push_back({"", std::string("LOOM_MAX_GROUP_NODES=") + text + ": expected a whole number above 0"});
+    }
+  }
 
   Graph level(const Scope& scope, const json& def, const std::string& base);
   std::vector<fs::path> files_read() const {
@@ -65,6 +86,8 @@ class Expander {
   std::vector<std::pair<std::string, std::string>> chain_;  // identities being expanded (and shown), outermost first
   std::map<std::string, fs::path> found_;  // group files found by (folder, type)
   std::map<std::string, std::shared_ptr<const json>> files_;
+  std::size_t node_limit_ = kMaxGroupNodes, made_ = 0;  // nodes (and instances) made by splicing bodies
+  bool over_limit_ = false;  // reported once; nothing more is expanded
 
   void issue(const Scope& s, std::string pointer, std::string message) {
     issues_.push_back({std::move(pointer), std::move(message), s.shown});
@@ -76,11 +99,12 @@ class Expander {
   void add_node(Graph& g, const Scope& scope, const std::string& base, const std::string& id, const json& node,
                 std::vector<std::string>& own);
   void add_instance(Graph& g, GraphNode n, const Graph& body);
+  bool within_node_limit(const Graph& body, const Scope& scope, const std::string& pointer);
   void resolve_own_links(Graph& g, const Scope& scope, const std::vector<std::string>& own);
   void feed_instances(Graph& g, const Scope& scope, const std::vector<std::string>& own);
   GroupInterface parse_interface(const Graph& g, const Scope& scope, const json& def, const std::string& base);
   GroupInput parse_input_declaration(const Graph& g, const Scope& scope, const std::string& name, const json& d,
-                                     const std::string& p);
+                                     const std::string& p, const GroupInterface& so_far);
 };
 
 std::string Expander::shown_name(const fs::path& file) const {
@@ -94,6 +118,13 @@ std::string Expander::shown_name(const fs::path& file) const {
 std::shared_ptr<const json> Expander::load_file(const fs::path& file, const Scope& from, const std::string& pointer) {
   const std::string key = file.string();
   if (auto it = files_.find(key); it != files_.end()) return it->second;
+  std::error_code ec;
+  if (const std::uintmax_t size = fs::file_size(file, ec); !ec && size > kMaxGroupFileBytes) {
+    issue(from, pointer, "the group file " + file.string() + " is " + std::to_string(size >> 20) + " MiB, more than the " +
+                             std::to_string(kMaxGroupFileBytes >> 20) + " MiB a group file may hold (it holds nodes, "
+                             "not data: large values belong in input files)");
+    return nullptr;
+  }
   std::ifstream in(file, std::ios::binary);
   std::stringstream text;
   text << in.rdbuf();
@@ -128,7 +159,11 @@ std::optional<GroupRef> Expander::resolve(const std::string& type, const Scope& 
   // (Math.json using Math); validation reports the clash where it is used.
   if (!file.empty() && file == scope.file.lexically_normal() && !is_json_path(type)) return std::nullopt;
   if (file.empty()) {
-    if (is_json_path(type))
+    const std::string kind = kind_of(scope.file.empty() ? fs::path(type) : scope.file.parent_path() / type);
+    if (is_json_path(type) && !kind.empty())
+      issue(scope, pointer, "group file \"" + type + "\" is " + kind + ", not a file: a group file is a regular "
+                                "file of JSON");
+    else if (is_json_path(type))
       issue(scope, pointer, "group file \"" + type + "\" not found (a path is relative to the folder of " +
                                 (scope.file.empty() ? std::string("the graph") : scope.file.string()) + ")");
     return std::nullopt;
@@ -149,6 +184,13 @@ std::shared_ptr<const Graph> Expander::body(const GroupRef& ref, const Scope& fr
     return nullptr;
   }
   if (auto it = bodies_.find(ref.identity); it != bodies_.end()) return it->second;
+  if (over_limit_) return nullptr;  // past the node limit (reported): expand nothing more
+  if (chain_.size() >= kMaxGroupDepth) {
+    issue(from, pointer, "groups nest more than " + std::to_string(kMaxGroupDepth) + " levels deep here (" +
+                             chain_.front().second + " → ... → " + shown + "): expanding recurses once per level; "
+                             "flatten some of the groups");
+    return nullptr;
+  }
   if (!ref.def->is_object() || !ref.def->contains("nodes") || !(*ref.def)["nodes"].is_object()) {
     issue(ref.scope, ref.base.empty() ? "/nodes" : ref.base, "a group needs \"nodes\": {\"ID\": {...}}");
     return nullptr;
@@ -196,6 +238,21 @@ void Expander::add_instance(Graph& g, GraphNode n, const Graph& body) {
   g.instances[n.id] = GroupInstance{n.type, n.place, prefix_interface(*body.interface), std::move(n.inputs)};
 }
 
+// Counts the nodes an instance of `body` adds before they are copied.
+bool Expander::within_node_limit(const Graph& body, const Scope& scope, const std::string& pointer) {
+  const std::size_t more = body.nodes.size() + body.instances.size() + 1;
+  if (!over_limit_ && more <= node_limit_ && made_ <= node_limit_ - more) {
+    made_ += more;
+    return true;
+  }
+  if (!over_limit_)
+    issue(scope, pointer, "expanding the groups makes more than " + std::to_string(node_limit_) +
+                              " nodes, the limit (a group used N times is N copies of its nodes, and nested groups "
+                              "multiply): use fewer instances, or raise the limit with LOOM_MAX_GROUP_NODES=N");
+  over_limit_ = true;
+  return false;
+}
+
 void Expander::add_node(Graph& g, const Scope& scope, const std::string& base, const std::string& id,
                         const json& node, std::vector<std::string>& own) {
   const bool repeat = is_object_with(node, "type") && node["type"] == "Repeat";
@@ -220,7 +277,7 @@ void Expander::add_node(Graph& g, const Scope& scope, const std::string& base, c
     n->repeat = make_repeat_body(node["body"].get<std::string>(), b, cache == true);
   } else if (auto ref = resolve(n->type, scope, np + "/type")) {
     auto b = ref->def ? body(*ref, scope, np + "/type") : nullptr;
-    if (b) add_instance(g, std::move(*n), *b);
+    if (b && within_node_limit(*b, scope, np + "/type")) add_instance(g, std::move(*n), *b);
     own.push_back(id);
     return;
   }
@@ -303,8 +360,16 @@ void Expander::feed_instances(Graph& g, const Scope& scope, const std::vector<st
   }
 }
 
+// The interface input of `in` that already feeds `target`, or "".
+std::string feeder(const GroupInterface& in, const Link& target) {
+  for (const auto& [name, input] : in.inputs)
+    for (const Link& t : input.to)
+      if (t.node == target.node && t.output == target.output) return name;
+  return "";
+}
+
 GroupInput Expander::parse_input_declaration(const Graph& g, const Scope& scope, const std::string& name,
-                                             const json& d, const std::string& p) {
+                                             const json& d, const std::string& p, const GroupInterface& so_far) {
   GroupInput gi{d, {}, {scope.shown, p}};
   if (name.empty() || name.find('.') != std::string::npos) issue(scope, p, "input names are non-empty and hold no '.'");
   for (auto it = d.begin(); it != d.end(); ++it)
@@ -317,6 +382,12 @@ GroupInput Expander::parse_input_declaration(const Graph& g, const Scope& scope,
     if (!l || !(g.nodes.count(l->node) || g.instances.count(l->node))) {
       issue(scope, p + "/to/" + std::to_string(k),
             l ? "names unknown node \"" + l->node + "\" of the group" : "expected \"NODE.INPUT\", got " + describe_json(to[k]));
+      continue;
+    }
+    if (const std::string other = feeder(so_far, *l); !other.empty()) {
+      issue(scope, p + "/to/" + std::to_string(k), "interface inputs \"" + other + "\" and \"" + name +
+                                                       "\" both feed " + l->node + "." + l->output +
+                                                       ": an input takes one value (feed it from one of them)");
       continue;
     }
     gi.to.push_back(*l);
@@ -337,7 +408,7 @@ GroupInterface Expander::parse_interface(const Graph& g, const Scope& scope, con
     if (!d.is_object() || !d.contains("type") || !d["type"].is_string() || !d.contains("to") || !d["to"].is_array())
       issue(scope, p, "expected {\"type\": TYPE, \"to\": [\"NODE.INPUT\", ...], ...}");
     else
-      in.inputs.emplace(it.key(), parse_input_declaration(g, scope, it.key(), d, p));
+      in.inputs.emplace(it.key(), parse_input_declaration(g, scope, it.key(), d, p, in));
   }
   for (auto it = outputs.begin(); outputs.is_object() && it != outputs.end(); ++it) {
     const std::string p = base + "/outputs/" + pointer_escape(it.key());

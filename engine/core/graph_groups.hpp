@@ -4,6 +4,7 @@
 // the inner nodes, so the planner, hashing, caching and time see a flat graph.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +22,19 @@ std::optional<GraphNode> parse_node(const std::string& id, const json& node, Iss
 // graph_parse.cpp: the flat nodes as a version 1 document (what Repeat hashes
 // its body by; graph_to_json refuses a graph with groups).
 json flat_graph_json(const Graph& g);
+
+// Limits of the expansion, checked before anything past them is allocated
+// (docs/robustness.md). Groups nest at most kMaxGroupDepth deep: expansion
+// recurses once per level (10,000 levels overflowed the stack) and a chain
+// of N levels makes N² characters of node paths. The expansion makes at most
+// max_group_nodes() nodes in all (kMaxGroupNodes, or LOOM_MAX_GROUP_NODES):
+// a group used N times is N copies of its nodes, so a 3 KB file fanning out
+// 2 ways over 22 levels asked for 4 million nodes. A group file is at most
+// kMaxGroupFileBytes: it holds nodes, not data.
+constexpr std::size_t kMaxGroupDepth = 64;
+constexpr std::size_t kMaxGroupNodes = 100000;
+constexpr std::uintmax_t kMaxGroupFileBytes = 64u << 20;
+std::size_t max_group_nodes();
 
 // graph_groups.cpp: the nodes (and groups, interface) of a version 2 document.
 void expand_groups(const json& doc, Graph& g, Issues& issues);
@@ -58,6 +72,9 @@ namespace loom::detail {
 // group_validate.cpp: against the registry, each instance's interface (the
 // declarations, the values given to it, the inner inputs each feeds) and a
 // group file's own interface. Issues point into the file that wrote them.
-void validate_groups(const Graph& g, const Registry& registry, Issues& issues);
+// `known_types`: node types of plugins not loaded (a group may not share a
+// name with any node type, loaded or not).
+void validate_groups(const Graph& g, const Registry& registry, const std::vector<std::string>& known_types,
+                     Issues& issues);
 
 }  // namespace loom::detail

@@ -69,11 +69,24 @@ std::set<std::pair<std::string, std::string>> fed_by_interface(const Graph& g) {
   return fed;
 }
 
+// The inner inputs the instances' interfaces feed: an unknown one among them
+// is reported once, at the interface's "to" (validate_groups), not at a node
+// input that the file does not write, once per instance.
+std::set<std::pair<std::string, std::string>> fed_by_instances(const Graph& g) {
+  std::set<std::pair<std::string, std::string>> fed;
+  for (const auto& [path, inst] : g.instances)
+    for (const auto& [name, input] : inst.interface.inputs)
+      for (const Link& t : detail::interface_targets(g, input)) fed.insert({t.node, t.output});
+  return fed;
+}
+
 void validate_node(const Graph& g, const Registry& registry, const GraphNode& n, const NodeType& t,
-                   const std::set<std::pair<std::string, std::string>>& fed, Issues& issues) {
+                   const std::set<std::pair<std::string, std::string>>& fed,
+                   const std::set<std::pair<std::string, std::string>>& instance_fed, Issues& issues) {
   for (const auto& [input, b] : n.inputs) {
     const InputSpec* spec = t.spec.find_input(input);
     const std::string ip = input_base(n, input);
+    if (!spec && (instance_fed.count({n.id, input}) || fed.count({n.id, input}))) continue;
     if (!spec) {
       const std::string known = names_of(t.spec.inputs);
       issues.push_back(at_node(n, ip, "unknown input \"" + input + "\" of " + n.type +
@@ -200,7 +213,7 @@ namespace {
 // Every issue of g, and of the bodies of its Repeat nodes (each body once).
 void collect_issues(const Graph& g, const Registry& registry, const std::string& searched,
                     const std::vector<std::string>& known_types, Issues& issues, std::set<const Graph*>& bodies) {
-  const auto fed = fed_by_interface(g);
+  const auto fed = fed_by_interface(g), instance_fed = fed_by_instances(g);
   for (const auto& [id, n] : g.nodes) {
     const NodeType* t = detail::node_type_of(n, registry);
     if (n.repeat && !t) try {
@@ -211,7 +224,7 @@ void collect_issues(const Graph& g, const Registry& registry, const std::string&
     if (n.repeat && bodies.insert(n.repeat->body.get()).second)
       collect_issues(*n.repeat->body, registry, searched, known_types, issues, bodies);
     if (t) {
-      validate_node(g, registry, n, *t, fed, issues);
+      validate_node(g, registry, n, *t, fed, instance_fed, issues);
       continue;
     }
     if (n.repeat) continue;  // reported above
@@ -219,7 +232,7 @@ void collect_issues(const Graph& g, const Registry& registry, const std::string&
     for (const NodeType* r : registry.all()) known.push_back(r->spec.name);
     issues.push_back(at_node(n, node_base(n) + "/type", unknown_node_type_message(n.type, known, searched)));
   }
-  detail::validate_groups(g, registry, issues);
+  detail::validate_groups(g, registry, known_types, issues);
   if (find_cycles(g, issues) == 0) check_lazy_depth(g, registry, issues);
 }
 

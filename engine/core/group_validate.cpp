@@ -2,11 +2,13 @@
 // C++ node could declare, each value given to an instance passes the same
 // literal check as a node input's, and each inner input an interface input
 // feeds must take its type. Issues point into the file that wrote them.
+#include <algorithm>
 #include <set>
 
 #include "graph_groups.hpp"
 #include "input_binding.hpp"
 #include "json_text.hpp"
+#include "loom/suggest.hpp"
 
 namespace loom::detail {
 
@@ -14,10 +16,12 @@ namespace {
 
 class InterfaceCheck {
  public:
-  InterfaceCheck(const Graph& g, const Registry& r, Issues& issues) : g_(g), registry_(r), issues_(issues) {}
+  InterfaceCheck(const Graph& g, const Registry& r, const std::vector<std::string>& known, Issues& issues)
+      : g_(g), registry_(r), known_(known), issues_(issues) {}
 
-  // The interface of `inst` (null: a group file's own) and what it is given.
-  void check(const GroupInterface& in, const GroupInstance* inst) {
+  // The interface of `inst` at `path` (null and "": a group file's own) and
+  // what it is given.
+  void check(const GroupInterface& in, const GroupInstance* inst, const std::string& path) {
     for (const auto& [name, input] : in.inputs) {
       std::optional<InputSpec> spec;
       try {
@@ -26,23 +30,27 @@ class InterfaceCheck {
         once(input.place, input.place.pointer, "interface input \"" + name + "\": " + e.what());
         continue;
       }
-      for (const Link& t : input.to) check_target(input, *spec, t);
+      for (std::size_t k = 0; k < input.to.size(); ++k) check_target(input, *spec, input.to[k], k, path);
       if (!inst) continue;
       auto given = inst->given.find(name);
       if (given != inst->given.end()) check_given(*inst, *spec, given->second);
     }
   }
 
+  // Also a type of a plugin not loaded: the graph names the group only, so
+  // that plugin is never loaded, and the group silently replaced its type.
   void check_type_name(const GroupInstance& inst) {
-    if (const NodeType* t = registry_.find(inst.type))
-      issues_.push_back({inst.place.pointer + "/type", "\"" + inst.type + "\" names both a group and a node type (of plugin " +
-                                                           t->spec.plugin + "): rename the group",
-                         inst.place.file});
+    const NodeType* t = registry_.find(inst.type);
+    if (!t && std::find(known_.begin(), known_.end(), inst.type) == known_.end()) return;
+    once(inst.place, inst.place.pointer + "/type",
+         "\"" + inst.type + "\" names both a group and a node type" + (t ? " (of plugin " + t->spec.plugin + ")" : "") +
+             ": rename the group");
   }
 
  private:
   const Graph& g_;
   const Registry& registry_;
+  const std::vector<std::string>& known_;
   Issues& issues_;
   std::set<std::string> reported_;  // a group used by many instances is reported once
 
@@ -68,17 +76,29 @@ class InterfaceCheck {
     const InputSpec* spec = type->spec.find_input(t.output);
     if (!spec) {
       std::string known;
-      for (const auto& s : type->spec.inputs) known += (known.empty() ? "" : ", ") + s.name;
-      problem = "node \"" + t.node + "\" (" + type->spec.name + ") has no input \"" + t.output + "\" (its inputs: " +
-                known + ")";
+      std::vector<std::string> names;
+      for (const auto& s : type->spec.inputs) {
+        known += (known.empty() ? "" : ", ") + s.name;
+        names.push_back(s.name);
+      }
+      const auto near = near_names(t.output, names, 1);
+      problem = "has no input \"" + t.output + "\"" + (near.empty() ? "" : ": did you mean \"" + near[0] + "\"?") +
+                " (" + type->spec.name + "'s inputs: " + known + ")";
     }
     return spec ? spec->type : nullptr;
   }
 
-  void check_target(const GroupInput& input, const InputSpec& spec, const Link& t) {
+  // Reported once per definition, not per instance: the inner node is named
+  // as the group writes it ("p", not "look.p").
+  void check_target(const GroupInput& input, const InputSpec& spec, const Link& t, std::size_t k,
+                    const std::string& path) {
     std::string problem;
     const TypeInfo* inner = target_type(t, problem);
-    if (!problem.empty()) once(input.place, input.place.pointer + "/to", "interface input \"" + spec.name + "\": " + problem);
+    const std::string node = !path.empty() && t.node.rfind(path + ".", 0) == 0 ? t.node.substr(path.size() + 1) : t.node;
+    if (!problem.empty())
+      once(input.place, input.place.pointer + "/to/" + std::to_string(k),
+           "interface input \"" + spec.name + "\" feeds " + node + "." + t.output + ", but node \"" + node + "\" " +
+               problem);
     if (inner && !link_compatible(*spec.type, *inner))
       once(input.place, input.place.pointer + "/type",
            "interface input \"" + spec.name + "\" is " + spec.type->name + " but it feeds " + t.node + "." + t.output +
@@ -110,13 +130,14 @@ class InterfaceCheck {
 
 }  // namespace
 
-void validate_groups(const Graph& g, const Registry& registry, Issues& issues) {
-  InterfaceCheck check(g, registry, issues);
+void validate_groups(const Graph& g, const Registry& registry, const std::vector<std::string>& known_types,
+                     Issues& issues) {
+  InterfaceCheck check(g, registry, known_types, issues);
   for (const auto& [path, inst] : g.instances) {
     check.check_type_name(inst);
-    check.check(inst.interface, &inst);
+    check.check(inst.interface, &inst, path);
   }
-  if (g.interface) check.check(*g.interface, nullptr);
+  if (g.interface) check.check(*g.interface, nullptr, "");
 }
 
 }  // namespace loom::detail

@@ -99,6 +99,12 @@ Value literal_value(const InputSpec& spec, const json& literal) {
 
 Value bind_value(const InputSpec& spec, const Value& value, const BindingPlace& place) {
   try {
+    // Validation checks link types; only an Any output (Switch's, a Python
+    // node's) can bring another type, which the node would meet as
+    // "value is Float, not Int" naming no input.
+    if (value && !is_any(*spec.type) && value.type()->storage != spec.type->storage)
+      throw Error("a " + value.type()->name + " value arrived (through an output of type Any), but the input is " +
+                  spec.type->name);
     check_declared(spec, value);
     if (spec.role == InputRole::value || !value) return value;
     return Value::make<std::string>(bind_path(spec, value.as<std::string>(), place));

@@ -53,6 +53,12 @@ std::optional<loom::EvalOptions> run_options(const RunSettings& s, const loom::G
   } else if (graph.time) {
     options.frames = loom::FrameRange{graph.time->start, graph.time->end};
   }
+  if (options.frames)
+    if (auto problem = loom::runner::frame_count_problem(*options.frames,
+                                                         s.frames.empty() ? "the graph's time range" : "--frames")) {
+      std::cerr << "error: " << *problem << "\n";
+      return std::nullopt;
+    }
   if (!s.cache.disabled) {
     try {
       disk.emplace(s.cache.options());
@@ -134,7 +140,7 @@ int cmd_run(const RunSettings& s) {
     }
   }
   if (result.cancelled) {
-    std::cerr << "interrupted\n";
+    std::cerr << loom::runner::interrupted_message() << "\n";
     return kInterrupted;
   }
   return result.ok() ? kOk : kNodeFailed;

@@ -1,5 +1,6 @@
 #include "cli/run_settings.hpp"
 
+#include <cstdlib>
 #include <iostream>
 
 namespace loom::runner {
@@ -30,6 +31,20 @@ std::optional<FrameRange> parse_frame_range(const std::string& text) {
   }
   if (r.last < r.first) return std::nullopt;
   return r;
+}
+
+std::optional<std::string> frame_count_problem(const FrameRange& range, const std::string& from) {
+  long long limit = kMaxFramesPerRun;
+  if (const char* text = std::getenv("LOOM_MAX_FRAMES"); text && *text) {
+    char* end = nullptr;
+    limit = std::strtoll(text, &end, 10);
+    if (*end != '\0' || limit < 1) return std::string("LOOM_MAX_FRAMES=") + text + ": expected a whole number above 0";
+  }
+  const long long frames = static_cast<long long>(range.last) - range.first + 1;
+  if (frames <= limit) return std::nullopt;
+  return from + " " + std::to_string(range.first) + "-" + std::to_string(range.last) + " is " +
+         std::to_string(frames) + " frames, more than the limit of " + std::to_string(limit) +
+         " frames a run walks: give a shorter --frames A-B, or raise the limit with LOOM_MAX_FRAMES=N";
 }
 
 std::optional<LoadedGraph> load_for_run(const std::string& path, const std::vector<std::string>& sets, int* exit) {

@@ -45,6 +45,15 @@ struct RunSettings {
 // "A-B" or "A": the frames to run; nullopt when malformed.
 std::optional<FrameRange> parse_frame_range(const std::string& text);
 
+// Frames one run, sweep point or submitted job may walk (LOOM_MAX_FRAMES
+// raises it): a "time" range of 1 to 1e9 ran 3.3 million cheap frames in
+// 20 s without a word, 100 minutes in all; a million frames is 11.6 hours
+// of video at 24 fps.
+constexpr long long kMaxFramesPerRun = 1000000;
+// Why `range` (from `from`: "--frames" or the graph's "time") may not run,
+// naming the limit and how to raise it; nullopt when it may.
+std::optional<std::string> frame_count_problem(const FrameRange& range, const std::string& from);
+
 // A graph with its --set values applied, its plugins loaded and validated.
 struct LoadedGraph {
   std::unique_ptr<Registry> registry = std::make_unique<Registry>();

@@ -12,6 +12,7 @@ namespace {
 
 constexpr int kInterrupted = 130;
 std::atomic<bool> g_cancel{false};
+std::atomic<int> g_signal{0};  // lock-free: set from the handler
 bool g_leave_after_grace = true;
 
 void say(const char* text) {
@@ -31,8 +32,13 @@ extern "C" void on_alarm(int) {
   leave_now(SIGALRM);
 }
 
-extern "C" void on_stop_signal(int) {
-  if (g_cancel.exchange(true)) leave_now(0);  // the second signal: leave now
+extern "C" void on_stop_signal(int signal) {
+  int none = 0;
+  g_signal.compare_exchange_strong(none, signal);
+  if (g_cancel.exchange(true)) {  // the second signal: leave now, saying so
+    say("loom: a second stop signal: leaving now\n");
+    leave_now(0);
+  }
   if (g_leave_after_grace) ::alarm(kGraceSeconds);
 }
 
@@ -54,6 +60,23 @@ void handle(int signal, void (*handler)(int), int flags = 0) {
 }  // namespace
 
 std::atomic<bool>& cancel_flag() { return g_cancel; }
+
+std::string interrupted_message() {
+  const std::string name = stop_signal_name();
+  return "error: interrupted" + (name.empty() ? std::string() : " by " + name) +
+         ": the nodes still running were cancelled and wrote no files (a sink that gathers every frame, such as "
+         "SaveVideo, writes nothing unless it ends)";
+}
+
+const char* stop_signal_name() {
+  switch (g_signal.load()) {
+    case SIGINT: return "SIGINT (Ctrl-C)";
+    case SIGTERM: return "SIGTERM";
+    case SIGHUP: return "SIGHUP";
+    case SIGPIPE: return "SIGPIPE (the reader of the output went away)";
+    default: return "";
+  }
+}
 
 void stop_on_signals(bool leave_after_grace) {
   g_leave_after_grace = leave_after_grace;

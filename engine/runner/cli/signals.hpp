@@ -10,6 +10,7 @@
 #pragma once
 
 #include <atomic>
+#include <string>
 
 namespace loom::runner {
 
@@ -24,5 +25,11 @@ std::atomic<bool>& cancel_flag();
 // to end (a second signal still leaves at once). The handlers do not restart
 // interrupted calls, so a wait for children wakes up to pass the signal on.
 void stop_on_signals(bool leave_after_grace = true);
+
+// The first stop signal received ("SIGTERM"), or "" when none was: the run's
+// last line names it, since a cancelled sink writes nothing of its own.
+const char* stop_signal_name();
+// "error: interrupted by SIGTERM: ...", the last line of a cancelled run.
+std::string interrupted_message();
 
 }  // namespace loom::runner

@@ -20,14 +20,14 @@ std::vector<char*> c_argv(const std::vector<std::string>& argv) {
 }
 }  // namespace
 
-pid_t spawn_process(const std::vector<std::string>& argv, const std::filesystem::path& log, bool own_group) {
+pid_t spawn_process(const std::vector<std::string>& argv, int log_fd, bool own_group) {
   posix_spawn_file_actions_t files;
   posix_spawnattr_t attr;
   posix_spawn_file_actions_init(&files);
   posix_spawnattr_init(&attr);
-  if (!log.empty()) {
-    posix_spawn_file_actions_addopen(&files, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-    posix_spawn_file_actions_adddup2(&files, 1, 2);
+  if (log_fd >= 0) {
+    posix_spawn_file_actions_adddup2(&files, log_fd, 1);
+    posix_spawn_file_actions_adddup2(&files, log_fd, 2);
   }
   if (own_group) {
     posix_spawnattr_setpgroup(&attr, 0);
@@ -35,9 +35,14 @@ pid_t spawn_process(const std::vector<std::string>& argv, const std::filesystem:
   }
   pid_t pid = -1;
   auto args = c_argv(argv);
-  if (posix_spawn(&pid, args[0], &files, &attr, args.data(), environ) != 0) pid = -1;
+  if (const int error = posix_spawn(&pid, args[0], &files, &attr, args.data(), environ); error != 0) {
+    pid = -1;
+    errno = error;
+  }
+  const int error = errno;
   posix_spawn_file_actions_destroy(&files);
   posix_spawnattr_destroy(&attr);
+  errno = error;
   return pid;
 }
 

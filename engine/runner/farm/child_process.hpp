@@ -9,11 +9,12 @@
 
 namespace loom::runner {
 
-// Starts argv[0] (a path) with stdout and stderr appended to `log` (empty:
-// inherited), in a process group of its own when `own_group` (so that
-// signalling the group reaches the task and its `loom run`, as scancel does).
-// Returns -1 when it cannot start.
-pid_t spawn_process(const std::vector<std::string>& argv, const std::filesystem::path& log, bool own_group);
+// Starts argv[0] (a path) with stdout and stderr going to `log_fd` (-1:
+// inherited; opened by the caller, so that no link is followed), in a
+// process group of its own when `own_group` (so that signalling the group
+// reaches the task and its `loom run`, as scancel does). Returns -1 with
+// errno set when it cannot start.
+pid_t spawn_process(const std::vector<std::string>& argv, int log_fd, bool own_group);
 
 // The exit code of `pid`, or 128 + the signal that killed it (*signalled set).
 // Returns -1 with errno EINTR when a signal arrives first.

@@ -10,11 +10,15 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <cstring>
 #include <map>
+#include <optional>
 
 #include "farm/child_process.hpp"
+#include "farm/jobs.hpp"
 #include "cli/signals.hpp"
 #include "loom/atomic_file.hpp"
+#include "loom/error.hpp"
 
 namespace loom::runner {
 namespace fs = std::filesystem;
@@ -50,10 +54,12 @@ bool run_stage(const JobManifest& m, const std::vector<int>& ids) {
   while (next < ids.size() || !running.empty()) {
     while (next < ids.size() && static_cast<int>(running.size()) < m.jobs && !cancel_flag()) {
       const int id = ids[next++];
-      const pid_t pid = spawn_process({m.loom, "jobs", "task", m.dir.string(), std::to_string(id)}, {}, true);
+      const pid_t pid = spawn_process({m.loom, "jobs", "task", m.dir.string(), std::to_string(id)}, -1, true);
       if (pid < 0) {
-        std::cerr << "error: cannot start " << m.loom << "\n";
-        return false;
+        std::cerr << "error: cannot start " << m.loom << " for task " << id << ": " << std::strerror(errno) << "\n";
+        ok = false;
+        next = ids.size();
+        continue;
       }
       running[pid] = id;
     }
@@ -112,9 +118,26 @@ std::string array_list(const std::vector<int>& ids) {
 
 }  // namespace
 
-int dispatch_local(const JobManifest& m, const std::vector<int>& ids) {
+int dispatch_local(const JobManifest& m, const std::vector<int>& asked) {
+  std::optional<JobLock> lock;  // one dispatcher per job at a time
+  try {
+    lock.emplace(m.dir);
+    // With the start time, so that `jobs cancel` never signals a process that reused the pid.
+    write_file_atomic(m.dir / "local.pid",
+                      std::to_string(::getpid()) + " " + std::to_string(process_start_time(::getpid())) + "\n");
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  }
+  // What another dispatcher finished after this process started (between
+  // its reading the statuses and taking the lock) is not run again.
+  std::vector<int> ids;
+  for (int id : asked) {
+    std::error_code ec;
+    const auto written = fs::last_write_time(task_status_path(m.dir, id), ec);
+    if (ec || written < process_started() || read_status(m.dir, id).state != "done") ids.push_back(id);
+  }
   stop_on_signals(false);
-  write_file_atomic(m.dir / "local.pid", std::to_string(::getpid()) + "\n");
   bool ok = true, previous_ok = true;
   for (Stage stage : {kSimulate, kWork, kAssemble}) {
     const auto stage_ids = in_stage(m, ids, stage);
@@ -137,6 +160,18 @@ int dispatch_local(const JobManifest& m, const std::vector<int>& ids) {
 }
 
 int submit_slurm(const JobManifest& m, const std::vector<int>& ids) {
+  std::optional<JobLock> lock;  // two resumes at once would submit every task twice
+  try {
+    lock.emplace(m.dir);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  }
+  if (slurm_jobs_queued(m)) {
+    std::cerr << "error: Slurm jobs of " << m.dir.string() << " are still queued or running (squeue): wait for "
+              << "them, or `loom jobs cancel " << m.dir.string() << "`\n";
+    return 2;
+  }
   std::string previous;
   for (const auto& [stage, stage_ids] : slurm_arrays(m, ids)) {
     std::vector<std::string> argv = {"sbatch", "--parsable", "--array=" + array_list(stage_ids),
@@ -159,7 +194,7 @@ int submit_slurm(const JobManifest& m, const std::vector<int>& ids) {
       std::cerr << "error: sbatch failed (exit " << exit << ") for stage " << stage << " of " << m.dir.string() << "\n";
       return 3;
     }
-    std::ofstream(m.dir / "slurm" / "jobs", std::ios::app) << job << "\n";
+    append_line(m.dir / "slurm" / "jobs", job);
     std::fprintf(stderr, "submitted %zu task%s as Slurm job %s\n", stage_ids.size(), stage_ids.size() == 1 ? "" : "s",
                  job.c_str());
     previous = job;
@@ -200,19 +235,42 @@ std::vector<TaskTry> earlier_tries(const JobManifest& m, int id) {
 
 }  // namespace
 
+namespace {
+
+// One attempt of the task's `loom run`, its output appended to the log.
+int run_attempt(const JobManifest& m, int id, const std::vector<std::string>& argv, bool* signalled) {
+  const int log = open_task_log(m.dir, id);
+  const pid_t pid = spawn_process(argv, log, false);
+  const int error = errno;
+  ::close(log);
+  if (pid < 0) {
+    append_task_log(m.dir, id, "error: cannot start " + argv[0] + ": " + std::strerror(error));
+    return 3;
+  }
+  int exit = -1;
+  while ((exit = wait_process(pid, signalled)) == -1 && errno == EINTR) {
+  }
+  return exit;
+}
+
+}  // namespace
+
 int run_task(const JobManifest& m, int id) {
   if (id < 0 || id >= static_cast<int>(m.tasks.size())) {
-    std::cerr << "error: " << m.dir.string() << " has no task " << id << "\n";
+    std::cerr << "error: " << m.dir.string() << " has no task " << id << " (its tasks are 0 to "
+              << static_cast<long>(m.tasks.size()) - 1 << ")\n";
     return 2;
   }
   stop_on_signals(false);
   const Task& task = m.tasks[static_cast<std::size_t>(id)];
   const auto start = std::chrono::steady_clock::now();
+  check_job_subfolders(m.dir);  // logs/ or status/ deleted by hand: made again
   TaskStatus s;
   s.tries = earlier_tries(m, id);
   s.state = "running";
   s.host = host_name();
   s.pid = ::getpid();
+  s.pid_start = process_start_time(s.pid);
   // This node's own loom runs the task, not the submitting machine's path:
   // nodes may have Loom installed at different prefixes.
   s.loom = own_executable();
@@ -220,40 +278,43 @@ int run_task(const JobManifest& m, int id) {
   s.attempts = static_cast<int>(s.tries.size()) + 1;
   write_status(m.dir, id, s);
   const fs::path log = task_log(m.dir, id);
-  if (task.stage == kAssemble) {
-    if (std::string missing = missing_tasks(m); !missing.empty()) {
-      s.state = "failed";
-      s.exit = 1;
-      s.message = "not every task is done: " + missing + " (loom jobs resume runs them)";
-      s.tries.push_back({s.host, "exit 1", 0});
-      std::ofstream(log, std::ios::app) << "error: " << s.message << "\n";
-      write_status(m.dir, id, s);
-      return 1;
+  try {
+    if (task.stage == kAssemble) {
+      if (std::string missing = missing_tasks(m); !missing.empty()) {
+        s.state = "failed";
+        s.exit = 1;
+        s.message = "not every task is done: " + missing + " (loom jobs resume runs them)";
+        s.tries.push_back({s.host, "exit 1", 0});
+        append_task_log(m.dir, id, "error: " + s.message);
+        write_status(m.dir, id, s);
+        return 1;
+      }
     }
-  }
-  std::vector<std::string> argv = {s.loom};
-  argv.insert(argv.end(), task.args.begin(), task.args.end());
-  for (int attempt = 1;; ++attempt) {
-    std::ofstream(log, std::ios::app) << "== " << task.name << ": attempt " << s.attempts << " on " << s.host << " ("
-                                      << s.loom << ")\n";
-    const auto tried = std::chrono::steady_clock::now();
-    const pid_t pid = spawn_process(argv, log, false);
-    bool signalled = false;
-    s.exit = pid < 0 ? 3 : -1;
-    while (pid >= 0 && (s.exit = wait_process(pid, &signalled)) == -1 && errno == EINTR) {
+    std::vector<std::string> argv = {s.loom};
+    argv.insert(argv.end(), task.args.begin(), task.args.end());
+    for (int attempt = 1;; ++attempt) {
+      append_task_log(m.dir, id, "== " + task.name + ": attempt " + std::to_string(s.attempts) + " on " + s.host +
+                                     " (" + s.loom + ")");
+      const auto tried = std::chrono::steady_clock::now();
+      bool signalled = false;
+      s.exit = run_attempt(m, id, argv, &signalled);
+      s.tries.push_back({s.host, try_end(s.exit, signalled), seconds_since(tried)});
+      const bool retry = s.exit == 1 || (signalled && !cancel_flag());
+      if (s.exit == 0 || !retry || attempt > m.retries || cancel_flag()) break;
+      append_task_log(m.dir, id, "== exit " + std::to_string(s.exit) + ": retrying");
+      s.attempts = static_cast<int>(s.tries.size()) + 1;
+      write_status(m.dir, id, s);  // should this node be lost now, the next run knows the tries so far
     }
-    s.tries.push_back({s.host, try_end(s.exit, signalled), seconds_since(tried)});
-    const bool retry = s.exit == 1 || (signalled && !cancel_flag());
-    if (s.exit == 0 || !retry || attempt > m.retries || cancel_flag()) break;
-    std::ofstream(log, std::ios::app) << "== exit " << s.exit << ": retrying\n";
-    s.attempts = static_cast<int>(s.tries.size()) + 1;
-    write_status(m.dir, id, s);  // should this node be lost now, the next run knows the tries so far
+    s.message = s.exit == 0 ? "" : "exit " + std::to_string(s.exit) + ", see " + log.string();
+  } catch (const Error& e) {  // the log cannot be written: say why in the status
+    s.exit = 2;
+    s.message = e.what();
+    std::cerr << "error: task " << id << " (" << task.name << "): " << e.what() << "\n";
   }
   s.attempts = static_cast<int>(s.tries.size());
   s.seconds = seconds_since(start);
   s.state = s.exit == 0 ? "done" : s.exit == 130 || cancel_flag() ? "cancelled" : "failed";
   if (cancel_flag() && s.exit != 130) s.exit = 130;
-  s.message = s.exit == 0 ? "" : "exit " + std::to_string(s.exit) + ", see " + log.string();
   write_status(m.dir, id, s);
   return s.exit;
 }

@@ -77,10 +77,17 @@ int Commands::run() {
     std::cerr << "error: " << e.what() << "\n";
     return 2;
   }
-  if (action_ == "status") return jobs_status(m);
-  if (action_ == "resume") return jobs_resume(m, jobs_count_);
-  if (action_ == "cancel") return jobs_cancel(m);
-  return run_task(m, task_);
+  // A job folder that cannot be written (a read-only mount, a full disk) is
+  // an error naming the file, never an abort.
+  try {
+    if (action_ == "status") return jobs_status(m);
+    if (action_ == "resume") return jobs_resume(m, jobs_count_);
+    if (action_ == "cancel") return jobs_cancel(m);
+    return run_task(m, task_);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
 }
 
 

@@ -1,9 +1,16 @@
 #include "farm/job_folder.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <sstream>
 
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
@@ -17,6 +24,51 @@ std::string number(int id) {
   std::snprintf(text, sizeof text, "%04d", id);
   return text;
 }
+
+constexpr const char* kSubfolders[] = {"logs", "status", "slurm", "profiles"};
+
+// One task of the manifest, every key checked, the problem named by its
+// JSON pointer (an edited or damaged manifest must not crash or misrun).
+Task parse_task(const json& t, std::size_t position, const std::string& file) {
+  const std::string where = file + ": /tasks/" + std::to_string(position);
+  if (!t.is_object()) throw Error(where + ": expected an object {\"id\", \"name\", \"stage\", \"args\"}");
+  Task task;
+  try {
+    task.id = t.at("id").get<int>();
+    task.name = t.at("name").get<std::string>();
+    const int stage = t.at("stage").get<int>();
+    if (stage < kSimulate || stage > kAssemble)
+      throw Error(where + "/stage: " + std::to_string(stage) + " is not a stage (0: simulate, 1: work, 2: assemble)");
+    task.stage = static_cast<Stage>(stage);
+  } catch (const json::exception&) {
+    throw Error(where + ": expected \"id\" and \"stage\" (integers) and \"name\" (a string)");
+  }
+  if (task.id != static_cast<int>(position))
+    throw Error(where + "/id: task " + std::to_string(task.id) + " is listed at position " + std::to_string(position) +
+                ": a task's id is its position in \"tasks\" (was the manifest edited?)");
+  const json args = t.value("args", json());
+  if (!args.is_array()) throw Error(where + "/args: task " + std::to_string(task.id) + " (" + task.name +
+                                    ") has no \"args\" list (the loom arguments it runs)");
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    if (!args[k].is_string())
+      throw Error(where + "/args/" + std::to_string(k) + ": task " + std::to_string(task.id) + " (" + task.name +
+                  "): expected a string (a loom argument), got " + args[k].dump());
+    task.args.push_back(args[k].get<std::string>());
+  }
+  const json wave = t.value("wave", json(0));
+  if (!wave.is_number_integer() || wave.get<int>() < 0)
+    throw Error(where + "/wave: task " + std::to_string(task.id) + " (" + task.name + "): expected 0 or more");
+  task.wave = wave.get<int>();
+  return task;
+}
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 }  // namespace
 
 std::string host_name() {
@@ -28,6 +80,26 @@ std::string host_name() {
 fs::path task_log(const fs::path& job, int id) { return job / "logs" / ("task-" + number(id) + ".log"); }
 fs::path task_status_path(const fs::path& job, int id) { return job / "status" / (number(id) + ".json"); }
 
+namespace {
+void refuse_linked_subfolders(const fs::path& job) {
+  for (const char* sub : kSubfolders) {
+    std::error_code ec;
+    if (fs::is_symlink(job / sub, ec))
+      throw Error((job / sub).string() + " is a symbolic link: a job's logs, status and profiles stay inside "
+                  "its folder (remove the link)");
+  }
+}
+}  // namespace
+
+void check_job_subfolders(const fs::path& job) {
+  refuse_linked_subfolders(job);
+  for (const char* sub : kSubfolders) {
+    std::error_code ec;
+    fs::create_directories(job / sub, ec);
+    if (ec) throw Error("cannot make " + (job / sub).string() + ": " + ec.message());
+  }
+}
+
 void save_manifest(const JobManifest& m) {
   json tasks = json::array();
   for (const Task& t : m.tasks)
@@ -38,15 +110,16 @@ void save_manifest(const JobManifest& m) {
                     {"tasks", tasks}};
   json written = doc;
   written["node_loom"] = m.node_loom;
-  for (const char* sub : {"logs", "status", "slurm", "profiles"}) fs::create_directories(m.dir / sub);
+  check_job_subfolders(m.dir);
   write_file_atomic(m.dir / "manifest.json", written.dump(2) + "\n");
 }
 
 JobManifest load_manifest(const fs::path& job) {
   const fs::path file = job / "manifest.json";
-  std::ifstream in(file);
-  if (!in) throw Error(file.string() + ": cannot read (is " + job.string() + " a job folder written by loom submit?)");
-  const json doc = json::parse(in, nullptr, false);
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec))
+    throw Error(file.string() + ": cannot read (is " + job.string() + " a job folder written by loom submit?)");
+  const json doc = json::parse(read_text(file), nullptr, false);
   if (doc.is_discarded() || !doc.is_object() || doc.value("loom_job", 0) != 1 || !doc.contains("tasks") ||
       !doc["tasks"].is_array())
     throw Error(file.string() + ": not a loom job manifest (version 1)");
@@ -59,40 +132,142 @@ JobManifest load_manifest(const fs::path& job) {
     m.jobs = doc.at("jobs").get<int>();
     m.slurm_args = doc.at("slurm_args").get<std::vector<std::string>>();
     m.node_loom = doc.value("node_loom", "");
-    for (const json& t : doc["tasks"])
-      m.tasks.push_back({t.at("id").get<int>(), t.at("name").get<std::string>(),
-                         static_cast<Stage>(t.at("stage").get<int>()), t.at("args").get<std::vector<std::string>>(),
-                         t.value("wave", 0)});
-  } catch (const json::exception& e) {
-    throw Error(file.string() + ": " + e.what());
+  } catch (const json::exception&) {
+    throw Error(file.string() + ": expected \"loom\", \"to\" and \"node_loom\" (strings), \"retries\" and \"jobs\" "
+                "(integers) and \"slurm_args\" (a list of strings)");
   }
+  if (m.to != "local" && m.to != "slurm") throw Error(file.string() + ": /to: expected \"local\" or \"slurm\"");
+  if (m.jobs < 1) throw Error(file.string() + ": /jobs: " + std::to_string(m.jobs) + " tasks at once runs nothing: "
+                              "expected at least 1 (or give `loom jobs resume -j N`)");
+  if (m.retries < 0) throw Error(file.string() + ": /retries: expected 0 or more, got " + std::to_string(m.retries));
+  for (std::size_t k = 0; k < doc["tasks"].size(); ++k) m.tasks.push_back(parse_task(doc["tasks"][k], k, file.string()));
+  refuse_linked_subfolders(m.dir);
   return m;
+}
+
+int open_task_log(const fs::path& job, int id) {
+  const fs::path log = task_log(job, id);
+  ::mkdir((job / "logs").c_str(), 0755);  // deleted by hand: made again
+  const int dir = ::open((job / "logs").c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  int fd = dir < 0 ? -1 : ::openat(dir, log.filename().c_str(), O_WRONLY | O_CREAT | O_APPEND | O_NOFOLLOW | O_CLOEXEC, 0644);
+  const int error = errno;
+  if (dir >= 0) ::close(dir);
+  if (fd < 0)
+    throw Error("cannot open the task log " + log.string() + ": " + std::strerror(error) +
+                (error == ELOOP || error == ENOTDIR ? " (a symbolic link: a job's logs are never written through one)"
+                                                    : ""));
+  return fd;
+}
+
+namespace {
+void append_to(int fd, const fs::path& file, const std::string& line) {
+  const std::string text = line + "\n";
+  const ssize_t written = ::write(fd, text.data(), text.size());
+  const int error = errno;
+  ::close(fd);
+  if (written != static_cast<ssize_t>(text.size())) throw Error("cannot write " + file.string() + ": " + std::strerror(error));
+}
+}  // namespace
+
+void append_task_log(const fs::path& job, int id, const std::string& line) {
+  append_to(open_task_log(job, id), task_log(job, id), line);
+}
+
+void append_line(const fs::path& file, const std::string& line) {
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) throw Error("cannot open " + file.string() + ": " + std::strerror(errno));
+  append_to(fd, file, line);
+}
+
+namespace {
+const fs::file_time_type g_started = fs::file_time_type::clock::now();
+}  // namespace
+
+fs::file_time_type process_started() { return g_started; }
+
+unsigned long long process_start_time(long pid) {
+  if (pid <= 0) return 0;
+  const std::string stat = read_text("/proc/" + std::to_string(pid) + "/stat");
+  const std::size_t paren = stat.rfind(')');  // the command name may hold spaces and parentheses
+  if (paren == std::string::npos) return 0;
+  std::istringstream fields(stat.substr(paren + 1));
+  std::string field;
+  for (int k = 3; k <= 22 && fields >> field; ++k)
+    if (k == 22) return std::strtoull(field.c_str(), nullptr, 10);
+  return 0;
+}
+
+bool same_process(long pid, unsigned long long start, const std::vector<std::string>& keywords) {
+  const unsigned long long now = process_start_time(pid);
+  if (now == 0) return false;
+  if (start != 0) return now == start;
+  std::string args = read_text("/proc/" + std::to_string(pid) + "/cmdline");
+  std::vector<std::string> argv;
+  for (std::size_t at = 0; at < args.size();) {
+    const std::size_t end = std::min(args.find('\0', at), args.size());
+    argv.push_back(args.substr(at, end - at));
+    at = end + 1;
+  }
+  if (argv.empty() || fs::path(argv[0]).filename().string().find("loom") == std::string::npos) return false;
+  for (const std::string& k : keywords)
+    if (std::find(argv.begin(), argv.end(), k) == argv.end()) return false;
+  return true;
+}
+
+JobLock::JobLock(const fs::path& job) {
+  const fs::path path = job / "lock";
+  // Not close-on-exec: the tasks started hold it too (see the header).
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW, 0644);
+  if (fd_ < 0) throw Error("cannot open " + path.string() + ": " + std::strerror(errno));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int error = errno;
+    const std::string holder = read_text(path);
+    ::close(fd_);
+    fd_ = -1;
+    if (error != EWOULDBLOCK) throw Error("cannot lock " + path.string() + ": " + std::strerror(error));
+    throw Error("the tasks of " + job.string() + " are being run by another loom (pid " +
+                holder.substr(0, holder.find('\n')) + ", or tasks it started): wait for it to end, or `loom jobs "
+                "cancel " + job.string() + "`");
+  }
+  // The pid only serves the message of a refused second dispatcher.
+  const std::string pid = std::to_string(::getpid()) + "\n";
+  const bool noted = ::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, pid.data(), pid.size(), 0) == static_cast<ssize_t>(pid.size());
+  (void)noted;
+}
+
+JobLock::~JobLock() {
+  if (fd_ >= 0) ::close(fd_);
 }
 
 TaskStatus read_status(const fs::path& job, int id) {
   TaskStatus s;
-  std::ifstream in(task_status_path(job, id));
-  if (!in) return s;
-  const json doc = json::parse(in, nullptr, false);
+  std::error_code ec;
+  if (!fs::is_regular_file(task_status_path(job, id), ec)) return s;
+  const json doc = json::parse(read_text(task_status_path(job, id)), nullptr, false);
   if (!doc.is_object()) return s;
-  s.state = doc.value("state", "pending");
-  s.exit = doc.value("exit", -1);
-  s.attempts = doc.value("attempts", 0);
-  s.seconds = doc.value("seconds", 0.0);
-  s.host = doc.value("host", "");
-  s.message = doc.value("message", "");
-  s.pid = doc.value("pid", 0L);
-  s.loom = doc.value("loom", "");
-  if (doc.contains("tries") && doc["tries"].is_array())
-    for (const json& t : doc["tries"])
-      if (t.is_object()) s.tries.push_back({t.value("host", ""), t.value("end", ""), t.value("seconds", 0.0)});
+  try {
+    s.state = doc.value("state", "pending");
+    s.exit = doc.value("exit", -1);
+    s.attempts = doc.value("attempts", 0);
+    s.seconds = doc.value("seconds", 0.0);
+    s.host = doc.value("host", "");
+    s.message = doc.value("message", "");
+    s.pid = doc.value("pid", 0L);
+    s.pid_start = doc.value("pid_start", 0ULL);
+    s.loom = doc.value("loom", "");
+    if (doc.contains("tries") && doc["tries"].is_array())
+      for (const json& t : doc["tries"])
+        if (t.is_object()) s.tries.push_back({t.value("host", ""), t.value("end", ""), t.value("seconds", 0.0)});
+  } catch (const json::exception&) {
+    return TaskStatus{};  // a damaged status file: the task has not run as far as anyone can tell
+  }
   return s;
 }
 
 void write_status(const fs::path& job, int id, const TaskStatus& s) {
   const json doc = {{"state", s.state},     {"exit", s.exit}, {"attempts", s.attempts},
                     {"seconds", s.seconds}, {"host", s.host}, {"message", s.message},
-                    {"pid", s.pid}};
+                    {"pid", s.pid},         {"pid_start", s.pid_start}};
   json written = doc;
   written["loom"] = s.loom;
   written["tries"] = json::array();

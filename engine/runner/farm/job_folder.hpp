@@ -3,6 +3,11 @@
 // every --set baked in; JOBDIR/slurm/ holds the scripts given to sbatch;
 // JOBDIR/logs/task-NNNN.log each task's output; JOBDIR/status/NNNN.json how
 // each task ended (written by `loom jobs task`, atomically).
+//
+// A job folder may sit on a shared filesystem that others write to, and its
+// files may be edited: a manifest is checked whole before anything runs, the
+// folders Loom writes into are never followed through symbolic links, and a
+// recorded pid is signalled only while it names the process that wrote it.
 #pragma once
 
 #include <filesystem>
@@ -59,6 +64,9 @@ struct TaskStatus {
   long pid = 0;                   // of `loom jobs task` on `host`
   std::string loom;               // the executable that ran it (each node's own)
   std::vector<TaskTry> tries;     // the tries that ended before this one
+  // That process's start time (/proc/PID/stat), so that a pid reused by an
+  // unrelated process is not taken for the task (0: not recorded).
+  unsigned long long pid_start = 0;
 };
 
 // This machine's name, as the status files record it.
@@ -68,8 +76,49 @@ std::filesystem::path task_log(const std::filesystem::path& job, int id);
 std::filesystem::path task_status_path(const std::filesystem::path& job, int id);
 
 void save_manifest(const JobManifest& m);
-// Throws Error naming the file when the folder is not a job folder.
+// Throws Error naming the file when the folder is not a job folder, and the
+// task and key when the manifest is not one `loom submit` could have written
+// (ids out of order, an unknown stage, "jobs" below 1, arguments that are not
+// strings) or a folder Loom writes into is a symbolic link.
 JobManifest load_manifest(const std::filesystem::path& job);
+
+// The log of task `id`, opened to append (close it after use): never through
+// a symbolic link (the log or JOB/logs), JOB/logs made again when missing.
+// Throws Error naming the log and why it cannot be opened.
+int open_task_log(const std::filesystem::path& job, int id);
+// Appends a line to the task's log (as open_task_log).
+void append_task_log(const std::filesystem::path& job, int id, const std::string& line);
+// Appends a line to a file of the job (slurm/jobs), never through a link.
+void append_line(const std::filesystem::path& file, const std::string& line);
+// Makes JOB/logs, status, profiles and slurm when missing; throws Error when
+// one of them is a symbolic link (it would send the job's files elsewhere).
+void check_job_subfolders(const std::filesystem::path& job);
+
+// When this process started (as file times are kept).
+std::filesystem::file_time_type process_started();
+
+// The start time of process `pid` in clock ticks after boot (field 22 of
+// /proc/PID/stat), or 0 when no such process runs.
+unsigned long long process_start_time(long pid);
+// Whether `pid` on this machine is still the process that started at `start`
+// (0: unknown; then whether its command line is `loom ... KEYWORDS...`).
+bool same_process(long pid, unsigned long long start, const std::vector<std::string>& keywords);
+
+// Held by the one process that runs a job's tasks (the local dispatcher, or
+// a resume submitting to Slurm): an flock on JOB/lock. The tasks it starts
+// inherit it, so a second dispatcher is refused while any of them runs, also
+// after the first one was killed.
+class JobLock {
+ public:
+  // Throws Error saying who holds the lock (its pid) when it is taken.
+  explicit JobLock(const std::filesystem::path& job);
+  ~JobLock();
+  JobLock(const JobLock&) = delete;
+  JobLock& operator=(const JobLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
 
 TaskStatus read_status(const std::filesystem::path& job, int id);
 void write_status(const std::filesystem::path& job, int id, const TaskStatus& s);

@@ -210,21 +210,30 @@ void write_slurm_scripts(const JobManifest& m) {
   }
 }
 
-// A job folder from an earlier submit is replaced, unless one of its tasks runs.
+// A job folder from an earlier submit is replaced, unless one of its tasks
+// runs. Any other folder that holds anything (a project folder, `.`) is
+// refused before anything in it is touched: submit writes graph.json and
+// clears logs/, status/, profiles/ and slurm/, which may be the user's own.
 bool clear_job_folder(const fs::path& job) {
-  if (fs::exists(job / "manifest.json")) {
-    try {
-      const JobManifest old = load_manifest(job);
-      for (const Task& t : old.tasks)
-        if (const TaskStatus s = read_status(job, t.id); s.state == "running" && still_running(old, s)) {
-          std::cerr << "error: task " << t.id << " of the job in " << job.string()
-                    << " is running: `loom jobs cancel` it first, or give another --job-dir\n";
-          return false;
-        }
-    } catch (const std::exception&) {
-    }
-  }
   std::error_code ec;
+  const bool empty = !fs::exists(job, ec) || (fs::is_directory(job, ec) && fs::is_empty(job, ec));
+  if (!empty) {
+    std::optional<JobManifest> old;
+    try {
+      old = load_manifest(job);
+    } catch (const std::exception& e) {
+      std::cerr << "error: --job-dir " << job.string() << " is not a Loom job folder and not empty ("
+                << (fs::exists(job / "manifest.json", ec) ? e.what() : "it has no manifest.json written by loom submit")
+                << "): submit never overwrites a folder it did not make; give a new or empty folder\n";
+      return false;
+    }
+    for (const Task& t : old->tasks)
+      if (const TaskStatus s = read_status(job, t.id); s.state == "running" && still_running(*old, s, t.id)) {
+        std::cerr << "error: task " << t.id << " of the job in " << job.string()
+                  << " is running: `loom jobs cancel` it first, or give another --job-dir\n";
+        return false;
+      }
+  }
   for (const char* sub : {"logs", "status", "slurm", "profiles"}) fs::remove_all(job / sub, ec);
   return true;
 }
@@ -250,6 +259,11 @@ int submit(SubmitRequest& r) {
     return 2;
   }
   if (!range && g->graph.time) range = FrameRange{g->graph.time->start, g->graph.time->end};
+  if (range)  // a task per chunk of an endless range would exhaust memory before the first ran
+    if (auto problem = frame_count_problem(*range, r.run.frames.empty() ? "the graph's time range" : "--frames")) {
+      std::cerr << "error: " << *problem << "\n";
+      return 2;
+    }
   if (r.sweep.active()) {
     const auto count = check_sweep(r.sweep, r.run, *g);
     if (!count) return 2;

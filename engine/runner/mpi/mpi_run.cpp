@@ -18,11 +18,13 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <optional>
 #include <set>
 
 #include "loom/disk_cache.hpp"
+#include "loom/error.hpp"
 #include "loom/graph_view.hpp"
 #include "mpi/mpi_settings.hpp"
 #include "mpi/mpi_world.hpp"
@@ -77,9 +79,20 @@ void merge(EvalResult& into, const EvalResult& part, bool outputs = true) {
   into.cancelled = into.cancelled || part.cancelled;
 }
 
+// The run's own cache in --out (no --cache given), while it exists: removed
+// also when a rank ends every rank, so that no .loom-mpi-cache stays behind.
+std::optional<std::filesystem::path> g_own_store;
+
+void remove_own_store() {
+  if (!g_own_store) return;
+  std::error_code ec;
+  std::filesystem::remove_all(*g_own_store, ec);
+}
+
 // A rank whose part failed or was cancelled ends every rank: the others may
 // be waiting for its tiles or its frames.
 void end_every_rank_unless_ok(MpiWorld& world, const Graph& graph, const EvalResult& r) {
+  if (!r.ok() || r.cancelled) remove_own_store();
   if (r.cancelled) {
     std::cerr << "rank " << world.rank() << ": interrupted: ending every rank\n";
     world.abort(kInterrupted);
@@ -115,7 +128,14 @@ EvalResult evaluate_frames(MpiWorld& world, Session& session, const GraphView& v
                             simulations = as_targets(stages.simulations);
 
   std::optional<DiskCache> store;
-  if (!sequence.empty() || !simulations.empty()) store.emplace(storing_everything(options));
+  if (!sequence.empty() || !simulations.empty()) {
+    if (!options.disk_cache) {
+      g_own_store = storing_everything(options).dir;
+      if (world.rank() == 0) remove_own_store();  // a killed run's leftovers
+      world.barrier();
+    }
+    store.emplace(storing_everything(options));
+  }
   EvalResult result;
   auto evaluate = [&](std::vector<Target> targets, FrameRange frames) {
     EvalOptions o = options;
@@ -138,8 +158,8 @@ EvalResult evaluate_frames(MpiWorld& world, Session& session, const GraphView& v
   if (world.rank() == 0 && !sequence.empty()) evaluate(sequence, range);
   if (world.rank() == 0 && store && options.disk_cache) store->trim();
   if (world.rank() == 0 && store && !options.disk_cache) {
-    std::error_code ec;
-    std::filesystem::remove_all(store->options().dir, ec);
+    remove_own_store();
+    g_own_store.reset();
   }
   return result;
 }
@@ -193,6 +213,27 @@ EvalResult evaluate_tiles(MpiWorld& world, Session& session, const GraphView& vi
   return whole;
 }
 
+// Every rank must write into one output folder (on a shared filesystem):
+// frames, simulation states and the run's own cache pass through it. Rank 0
+// leaves a marker there; a rank that cannot see it has a folder of its own
+// (each rank given its own --out ran with exit 0 and no word).
+void require_shared_output(MpiWorld& world, const std::filesystem::path& out) {
+  const std::filesystem::path marker = out / ".loom-mpi-shared";
+  std::error_code ec;
+  if (world.rank() == 0) {
+    std::filesystem::create_directories(out, ec);
+    std::ofstream(marker) << "every rank of an MPI run must see this file\n";
+  }
+  world.barrier();
+  const int seen = std::filesystem::exists(marker, ec) ? 1 : 0;
+  const int everywhere = world.min_over_ranks(seen);
+  if (world.rank() == 0) std::filesystem::remove(marker, ec);
+  if (everywhere == 0)
+    throw Error("--out " + out.string() + " is not one folder on every rank" +
+                (seen ? std::string() : " (rank " + std::to_string(world.rank()) + " cannot see rank 0's files there)") +
+                ": give every rank the same --out, on a filesystem they share");
+}
+
 }  // namespace
 
 EvalResult evaluate_on_ranks(Session& session, const Graph& graph, const Registry& registry,
@@ -203,8 +244,10 @@ EvalResult evaluate_on_ranks(Session& session, const Graph& graph, const Registr
   const FrameRange range = options.frames ? *options.frames : FrameRange{start, start};
   const std::string& split = mpi_settings().split;
   const GraphView view(graph, registry);
-  if (split == "frames" || (split == "auto" && range.last > range.first))
+  if (split == "frames" || (split == "auto" && range.last > range.first)) {
+    require_shared_output(*world, options.output_dir);  // (tiles: rank 0 alone writes files)
     return evaluate_frames(*world, session, view, options, range);
+  }
   return evaluate_tiles(*world, session, view, options, range);
 }
 

@@ -60,7 +60,12 @@ int plan_sweep(const SweepRequest& r, const RunSettings& s, const LoadedGraph& g
           throw Error("--sweep " + spec + ": " + plan->axes.back().input +
                       " is swept twice (give its values in one --sweep)");
     }
-    plan->points = sweep_points(plan->axes, r.zip);
+    plan->points = sweep_points(plan->axes, r.zip);  // counted, and refused past the limit, first
+    std::optional<FrameRange> frames = s.frames.empty() ? std::optional<FrameRange>() : parse_frame_range(s.frames);
+    if (s.frames.empty() && g.graph.time) frames = FrameRange{g.graph.time->start, g.graph.time->end};
+    if (frames)
+      if (auto problem = frame_count_problem(*frames, s.frames.empty() ? "the graph's time range" : "--frames"))
+        throw Error(*problem);
     for (const auto& p : r.plots)
       if (p.find(':') == std::string::npos || p.front() == ':' || p.back() == ':')
         throw Error("--plot " + p + ": expected X:Y, two columns of sweep.csv (e.g. arap.seconds:arap.energy)");
@@ -170,6 +175,16 @@ json run_point(const SweepRequest& r, const RunSettings& s, const Plan& plan, st
   return point;
 }
 
+// Why a point failed, also with -q (as `loom run` prints a failed node):
+// point.json alone left a quiet sweep's exit 1 unexplained.
+void print_failures(const json& point, std::size_t i) {
+  if (point["status"] != "failed") return;
+  for (const auto& [id, node] : point["nodes"].items())
+    if (node.value("status", "") == "failed" && node.contains("error"))
+      std::fprintf(stderr, "error: point %zu (%s): node \"%s\" failed: %s\n", i, point["values"].dump().c_str(),
+                   id.c_str(), node["error"].get<std::string>().c_str());
+}
+
 json read_point(const fs::path& out, std::size_t i, const SweepPoint& p) {
   std::ifstream in(point_dir(out, i) / "point.json");
   json point = in ? json::parse(in, nullptr, false) : json();
@@ -211,6 +226,7 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
       continue;
     }
     points.push_back(run_point(r, s, plan, i, session, *g, disk ? &*disk : nullptr, profiles));
+    print_failures(points.back(), i);
     if (!s.quiet)
       // Points are numbered from 0 everywhere (points/0003, --sweep-points 3,
       // `loom jobs status`); the bracket counts this run's progress.
@@ -232,7 +248,7 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
     if (!write_sweep_tables(s.out_dir, plan.axes, points, r.plots, s.quiet)) exit = kNodeFailed;
   }
   if (cancel_flag()) {
-    std::cerr << "interrupted\n";
+    std::cerr << interrupted_message() << "\n";
     return kInterrupted;
   }
   for (std::size_t i = 0; i < points.size(); ++i)

@@ -1,6 +1,8 @@
 #include "sweep/sweep_axes.hpp"
 
+#include <climits>
 #include <cmath>
+#include <cstdlib>
 #include <regex>
 
 #include "loom/error.hpp"
@@ -48,9 +50,19 @@ std::vector<json> range_values(const std::string& spec, const std::string& text,
   std::vector<json> values;
   for (long i = 0; i < n; ++i) {
     const double t = n == 1 ? 0.0 : static_cast<double>(i) / static_cast<double>(n - 1);
-    const double v = log ? std::exp(std::log(a) + t * (std::log(b) - std::log(a))) : a + t * (b - a);
-    if (integer) values.emplace_back(static_cast<long long>(std::llround(v)));
-    else values.emplace_back(v);
+    // a (1 - t) + b t, not a + t (b - a): b - a overflows for bounds near the largest double.
+    const double v = log ? std::exp(std::log(a) * (1 - t) + std::log(b) * t) : a * (1 - t) + b * t;
+    if (!std::isfinite(v))
+      throw Error("--sweep " + spec + ": value " + std::to_string(i + 1) + " of the range is not a finite number "
+                  "(bounds up to about 1e308)");
+    if (!integer) {
+      values.emplace_back(v);
+      continue;
+    }
+    if (std::abs(v) > INT_MAX)
+      throw Error("--sweep " + spec + ": " + json(v).dump() + " is beyond what an Int input holds (" +
+                  std::to_string(-INT_MAX) + " to " + std::to_string(INT_MAX) + ")");
+    values.emplace_back(static_cast<long long>(std::llround(v)));
   }
   return values;
 }
@@ -79,16 +91,43 @@ SweepAxis parse_sweep_axis(const std::string& spec, const GraphView& view) {
   return axis;
 }
 
-std::vector<SweepPoint> sweep_points(const std::vector<SweepAxis>& axes, bool zip) {
-  std::vector<SweepPoint> points;
-  if (axes.empty()) return points;
+std::size_t max_sweep_points() {
+  const char* text = std::getenv("LOOM_MAX_SWEEP_POINTS");
+  if (!text || !*text) return kMaxSweepPoints;
+  char* end = nullptr;
+  const unsigned long long n = std::strtoull(text, &end, 10);
+  if (*end != '\0' || n == 0 || text[0] == '-')
+    throw Error(std::string("LOOM_MAX_SWEEP_POINTS=") + text + ": expected a whole number of points above 0");
+  return static_cast<std::size_t>(n);
+}
+
+std::size_t count_sweep_points(const std::vector<SweepAxis>& axes, bool zip) {
+  if (axes.empty()) return 0;
   std::size_t count = zip ? axes[0].values.size() : 1;
+  std::string product;
+  bool wrapped = false;  // four axes of 65,536 values wrapped the count to 0 ("0 points", exit 0)
   for (const auto& a : axes) {
     if (zip && a.values.size() != count)
       throw Error("--zip: every --sweep needs as many values (" + axes[0].input + " has " +
                   std::to_string(count) + ", " + a.input + " has " + std::to_string(a.values.size()) + ")");
-    if (!zip) count *= a.values.size();
+    if (zip) continue;
+    product += (product.empty() ? "" : " × ") + std::to_string(a.values.size());
+    wrapped = wrapped || __builtin_mul_overflow(count, a.values.size(), &count);
   }
+  const std::size_t limit = max_sweep_points();
+  if (wrapped || count > limit)
+    throw Error("--sweep: " + product + " = " + (wrapped ? std::string("more than 2^64") : std::to_string(count)) +
+                " points is more than the limit of " + std::to_string(limit) + " (every point's graph is built and "
+                "checked before any runs): sweep fewer values, use --zip, or raise the limit with "
+                "LOOM_MAX_SWEEP_POINTS=N");
+  return count;
+}
+
+std::vector<SweepPoint> sweep_points(const std::vector<SweepAxis>& axes, bool zip) {
+  std::vector<SweepPoint> points;
+  if (axes.empty()) return points;
+  const std::size_t count = count_sweep_points(axes, zip);
+  points.reserve(count);
   for (std::size_t p = 0; p < count; ++p) {
     SweepPoint point{{}, json::object()};
     std::size_t rest = p;

@@ -25,7 +25,18 @@ struct SweepPoint {
 // Throws Error naming the --sweep argument and what is wrong with it.
 // The input is any address --set takes (the engine's view resolves it).
 SweepAxis parse_sweep_axis(const std::string& spec, const GraphView& view);
-// Throws Error when --zip is given lists of different lengths.
+// Points one sweep may have (LOOM_MAX_SWEEP_POINTS raises it): every
+// point's graph is built and validated before any runs, a few kilobytes
+// each, so a grid of 1000 × 1000 values took gigabytes before its first point.
+constexpr std::size_t kMaxSweepPoints = 100000;
+// kMaxSweepPoints, or LOOM_MAX_SWEEP_POINTS when set (throws Error when it is
+// not a number above 0).
+std::size_t max_sweep_points();
+// The number of points, counted without overflow; throws Error naming the
+// limit when there are more than max_sweep_points(), and when --zip is given
+// lists of different lengths.
+std::size_t count_sweep_points(const std::vector<SweepAxis>& axes, bool zip);
+// Every point, after count_sweep_points.
 std::vector<SweepPoint> sweep_points(const std::vector<SweepAxis>& axes, bool zip);
 
 }  // namespace loom::runner
