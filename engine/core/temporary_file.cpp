@@ -1,8 +1,11 @@
 #include "loom/temporary_file.hpp"
 
 #include <atomic>
+#include <cctype>
 #include <climits>
+#include <cstdio>
 #include <cstring>
+#include <random>
 
 #include <unistd.h>
 
@@ -49,12 +52,25 @@ std::string extension_for(const std::string& extension) {
   return extension;
 }
 
+// Drawn once per process: two processes of one pid — on two machines, or in
+// two PID namespaces — writing into one shared folder never stage under one
+// name (a pid alone let one rename the other's bytes into place).
+const std::string& process_nonce() {
+  static const std::string nonce = [] {
+    std::random_device device;
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%08x%08x", device(), device());
+    return std::string(hex);
+  }();
+  return nonce;
+}
+
 }  // namespace
 
 TemporaryFile::TemporaryFile(fs::path target, const std::string& extension) : target_(std::move(target)) {
   static std::atomic<unsigned> counter{0};
-  path_ = target_.parent_path() / (".loomtmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) +
-                                   extension_for(extension));
+  path_ = target_.parent_path() / (".loomtmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "-" +
+                                   process_nonce() + extension_for(extension));
   slot_ = claim_slot(path_);
 }
 
@@ -86,7 +102,13 @@ bool is_staging_name(const std::string& name) {
   if (digits == 0 || i >= name.size() || name[i] != '-') return false;
   std::size_t counter_digits = 0;
   for (++i; i < name.size() && name[i] >= '0' && name[i] <= '9'; ++i) ++counter_digits;
-  return counter_digits > 0 && (i == name.size() || name[i] == '.');
+  if (counter_digits == 0) return false;
+  if (i < name.size() && name[i] == '-') {  // the process's nonce (older staging names have none)
+    std::size_t hex = 0;
+    for (++i; i < name.size() && std::isxdigit(static_cast<unsigned char>(name[i])); ++i) ++hex;
+    if (hex == 0) return false;
+  }
+  return i == name.size() || name[i] == '.';
 }
 
 void remove_temporary_files() noexcept {

@@ -243,11 +243,10 @@ PartitionName=debug Nodes={names} Default=YES MaxTime=INFINITE State=UP
     def _node_script(self, n):
         lines = ["set -e", f"hostname {n.name}", "mount -t tmpfs tmpfs /tmp", "mount -t tmpfs tmpfs /dev/shm"]
         # Each node's PIDs from a range of its own, as separate machines' mostly
-        # differ: fresh PID namespaces would give every node the same PIDs in the
-        # same order, and Loom names staging files in a shared folder by PID alone
-        # (engine/core/temporary_file.cpp: ".loomtmp-PID-N"), so two nodes writing
-        # into one folder at once would take each other's file. Reported as a
-        # defect (issue 36); `pid_ranges=False` shows it.
+        # differ (fresh PID namespaces give every node the same PIDs in the same
+        # order). Staging files once named by PID alone collided then; they now
+        # hold a random part (engine/core/temporary_file.cpp), and the test runs
+        # with `pid_ranges=False` to keep it so.
         if self.pid_ranges:
             with open("/proc/sys/kernel/pid_max") as f:
                 span = int(f.read()) // (len(self.nodes) + 1)
