@@ -58,6 +58,23 @@ TEST(Runner, ExitCodeZeroAndAProfileThatLoadsOnlyWhatTheGraphUses) {
   EXPECT_NE(out.find("[p] 2"), std::string::npos) << out;
 }
 
+// Issue 42, item 2: a target kept at several frames is the list of its
+// values, one per frame (it printed only the last frame's).
+TEST(Runner, ATargetOverFramesIsTheListOfItsValues) {
+  auto dir = test::temp_dir();
+  json doc = graph({{"time", {{"type", "Time"}}}});
+  doc["time"] = {{"start", 1}, {"end", 6}, {"fps", 24}};
+  auto g = write_graph(dir, doc);
+  std::string out;
+  ASSERT_EQ(test::run_loom("run " + g.string() + " --target time.frame --frames 2-4 --json -q --no-cache", &out), 0)
+      << out;
+  const auto start = out.find('{');
+  ASSERT_NE(start, std::string::npos) << out;
+  EXPECT_EQ(json::parse(out.substr(start))["time.frame"], json::array({2, 3, 4})) << out;
+  ASSERT_EQ(test::run_loom("run " + g.string() + " --target time.frame --frames 3 --json -q --no-cache", &out), 0);
+  EXPECT_EQ(json::parse(out.substr(out.find('{')))["time.frame"], 3) << out;  // one frame: the value itself
+}
+
 TEST(Runner, ExitCodeOneWhenANodeFailsAndOtherOutputsAreStillWritten) {
   auto dir = test::temp_dir();
   auto g = write_graph(dir, graph({{"bad", {{"type", "Fail"}}},
