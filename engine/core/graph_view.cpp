@@ -83,7 +83,8 @@ NodeKind GraphView::kind(const std::string& id) const {
   auto n = graph_.nodes.find(id);
   if (n == graph_.nodes.end()) {
     std::string near;
-    for (const auto& s : near_names(id, every_id(graph_))) near += (near.empty() ? " (did you mean " : ", ") + ("\"" + s + "\"");
+    for (const auto& s : near_names(id, every_id(graph_)))
+      near += (near.empty() ? " (did you mean " : ", ") + ("\"" + s + "\"");
     throw Error("no node \"" + id + "\" in the graph" + (near.empty() ? "" : near + "?)"));
   }
   if (n->second.repeat) return NodeKind::repeat;
@@ -93,7 +94,8 @@ NodeKind GraphView::kind(const std::string& id) const {
 const NodeType& GraphView::type(const std::string& id) const {
   if (kind(id) == NodeKind::group) return *instance_types_.at(id);
   const NodeType* t = detail::node_type_of(graph_.nodes.at(id), registry_);
-  if (!t) throw Error("node \"" + id + "\": unknown type \"" + graph_.nodes.at(id).type + "\" (the graph was not validated)");
+  if (!t)
+    throw Error("node \"" + id + "\": unknown type \"" + graph_.nodes.at(id).type + "\" (the graph was not validated)");
   return *t;
 }
 
@@ -134,7 +136,8 @@ ResolvedInput GraphView::input(const std::string& address) const {
   const InputSpec* spec = t.spec.find_input(r.input);
   if (!spec)
     throw Error("\"" + address + "\": " + (r.kind == NodeKind::group ? "group instance \"" : "node \"") + r.node +
-                "\" (" + t.spec.name + ") has no input \"" + r.input + "\" (its inputs: " + names_of_inputs(t.spec) + ")");
+                "\" (" + t.spec.name + ") has no input \"" + r.input +
+                "\" (its inputs: " + names_of_inputs(t.spec) + ")");
   r.spec = *spec;
   return r;
 }
