@@ -12,6 +12,7 @@
 
 #include "graph_groups.hpp"
 #include "json_text.hpp"
+#include "loom/input_file.hpp"
 #include "repeat.hpp"
 
 namespace loom::detail {
@@ -42,19 +43,6 @@ bool is_object_with(const json& j, const char* key) { return j.is_object() && j.
 
 const std::set<std::string> kInterfaceKeys = {"type", "default", "min", "max", "choices",
                                               "optional", "description", "to"};
-
-// What stands at `p` when it is not a regular file ("a directory"), or "".
-std::string kind_of(const fs::path& p) {
-  std::error_code ec;
-  switch (fs::status(p, ec).type()) {
-    case fs::file_type::directory: return "a directory";
-    case fs::file_type::fifo: return "a FIFO (named pipe)";
-    case fs::file_type::character: return "a character device";
-    case fs::file_type::block: return "a block device";
-    case fs::file_type::socket: return "a socket";
-    default: return "";
-  }
-}
 
 class Expander {
  public:
@@ -159,7 +147,7 @@ std::optional<GroupRef> Expander::resolve(const std::string& type, const Scope& 
   // (Math.json using Math); validation reports the clash where it is used.
   if (!file.empty() && file == scope.file.lexically_normal() && !is_json_path(type)) return std::nullopt;
   if (file.empty()) {
-    const std::string kind = kind_of(scope.file.empty() ? fs::path(type) : scope.file.parent_path() / type);
+    const std::string kind = not_a_regular_file(scope.file.empty() ? fs::path(type) : scope.file.parent_path() / type);
     if (is_json_path(type) && !kind.empty())
       issue(scope, pointer, "group file \"" + type + "\" is " + kind + ", not a file: a group file is a regular "
                                 "file of JSON");

@@ -56,4 +56,16 @@ void require_input_file(const fs::path& path, const std::string& what, const fs:
               resolution_note(path, graph_dir));
 }
 
+std::string not_a_regular_file(const fs::path& path) {
+  std::error_code ec;
+  switch (fs::status(path, ec).type()) {
+    case fs::file_type::directory: return "a directory";
+    case fs::file_type::fifo: return "a FIFO (named pipe)";
+    case fs::file_type::character: return "a character device";
+    case fs::file_type::block: return "a block device";
+    case fs::file_type::socket: return "a socket";
+    default: return "";
+  }
+}
+
 }  // namespace loom

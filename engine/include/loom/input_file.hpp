@@ -21,4 +21,9 @@ namespace loom {
 LOOM_API void require_input_file(const std::filesystem::path& path, const std::string& what,
                                  const std::filesystem::path& graph_dir = {});
 
+// What stands at `path` when it exists but is not a regular file ("a
+// directory", "a FIFO (named pipe)", a device, a socket), or "": for a message
+// that names it, before anything opens it.
+LOOM_API std::string not_a_regular_file(const std::filesystem::path& path);
+
 }  // namespace loom

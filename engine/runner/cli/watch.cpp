@@ -12,6 +12,7 @@
 
 #include "loom/graph.hpp"
 #include "loom/graph_view.hpp"
+#include "loom/input_file.hpp"
 #include "loom/plugin_loader.hpp"
 
 namespace loom::runner {
@@ -97,18 +98,6 @@ class FolderWatch {
   std::set<fs::path> files_;
 };
 
-// What stands at `file` when it exists but is not a regular file, or "".
-std::string not_a_file(const fs::path& file) {
-  std::error_code ec;
-  switch (fs::status(file, ec).type()) {
-    case fs::file_type::directory: return "a directory";
-    case fs::file_type::fifo: return "a FIFO (named pipe)";
-    case fs::file_type::character: return "a character device";
-    case fs::file_type::block: return "a block device";
-    case fs::file_type::socket: return "a socket";
-    default: return "";
-  }
-}
 
 std::string names(const std::set<fs::path>& files) {
   std::string text;
@@ -125,7 +114,7 @@ int watch(const fs::path& graph_file, const std::atomic<bool>& cancel, const std
   for (;;) {
     // A FIFO or a device cannot be watched for saves, and opening one blocks
     // (a FIFO until a writer comes) where Ctrl-C only sets the cancel flag.
-    if (const std::string kind = not_a_file(graph_file); !kind.empty()) {
+    if (const std::string kind = not_a_regular_file(graph_file); !kind.empty()) {
       std::fprintf(stderr, "error: --watch: %s is %s, not a file: --watch follows a graph file as it is saved\n",
                    graph_file.c_str(), kind.c_str());
       return 2;
