@@ -549,10 +549,20 @@ def d_python(feature, work):
     same_files(reference(feature, work, "--set", f"{name}={json.dumps(value)}"), out)
 
 
+def d_editor(feature, work):
+    """The editor's "Write outputs": the graph in the editor's document model, evaluated by its controller."""
+    program = os.path.join(BUILD, "bin", "editor_write_outputs")
+    if not os.path.exists(program):
+        raise Skipped("the editor was not built (ImGui, GLFW: scripts/install-deps)")
+    out = os.path.join(work, "editor")
+    run([program, feature.graph, out], env=feature_env(feature))
+    same_files(reference(feature, work), out)
+
+
 DRIVERS = [("frames", d_frames), ("sweep iface", d_sweep_interface), ("sweep inner", d_sweep_inner),
            ("record", d_record), ("cache rerun", d_cache_rerun), ("submit local", d_submit_local),
            ("submit slurm", d_submit_slurm), ("mpi frames", d_mpi_frames), ("mpi tiles", d_mpi_tiles),
-           ("mpi samples", d_mpi_samples), ("watch", d_watch), ("python", d_python)]
+           ("mpi samples", d_mpi_samples), ("watch", d_watch), ("python", d_python), ("editor", d_editor)]
 
 
 # --- refusals: what cannot be combined is refused by `loom validate` -------------

@@ -168,6 +168,18 @@ def integrate_graph(folder):
 class FrameTest(MpiCase):
     """Frames and sweep points dealt to ranks write what one process writes."""
 
+    def test_a_target_over_frames_prints_what_one_process_prints(self):
+        """Issue 35: rank 0 printed the values of its own block of frames only."""
+        g = write_graph(self.dir, {"time": {"type": "Time"},
+                                   "m": {"type": "Math", "inputs": {"a": {"from": "time.seconds"}, "b": 2,
+                                                                    "op": "multiply"}}}, (1, 6))
+        args = ["run", g, "--target", "m.result", "--json", "-q", "--no-cache"]
+        one = loom(*args, "--out", os.path.join(self.dir, "one")).stdout
+        many = mpi_loom(2, *args, "--out", os.path.join(self.dir, "many")).stdout
+        self.assertEqual(len(json.loads(one)["m.result"]), 6)
+        self.assertEqual(json.loads(many), json.loads(one))
+        self.assertEqual(files_under(os.path.join(self.dir, "many")), [])  # the read-back store is gone
+
     def test_frames_and_the_video_assembled_on_rank_0_equal_one_process(self):
         g = os.path.join(SOURCE, "graphs", "time-twist-sequence.json")
         one = os.path.join(self.dir, "one")

@@ -127,8 +127,11 @@ EvalResult evaluate_frames(MpiWorld& world, Session& session, const GraphView& v
   const std::vector<Target> work = as_targets(stages.per_frame), sequence = as_targets(stages.sequences),
                             simulations = as_targets(stages.simulations);
 
+  // Targets over several frames print every frame's value, as one process
+  // does: rank 0 reads them back from the store after every rank's frames.
+  const bool targets_over_frames = !options.targets.empty() && range.last > range.first;
   std::optional<DiskCache> store;
-  if (!sequence.empty() || !simulations.empty()) {
+  if (!sequence.empty() || !simulations.empty() || targets_over_frames) {
     if (!options.disk_cache) {
       g_own_store = storing_everything(options).dir;
       if (world.rank() == 0) remove_own_store();  // a killed run's leftovers
@@ -156,6 +159,15 @@ EvalResult evaluate_frames(MpiWorld& world, Session& session, const GraphView& v
   if (first <= last && !work.empty()) evaluate(work, {first, last});
   world.barrier();
   if (world.rank() == 0 && !sequence.empty()) evaluate(sequence, range);
+  if (world.rank() == 0 && targets_over_frames) {
+    EvalOptions o = options;
+    o.frames = range;
+    o.disk_cache = &*store;
+    const EvalResult r = session.evaluate(graph, o);  // every frame's values, read back in order
+    end_every_rank_unless_ok(world, graph, r);
+    result.outputs = r.outputs;  // its reports are not merged: nothing ran twice
+    result.outputs_per_frame = r.outputs_per_frame;
+  }
   if (world.rank() == 0 && store && options.disk_cache) store->trim();
   if (world.rank() == 0 && store && !options.disk_cache) {
     remove_own_store();
