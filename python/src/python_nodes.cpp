@@ -4,6 +4,8 @@
 #include <array>
 #include <atomic>
 #include <memory>
+#include <mutex>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -77,8 +79,25 @@ std::vector<py::object> split_result(const py::object& result, const NodeSpec& s
   return values;
 }
 
+// The Python threads running a body now (interrupt_python_bodies).
+std::mutex g_bodies_mutex;
+std::multiset<unsigned long> g_bodies;
+
+struct RunningBody {
+  unsigned long ident = PyThread_get_thread_ident();
+  RunningBody() {
+    std::lock_guard lock(g_bodies_mutex);
+    g_bodies.insert(ident);
+  }
+  ~RunningBody() {
+    std::lock_guard lock(g_bodies_mutex);
+    g_bodies.erase(g_bodies.find(ident));
+  }
+};
+
 void run_python_node(int slot, Inputs& in, Outputs& out, Context& ctx) {
   py::gil_scoped_acquire gil;
+  const RunningBody running;
   const PythonNode& node = *nodes().at(std::size_t(slot));
   const NodeSpec& spec = node.type.spec;
   py::dict kwargs;
@@ -217,6 +236,11 @@ void declare_node(const std::string& name, const std::string& module, py::object
 
 ActiveRun::ActiveRun() { ++g_active_runs; }
 ActiveRun::~ActiveRun() { --g_active_runs; }
+
+void interrupt_python_bodies() {
+  std::lock_guard lock(g_bodies_mutex);
+  for (unsigned long ident : g_bodies) PyThreadState_SetAsyncExc(ident, PyExc_KeyboardInterrupt);
+}
 
 void register_python_nodes(Registry& registry) {
   registries().push_back(&registry);

@@ -23,6 +23,12 @@ struct ActiveRun {
   ~ActiveRun();
 };
 
+// Raises KeyboardInterrupt in every thread now running a Python body (the
+// caller holds the GIL): a cancelled run's bodies stop at their next bytecode,
+// also those that never ask ctx.cancelled(). A body inside one long C call
+// (a time.sleep) stops when the call returns.
+void interrupt_python_bodies();
+
 // Adds every Python node type declared so far to a registry (and remembers
 // it, so that later declarations reach it too).
 void register_python_nodes(Registry& registry);

@@ -130,6 +130,7 @@ py::dict SessionCore::run(const PreparedGraph& prepared_graph, const std::vector
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
     } catch (py::error_already_set& e) {  // Ctrl-C, or the callback raised: cancel, then re-raise
       cancel = true;
+      interrupt_python_bodies();  // a body that never asks ctx.cancelled() stops too
       if (!interrupt) interrupt.emplace(std::move(e));
     }
   }

@@ -126,6 +126,20 @@ def test_python_node_returning_the_wrong_type(session, kind, message):
     assert e.value.node == "w" and message in str(e.value)
 
 
+def test_keyboard_interrupt_stops_a_body_that_never_asks_whether_it_was_cancelled():
+    """Issue 37, item 13: Ctrl-C during a looping body raised nothing for 10 s."""
+    g = loom.Graph()
+    g.add("py.loomtest_nodes.Spin", id="spin", seconds=60.0)
+    session = loom.Session(disk_cache=False)
+    threading.Timer(0.5, _thread.interrupt_main).start()
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        session.run(g, "spin.spun")
+    assert time.monotonic() - start < 1.5
+    g.add("Checkerboard", id="after", size=[8, 8])  # the session still works
+    assert session.run(g, "after.image").shape == (8, 8, 3)
+
+
 def test_keyboard_interrupt_cancels_a_long_node():
     g = loom.Graph()
     g.add("py.loomtest_nodes.Wait", id="wait", seconds=60.0)

@@ -20,6 +20,15 @@ def Add(a, b):
     return a + b
 
 
+@loom.node(inputs={"seconds": loom.In("Float", 30.0, "how long to spin at most")}, outputs={"spun": "Float"})
+def Spin(seconds):
+    """Loops until `seconds` pass, never asking whether the run was cancelled."""
+    start = time.monotonic()
+    while time.monotonic() - start < seconds:
+        pass
+    return time.monotonic() - start
+
+
 @loom.node(inputs={"seconds": loom.In("Float", 30.0, "how long to wait at most")}, outputs={"waited": "Float"})
 def Wait(seconds, ctx):
     """Waits until cancelled or `seconds` pass; returns the time waited."""
