@@ -243,10 +243,10 @@ PartitionName=debug Nodes={names} Default=YES MaxTime=INFINITE State=UP
     def _node_script(self, n):
         lines = ["set -e", f"hostname {n.name}", "mount -t tmpfs tmpfs /tmp", "mount -t tmpfs tmpfs /dev/shm"]
         # Each node's PIDs from a range of its own, as separate machines' mostly
-        # differ (fresh PID namespaces give every node the same PIDs in the same
-        # order). Staging files once named by PID alone collided then; they now
-        # hold a random part (engine/core/temporary_file.cpp), and the test runs
-        # with `pid_ranges=False` to keep it so.
+        # differ: fresh PID namespaces would give every node the same PIDs in the
+        # same order, and the nodes then did not register (seen once: every node
+        # stayed `unk*`). Loom's own staging files no longer depend on it: they
+        # hold a random part besides the pid (engine/core/temporary_file.cpp).
         if self.pid_ranges:
             with open("/proc/sys/kernel/pid_max") as f:
                 span = int(f.read()) // (len(self.nodes) + 1)

@@ -71,10 +71,7 @@ class MultiNode(unittest.TestCase):
         reason = netns_cluster.unavailable_reason()
         if reason:
             raise unittest.SkipTest(reason)
-        # Every node's PIDs from 1 in the same order (fresh PID namespaces): staging
-        # files in the shared folders must not collide on equal pids (issue 36).
-        cls.cluster = netns_cluster.NetnsCluster(3, install=BUILD, hide=[os.path.dirname(os.path.abspath(LOOM))],
-                                                 pid_ranges=False)
+        cls.cluster = netns_cluster.NetnsCluster(3, install=BUILD, hide=[os.path.dirname(os.path.abspath(LOOM))])
         start = time.time()
         try:
             cls.cluster.start()
