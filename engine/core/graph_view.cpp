@@ -276,7 +276,7 @@ std::vector<std::pair<std::string, Value>> named_outputs(const GraphView& view,
                                                         const std::map<std::string, std::vector<Value>>& outputs) {
   std::vector<std::pair<std::string, Value>> named;
   for (const auto& [name, values] : outputs) {
-    if (values.size() == 1 && view.has(name) == false) {
+    if (values.size() == 1 && !view.has(name)) {
       named.emplace_back(name, values[0]);
       continue;
     }

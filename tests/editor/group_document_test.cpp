@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "loom/testing.hpp"
+#include "test_files.hpp"
 #include "model/graph_document.hpp"
 #include "model/node_search.hpp"
 
@@ -18,12 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using test::read_text;
 
 fs::path temp_folder(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("loom-editor-groups-" + std::to_string(::getpid())) / name;

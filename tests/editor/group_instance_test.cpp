@@ -16,6 +16,7 @@
 #include "controller/evaluation_controller.hpp"
 #include "loom/graph_view.hpp"
 #include "loom/testing.hpp"
+#include "test_files.hpp"
 #include "model/graph_document.hpp"
 
 namespace loom::editor {
@@ -23,12 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using test::read_text;
 
 // scale.json: y = x * b (b = 2), used by "soft" (x = 3) and "hard" (x = 5).
 const char* kScaleGroup = R"({"loom": 2,

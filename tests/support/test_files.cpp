@@ -1,6 +1,8 @@
 #include "test_files.hpp"
 
+#include <fstream>
 #include <random>
+#include <sstream>
 
 namespace loom::test {
 
@@ -19,6 +21,13 @@ fs::path temp_dir() {
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
+}
+
+std::string read_text(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 }  // namespace loom::test

@@ -22,4 +22,7 @@ std::filesystem::path data_file(const std::string& relative);
 // A fresh, empty temporary folder named after the current test.
 std::filesystem::path temp_dir();
 
+// The bytes of `file` as a string (empty when it cannot be read).
+std::string read_text(const std::filesystem::path& file);
+
 }  // namespace loom::test
