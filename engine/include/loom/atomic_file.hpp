@@ -1,4 +1,4 @@
-// Writing output files so that a reader never sees half of one: write a
+// Plugin author API. Writing output files so that a reader never sees half of one: write a
 // staging file in the same folder (loom/temporary_file.hpp), check every
 // write, the flush to disk and the close, then rename it over the target.
 #pragma once

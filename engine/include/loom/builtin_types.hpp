@@ -1,4 +1,4 @@
-// The built-in value types and how they are written in graph files.
+// Plugin author API. The built-in value types and how they are written in graph files.
 //
 //   Bool    true            Int     3            Float   0.5
 //   String  "text"          Enum    "choice"     (a String checked against choices)

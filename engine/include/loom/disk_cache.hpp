@@ -1,4 +1,4 @@
-// The persistent result cache: node results kept on disk between runs.
+// Host API. The persistent result cache: node results kept on disk between runs.
 //
 // An entry is one file, <dir>/<2 hex>/<16 hex key>.loomcache, named by
 //   key = H(computation hash, the plugin library's build identity,

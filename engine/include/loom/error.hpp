@@ -1,4 +1,4 @@
-// The one error type a node throws. Its message is for the user: say what is
+// Plugin author API. The one error type a node throws. Its message is for the user: say what is
 // wrong and what to do ("mask is empty: nothing to blend"). The engine adds the
 // node id, so a node never repeats it.
 #pragma once

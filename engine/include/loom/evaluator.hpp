@@ -1,4 +1,4 @@
-// Evaluation: what the runner and the editor call.
+// Host API. Evaluation: what the runner and the editor call.
 //
 // A Session owns the cache. evaluate() plans from the requested targets (sinks
 // by default), prunes what they do not need, runs independent nodes in

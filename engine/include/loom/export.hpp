@@ -1,4 +1,4 @@
-// Symbol visibility for the engine libraries. Plugins build with hidden
+// Plugin author API. Symbol visibility for the engine libraries. Plugins build with hidden
 // visibility, so only what is marked here crosses a shared-library boundary.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Frame numbers in output paths: "frames/cloth_{frame:04}.png" at frame 7 is
+// Plugin author API. Frame numbers in output paths: "frames/cloth_{frame:04}.png" at frame 7 is
 // "frames/cloth_0007.png". {frame} is the plain number, {frame:N} pads it with
 // zeros to N digits (also written {frame:0N}). The engine expands every
 // output-file input this way before a node runs, so each sink writes one file

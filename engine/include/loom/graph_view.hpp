@@ -1,4 +1,4 @@
-// For hosts (the runner, the editor, Python), not plugin authors.
+// Host API (the runner, the editor, Python), not for plugin authors.
 //
 // The engine's one view of a loaded, validated graph: what each node is, what
 // an "ID.INPUT" or "ID.OUTPUT" address names, which nodes are sinks, which

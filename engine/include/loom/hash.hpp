@@ -1,4 +1,4 @@
-// Stable 64-bit hashing for computation hashes, cache keys and RNG seeds.
+// Author and host API. Stable 64-bit hashing for computation hashes, cache keys and RNG seeds.
 // Stable means: the same bytes give the same hash in every run and build, so
 // seeds derived from it reproduce (std::hash promises neither).
 #pragma once

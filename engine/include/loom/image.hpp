@@ -1,4 +1,4 @@
-// Image: float32 pixels, 1 to 4 channels (gray, gray+alpha, RGB, RGBA, in that
+// Plugin author API. Image: float32 pixels, 1 to 4 channels (gray, gray+alpha, RGB, RGBA, in that
 // order: RGB, not OpenCV's BGR), row-major, origin top-left, y down. Tagged
 // with its encoding so nothing is converted twice: LoadImage decodes sRGB to
 // linear by default or keeps the encoded values (image editing works on those,

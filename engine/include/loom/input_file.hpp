@@ -1,4 +1,4 @@
-// A node's input file that is not there: the error names the closest existing
+// Plugin author API. A node's input file that is not there: the error names the closest existing
 // names in its folder ("balls.obj": did you mean "Balls.obj"?) and how a
 // relative path was resolved, so a typo or a wrong folder is one glance away.
 #pragma once

@@ -1,4 +1,4 @@
-// Mesh: a triangle mesh as Eigen matrices, in the libigl style.
+// Plugin author API. Mesh: a triangle mesh as Eigen matrices, in the libigl style.
 //   V  #V by 3  vertex positions
 //   F  #F by 3  vertex indices of each triangle, counter-clockwise seen from outside
 //   UV #V by 2  per-vertex texture coordinates in [0,1]², or empty

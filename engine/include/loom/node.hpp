@@ -1,4 +1,4 @@
-// What a node author writes against: the declaration (NodeSpec) and the three
+// Plugin author API. What a node author writes against: the declaration (NodeSpec) and the three
 // objects a node's run function receives (Inputs, Outputs, Context).
 //
 //   struct Checkerboard {

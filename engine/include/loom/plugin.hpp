@@ -1,4 +1,4 @@
-// Plugin entry points. A plugin is one shared library:
+// Plugin author API. Plugin entry points. A plugin is one shared library:
 //
 //   plugin.cpp:      LOOM_PLUGIN("warp", "ImageWarp: IDW and RBF warping");
 //   image_warp.cpp:  struct ImageWarp { ... };  LOOM_NODE(ImageWarp);

@@ -1,4 +1,4 @@
-// Finding and loading plugins.
+// Host API. Finding and loading plugins.
 //
 // Each plugin library libloom_NAME.so has a manifest beside it,
 // libloom_NAME.loom.json, written at build time: {"plugin", "abi", "nodes"}.

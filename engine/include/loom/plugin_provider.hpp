@@ -1,4 +1,4 @@
-// Node types provided on demand, by name: for plugins whose types are not
+// Plugin author API. Node types provided on demand, by name: for plugins whose types are not
 // known when the plugin is built (the `python` plugin's nodes live in .py
 // files on a search path).
 //

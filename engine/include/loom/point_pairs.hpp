@@ -1,4 +1,4 @@
-// PointPairs: control point pairs p_i -> q_i for warping, in pixel coordinates
+// Plugin author API. PointPairs: control point pairs p_i -> q_i for warping, in pixel coordinates
 // (origin top-left, x right, y down; pixel centers at integer + 0.5).
 // In graph files: [[px, py, qx, qy], ...] or [{"p": [x, y], "q": [x, y]}, ...].
 #pragma once

@@ -1,4 +1,4 @@
-// PointSet: particles and point clouds, in the libigl style.
+// Plugin author API. PointSet: particles and point clouds, in the libigl style.
 //   P  #P by 3  positions (2D simulations write z = 0)
 //   radius  #P  per-point radius, or empty (the consumer's default radius)
 //   C  #P by 3  per-point linear RGB colors, or empty

@@ -1,4 +1,4 @@
-// Polylines: line sets (trajectories, springs, wireframes).
+// Plugin author API. Polylines: line sets (trajectories, springs, wireframes).
 //   P  #P by 3  vertex positions
 //   E  #E by 2  segments as pairs of vertex indices
 //   C  #P by 3  per-vertex linear RGB colors, or empty

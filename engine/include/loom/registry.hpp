@@ -1,4 +1,4 @@
-// The table of node types. One Registry per engine instance; plugins add to
+// Host API. The table of node types. One Registry per engine instance; plugins add to
 // it through their entry point (loom/plugin.hpp).
 #pragma once
 

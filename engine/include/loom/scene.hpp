@@ -1,4 +1,4 @@
-// Scene: what both renderers draw: Render (plugin shading, OpenGL through
+// Plugin author API. Scene: what both renderers draw: Render (plugin shading, OpenGL through
 // OSMesa) and PathTrace (plugin pathtrace, Embree). Nodes assemble it; the
 // renderers never keep a scene description of their own.
 //

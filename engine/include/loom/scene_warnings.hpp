@@ -1,4 +1,4 @@
-// What both renderers (Render and PathTrace) warn about before drawing a
+// Plugin author API. What both renderers (Render and PathTrace) warn about before drawing a
 // scene, so a silent black or untextured image says why.
 #pragma once
 

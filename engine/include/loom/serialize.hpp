@@ -1,4 +1,4 @@
-// Binary serialization of values, for the persistent result cache.
+// Plugin author API. Binary serialization of values, for the persistent result cache.
 //
 // A type that can be stored on disk gives its TypeTraits two functions:
 //

@@ -1,4 +1,4 @@
-// "Did you mean": near names for a name that matched nothing (node types,
+// Author and host API. "Did you mean": near names for a name that matched nothing (node types,
 // inputs), so a typo gets an answer instead of a list to read.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Staging files that never outlive the process that made them, short of
+// Plugin author API. Staging files that never outlive the process that made them, short of
 // SIGKILL: a TemporaryFile removes itself when destroyed uncommitted, and every
 // live one is listed where a signal handler can reach it
 // (remove_temporary_files, async-signal-safe), so a runner that is told to

@@ -1,4 +1,4 @@
-// loom::testing: run graphs in-process from a plugin's own tests, inside or
+// Author and host API. loom::testing: run graphs in-process from a plugin's own tests, inside or
 // outside the Loom tree. Installed with the SDK as the CMake target
 // loom::testing; loom_add_plugin(... TESTS a_test.cpp) links it for you.
 //

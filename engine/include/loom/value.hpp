@@ -1,4 +1,4 @@
-// Values: immutable, shared, typed by a name registered in the engine.
+// Plugin author API. Values: immutable, shared, typed by a name registered in the engine.
 //
 // A Value is a std::shared_ptr<const void> plus the TypeInfo of its type, so
 // fan-out and caching copy a pointer, never pixels. Types are identified by

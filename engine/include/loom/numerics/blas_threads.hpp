@@ -1,4 +1,4 @@
-// OpenBLAS's thread count, for the sparse solvers' BLAS calls. Loom runs BLAS
+// Plugin author API. OpenBLAS's thread count, for the sparse solvers' BLAS calls. Loom runs BLAS
 // on the calling thread (docs/architecture.md, decision 16); benchmarks use
 // this to measure what more threads would give.
 #pragma once

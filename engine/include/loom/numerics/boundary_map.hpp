@@ -1,4 +1,4 @@
-// Fixed boundaries for a disk-topology map: a boundary loop placed on the
+// Plugin author API. Fixed boundaries for a disk-topology map: a boundary loop placed on the
 // unit circle or the unit square by arc length.
 #pragma once
 

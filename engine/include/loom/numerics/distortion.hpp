@@ -1,4 +1,4 @@
-// Distortion of a parameterization, the report every flattening node gives.
+// Plugin author API. Distortion of a parameterization, the report every flattening node gives.
 //
 // Per triangle t with area A_t in 3D, the Jacobian J_t of the map from its
 // isometric 2D frame to UV has singular values σ1 >= σ2; the UV mesh is scaled

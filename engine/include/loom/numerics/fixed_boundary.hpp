@@ -1,4 +1,4 @@
-// Maps with fixed boundary values: every free vertex is the weighted average of
+// Plugin author API. Maps with fixed boundary values: every free vertex is the weighted average of
 // its neighbours, Σ_j w_ij (x_j - x_i) = 0 (Tutte 1963; Floater 1997, 2003),
 // one factorization for all k coordinates. Shared by the parameterize plugin
 // (every weight and boundary) and the arap plugin (its Tutte start).

@@ -1,4 +1,4 @@
-// Discrete Laplacians as sparse weight matrices.
+// Plugin author API. Discrete Laplacians as sparse weight matrices.
 //
 // Each returns W, #V by #V, W(i,j) = w_ij for each edge (i,j), zero diagonal.
 // The Laplacian is L = W - diag(W·1) (negative semi-definite when w_ij >= 0),

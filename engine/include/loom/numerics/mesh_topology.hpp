@@ -1,4 +1,4 @@
-// Combinatorial mesh operators on F (#F by 3 triangle indices into #V vertices).
+// Plugin author API. Combinatorial mesh operators on F (#F by 3 triangle indices into #V vertices).
 #pragma once
 
 #include <vector>

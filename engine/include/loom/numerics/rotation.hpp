@@ -1,4 +1,4 @@
-// Rotations as people type them: Euler angles in degrees.
+// Plugin author API. Rotations as people type them: Euler angles in degrees.
 #pragma once
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Sparse direct solves, in one place for every plugin.
+// Plugin author API. Sparse direct solves, in one place for every plugin.
 //
 // SparseCholesky: symmetric positive definite systems through CHOLMOD
 // (supernodal, BLAS from OpenBLAS; SuiteSparse is a required dependency).

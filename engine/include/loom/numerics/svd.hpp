@@ -1,4 +1,4 @@
-// Small SVDs for local steps (ARAP) and distortion metrics.
+// Plugin author API. Small SVDs for local steps (ARAP) and distortion metrics.
 #pragma once
 
 #include <Eigen/Core>

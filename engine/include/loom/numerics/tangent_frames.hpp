@@ -1,4 +1,4 @@
-// Per-vertex frames for shading: normals and the tangents dP/du, dP/dv that
+// Plugin author API. Per-vertex frames for shading: normals and the tangents dP/du, dP/dv that
 // normal mapping (tangent space) and displacement mapping (the displaced
 // surface's normal) need. Used by both renderers: Render (plugin shading)
 // uploads them to its shaders, PathTrace (plugin pathtrace) interpolates them
