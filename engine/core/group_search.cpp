@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "loom/graph.hpp"
+#include "loom/search_path.hpp"
 
 namespace loom {
 
@@ -25,17 +26,7 @@ fs::path shipped_library() {
 }  // namespace
 
 std::vector<fs::path> graph_search_path() {
-  std::vector<fs::path> path;
-  if (const char* env = std::getenv("LOOM_GRAPH_PATH")) {
-    const std::string s = env;
-    std::size_t start = 0;
-    while (start <= s.size()) {
-      std::size_t end = s.find(':', start);
-      if (end == std::string::npos) end = s.size();
-      if (end > start) path.push_back(fs::absolute(s.substr(start, end - start)).lexically_normal());
-      start = end + 1;
-    }
-  }
+  std::vector<fs::path> path = search_path_from_env("LOOM_GRAPH_PATH");
   if (fs::path lib = shipped_library(); !lib.empty()) path.push_back(lib);
   return path;
 }

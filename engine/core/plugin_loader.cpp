@@ -12,6 +12,7 @@
 #include "build_identity.hpp"
 #include "loom/plugin.hpp"
 #include "loom/plugin_provider.hpp"
+#include "loom/search_path.hpp"
 
 namespace loom {
 
@@ -77,25 +78,7 @@ std::vector<fs::path> PluginLoader::default_search_path() {
   std::error_code ec;
   fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (!ec) path.push_back((exe.parent_path() / ".." / "lib" / "loom" / "plugins").lexically_normal());
-  if (const char* env = std::getenv("LOOM_PLUGIN_PATH")) {
-    std::string s = env;
-    std::size_t start = 0;
-    while (start <= s.size()) {
-      std::size_t end = s.find(':', start);
-      if (end == std::string::npos) end = s.size();
-      if (end > start) {
-        // A relative entry would make whatever folder loom runs in a plugin
-        // source: refused, with a warning.
-        fs::path entry = s.substr(start, end - start);
-        if (entry.is_absolute())
-          path.push_back(entry.lexically_normal());
-        else
-          std::cerr << "warning: LOOM_PLUGIN_PATH entry \"" << entry.string()
-                    << "\" ignored: plugin folders must be absolute paths\n";
-      }
-      start = end + 1;
-    }
-  }
+  for (fs::path& dir : search_path_from_env("LOOM_PLUGIN_PATH")) path.push_back(std::move(dir));
   return path;
 }
 

@@ -5,6 +5,8 @@
 
 #include <dlfcn.h>
 
+#include "loom/search_path.hpp"
+
 namespace loom::testing {
 
 namespace fs = std::filesystem;
@@ -86,15 +88,7 @@ std::vector<fs::path> search_path(const std::vector<fs::path>& plugin_dirs) {
   std::vector<fs::path> path{installed_plugin_dir()};
   for (const auto& d : plugin_dirs)
     if (!d.empty()) path.push_back(d);
-  if (const char* env = std::getenv("LOOM_PLUGIN_PATH")) {
-    std::string s = env;
-    for (std::size_t start = 0; start <= s.size();) {
-      std::size_t end = s.find(':', start);
-      if (end == std::string::npos) end = s.size();
-      if (end > start) path.emplace_back(s.substr(start, end - start));
-      start = end + 1;
-    }
-  }
+  for (fs::path& dir : search_path_from_env("LOOM_PLUGIN_PATH")) path.push_back(std::move(dir));
   return path;
 }
 
