@@ -1,7 +1,5 @@
 // The `loom` command: run, validate, list nodes and plugins, describe image files.
-//
-// Exit codes: 0 success; 1 a node failed (other outputs still written);
-// 2 invalid graph or usage; 3 plugin load error; 130 interrupted.
+// Its exit codes: cli/exit_codes.hpp.
 #include <atomic>
 #include <cstdio>
 #include <fstream>
@@ -293,9 +291,7 @@ CLI::App* add_run_command(CLI::App& app, RunSettings& s, loom::runner::SweepRequ
 // Longer than our ~80-line rule on purpose: it is the command line's
 // declaration, one option per line, read top to bottom like `loom --help`.
 int main(int argc, char** argv) {
-  CLI::App app{"loom: run graphs of computer-graphics nodes.\n"
-               "Exit codes: 0 ok, 1 a node failed, 2 invalid graph or usage, 3 plugin load error, "
-               "130 interrupted."};
+  CLI::App app{std::string("loom: run graphs of computer-graphics nodes.\n") + loom::runner::kExitCodesText};
   app.require_subcommand(1);
 
   std::string graph_path, type, manifest_lib, manifest_out;

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <vector>
 
+#include "cli/exit_codes.hpp"
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
 #include "loom/plugin_loader.hpp"
@@ -70,7 +71,7 @@ int new_plugin(const std::string& name, const fs::path& dir) {
     std::cerr << "error: plugin name \"" << name
               << "\" must start with a lowercase letter and hold only a-z, 0-9 and _ "
                  "(it names libloom_NAME.so)\n";
-    return 2;
+    return kInvalid;
   }
   // A plugin of the same name on the path would shadow the new one, or be shadowed.
   loom::Registry registry;
@@ -79,20 +80,20 @@ int new_plugin(const std::string& name, const fs::path& dir) {
     if (p.name == name) {
       std::cerr << "error: a plugin named \"" << name << "\" is already on the plugin path ("
                 << p.library.string() << "): choose another name\n";
-      return 2;
+      return kInvalid;
     }
   const fs::path templates = plugin_template_dir();
   std::error_code ec;
   if (!fs::is_directory(templates, ec)) {
     std::cerr << "error: plugin templates not found in " << templates.string()
               << " (this loom's install is incomplete: reinstall Loom)\n";
-    return 2;
+    return kInvalid;
   }
   const fs::path target = fs::absolute(dir / name).lexically_normal();
   if (fs::exists(target, ec) && !(fs::is_directory(target, ec) && fs::is_empty(target, ec))) {
     std::cerr << "error: " << target.string() << " already exists and is not an empty folder: "
               << "choose another name or --dir\n";
-    return 2;
+    return kInvalid;
   }
 
   // The Loom this command belongs to, for find_package(loom) and the README.
@@ -115,7 +116,7 @@ int new_plugin(const std::string& name, const fs::path& dir) {
     }
   } catch (const Error& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return kInvalid;
   }
 
   std::cout << "wrote plugin \"" << name << "\" (node " << scaffold_node_name(name) << ") in "
@@ -130,7 +131,7 @@ int new_plugin(const std::string& name, const fs::path& dir) {
     std::cout << "\nnote: " << prefix.string() << " is a Loom build tree, not an install: run "
               << "`cmake --install " << prefix.string() << " --prefix DIR` and use DIR as "
               << "CMAKE_PREFIX_PATH and DIR/bin/loom instead\n";
-  return 0;
+  return kOk;
 }
 
 }  // namespace loom::runner

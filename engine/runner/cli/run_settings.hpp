@@ -11,10 +11,9 @@
 #include "loom/graph.hpp"
 #include "loom/plugin_loader.hpp"
 
-namespace loom::runner {
+#include "cli/exit_codes.hpp"
 
-// `loom` exit codes (main.cpp's list).
-enum Exit { kOk = 0, kNodeFailed = 1, kInvalid = 2, kPluginError = 3, kInterrupted = 130 };
+namespace loom::runner {
 
 // Where the persistent cache lives and how it behaves (`--cache`,
 // `--cache-limit`, `--no-cache`, `--cache-min-seconds`, `--cache-no-trim`).

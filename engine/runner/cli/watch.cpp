@@ -10,6 +10,7 @@
 #include <sys/inotify.h>
 #include <unistd.h>
 
+#include "cli/exit_codes.hpp"
 #include "loom/graph.hpp"
 #include "loom/graph_view.hpp"
 #include "loom/input_file.hpp"
@@ -117,23 +118,23 @@ int watch(const fs::path& graph_file, const std::atomic<bool>& cancel, const std
     if (const std::string kind = not_a_regular_file(graph_file); !kind.empty()) {
       std::fprintf(stderr, "error: --watch: %s is %s, not a file: --watch follows a graph file as it is saved\n",
                    graph_file.c_str(), kind.c_str());
-      return 2;
+      return kInvalid;
     }
     // Watched from before the run, so a save during the run is not missed;
     // listed again each time, as the graph may name other files now.
     const std::vector<fs::path> files = files_read(graph_file);
-    if (cancel.load()) return 130;
+    if (cancel.load()) return kInterrupted;
     FolderWatch watch(files);
     const int code = run_once();
     if (cancel.load()) return code;
     if (!watch.problem().empty()) {
       std::fprintf(stderr, "error: --watch: %s\n", watch.problem().c_str());
-      return 2;
+      return kInvalid;
     }
     std::fprintf(stderr, "watching %zu file%s for changes (Ctrl-C to stop)\n", files.size(),
                  files.size() == 1 ? "" : "s");
     const std::set<fs::path> changed = watch.wait(cancel);
-    if (changed.empty()) return 0;
+    if (changed.empty()) return kOk;
     std::fprintf(stderr, "changed: %s: running again\n", names(changed).c_str());
   }
 }

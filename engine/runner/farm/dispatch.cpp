@@ -14,9 +14,10 @@
 #include <map>
 #include <optional>
 
+#include "cli/exit_codes.hpp"
+#include "cli/signals.hpp"
 #include "farm/child_process.hpp"
 #include "farm/jobs.hpp"
-#include "cli/signals.hpp"
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
 
@@ -80,9 +81,9 @@ bool run_stage(const JobManifest& m, const std::vector<int>& ids) {
     const int id = it->second;
     running.erase(it);
     const TaskStatus s = read_status(m.dir, id);
-    ok = ok && s.state == "done";
+    ok = ok && s.state == TaskState::done;
     std::fprintf(stderr, "task %d (%s): %s after %d attempt%s, %.2f s\n", id, m.tasks[id].name.c_str(),
-                 s.state.c_str(), s.attempts, s.attempts == 1 ? "" : "s", s.seconds);
+                 task_state_text(s.state), s.attempts, s.attempts == 1 ? "" : "s", s.seconds);
   }
   return ok && !cancel_flag();
 }
@@ -127,7 +128,7 @@ int dispatch_local(const JobManifest& m, const std::vector<int>& asked) {
                       std::to_string(::getpid()) + " " + std::to_string(process_start_time(::getpid())) + "\n");
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return kInvalid;
   }
   // What another dispatcher finished after this process started (between
   // its reading the statuses and taking the lock) is not run again.
@@ -135,7 +136,7 @@ int dispatch_local(const JobManifest& m, const std::vector<int>& asked) {
   for (int id : asked) {
     std::error_code ec;
     const auto written = fs::last_write_time(task_status_path(m.dir, id), ec);
-    if (ec || written < process_started() || read_status(m.dir, id).state != "done") ids.push_back(id);
+    if (ec || written < process_started() || read_status(m.dir, id).state != TaskState::done) ids.push_back(id);
   }
   stop_on_signals(false);
   bool ok = true, previous_ok = true;
@@ -154,7 +155,7 @@ int dispatch_local(const JobManifest& m, const std::vector<int>& asked) {
   fs::remove(m.dir / "local.pid", ec);
   if (cancel_flag()) {
     std::cerr << "interrupted: `loom jobs resume " << m.dir.string() << "` runs what is missing\n";
-    return 130;
+    return kInterrupted;
   }
   return ok ? 0 : 1;
 }
@@ -165,12 +166,12 @@ int submit_slurm(const JobManifest& m, const std::vector<int>& ids) {
     lock.emplace(m.dir);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return kInvalid;
   }
   if (slurm_jobs_queued(m)) {
     std::cerr << "error: Slurm jobs of " << m.dir.string() << " are still queued or running (squeue): wait for "
               << "them, or `loom jobs cancel " << m.dir.string() << "`\n";
-    return 2;
+    return kInvalid;
   }
   std::string previous;
   for (const auto& [stage, stage_ids] : slurm_arrays(m, ids)) {
@@ -192,14 +193,14 @@ int submit_slurm(const JobManifest& m, const std::vector<int>& ids) {
     const std::string job = out.substr(0, out.find_first_of(";\n"));
     if (exit != 0 || job.empty()) {
       std::cerr << "error: sbatch failed (exit " << exit << ") for stage " << stage << " of " << m.dir.string() << "\n";
-      return 3;
+      return kLaunchFailed;
     }
     append_line(m.dir / "slurm" / "jobs", job);
     std::fprintf(stderr, "submitted %zu task%s as Slurm job %s\n", stage_ids.size(), stage_ids.size() == 1 ? "" : "s",
                  job.c_str());
     previous = job;
   }
-  return 0;
+  return kOk;
 }
 
 namespace {
@@ -208,7 +209,7 @@ namespace {
 std::string missing_tasks(const JobManifest& m) {
   std::string missing;
   for (const Task& t : m.tasks)
-    if (t.stage != kAssemble && read_status(m.dir, t.id).state != "done")
+    if (t.stage != kAssemble && read_status(m.dir, t.id).state != TaskState::done)
       missing += (missing.empty() ? "" : ", ") + std::to_string(t.id) + " (" + t.name + ")";
   return missing;
 }
@@ -224,7 +225,7 @@ std::string try_end(int exit, bool signalled) {
 // `loom jobs resume` runs it again.
 std::vector<TaskTry> earlier_tries(const JobManifest& m, int id) {
   TaskStatus before = read_status(m.dir, id);
-  if (before.state == "running") {
+  if (before.state == TaskState::running) {
     const char* restarts = std::getenv("SLURM_RESTART_COUNT");
     const bool requeued = restarts && std::atoi(restarts) > 0;
     before.tries.push_back(
@@ -245,7 +246,7 @@ int run_attempt(const JobManifest& m, int id, const std::vector<std::string>& ar
   ::close(log);
   if (pid < 0) {
     append_task_log(m.dir, id, "error: cannot start " + argv[0] + ": " + std::strerror(error));
-    return 3;
+    return kLaunchFailed;
   }
   int exit = -1;
   while ((exit = wait_process(pid, signalled)) == -1 && errno == EINTR) {
@@ -259,7 +260,7 @@ int run_task(const JobManifest& m, int id) {
   if (id < 0 || id >= static_cast<int>(m.tasks.size())) {
     std::cerr << "error: " << m.dir.string() << " has no task " << id << " (its tasks are 0 to "
               << static_cast<long>(m.tasks.size()) - 1 << ")\n";
-    return 2;
+    return kInvalid;
   }
   stop_on_signals(false);
   const Task& task = m.tasks[static_cast<std::size_t>(id)];
@@ -267,7 +268,7 @@ int run_task(const JobManifest& m, int id) {
   check_job_subfolders(m.dir);  // logs/ or status/ deleted by hand: made again
   TaskStatus s;
   s.tries = earlier_tries(m, id);
-  s.state = "running";
+  s.state = TaskState::running;
   s.host = host_name();
   s.pid = ::getpid();
   s.pid_start = process_start_time(s.pid);
@@ -281,13 +282,13 @@ int run_task(const JobManifest& m, int id) {
   try {
     if (task.stage == kAssemble) {
       if (std::string missing = missing_tasks(m); !missing.empty()) {
-        s.state = "failed";
+        s.state = TaskState::failed;
         s.exit = 1;
         s.message = "not every task is done: " + missing + " (loom jobs resume runs them)";
         s.tries.push_back({s.host, "exit 1", 0});
         append_task_log(m.dir, id, "error: " + s.message);
         write_status(m.dir, id, s);
-        return 1;
+        return kNodeFailed;
       }
     }
     std::vector<std::string> argv = {s.loom};
@@ -313,7 +314,9 @@ int run_task(const JobManifest& m, int id) {
   }
   s.attempts = static_cast<int>(s.tries.size());
   s.seconds = seconds_since(start);
-  s.state = s.exit == 0 ? "done" : s.exit == 130 || cancel_flag() ? "cancelled" : "failed";
+  s.state = s.exit == 0                               ? TaskState::done
+            : s.exit == kInterrupted || cancel_flag() ? TaskState::cancelled
+                                                      : TaskState::failed;
   if (cancel_flag() && s.exit != 130) s.exit = 130;
   write_status(m.dir, id, s);
   return s.exit;

@@ -2,6 +2,7 @@
 
 #include <iostream>
 
+#include "cli/exit_codes.hpp"
 #include "farm/dispatch.hpp"
 #include "farm/jobs.hpp"
 #include "farm/submit.hpp"
@@ -75,7 +76,7 @@ int Commands::run() {
     m = load_manifest(job_dir_);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 2;
+    return kInvalid;
   }
   // A job folder that cannot be written (a read-only mount, a full disk) is
   // an error naming the file, never an abort.
@@ -86,7 +87,7 @@ int Commands::run() {
     return run_task(m, task_);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 1;
+    return kNodeFailed;
   }
 }
 

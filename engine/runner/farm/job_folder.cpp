@@ -239,6 +239,26 @@ JobLock::~JobLock() {
   if (fd_ >= 0) ::close(fd_);
 }
 
+namespace {
+constexpr std::pair<TaskState, const char*> kTaskStates[] = {{TaskState::pending, "pending"},
+                                                             {TaskState::running, "running"},
+                                                             {TaskState::done, "done"},
+                                                             {TaskState::failed, "failed"},
+                                                             {TaskState::cancelled, "cancelled"}};
+}  // namespace
+
+const char* task_state_text(TaskState state) {
+  for (const auto& [s, text] : kTaskStates)
+    if (s == state) return text;
+  return "pending";
+}
+
+std::optional<TaskState> task_state_from_text(const std::string& text) {
+  for (const auto& [s, word] : kTaskStates)
+    if (text == word) return s;
+  return std::nullopt;
+}
+
 TaskStatus read_status(const fs::path& job, int id) {
   TaskStatus s;
   std::error_code ec;
@@ -246,7 +266,7 @@ TaskStatus read_status(const fs::path& job, int id) {
   const json doc = json::parse(read_text(task_status_path(job, id)), nullptr, false);
   if (!doc.is_object()) return s;
   try {
-    s.state = doc.value("state", "pending");
+    s.state = task_state_from_text(doc.value("state", "pending")).value_or(TaskState::pending);
     s.exit = doc.value("exit", -1);
     s.attempts = doc.value("attempts", 0);
     s.seconds = doc.value("seconds", 0.0);
@@ -265,9 +285,14 @@ TaskStatus read_status(const fs::path& job, int id) {
 }
 
 void write_status(const fs::path& job, int id, const TaskStatus& s) {
-  const json doc = {{"state", s.state},     {"exit", s.exit}, {"attempts", s.attempts},
-                    {"seconds", s.seconds}, {"host", s.host}, {"message", s.message},
-                    {"pid", s.pid},         {"pid_start", s.pid_start}};
+  const json doc = {{"state", task_state_text(s.state)},
+                    {"exit", s.exit},
+                    {"attempts", s.attempts},
+                    {"seconds", s.seconds},
+                    {"host", s.host},
+                    {"message", s.message},
+                    {"pid", s.pid},
+                    {"pid_start", s.pid_start}};
   json written = doc;
   written["loom"] = s.loom;
   written["tries"] = json::array();

@@ -55,8 +55,14 @@ struct TaskTry {
   double seconds = 0;
 };
 
+// Where a task stands, as its status file says it in words.
+enum class TaskState { pending, running, done, failed, cancelled };
+const char* task_state_text(TaskState state);
+// nullopt for a word no status file holds.
+std::optional<TaskState> task_state_from_text(const std::string& text);
+
 struct TaskStatus {
-  std::string state = "pending";  // pending, running, done, failed, cancelled
+  TaskState state = TaskState::pending;
   int exit = -1;
   int attempts = 0;
   double seconds = 0;

@@ -33,18 +33,18 @@ void print_tries(const TaskStatus& s) {
 }  // namespace
 
 int jobs_status(const JobManifest& m) {
-  std::map<std::string, int> counts;
+  std::map<TaskState, int> counts;
   for (const Task& t : m.tasks) {
     const TaskStatus s = read_status(m.dir, t.id);
     ++counts[s.state];
-    std::printf("%4d  %-9s %-28s attempts %d  %7.2f s  %s%s\n", t.id, s.state.c_str(), t.name.c_str(), s.attempts,
-                s.seconds, s.host.c_str(), s.message.empty() ? "" : ("  " + s.message).c_str());
+    std::printf("%4d  %-9s %-28s attempts %d  %7.2f s  %s%s\n", t.id, task_state_text(s.state), t.name.c_str(),
+                s.attempts, s.seconds, s.host.c_str(), s.message.empty() ? "" : ("  " + s.message).c_str());
     print_tries(s);
   }
   std::printf("%zu tasks: %d done, %d failed, %d cancelled, %d running, %d pending (%s)\n", m.tasks.size(),
-              counts["done"], counts["failed"], counts["cancelled"], counts["running"], counts["pending"],
-              m.to.c_str());
-  return counts["done"] == static_cast<int>(m.tasks.size()) ? 0 : 1;
+              counts[TaskState::done], counts[TaskState::failed], counts[TaskState::cancelled],
+              counts[TaskState::running], counts[TaskState::pending], m.to.c_str());
+  return counts[TaskState::done] == static_cast<int>(m.tasks.size()) ? kOk : kNodeFailed;
 }
 
 bool slurm_jobs_queued(const JobManifest& m) {
@@ -148,18 +148,18 @@ int jobs_resume(JobManifest& m, int jobs) {
   int unused = 0;
   for (const Task& t : m.tasks) {
     const TaskStatus s = read_status(m.dir, t.id);
-    const std::string& state = s.state;
-    if (state == "running" && still_running(m, s, t.id)) {
+    const TaskState state = s.state;
+    if (state == TaskState::running && still_running(m, s, t.id)) {
       std::cerr << "error: task " << t.id << " (" << t.name << ") is running: wait for it or `loom jobs cancel`\n";
-      return 2;
+      return kInvalid;
     }
-    if (state == "done" && !graph && fs::exists(m.dir / "graph.json"))
+    if (state == TaskState::done && !graph && fs::exists(m.dir / "graph.json"))
       graph = load_for_run((m.dir / "graph.json").string(), {}, &unused);
-    if (state != "done" || outputs_missing(t, graph)) ids.push_back(t.id);
+    if (state != TaskState::done || outputs_missing(t, graph)) ids.push_back(t.id);
   }
   if (ids.empty()) {
     std::cerr << "every task of " << m.dir.string() << " is done\n";
-    return 0;
+    return kOk;
   }
   std::cerr << "resuming " << ids.size() << " of " << m.tasks.size() << " tasks\n";
   if (jobs > 0) m.jobs = jobs;
@@ -175,7 +175,7 @@ int cancel_slurm(const JobManifest& m) {
     if (!id.empty()) argv.push_back(id);
   if (argv.size() == 1) {
     std::cerr << "nothing submitted from " << m.dir.string() << "\n";
-    return 0;
+    return kOk;
   }
   int exit = 0;
   capture_output(argv, &exit);
@@ -189,14 +189,14 @@ int cancel_orphaned_tasks(const JobManifest& m) {
   int signalled = 0;
   for (const Task& t : m.tasks) {
     const TaskStatus s = read_status(m.dir, t.id);
-    if (s.state != "running" || s.host != host_name() || !task_process_alive(m.dir, s, t.id)) continue;
+    if (s.state != TaskState::running || s.host != host_name() || !task_process_alive(m.dir, s, t.id)) continue;
     const pid_t pid = static_cast<pid_t>(s.pid);
     ::kill(::getpgid(pid) == pid ? -pid : pid, SIGTERM);  // its group: the task and its `loom run`
     std::cerr << "sent SIGTERM to task " << t.id << " (" << t.name << ", pid " << pid << "), whose dispatcher is gone\n";
     ++signalled;
   }
   if (signalled == 0) std::cerr << "nothing of " << m.dir.string() << " is running on this machine\n";
-  return 0;
+  return kOk;
 }
 
 }  // namespace
@@ -210,7 +210,7 @@ int jobs_cancel(const JobManifest& m) {
   if (pid > 0 && same_process(pid, start, {})) {
     ::kill(static_cast<pid_t>(pid), SIGTERM);  // it passes SIGTERM on to every running task
     std::cerr << "sent SIGTERM to the local dispatcher (pid " << pid << ")\n";
-    return 0;
+    return kOk;
   }
   if (pid > 0 && process_start_time(pid) != 0)
     std::cerr << "local.pid names pid " << pid << ", which is no longer this job's dispatcher: not signalled\n";

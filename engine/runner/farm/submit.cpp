@@ -19,17 +19,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool on_path(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  std::string dirs = path ? path : "";
-  for (std::size_t at = 0; at <= dirs.size();) {
-    const std::size_t end = std::min(dirs.find(':', at), dirs.size());
-    if (::access((fs::path(dirs.substr(at, end - at)) / program).c_str(), X_OK) == 0) return true;
-    at = end + 1;
-  }
-  return false;
-}
-
 // The file `program` names on PATH, or "".
 std::string which(const std::string& program) {
   const char* path = std::getenv("PATH");
@@ -228,7 +217,7 @@ bool clear_job_folder(const fs::path& job) {
       return false;
     }
     for (const Task& t : old->tasks)
-      if (const TaskStatus s = read_status(job, t.id); s.state == "running" && still_running(*old, s, t.id)) {
+      if (const TaskStatus s = read_status(job, t.id); s.state == TaskState::running && still_running(*old, s, t.id)) {
         std::cerr << "error: task " << t.id << " of the job in " << job.string()
                   << " is running: `loom jobs cancel` it first, or give another --job-dir\n";
         return false;
@@ -248,7 +237,7 @@ int submit(SubmitRequest& r) {
   if (r.sim_chunk > 0 && r.no_cache) {
     std::cerr << "error: --sim-chunk hands each segment's last state to the next through the shared cache: "
                  "not with --no-cache\n";
-    return 2;
+    return kInvalid;
   }
   if (r.cache_dir.empty()) r.cache_dir = (fs::path(r.run.out_dir) / ".loom-cache").string();
   const fs::path job = fs::absolute(r.job_dir.empty() ? fs::path(r.run.out_dir) / ".loom-job" : fs::path(r.job_dir));
@@ -256,17 +245,17 @@ int submit(SubmitRequest& r) {
   std::optional<FrameRange> range;
   if (!r.run.frames.empty() && !(range = parse_frame_range(r.run.frames))) {
     std::cerr << "error: --frames: expected A-B or A (whole frame numbers, A <= B), got \"" << r.run.frames << "\"\n";
-    return 2;
+    return kInvalid;
   }
   if (!range && g->graph.time) range = FrameRange{g->graph.time->start, g->graph.time->end};
   if (range)  // a task per chunk of an endless range would exhaust memory before the first ran
     if (auto problem = frame_count_problem(*range, r.run.frames.empty() ? "the graph's time range" : "--frames")) {
       std::cerr << "error: " << *problem << "\n";
-      return 2;
+      return kInvalid;
     }
   if (r.sweep.active()) {
     const auto count = check_sweep(r.sweep, r.run, *g);
-    if (!count) return 2;
+    if (!count) return kInvalid;
     plan.plan_points(*count);
   } else if (range) {
     plan.plan_frames(*range);
@@ -275,18 +264,18 @@ int submit(SubmitRequest& r) {
     for (const auto& t : r.run.targets) a.insert(a.end(), {"--target", t});
     plan.add("run", kWork, a);
   }
-  if (r.to.empty()) r.to = on_path("sbatch") ? "slurm" : "local";
+  if (r.to.empty()) r.to = !which("sbatch").empty() ? "slurm" : "local";
   const int cores = static_cast<int>(std::max(1L, ::sysconf(_SC_NPROCESSORS_ONLN)));
   JobManifest m{job,          self_executable(), r.to,       r.retries, r.jobs > 0 ? r.jobs : cores,
                 r.slurm_args, plan.tasks,        r.node_loom};
   try {
-    if (!clear_job_folder(job)) return 2;
+    if (!clear_job_folder(job)) return kInvalid;
     save_manifest(m);
     write_bundle(view, *g->registry, job);
     write_slurm_scripts(m);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
-    return 1;
+    return kNodeFailed;
   }
   std::fprintf(stderr, "job folder: %s (%zu tasks, %s)\n", job.c_str(), m.tasks.size(), m.to.c_str());
   if (m.to == "slurm" && m.node_loom.empty()) {
@@ -303,7 +292,7 @@ int submit(SubmitRequest& r) {
       for (const auto& a : t.args) command += " " + a;
       std::fprintf(stdout, "task %d (stage %d) %s: %s\n", t.id, static_cast<int>(t.stage), t.name.c_str(), command.c_str());
     }
-    return 0;
+    return kOk;
   }
   std::vector<int> ids;
   for (const Task& t : m.tasks) ids.push_back(t.id);

@@ -35,7 +35,7 @@ namespace {
 // The run's targets as addresses: --target's, or empty for every sink.
 std::vector<std::string> target_texts(const EvalOptions& options) {
   std::vector<std::string> texts;
-  for (const Target& t : options.targets) texts.push_back(t.output.empty() ? t.node : t.node + "." + t.output);
+  for (const Target& t : options.targets) texts.push_back(t.output.empty() ? t.node : link_text(t.node, t.output));
   return texts;
 }
 
