@@ -308,26 +308,65 @@ void Canvas::draw_group_input(ImDrawList* draw, ImFont* face, float font, ImVec2
   draw->AddText(face, font, row + ImVec2(kWidth * zoom_ - 10 * zoom_ - w, 0), kGroupColor, shown.c_str());
 }
 
+// How a node is drawn at the current zoom.
+struct Canvas::NodeLook {
+  ImVec2 at;  // top left, screen pixels
+  float font;
+  ImFont* face;
+  // Zoomed far out, labels are unreadable: leave them out (and their
+  // triangles, which llvmpipe pays for per frame) and draw plain sockets.
+  bool detail;
+  int segments;
+};
+
 void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& id) {
-  const ImVec2 a = to_screen(state.doc.position(id));
+  const float font = kUiFontSize * zoom_;
+  const bool detail = zoom_ >= kLabelZoom;
+  const NodeLook look{to_screen(state.doc.position(id)), font, font_for(font), detail, detail ? 0 : 6};
+  draw_node_box(state, draw, id, look);
+  const NodeType* t = state.doc.node_type(id);
+  if (!t) {
+    draw->AddText(look.face, font, look.at + ImVec2(8, kHeader + 2) * zoom_, IM_COL32(255, 120, 120, 255),
+                  ("unknown type " + state.doc.type_name(id)).c_str());
+    return;
+  }
+  if (state.doc.collapsed(id)) {
+    for (const auto& o : t->spec.outputs)
+      draw->AddCircleFilled(*output_socket(state, id, o.name), kSocket * zoom_, type_color(*o.type), look.segments);
+    return;
+  }
+  float y = kHeader;
+  for (const auto& o : t->spec.outputs) {
+    const ImVec2 socket = *output_socket(state, id, o.name);
+    draw->AddCircleFilled(socket, kSocket * zoom_, type_color(*o.type), look.segments);
+    if (!state.doc.exported_as(id, o.name).empty())  // an output of the group being edited
+      draw->AddCircle(socket, kSocket * 1.9f * zoom_, kGroupColor, 0, 2 * zoom_);
+    if (detail) {
+      const ImVec2 text = look.face->CalcTextSizeA(font, 1e9f, 0, o.name.c_str());
+      draw->AddText(look.face, font, look.at + ImVec2(kWidth * zoom_ - text.x - 12 * zoom_, (y + 3) * zoom_),
+                    IM_COL32(235, 235, 235, 255), o.name.c_str());
+    }
+    y += kRow;
+  }
+  for (const auto& in : t->spec.inputs) {
+    draw_input_row(state, draw, id, in, look, y);
+    y += kRow;
+  }
+  draw_node_footer(state, draw, id, look, y);
+}
+
+// The box, its header coloured by status, the id and the type under it.
+void Canvas::draw_node_box(EditorState& state, ImDrawList* draw, const std::string& id, const NodeLook& look) {
+  const ImVec2 a = look.at;
   const Box b = box(state, id);
   const ImVec2 z = ImVec2(b.width, b.height) * zoom_;
-  const NodeType* t = state.doc.node_type(id);
-  const NodeReport* report = state.report(id);
-  const LiveNode* live = state.live_node(id);
   const bool selected = state.selection.count(id) > 0;
-  const float font = kUiFontSize * zoom_;
-  ImFont* face = font_for(font);
   // Rounded corners below a pixel or two are invisible but cost a fan of
   // triangles and an anti-aliased fringe per box.
   const float rounding = zoom_ >= 0.4f ? 5 * zoom_ : 0.0f;
-  // Zoomed far out, labels are unreadable: leave them out (and their
-  // triangles, which llvmpipe pays for per frame) and draw plain sockets.
-  const bool detail = zoom_ >= kLabelZoom;
-  const int segments = detail ? 0 : 6;
-
   draw->AddRectFilled(a, a + z, IM_COL32(52, 52, 58, 240), rounding);
-  draw->AddRectFilled(a, a + ImVec2(z.x, kHeader * zoom_), status_color(report, live != nullptr), rounding,
+  draw->AddRectFilled(a, a + ImVec2(z.x, kHeader * zoom_),
+                      status_color(state.report(id), state.live_node(id) != nullptr), rounding,
                       state.doc.collapsed(id) ? ImDrawFlags_RoundCornersAll : ImDrawFlags_RoundCornersTop);
   draw->AddRect(a, a + z, selected ? IM_COL32(255, 220, 120, 255) : IM_COL32(20, 20, 24, 255), rounding, 0,
                 selected ? 2.5f : 1.0f);
@@ -336,70 +375,57 @@ void Canvas::draw_node(EditorState& state, ImDrawList* draw, const std::string& 
     draw->AddRectFilled(a + ImVec2(0, (kHeader - 4) * zoom_), a + ImVec2(z.x, kHeader * zoom_), kGroupColor);
   if (state.viewed == id) draw->AddCircleFilled(a + ImVec2(z.x - 10 * zoom_, 13 * zoom_), 4 * zoom_, IM_COL32_WHITE);
   const std::string title = state.doc.collapsed(id) ? "> " + id : id;
-  draw->AddText(face, font, a + ImVec2(8, 4) * zoom_, IM_COL32_WHITE, title.c_str());
+  draw->AddText(look.face, look.font, a + ImVec2(8, 4) * zoom_, IM_COL32_WHITE, title.c_str());
   // The type under the id (a group's file, a Repeat's body), for every kind of node.
-  if (detail)
-    draw->AddText(face, font * 0.8f, a + ImVec2(8, 22) * zoom_, IM_COL32(225, 225, 230, 255),
-                  fit_text(face, font * 0.8f, type_label(state.doc, id), (kWidth - 16) * zoom_).c_str());
-  if (!t) {
-    draw->AddText(face, font, a + ImVec2(8, kHeader + 2) * zoom_, IM_COL32(255, 120, 120, 255),
-                  ("unknown type " + state.doc.type_name(id)).c_str());
-    return;
-  }
-  if (state.doc.collapsed(id)) {
-    for (const auto& o : t->spec.outputs)
-      draw->AddCircleFilled(*output_socket(state, id, o.name), kSocket * zoom_, type_color(*o.type), segments);
-    return;
-  }
+  if (look.detail)
+    draw->AddText(look.face, look.font * 0.8f, a + ImVec2(8, 22) * zoom_, IM_COL32(225, 225, 230, 255),
+                  fit_text(look.face, look.font * 0.8f, type_label(state.doc, id), (kWidth - 16) * zoom_).c_str());
+}
+
+// An input's socket (filled when linked or fed by the group's interface), its
+// name, its value when it has one, and a red frame when it has an issue.
+void Canvas::draw_input_row(EditorState& state, ImDrawList* draw, const std::string& id, const InputSpec& in,
+                            const NodeLook& look, float y) {
+  const ImVec2 a = look.at;
+  const ImVec2 socket = *input_socket(state, id, in.name);
+  const std::string promoted = state.doc.promoted_as(id, in.name);  // fed by the group's interface
+  const bool linked = state.doc.link(id, in.name).has_value() || !promoted.empty();
   auto node_issues = state.issues.find(id);
-  float y = kHeader;
-  for (const auto& o : t->spec.outputs) {
-    const ImVec2 socket = *output_socket(state, id, o.name);
-    draw->AddCircleFilled(socket, kSocket * zoom_, type_color(*o.type), segments);
-    if (!state.doc.exported_as(id, o.name).empty())  // an output of the group being edited
-      draw->AddCircle(socket, kSocket * 1.9f * zoom_, kGroupColor, 0, 2 * zoom_);
-    if (detail) {
-      const ImVec2 text = face->CalcTextSizeA(font, 1e9f, 0, o.name.c_str());
-      draw->AddText(face, font, a + ImVec2(kWidth * zoom_ - text.x - 12 * zoom_, (y + 3) * zoom_),
-                    IM_COL32(235, 235, 235, 255), o.name.c_str());
-    }
-    y += kRow;
-  }
-  for (const auto& in : t->spec.inputs) {
-    const ImVec2 socket = *input_socket(state, id, in.name);
-    const std::string promoted = state.doc.promoted_as(id, in.name);  // fed by the group's interface
-    const bool linked = state.doc.link(id, in.name).has_value() || !promoted.empty();
-    const bool bad = node_issues != state.issues.end() && node_issues->second.count(in.name);
-    if (!promoted.empty())
-      draw->AddCircleFilled(socket, kSocket * zoom_, kGroupColor, segments);
-    else if (linked || !detail)
-      draw->AddCircleFilled(socket, kSocket * zoom_, type_color(*in.type), segments);
-    else
-      draw->AddCircle(socket, kSocket * zoom_, type_color(*in.type), 0, 1.5f * zoom_);
-    if (bad)
-      draw->AddRect(a + ImVec2(2, y) * zoom_, a + ImVec2(kWidth - 2, y + kRow) * zoom_, IM_COL32(255, 80, 80, 255));
-    if (detail) {
-      const json literal = linked ? json() : state.doc.literal(id, in.name);
-      draw->AddText(face, font, a + ImVec2(12, y + 3) * zoom_,
-                    literal.is_null() ? IM_COL32(215, 215, 215, 255) : IM_COL32(255, 255, 255, 255), in.name.c_str());
-      if (!linked) draw_value(draw, face, font, a + ImVec2(0, (y + 3) * zoom_), in, literal);
-      if (!promoted.empty()) draw_group_input(draw, face, font, a + ImVec2(0, (y + 3) * zoom_), promoted);
-    }
-    y += kRow;
-  }
-  if (detail)
-    draw->AddText(face, font * 0.9f, a + ImVec2(8, y + 2) * zoom_, IM_COL32(190, 190, 190, 255),
-                  status_text(report, live).c_str());
+  const bool bad = node_issues != state.issues.end() && node_issues->second.count(in.name);
+  if (!promoted.empty())
+    draw->AddCircleFilled(socket, kSocket * zoom_, kGroupColor, look.segments);
+  else if (linked || !look.detail)
+    draw->AddCircleFilled(socket, kSocket * zoom_, type_color(*in.type), look.segments);
+  else
+    draw->AddCircle(socket, kSocket * zoom_, type_color(*in.type), 0, 1.5f * zoom_);
+  if (bad)
+    draw->AddRect(a + ImVec2(2, y) * zoom_, a + ImVec2(kWidth - 2, y + kRow) * zoom_, IM_COL32(255, 80, 80, 255));
+  if (!look.detail) return;
+  const json literal = linked ? json() : state.doc.literal(id, in.name);
+  draw->AddText(look.face, look.font, a + ImVec2(12, y + 3) * zoom_,
+                literal.is_null() ? IM_COL32(215, 215, 215, 255) : IM_COL32(255, 255, 255, 255), in.name.c_str());
+  if (!linked) draw_value(draw, look.face, look.font, a + ImVec2(0, (y + 3) * zoom_), in, literal);
+  if (!promoted.empty()) draw_group_input(draw, look.face, look.font, a + ImVec2(0, (y + 3) * zoom_), promoted);
+}
+
+// The status line, then the node's error and its first validation issue.
+void Canvas::draw_node_footer(EditorState& state, ImDrawList* draw, const std::string& id, const NodeLook& look,
+                              float y) {
+  const NodeReport* report = state.report(id);
+  if (look.detail)
+    draw->AddText(look.face, look.font * 0.9f, look.at + ImVec2(8, y + 2) * zoom_, IM_COL32(190, 190, 190, 255),
+                  status_text(report, state.live_node(id)).c_str());
   y += kFooter;
   if (report && !report->error.empty()) {
-    draw->AddText(face, font * 0.9f, a + ImVec2(8, y + 2) * zoom_, IM_COL32(255, 130, 130, 255),
+    draw->AddText(look.face, look.font * 0.9f, look.at + ImVec2(8, y + 2) * zoom_, IM_COL32(255, 130, 130, 255),
                   report->error.c_str(), nullptr, (kWidth - 16) * zoom_);
     y += 2 * kRow;
   }
+  auto node_issues = state.issues.find(id);
   if (node_issues != state.issues.end()) {
     const std::string& first = node_issues->second.begin()->second;
-    draw->AddText(face, font * 0.9f, a + ImVec2(8, y + 2) * zoom_, IM_COL32(255, 130, 130, 255), first.c_str(),
-                  nullptr, (kWidth - 16) * zoom_);
+    draw->AddText(look.face, look.font * 0.9f, look.at + ImVec2(8, y + 2) * zoom_, IM_COL32(255, 130, 130, 255),
+                  first.c_str(), nullptr, (kWidth - 16) * zoom_);
   }
 }
 

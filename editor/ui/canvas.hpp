@@ -44,11 +44,24 @@ class Canvas {
   };
   Box box(const EditorState& state, const std::string& id) const;
   void draw_links(EditorState& state, ImDrawList* draw);
+  struct NodeLook;
   void draw_node(EditorState& state, ImDrawList* draw, const std::string& id);
+  void draw_node_box(EditorState& state, ImDrawList* draw, const std::string& id, const NodeLook& look);
+  void draw_input_row(EditorState& state, ImDrawList* draw, const std::string& id, const InputSpec& in,
+                      const NodeLook& look, float y);
+  void draw_node_footer(EditorState& state, ImDrawList* draw, const std::string& id, const NodeLook& look, float y);
   void draw_value(ImDrawList* draw, ImFont* face, float font, ImVec2 row, const InputSpec& in,
                   const json& literal) const;
   void draw_group_input(ImDrawList* draw, ImFont* face, float font, ImVec2 row, const std::string& name) const;
   void handle_mouse(EditorState& state);
+  void zoom_at(ImVec2 mouse);
+  void explain_hovered(EditorState& state, ImVec2 mouse);
+  void begin_gesture(EditorState& state, ImVec2 mouse);
+  void begin_left_press(EditorState& state, ImVec2 mouse);
+  void continue_move(EditorState& state, ImVec2 mouse);
+  void continue_link(EditorState& state, ImVec2 mouse);
+  void continue_box(EditorState& state, ImVec2 mouse);
+  void continue_pan(ImVec2 mouse);
   void handle_keys(EditorState& state);
   void add_node_menu(EditorState& state);
   struct SocketHit {

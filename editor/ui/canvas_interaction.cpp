@@ -14,161 +14,191 @@ namespace loom::editor {
 
 using namespace canvas_geometry;
 
+// One frame of the mouse over the canvas: the wheel zooms, hovering explains,
+// a press starts a gesture (move, link, box, pan) that later frames continue.
 void Canvas::handle_mouse(EditorState& state) {
-  ImGuiIO& io = ImGui::GetIO();
-  const ImVec2 mouse = io.MousePos;
-  const bool hovered = ImGui::IsItemHovered();
-  GraphDocument& doc = state.doc;
-
-  if (hovered && io.MouseWheel != 0) {
-    const CanvasPoint before = to_canvas(mouse);
-    zoom_ = std::clamp(zoom_ * std::pow(1.15f, io.MouseWheel), 0.1f, 3.0f);
-    pan_ = mouse - origin_ - ImVec2(float(before.x), float(before.y)) * zoom_;
-  }
-
-  // Hovering a node or an input shows its description or its error.
-  if (hovered && gesture_ == Gesture::none) {
-    if (auto s = hit_socket(state, mouse)) {
-      const NodeType* t = doc.node_type(s->node);
-      if (s->output) {
-        const auto& o = t->spec.outputs[std::size_t(t->spec.output_index(s->name))];
-        ImGui::SetTooltip("%s (%s)\n%s", o.name.c_str(), o.type->name.c_str(), o.description.c_str());
-      } else {
-        const InputSpec* in = t->spec.find_input(s->name);
-        std::string issue;
-        auto ni = state.issues.find(s->node);
-        if (ni != state.issues.end() && ni->second.count(s->name)) issue = "\n" + ni->second.at(s->name);
-        ImGui::SetTooltip("%s (%s)\n%s%s", in->name.c_str(), in->type->name.c_str(), in->description.c_str(),
-                          issue.c_str());
+  const ImVec2 mouse = ImGui::GetIO().MousePos;
+  if (ImGui::IsItemHovered()) {
+    zoom_at(mouse);
+    if (gesture_ == Gesture::none) explain_hovered(state, mouse);
+    if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) {
+      if (std::string id = hit_node(state, mouse); !id.empty() && state.doc.is_group_node(id)) {
+        gesture_ = Gesture::none;
+        state.enter(id);
+        return;
       }
-    } else if (std::string id = hit_node(state, mouse); !id.empty()) {
-      const NodeReport* r = state.report(id);
-      if (r && !r->error.empty())
-        ImGui::SetTooltip("%s", r->error.c_str());
-      else if (doc.is_repeat(id))
-        ImGui::SetTooltip("Repeat: double-click to enter its body");
-      else if (doc.is_group_node(id))
-        ImGui::SetTooltip("group %s: double-click to enter it", doc.type_name(id).c_str());
     }
+    begin_gesture(state, mouse);
   }
-
-  if (hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) {
-    if (std::string id = hit_node(state, mouse); !id.empty() && doc.is_group_node(id)) {
-      gesture_ = Gesture::none;
-      state.enter(id);
-      return;
-    }
-  }
-
-  if (hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
-    press_ = mouse;
-    if (auto s = hit_socket(state, mouse)) {
-      gesture_ = Gesture::link;
-      link_from_ = *s;
-      if (!s->output)
-        if (auto l = doc.link(s->node, s->name)) {
-          // Picking up an existing link: it leaves its input and follows the mouse.
-          doc.disconnect(s->node, s->name);
-          link_from_ = {l->node, l->output, true};
-        }
-    } else if (std::string id = hit_node(state, mouse); !id.empty()) {
-      const ImVec2 a = to_screen(doc.position(id));
-      if (mouse.y < a.y + kHeader * zoom_ && mouse.x < a.x + 20 * zoom_) {
-        doc.set_collapsed(id, !doc.collapsed(id));
-      } else {
-        if (io.KeyCtrl || io.KeyShift) {
-          if (!state.selection.erase(id)) state.selection.insert(id);
-        } else if (!state.selection.count(id)) {
-          state.selection = {id};
-        }
-        state.viewed = id;
-        gesture_ = Gesture::move;
-        drag_last_ = to_canvas(mouse);
-      }
-    } else {
-      gesture_ = Gesture::box;
-      if (!io.KeyCtrl && !io.KeyShift) state.selection.clear();
-    }
-  }
-  if (hovered && (ImGui::IsMouseClicked(ImGuiMouseButton_Right) || ImGui::IsMouseClicked(ImGuiMouseButton_Middle))) {
-    press_ = mouse;
-    gesture_ = Gesture::pan;
-  }
-
   switch (gesture_) {
     case Gesture::move:
-      if (ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
-        const CanvasPoint now = to_canvas(mouse);
-        const std::vector<std::string> ids(state.selection.begin(), state.selection.end());
-        doc.move_nodes(ids, now.x - drag_last_.x, now.y - drag_last_.y, "move");
-        drag_last_ = now;
-      } else {
-        doc.end_merge();
-        gesture_ = Gesture::none;
-      }
+      continue_move(state, mouse);
       break;
-    case Gesture::link: {
-      auto target = hit_socket(state, mouse);
-      std::string reason;
-      bool fits = false;
-      if (target && target->output != link_from_.output) {
-        const SocketHit& out = link_from_.output ? link_from_ : *target;
-        const SocketHit& in = link_from_.output ? *target : link_from_;
-        reason = doc.link_refusal(out.node, out.name, in.node, in.name);
-        fits = reason.empty();
-        if (!fits) ImGui::SetTooltip("%s", reason.c_str());
-        auto where = in.output ? std::nullopt : input_socket(state, in.node, in.name);
-        if (where)
-          ImGui::GetWindowDrawList()->AddCircle(*where, kSocket * 2 * zoom_,
-                                                fits ? IM_COL32(120, 255, 120, 255) : IM_COL32(255, 80, 80, 255), 0, 2);
-      }
-      if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
-        if (fits) {
-          const SocketHit& out = link_from_.output ? link_from_ : *target;
-          const SocketHit& in = link_from_.output ? *target : link_from_;
-          doc.connect(out.node, out.name, in.node, in.name);
-        } else if (!reason.empty()) {
-          refusal_ = reason;
-          refusal_until_ = ImGui::GetTime() + 2.5;
-        }
-        gesture_ = Gesture::none;
-      }
+    case Gesture::link:
+      continue_link(state, mouse);
       break;
-    }
-    case Gesture::box: {
-      const ImVec2 lo(std::min(press_.x, mouse.x), std::min(press_.y, mouse.y));
-      const ImVec2 hi(std::max(press_.x, mouse.x), std::max(press_.y, mouse.y));
-      ImGui::GetWindowDrawList()->AddRectFilled(lo, hi, IM_COL32(120, 160, 255, 40));
-      ImGui::GetWindowDrawList()->AddRect(lo, hi, IM_COL32(120, 160, 255, 200));
-      if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
-        for (const auto& id : doc.node_ids()) {
-          const ImVec2 a = to_screen(doc.position(id));
-          const Box b = box(state, id);
-          if (a.x >= lo.x && a.y >= lo.y && a.x + b.width * zoom_ <= hi.x && a.y + b.height * zoom_ <= hi.y)
-            state.selection.insert(id);
-        }
-        gesture_ = Gesture::none;
-      }
+    case Gesture::box:
+      continue_box(state, mouse);
       break;
-    }
     case Gesture::pan:
-      if (ImGui::IsMouseDown(ImGuiMouseButton_Right) || ImGui::IsMouseDown(ImGuiMouseButton_Middle)) {
-        pan_ = pan_ + io.MouseDelta;
-      } else {
-        // A right click that did not move opens the add-node menu.
-        if (distance(mouse, press_) < 4) {
-          menu_at_ = to_canvas(mouse);
-          menu_filter_.clear();
-          menu_focus_ = true;
-          ImGui::OpenPopup("add node");
-        }
-        gesture_ = Gesture::none;
-      }
+      continue_pan(mouse);
       break;
     case Gesture::none:
       break;
   }
   if (!refusal_.empty() && ImGui::GetTime() < refusal_until_) ImGui::SetTooltip("link refused: %s", refusal_.c_str());
+}
+
+// The wheel zooms about the point under the mouse.
+void Canvas::zoom_at(ImVec2 mouse) {
+  const float wheel = ImGui::GetIO().MouseWheel;
+  if (wheel == 0) return;
+  const CanvasPoint before = to_canvas(mouse);
+  zoom_ = std::clamp(zoom_ * std::pow(1.15f, wheel), 0.1f, 3.0f);
+  pan_ = mouse - origin_ - ImVec2(float(before.x), float(before.y)) * zoom_;
+}
+
+// Hovering a node or an input shows its description or its error.
+void Canvas::explain_hovered(EditorState& state, ImVec2 mouse) {
+  GraphDocument& doc = state.doc;
+  if (auto s = hit_socket(state, mouse)) {
+    const NodeType* t = doc.node_type(s->node);
+    if (s->output) {
+      const auto& o = t->spec.outputs[std::size_t(t->spec.output_index(s->name))];
+      ImGui::SetTooltip("%s (%s)\n%s", o.name.c_str(), o.type->name.c_str(), o.description.c_str());
+    } else {
+      const InputSpec* in = t->spec.find_input(s->name);
+      std::string issue;
+      auto ni = state.issues.find(s->node);
+      if (ni != state.issues.end() && ni->second.count(s->name)) issue = "\n" + ni->second.at(s->name);
+      ImGui::SetTooltip("%s (%s)\n%s%s", in->name.c_str(), in->type->name.c_str(), in->description.c_str(),
+                        issue.c_str());
+    }
+  } else if (std::string id = hit_node(state, mouse); !id.empty()) {
+    const NodeReport* r = state.report(id);
+    if (r && !r->error.empty())
+      ImGui::SetTooltip("%s", r->error.c_str());
+    else if (doc.is_repeat(id))
+      ImGui::SetTooltip("Repeat: double-click to enter its body");
+    else if (doc.is_group_node(id))
+      ImGui::SetTooltip("group %s: double-click to enter it", doc.type_name(id).c_str());
+  }
+}
+
+// A left press on a socket starts a link (or picks up the one at an input),
+// on a node's arrow folds it, on a node selects and starts moving, elsewhere
+// starts a box selection; a right or middle press starts panning.
+void Canvas::begin_gesture(EditorState& state, ImVec2 mouse) {
+  if (ImGui::IsMouseClicked(ImGuiMouseButton_Left)) begin_left_press(state, mouse);
+  if (ImGui::IsMouseClicked(ImGuiMouseButton_Right) || ImGui::IsMouseClicked(ImGuiMouseButton_Middle)) {
+    press_ = mouse;
+    gesture_ = Gesture::pan;
+  }
+}
+
+void Canvas::begin_left_press(EditorState& state, ImVec2 mouse) {
+  GraphDocument& doc = state.doc;
+  const ImGuiIO& io = ImGui::GetIO();
+  press_ = mouse;
+  if (auto s = hit_socket(state, mouse)) {
+    gesture_ = Gesture::link;
+    link_from_ = *s;
+    if (!s->output)
+      if (auto l = doc.link(s->node, s->name)) {
+        // Picking up an existing link: it leaves its input and follows the mouse.
+        doc.disconnect(s->node, s->name);
+        link_from_ = {l->node, l->output, true};
+      }
+  } else if (std::string id = hit_node(state, mouse); !id.empty()) {
+    const ImVec2 a = to_screen(doc.position(id));
+    if (mouse.y < a.y + kHeader * zoom_ && mouse.x < a.x + 20 * zoom_) {
+      doc.set_collapsed(id, !doc.collapsed(id));
+      return;
+    }
+    if (io.KeyCtrl || io.KeyShift) {
+      if (!state.selection.erase(id)) state.selection.insert(id);
+    } else if (!state.selection.count(id)) {
+      state.selection = {id};
+    }
+    state.viewed = id;
+    gesture_ = Gesture::move;
+    drag_last_ = to_canvas(mouse);
+  } else {
+    gesture_ = Gesture::box;
+    if (!io.KeyCtrl && !io.KeyShift) state.selection.clear();
+  }
+}
+
+void Canvas::continue_move(EditorState& state, ImVec2 mouse) {
+  if (!ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+    state.doc.end_merge();
+    gesture_ = Gesture::none;
+    return;
+  }
+  const CanvasPoint now = to_canvas(mouse);
+  const std::vector<std::string> ids(state.selection.begin(), state.selection.end());
+  state.doc.move_nodes(ids, now.x - drag_last_.x, now.y - drag_last_.y, "move");
+  drag_last_ = now;
+}
+
+// A link follows the mouse; over a socket it fits (green) or is refused with
+// the reason (red); released, it connects or shows the refusal.
+void Canvas::continue_link(EditorState& state, ImVec2 mouse) {
+  GraphDocument& doc = state.doc;
+  auto target = hit_socket(state, mouse);
+  std::string reason;
+  bool fits = false;
+  if (target && target->output != link_from_.output) {
+    const SocketHit& out = link_from_.output ? link_from_ : *target;
+    const SocketHit& in = link_from_.output ? *target : link_from_;
+    reason = doc.link_refusal(out.node, out.name, in.node, in.name);
+    fits = reason.empty();
+    if (!fits) ImGui::SetTooltip("%s", reason.c_str());
+    auto where = in.output ? std::nullopt : input_socket(state, in.node, in.name);
+    if (where)
+      ImGui::GetWindowDrawList()->AddCircle(*where, kSocket * 2 * zoom_,
+                                            fits ? IM_COL32(120, 255, 120, 255) : IM_COL32(255, 80, 80, 255), 0, 2);
+  }
+  if (ImGui::IsMouseDown(ImGuiMouseButton_Left)) return;
+  if (fits) {
+    const SocketHit& out = link_from_.output ? link_from_ : *target;
+    const SocketHit& in = link_from_.output ? *target : link_from_;
+    doc.connect(out.node, out.name, in.node, in.name);
+  } else if (!reason.empty()) {
+    refusal_ = reason;
+    refusal_until_ = ImGui::GetTime() + 2.5;
+  }
+  gesture_ = Gesture::none;
+}
+
+void Canvas::continue_box(EditorState& state, ImVec2 mouse) {
+  const ImVec2 lo(std::min(press_.x, mouse.x), std::min(press_.y, mouse.y));
+  const ImVec2 hi(std::max(press_.x, mouse.x), std::max(press_.y, mouse.y));
+  ImGui::GetWindowDrawList()->AddRectFilled(lo, hi, IM_COL32(120, 160, 255, 40));
+  ImGui::GetWindowDrawList()->AddRect(lo, hi, IM_COL32(120, 160, 255, 200));
+  if (ImGui::IsMouseDown(ImGuiMouseButton_Left)) return;
+  for (const auto& id : state.doc.node_ids()) {
+    const ImVec2 a = to_screen(state.doc.position(id));
+    const Box b = box(state, id);
+    if (a.x >= lo.x && a.y >= lo.y && a.x + b.width * zoom_ <= hi.x && a.y + b.height * zoom_ <= hi.y)
+      state.selection.insert(id);
+  }
+  gesture_ = Gesture::none;
+}
+
+void Canvas::continue_pan(ImVec2 mouse) {
+  if (ImGui::IsMouseDown(ImGuiMouseButton_Right) || ImGui::IsMouseDown(ImGuiMouseButton_Middle)) {
+    pan_ = pan_ + ImGui::GetIO().MouseDelta;
+    return;
+  }
+  // A right click that did not move opens the add-node menu.
+  if (distance(mouse, press_) < 4) {
+    menu_at_ = to_canvas(mouse);
+    menu_filter_.clear();
+    menu_focus_ = true;
+    ImGui::OpenPopup("add node");
+  }
+  gesture_ = Gesture::none;
 }
 
 // Wherever the mouse is (canvas, properties, viewer), unless a text field

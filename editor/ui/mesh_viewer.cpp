@@ -40,71 +40,62 @@ void MeshViewer::prepare(const Mesh& mesh) {
   }
 }
 
-void MeshViewer::render(const Mesh& mesh, int width, int height) {
-  if (!fbo_ || width != fbo_width_ || height != fbo_height_) {
-    if (!fbo_) {
-      glGenFramebuffers(1, &fbo_);
-      glGenTextures(1, &color_);
-      glGenRenderbuffers(1, &depth_);
-    }
-    glBindTexture(GL_TEXTURE_2D, color_);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-    glBindRenderbuffer(GL_RENDERBUFFER, depth_);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
-    fbo_width_ = width;
-    fbo_height_ = height;
+// The offscreen target the mesh is drawn into, (re)made at the viewer's size.
+void MeshViewer::make_framebuffer(int width, int height) {
+  if (fbo_ && width == fbo_width_ && height == fbo_height_) return;
+  if (!fbo_) {
+    glGenFramebuffers(1, &fbo_);
+    glGenTextures(1, &color_);
+    glGenRenderbuffers(1, &depth_);
   }
-  if (!checker_) {
-    std::vector<std::uint8_t> pixels(64 * 64 * 3);
-    for (int y = 0; y < 64; ++y)
-      for (int x = 0; x < 64; ++x) {
-        const std::uint8_t v = ((x / 8 + y / 8) % 2) ? 235 : 60;
-        for (int k = 0; k < 3; ++k) pixels[std::size_t(y * 64 + x) * 3 + k] = v;
-      }
-    glGenTextures(1, &checker_);
-    glBindTexture(GL_TEXTURE_2D, checker_);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB, 64, 64, 0, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());
-  }
-  GLint viewport[4];
-  glGetIntegerv(GL_VIEWPORT, viewport);
+  glBindTexture(GL_TEXTURE_2D, color_);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  glBindRenderbuffer(GL_RENDERBUFFER, depth_);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-  glViewport(0, 0, width, height);
-  glClearColor(0.16f, 0.16f, 0.18f, 1);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  glUseProgram(0);
-  glBindVertexArray(0);
-  glBindBuffer(GL_ARRAY_BUFFER, 0);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
-  glDisable(GL_BLEND);
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_CULL_FACE);
-  glEnable(GL_DEPTH_TEST);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
+  fbo_width_ = width;
+  fbo_height_ = height;
+}
 
-  // Camera: orbit around the bounding box centre; the UV layout is seen from above.
-  const float aspect = float(width) / float(height);
-  glMatrixMode(GL_PROJECTION);
-  glLoadIdentity();
-  glMatrixMode(GL_MODELVIEW);
-  glLoadIdentity();
+// The 8-pixel checker that shows a parameterization's stretch, made once.
+void MeshViewer::make_checker() {
+  if (checker_) return;
+  std::vector<std::uint8_t> pixels(64 * 64 * 3);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const std::uint8_t v = ((x / 8 + y / 8) % 2) ? 235 : 60;
+      for (int k = 0; k < 3; ++k) pixels[std::size_t(y * 64 + x) * 3 + k] = v;
+    }
+  glGenTextures(1, &checker_);
+  glBindTexture(GL_TEXTURE_2D, checker_);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB, 64, 64, 0, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());
+}
+
+// Per vertex: the position drawn (centred, or the UV layout), the colour
+// shaded by the normal against the eye, and the checker's coordinates.
+MeshViewer::VertexArrays MeshViewer::vertex_arrays(const Mesh& mesh) const {
   const int n = mesh.vertices();
-  std::vector<float> positions(std::size_t(n) * 3), colors(std::size_t(n) * 3), uvs(std::size_t(n) * 2);
+  VertexArrays a;
+  a.positions.resize(std::size_t(n) * 3);
+  a.colors.resize(std::size_t(n) * 3);
+  a.uvs.resize(std::size_t(n) * 2);
   const float cy = std::cos(yaw_), sy = std::sin(yaw_), cp = std::cos(pitch_), sp = std::sin(pitch_);
   const float eye[3] = {cp * sy, sp, cp * cy};  // direction to the eye
   for (int v = 0; v < n; ++v) {
+    float* p = &a.positions[std::size_t(v) * 3];
     if (uv_layout_ && mesh.has_uv()) {
-      positions[std::size_t(v) * 3 + 0] = float(mesh.UV(v, 0)) * 2 - 1;
-      positions[std::size_t(v) * 3 + 1] = float(mesh.UV(v, 1)) * 2 - 1;
-      positions[std::size_t(v) * 3 + 2] = 0;
+      p[0] = float(mesh.UV(v, 0)) * 2 - 1;
+      p[1] = float(mesh.UV(v, 1)) * 2 - 1;
+      p[2] = 0;
     } else {
-      for (int d = 0; d < 3; ++d) positions[std::size_t(v) * 3 + d] = float(mesh.V(v, d)) - center_[d];
+      for (int d = 0; d < 3; ++d) p[d] = float(mesh.V(v, d)) - center_[d];
     }
     float shade = 1;
     if (shaded_ && !uv_layout_) {
@@ -112,34 +103,47 @@ void MeshViewer::render(const Mesh& mesh, int width, int height) {
       shade = 0.25f + 0.75f * std::abs(nn[0] * eye[0] + nn[1] * eye[1] + nn[2] * eye[2]);
     }
     for (int d = 0; d < 3; ++d)
-      colors[std::size_t(v) * 3 + d] = shade * (mesh.has_colors() ? float(mesh.C(v, d)) : (d == 2 ? 0.85f : 0.8f));
+      a.colors[std::size_t(v) * 3 + d] = shade * (mesh.has_colors() ? float(mesh.C(v, d)) : (d == 2 ? 0.85f : 0.8f));
     if (mesh.has_uv()) {
-      uvs[std::size_t(v) * 2] = float(mesh.UV(v, 0)) * 8;
-      uvs[std::size_t(v) * 2 + 1] = float(mesh.UV(v, 1)) * 8;
+      a.uvs[std::size_t(v) * 2] = float(mesh.UV(v, 0)) * 8;
+      a.uvs[std::size_t(v) * 2 + 1] = float(mesh.UV(v, 1)) * 8;
     }
   }
+  return a;
+}
+
+// Camera: orbit around the bounding box centre; the UV layout is seen from above.
+void MeshViewer::load_camera(float aspect) const {
+  glMatrixMode(GL_PROJECTION);
+  glLoadIdentity();
+  glMatrixMode(GL_MODELVIEW);
+  glLoadIdentity();
   glMatrixMode(GL_PROJECTION);
   if (uv_layout_) {
     glOrtho(-1.1 * aspect, 1.1 * aspect, -1.1, 1.1, -1, 1);
-  } else {
-    const double near = 0.01 * radius_, far = 100.0 * radius_, h = near * 0.5;
-    glFrustum(-h * aspect, h * aspect, -h, h, near, far);
-    glMatrixMode(GL_MODELVIEW);
-    glTranslatef(0, 0, -distance_ * radius_);
-    glRotatef(pitch_ * 57.29578f, 1, 0, 0);
-    glRotatef(-yaw_ * 57.29578f, 0, 1, 0);
+    return;
   }
+  const double near = 0.01 * radius_, far = 100.0 * radius_, h = near * 0.5;
+  glFrustum(-h * aspect, h * aspect, -h, h, near, far);
+  glMatrixMode(GL_MODELVIEW);
+  glTranslatef(0, 0, -distance_ * radius_);
+  glRotatef(pitch_ * 57.29578f, 1, 0, 0);
+  glRotatef(-yaw_ * 57.29578f, 0, 1, 0);
+}
+
+// The triangles (checkered where asked), then their edges where asked.
+void MeshViewer::draw_triangles(const Mesh& mesh, const VertexArrays& a) const {
   glEnableClientState(GL_VERTEX_ARRAY);
   glEnableClientState(GL_COLOR_ARRAY);
-  glVertexPointer(3, GL_FLOAT, 0, positions.data());
-  glColorPointer(3, GL_FLOAT, 0, colors.data());
+  glVertexPointer(3, GL_FLOAT, 0, a.positions.data());
+  glColorPointer(3, GL_FLOAT, 0, a.colors.data());
   const bool textured = checker_on_ && mesh.has_uv();
   if (textured) {
     glEnable(GL_TEXTURE_2D);
     glBindTexture(GL_TEXTURE_2D, checker_);
     glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
     glEnableClientState(GL_TEXTURE_COORD_ARRAY);
-    glTexCoordPointer(2, GL_FLOAT, 0, uvs.data());
+    glTexCoordPointer(2, GL_FLOAT, 0, a.uvs.data());
   }
   std::vector<unsigned> indices(std::size_t(mesh.faces()) * 3);
   for (int f = 0; f < mesh.faces(); ++f)
@@ -161,6 +165,29 @@ void MeshViewer::render(const Mesh& mesh, int width, int height) {
   }
   glDisableClientState(GL_VERTEX_ARRAY);
   glDisableClientState(GL_COLOR_ARRAY);
+}
+
+// Draws the mesh into the offscreen target, leaving ImGui's GL state as found.
+void MeshViewer::render(const Mesh& mesh, int width, int height) {
+  make_framebuffer(width, height);
+  make_checker();
+  GLint viewport[4];
+  glGetIntegerv(GL_VIEWPORT, viewport);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glViewport(0, 0, width, height);
+  glClearColor(0.16f, 0.16f, 0.18f, 1);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glUseProgram(0);
+  glBindVertexArray(0);
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, 0);
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_CULL_FACE);
+  glEnable(GL_DEPTH_TEST);
+  const VertexArrays arrays = vertex_arrays(mesh);
+  load_camera(float(width) / float(height));
+  draw_triangles(mesh, arrays);
   glDisable(GL_DEPTH_TEST);
   glMatrixMode(GL_PROJECTION);
   glLoadIdentity();

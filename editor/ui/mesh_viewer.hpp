@@ -29,6 +29,14 @@ class MeshViewer {
  private:
   void prepare(const Mesh& mesh);
   void render(const Mesh& mesh, int width, int height);
+  struct VertexArrays {
+    std::vector<float> positions, colors, uvs;
+  };
+  void make_framebuffer(int width, int height);
+  void make_checker();
+  VertexArrays vertex_arrays(const Mesh& mesh) const;
+  void load_camera(float aspect) const;
+  void draw_triangles(const Mesh& mesh, const VertexArrays& arrays) const;
   unsigned fbo_ = 0, color_ = 0, depth_ = 0, checker_ = 0;
   int fbo_width_ = 0, fbo_height_ = 0;
   const void* prepared_ = nullptr;

@@ -9,6 +9,52 @@
 
 namespace loom::io {
 
+namespace {
+
+// Each polygon as a fan from its first corner, in output vertex indices; a
+// polygon that repeats a vertex has no area or orientation and is left out.
+std::vector<Eigen::Vector3i> fan_triangles(const IndexedMesh& m, const std::vector<int>& corner_out, MeshNotes& n) {
+  std::vector<Eigen::Vector3i> F;
+  const std::size_t np = m.polygon_start.size() - 1;
+  F.reserve(m.corner_v.size());
+  for (std::size_t p = 0; p < np; ++p) {
+    const int b = m.polygon_start[p], e = m.polygon_start[p + 1];
+    bool repeated = false;
+    for (int i = b; i < e && !repeated; ++i)
+      for (int j = i + 1; j < e && !repeated; ++j)
+        repeated = m.corner_v[static_cast<std::size_t>(i)] == m.corner_v[static_cast<std::size_t>(j)];
+    if (repeated) {
+      ++n.degenerate_faces;
+      continue;
+    }
+    for (int i = b + 1; i + 1 < e; ++i)  // fan from the first corner
+      F.emplace_back(corner_out[static_cast<std::size_t>(b)], corner_out[static_cast<std::size_t>(i)],
+                     corner_out[static_cast<std::size_t>(i + 1)]);
+  }
+  return F;
+}
+
+template <class Matrix, class Row>
+void fill_rows(Matrix& out, const std::vector<Row>& rows) {
+  out.resize(static_cast<Eigen::Index>(rows.size()), Row::RowsAtCompileTime);
+  for (std::size_t i = 0; i < rows.size(); ++i) out.row(static_cast<Eigen::Index>(i)) = rows[i].transpose();
+}
+
+// The Mesh of per-vertex rows; UV, N and C only when every vertex has one.
+Mesh assemble(const std::vector<Eigen::Vector3d>& V, const std::vector<Eigen::Vector3i>& F,
+              const std::vector<Eigen::Vector2d>& UV, const std::vector<Eigen::Vector3d>& N,
+              const std::vector<Eigen::Vector3d>& C) {
+  Mesh mesh;
+  fill_rows(mesh.V, V);
+  fill_rows(mesh.F, F);
+  if (!UV.empty()) fill_rows(mesh.UV, UV);
+  if (!N.empty()) fill_rows(mesh.N, N);
+  if (C.size() == V.size()) fill_rows(mesh.C, C);
+  return mesh;
+}
+
+}  // namespace
+
 Mesh to_mesh(const IndexedMesh& m, const std::string& file, MeshNotes* notes) {
   const int nv = static_cast<int>(m.V.size());
   const int ncorners = static_cast<int>(m.corner_v.size());
@@ -70,47 +116,13 @@ Mesh to_mesh(const IndexedMesh& m, const std::string& file, MeshNotes* notes) {
     corner_out[static_cast<std::size_t>(c)] = out;
   }
 
-  std::vector<Eigen::Vector3i> F;
-  const std::size_t np = m.polygon_start.size() - 1;
-  F.reserve(static_cast<std::size_t>(ncorners));
-  for (std::size_t p = 0; p < np; ++p) {
-    const int b = m.polygon_start[p], e = m.polygon_start[p + 1];
-    bool repeated = false;
-    for (int i = b; i < e && !repeated; ++i)
-      for (int j = i + 1; j < e && !repeated; ++j)
-        repeated = m.corner_v[static_cast<std::size_t>(i)] == m.corner_v[static_cast<std::size_t>(j)];
-    if (repeated) {
-      ++n.degenerate_faces;
-      continue;
-    }
-    for (int i = b + 1; i + 1 < e; ++i)  // fan from the first corner
-      F.emplace_back(corner_out[static_cast<std::size_t>(b)], corner_out[static_cast<std::size_t>(i)],
-                     corner_out[static_cast<std::size_t>(i + 1)]);
-  }
+  const std::vector<Eigen::Vector3i> F = fan_triangles(m, corner_out, n);
   if (F.empty()) throw Error(file + " has no faces");
   if (n.degenerate_faces > 0)
     n.messages.push_back("left out " + std::to_string(n.degenerate_faces) +
                          " faces that repeat a vertex (no area, no orientation)");
 
-  Mesh mesh;
-  const auto rows = static_cast<Eigen::Index>(V.size());
-  mesh.V.resize(rows, 3);
-  for (Eigen::Index i = 0; i < rows; ++i) mesh.V.row(i) = V[static_cast<std::size_t>(i)].transpose();
-  mesh.F.resize(static_cast<Eigen::Index>(F.size()), 3);
-  for (std::size_t f = 0; f < F.size(); ++f) mesh.F.row(static_cast<Eigen::Index>(f)) = F[f].transpose();
-  if (uv) {
-    mesh.UV.resize(rows, 2);
-    for (Eigen::Index i = 0; i < rows; ++i) mesh.UV.row(i) = UV[static_cast<std::size_t>(i)].transpose();
-  }
-  if (normals) {
-    mesh.N.resize(rows, 3);
-    for (Eigen::Index i = 0; i < rows; ++i) mesh.N.row(i) = N[static_cast<std::size_t>(i)].transpose();
-  }
-  if (static_cast<Eigen::Index>(C.size()) == rows) {
-    mesh.C.resize(rows, 3);
-    for (Eigen::Index i = 0; i < rows; ++i) mesh.C.row(i) = C[static_cast<std::size_t>(i)].transpose();
-  }
-  return mesh;
+  return assemble(V, F, UV, N, C);
 }
 
 int weld_vertices(Mesh& mesh, double tolerance) {

@@ -263,26 +263,31 @@ MultigridPoisson::MultigridPoisson(const cv::Mat1b& unknown) {
   coarsest_.compute(A);
 }
 
+// The vectors of the last solve, reused unless another solve holds them.
+std::shared_ptr<MultigridPoisson::Workspace> MultigridPoisson::take_workspace() const {
+  {
+    std::lock_guard<std::mutex> lock(workspace_mutex_);
+    if (workspace_) return std::move(workspace_);
+  }
+  auto ws = std::make_shared<Workspace>();
+  const std::size_t n = levels_[0].size();
+  for (Field* v : {&ws->x, &ws->r, &ws->z, &ws->p, &ws->q}) v->assign(n, V4::Zero());
+  ws->b.resize(levels_.size());
+  ws->e.resize(levels_.size());
+  for (std::size_t l = 1; l < levels_.size(); ++l) {
+    ws->b[l].assign(levels_[l].size(), V4::Zero());
+    ws->e[l].assign(levels_[l].size(), V4::Zero());
+  }
+  if (levels_.size() > 1) ws->coarse_r.assign(levels_[1].size(), V4::Zero());
+  return ws;
+}
+
+// Over 80 lines on purpose: preconditioned CG read top to bottom, one pass over
+// the rows per step, as the algorithm is written in Saad (2003), Alg. 9.1.
 MultigridPoisson::Result MultigridPoisson::solve(const cv::Mat& b, cv::Mat& f, double tolerance,
                                                  int max_iterations, Start start,
                                                  const std::function<void()>& between) const {
-  // The vectors of the last solve are reused unless another solve holds them.
-  std::unique_lock<std::mutex> lock(workspace_mutex_);
-  std::shared_ptr<Workspace> ws = workspace_;
-  if (!ws) {
-    ws = std::make_shared<Workspace>();
-    const std::size_t n = levels_[0].size();
-    for (Field* v : {&ws->x, &ws->r, &ws->z, &ws->p, &ws->q}) v->assign(n, V4::Zero());
-    ws->b.resize(levels_.size());
-    ws->e.resize(levels_.size());
-    for (std::size_t l = 1; l < levels_.size(); ++l) {
-      ws->b[l].assign(levels_[l].size(), V4::Zero());
-      ws->e[l].assign(levels_[l].size(), V4::Zero());
-    }
-    if (levels_.size() > 1) ws->coarse_r.assign(levels_[1].size(), V4::Zero());
-  }
-  workspace_.reset();
-  lock.unlock();
+  const std::shared_ptr<Workspace> ws = take_workspace();
 
   const Level& L = levels_[0];
   const int C = b.channels();
@@ -357,7 +362,7 @@ MultigridPoisson::Result MultigridPoisson::solve(const cv::Mat& b, cv::Mat& f, d
       for (std::size_t i = L.at(0, y), e = i + L.w; i < e; ++i) p[i] = z[i] + beta * p[i];
     });
   }
-  for_rows(L, [&](int y) {
+  for_rows(L, [&](int y) {  // f = g + x
     float* fv = f.ptr<float>(y);
     for (int c = 0; c < L.w; ++c) {
       const std::size_t i = L.at(c, y);
@@ -365,9 +370,8 @@ MultigridPoisson::Result MultigridPoisson::solve(const cv::Mat& b, cv::Mat& f, d
       for (int k = 0; k < C; ++k) fv[c * C + k] += x[i][k];
     }
   });
-
   ws->has_correction = true;
-  lock.lock();
+  std::lock_guard<std::mutex> lock(workspace_mutex_);
   workspace_ = ws;
   return result;
 }

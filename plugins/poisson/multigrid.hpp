@@ -60,6 +60,7 @@ class MultigridPoisson {
   std::vector<Level> levels_;
   std::vector<std::size_t> coarsest_cells_;  // unknowns of the last level, in matrix order
   numerics::SparseCholesky coarsest_;
+  std::shared_ptr<Workspace> take_workspace() const;
   mutable std::mutex workspace_mutex_;
   mutable std::shared_ptr<Workspace> workspace_;
 };
