@@ -15,7 +15,7 @@ namespace loom::editor {
 
 namespace fs = std::filesystem;
 
-const json& GraphDocument::groups() const { return is_object_with(doc_, "groups") ? doc_["groups"] : empty_object(); }
+const json& GraphDocument::groups() const { return holds_object(doc_, "groups") ? doc_["groups"] : empty_object(); }
 
 fs::path GraphDocument::dir() const { return file_.empty() ? fs::current_path() : file_.parent_path(); }
 
@@ -29,7 +29,7 @@ std::string group_type_of(const json& node) {
   return named.is_string() ? named.get<std::string>() : std::string();
 }
 
-const json& groups_of(const json& root) { return is_object_with(root, "groups") ? root["groups"] : empty_object(); }
+const json& groups_of(const json& root) { return holds_object(root, "groups") ? root["groups"] : empty_object(); }
 
 }  // namespace
 
@@ -40,7 +40,7 @@ const json* GraphDocument::level_at(std::size_t depth, LevelScope* scope_out) co
   const json* level = &doc_;
   LevelScope scope{&doc_, dir(), {}};
   for (std::size_t i = 0; i < depth && i < path_.size(); ++i) {
-    if (!is_object_with(*level, "nodes") || !(*level)["nodes"].contains(path_[i])) return nullptr;
+    if (!holds_object(*level, "nodes") || !(*level)["nodes"].contains(path_[i])) return nullptr;
     const std::string type = group_type_of((*level)["nodes"][path_[i]]);
     const json& groups = groups_of(*scope.root);
     if (groups.contains(type) && groups[type].is_object()) {
@@ -53,7 +53,7 @@ const json* GraphDocument::level_at(std::size_t depth, LevelScope* scope_out) co
       scope.dir = file->parent_path();
       scope.file = *file;
     }
-    if (!is_object_with(*level, "nodes")) return nullptr;
+    if (!holds_object(*level, "nodes")) return nullptr;
   }
   if (scope_out) *scope_out = scope;
   return level;
@@ -114,7 +114,7 @@ void GraphDocument::open_group_file(const fs::path& file) {
   std::string text;
   GroupFileLevel opened;
   opened.doc = read_json_file(file, text);
-  if (!is_object_with(opened.doc, "nodes"))
+  if (!holds_object(opened.doc, "nodes"))
     throw GraphError(file.string(), {{"/nodes", "missing: a group file has a \"nodes\" object"}});
   opened.layout = scan_json_layout(text);
   opened.read_text = text;
@@ -163,7 +163,7 @@ bool GraphDocument::has_interface() const {
 }
 
 json GraphDocument::interface_inputs() const {
-  return is_object_with(level(), "inputs") ? level()["inputs"] : empty_object();
+  return holds_object(level(), "inputs") ? level()["inputs"] : empty_object();
 }
 
 std::vector<std::string> GraphDocument::root_node_ids() const {
@@ -175,7 +175,7 @@ std::vector<std::string> GraphDocument::root_node_ids() const {
 std::vector<std::string> GraphDocument::types_used() const {
   std::set<std::string> types;
   auto collect = [&](const json& level) {
-    if (!is_object_with(level, "nodes")) return;
+    if (!holds_object(level, "nodes")) return;
     for (const auto& [id, node] : level["nodes"].items())
       if (node.is_object() && node.contains("type") && node["type"].is_string()) types.insert(node["type"]);
   };
@@ -204,7 +204,7 @@ bool GraphDocument::contains_level(const std::string& type) const {
     stack.pop_back();
     if (open.count(name)) return true;
     const json& groups = scope_groups();
-    if (!seen.insert(name).second || !groups.contains(name) || !is_object_with(groups[name], "nodes")) continue;
+    if (!seen.insert(name).second || !groups.contains(name) || !holds_object(groups[name], "nodes")) continue;
     for (const auto& [id, node] : groups[name]["nodes"].items())
       if (node.is_object() && node.contains("type") && node["type"].is_string()) stack.push_back(node["type"]);
   }

@@ -11,7 +11,7 @@ inline const json& empty_object() {
 }
 
 // Whether j is an object whose `key` holds an object.
-inline bool is_object_with(const json& j, const char* key) {
+inline bool holds_object(const json& j, const char* key) {
   return j.is_object() && j.contains(key) && j[key].is_object();
 }
 

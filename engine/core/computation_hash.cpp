@@ -22,17 +22,14 @@
 // with equal inputs but different ids may differ.
 #include "computation_hash.hpp"
 
-#include <filesystem>
-
 namespace loom::detail {
 namespace {
 
+// A literal input file enters by its stamp (result_cache.cpp's stamp_of), the
+// rule that also decides whether a kept result is still current.
 void hash_file_stamp(Hasher& h, const std::string& path) {
-  std::error_code ec;
-  auto size = std::filesystem::file_size(path, ec);
-  h.pod(ec ? std::uint64_t(-1) : static_cast<std::uint64_t>(size));
-  auto time = std::filesystem::last_write_time(path, ec);
-  h.pod(ec ? std::int64_t(-1) : static_cast<std::int64_t>(time.time_since_epoch().count()));
+  const FileStamp f = stamp_of(path);
+  h.pod(f.size).pod(f.mtime);
 }
 
 }  // namespace
@@ -47,8 +44,8 @@ std::uint64_t computation_hash(const NodeState& s, const std::vector<std::unique
   for (std::size_t i = 0; i < s.inputs.size(); ++i) {
     const auto& b = s.inputs[i];
     h.str(spec.inputs[i].name).pod(static_cast<int>(b.kind));
-    if (b.kind == NodeState::Binding::literal && b.fed_hash != 0) {
-      h.pod(b.fed_hash);  // a value fed by Repeat stands for the computation that made it
+    if (b.kind == NodeState::Binding::literal && b.iteration_hash != 0) {
+      h.pod(b.iteration_hash);  // a value Repeat gives stands for the computation that made it
     } else if (b.kind == NodeState::Binding::literal) {
       hash_json(h, b.literal_value.to_json());
       if (spec.inputs[i].role == InputRole::input_file) hash_file_stamp(h, b.literal_value.as<std::string>());

@@ -96,7 +96,7 @@ struct NodeState {
   struct Binding {
     enum Kind { unset, literal, link } kind = unset;
     Value literal_value;
-    std::uint64_t fed_hash = 0;  // a value fed in by Repeat: hashed by this, not by its JSON
+    std::uint64_t iteration_hash = 0;  // a value Repeat gives: hashed by this, not its JSON
     NodeIndex upstream = 0;  // a link's node
     int output = -1;
   };
@@ -143,11 +143,11 @@ struct Evaluation {
   const BindingPlace place;  // what paths bound to inputs resolve against
   // A simulation stepping through frames evaluates the graph at each frame
   // with its previous outputs handed in here (see step_to_previous in simulation.cpp).
-  std::optional<NodeIndex> fed_node;
-  std::vector<Value> fed_previous;
-  // A Repeat body's iteration: values fed to inner inputs (node id, input) with
+  std::optional<NodeIndex> stepping_node;
+  std::vector<Value> stepping_previous;
+  // A Repeat body's iteration: values given to inner inputs (node id, input) with
   // the hash each stands for (repeat.cpp).
-  const std::map<std::pair<std::string, std::string>, std::pair<Value, std::uint64_t>>* fed_inputs = nullptr;
+  const std::map<std::pair<std::string, std::string>, std::pair<Value, std::uint64_t>>* iteration_values = nullptr;
   // What the ids of this evaluation's nodes are prefixed with in the
   // session's per-node state (scratch, sequence state): a Repeat body's node
   // "save" is "loop.save" there, so that with cache_iterations (the outer
@@ -163,11 +163,11 @@ struct Evaluation {
   bool cancelled() const { return options.cancel && options.cancel->load(std::memory_order_relaxed); }
   // Past the start frame a simulation's state input is its own previous
   // output, not the initial state linked in the graph.
-  bool fed_state(const NodeState& s, std::size_t input) const {
+  bool takes_previous_state(const NodeState& s, std::size_t input) const {
     return s.state_input == static_cast<int>(input) && time.frame > time.start;
   }
   bool links_upstream(const NodeState& s, std::size_t input) const {
-    return s.inputs[input].kind == NodeState::Binding::link && !fed_state(s, input);
+    return s.inputs[input].kind == NodeState::Binding::link && !takes_previous_state(s, input);
   }
 
   // result_cache.cpp. The one answer to "is the result of s at `hash` kept?":
@@ -202,7 +202,7 @@ struct Evaluation {
   // plan.cpp: node states, input bindings, topological order, hashes.
   void build();
   void bind_inputs();
-  bool bind_fed(const NodeState& s, const InputSpec& spec, NodeState::Binding& b);
+  bool bind_iteration_value(const NodeState& s, const InputSpec& spec, NodeState::Binding& b);
   std::vector<NodeIndex> topological_order() const;
   void hash_nodes(const std::vector<NodeIndex>& order);
   void share_equal_results(const std::vector<NodeIndex>& order);

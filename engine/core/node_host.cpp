@@ -13,7 +13,8 @@ thread_local int lazy_depth = 0;
 
 Value Host::fetch_input(int i) {
   const auto& b = s_.inputs[static_cast<std::size_t>(i)];
-  if (e_.fed_state(s_, static_cast<std::size_t>(i))) return s_.previous[static_cast<std::size_t>(s_.state_output)];
+  if (e_.takes_previous_state(s_, static_cast<std::size_t>(i)))
+    return s_.previous[static_cast<std::size_t>(s_.state_output)];
   if (b.kind == NodeState::Binding::literal) return b.literal_value;
   const InputSpec& spec = s_.type->spec.inputs[static_cast<std::size_t>(i)];
   NodeState& up = e_.at(b.upstream);
@@ -53,7 +54,7 @@ void Host::sum_over_parts(double* values, std::size_t count) {
 }
 
 bool Host::input_set(int i) const {
-  return e_.fed_state(s_, static_cast<std::size_t>(i)) ||
+  return e_.takes_previous_state(s_, static_cast<std::size_t>(i)) ||
          s_.inputs[static_cast<std::size_t>(i)].kind != NodeState::Binding::unset;
 }
 

@@ -9,8 +9,8 @@ namespace loom::detail {
 
 bool Evaluation::step_to_previous(NodeIndex n) {
   NodeState& s = at(n);
-  if (fed_node == n) {
-    s.previous = fed_previous;
+  if (stepping_node == n) {
+    s.previous = stepping_previous;
     return true;
   }
   const int want = time.frame - 1;
@@ -41,8 +41,8 @@ bool Evaluation::step_to_previous(NodeIndex n) {
     FrameTime t = time;
     t.frame = g;
     Evaluation sub(session, graph, options, t);
-    sub.fed_node = n;
-    sub.fed_previous = std::move(previous);
+    sub.stepping_node = n;
+    sub.stepping_previous = std::move(previous);
     sub.build();
     sub.execute({n});
     NodeState& step = sub.at(n);
