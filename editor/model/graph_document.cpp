@@ -20,8 +20,6 @@ namespace {
 
 json empty_graph() { return json{{"loom", kGraphFormatVersion}, {"nodes", json::object()}}; }
 
-std::string link_text(const std::string& node, const std::string& output) { return node + "." + output; }
-
 // "ImageWarp" -> "image_warp".
 std::string snake_case(const std::string& type) {
   std::string id;
@@ -172,7 +170,7 @@ const NodeType* GraphDocument::find_type(const std::string& type) const {
 // other node by its type.
 const NodeType* GraphDocument::declaration(const json& node, const LevelScope& s) const {
   if (!node.is_object() || !node.contains("type") || !node["type"].is_string()) return nullptr;
-  const json& groups = is_object_with(*s.root, "groups") ? (*s.root)["groups"] : empty_object();
+  const json& groups = holds_object(*s.root, "groups") ? (*s.root)["groups"] : empty_object();
   const std::string type = node["type"].get<std::string>();
   if (type != "Repeat") return group_types_.find(type, groups, s.dir);
   const json body = node.value("body", json());
@@ -348,7 +346,7 @@ json as_inline_group(json def, const std::filesystem::path& folder) {
   def.erase("loom");
   def.erase("groups");
   def.erase("ui");
-  if (!is_object_with(def, "nodes")) return def;
+  if (!holds_object(def, "nodes")) return def;
   for (auto& [id, node] : def["nodes"].items()) {
     if (!node.is_object()) continue;
     node.erase("ui");
@@ -374,7 +372,7 @@ void GraphDocument::inline_edited_group_files(json& doc) const {
   if (edited_group_files().empty()) return;
   std::set<std::string> named;
   auto collect = [&](const json& level) {
-    if (!is_object_with(level, "nodes")) return;
+    if (!holds_object(level, "nodes")) return;
     for (const auto& [id, node] : level["nodes"].items())
       for (const char* key : {"type", "body"})
         if (node.is_object() && node.contains(key) && node[key].is_string()) named.insert(node[key]);
@@ -386,7 +384,7 @@ void GraphDocument::inline_edited_group_files(json& doc) const {
     auto open = file ? files_.find(file->string()) : files_.end();
     if (open == files_.end() || open->second.doc == open->second.saved) continue;
     const json& edited = open->second.doc;
-    if (is_object_with(edited, "groups"))
+    if (holds_object(edited, "groups"))
       for (const auto& [name, group] : edited["groups"].items())
         if (!doc["groups"].contains(name)) doc["groups"][name] = as_inline_group(group, file->parent_path());
     doc["groups"][type] = as_inline_group(edited, file->parent_path());

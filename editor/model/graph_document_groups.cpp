@@ -59,7 +59,7 @@ Grouping grouping_of(const GraphDocument& doc, const json& nodes, const std::vec
 void rewire(json& nodes, const std::map<std::pair<std::string, std::string>, std::string>& consumers,
             const std::string& group_node) {
   for (const auto& [consumer, output] : consumers)
-    nodes[consumer.first]["inputs"][consumer.second] = {{"from", group_node + "." + output}};
+    nodes[consumer.first]["inputs"][consumer.second] = {{"from", link_text(group_node, output)}};
 }
 
 }  // namespace
@@ -112,7 +112,7 @@ std::vector<std::string> GraphDocument::ungroup(const std::string& id) {
     throw Error(id + " is not a group node");
   // A group file's own inline groups come along (the same name must mean the same group).
   const json file_groups =
-      is_object_with(definition, "groups") && !scope_groups().contains(type) ? definition["groups"] : empty_object();
+      holds_object(definition, "groups") && !scope_groups().contains(type) ? definition["groups"] : empty_object();
   for (const auto& [name, group] : file_groups.items())
     if (registry_.find(name) || (scope_groups().contains(name) && scope_groups()[name] != group))
       throw Error("cannot ungroup " + id + ": its file's group \"" + name + "\" differs from this graph's");
@@ -160,17 +160,17 @@ std::string GraphDocument::promote(const std::string& id, const std::string& inp
   const NodeType* t = node_type(id);
   const InputSpec* declared = t ? t->spec.find_input(input) : nullptr;
   if (!declared) throw Error(id + " has no input \"" + input + "\"");
-  if (link(id, input)) throw Error(id + "." + input + " is linked: only an unlinked input can be promoted");
-  if (!promoted_as(id, input).empty()) throw Error(id + "." + input + " is already an input of the group");
-  begin_edit("promote " + id + "." + input);
+  if (link(id, input)) throw Error(link_text(id, input) + " is linked: only an unlinked input can be promoted");
+  if (!promoted_as(id, input).empty()) throw Error(link_text(id, input) + " is already an input of the group");
+  begin_edit("promote " + link_text(id, input));
   return promote_input(level(), id, input, *declared);
 }
 
 std::string GraphDocument::exported_as(const std::string& id, const std::string& output) const {
   const json& level = this->level();
-  if (!is_object_with(level, "outputs")) return {};
+  if (!holds_object(level, "outputs")) return {};
   for (const auto& [name, entry] : level["outputs"].items())
-    if (entry.is_object() && entry.value("from", std::string()) == id + "." + output) return name;
+    if (entry.is_object() && entry.value("from", std::string()) == link_text(id, output)) return name;
   return {};
 }
 
@@ -191,26 +191,26 @@ json& GraphDocument::instance_inputs() {
 
 json GraphDocument::instance_literal(const std::string& name) const {
   const json* node = instance_node();
-  if (!node || !is_object_with(*node, "inputs") || !(*node)["inputs"].contains(name)) return nullptr;
+  if (!node || !holds_object(*node, "inputs") || !(*node)["inputs"].contains(name)) return nullptr;
   const json& v = (*node)["inputs"][name];
   return input_link(v) ? json() : v;
 }
 
 std::optional<Link> GraphDocument::instance_link(const std::string& name) const {
   const json* node = instance_node();
-  if (!node || !is_object_with(*node, "inputs") || !(*node)["inputs"].contains(name)) return std::nullopt;
+  if (!node || !holds_object(*node, "inputs") || !(*node)["inputs"].contains(name)) return std::nullopt;
   return input_link((*node)["inputs"][name]);
 }
 
 void GraphDocument::set_instance_input(const std::string& name, json value, const std::string& merge_key) {
   if (instance_literal(name) == value) return;
-  begin_edit("set " + instance_id() + "." + name, merge_key);
+  begin_edit("set " + link_text(instance_id(), name), merge_key);
   instance_inputs()[name] = std::move(value);
 }
 
 void GraphDocument::reset_instance_input(const std::string& name) {
   if (instance_literal(name).is_null() && !instance_link(name)) return;
-  begin_edit("reset " + instance_id() + "." + name);
+  begin_edit("reset " + link_text(instance_id(), name));
   json& inputs = instance_inputs();
   inputs.erase(name);
   if (inputs.empty()) const_cast<json&>(*instance_node()).erase("inputs");
@@ -223,11 +223,11 @@ std::string GraphDocument::set_for_instance(const std::string& id, const std::st
     const NodeType* t = node_type(id);
     const InputSpec* declared = t ? t->spec.find_input(input) : nullptr;
     if (!declared) throw Error(id + " has no input \"" + input + "\"");
-    if (link(id, input)) throw Error(id + "." + input + " is linked inside the group: it takes no value");
-    begin_edit("set " + id + "." + input + " for " + instance_id() + " only");
+    if (link(id, input)) throw Error(link_text(id, input) + " is linked inside the group: it takes no value");
+    begin_edit("set " + link_text(id, input) + " for " + instance_id() + " only");
     name = promote_input(level(), id, input, *declared);
   } else {
-    begin_edit("set " + instance_id() + "." + name);
+    begin_edit("set " + link_text(instance_id(), name));
   }
   instance_inputs()[name] = std::move(value);
   return name;

@@ -5,12 +5,11 @@
 #include <vector>
 
 #include "loom/builtin_types.hpp"
+#include "loom/input_declaration.hpp"
 
 namespace loom::editor {
 
 namespace {
-
-std::string dotted(const std::string& node, const std::string& member) { return node + "." + member; }
 
 // The declared type of an inner input fed from outside; an Any input takes
 // the type of the output feeding it, when known.
@@ -35,7 +34,7 @@ void add_interface_inputs(Grouping& g, const std::set<std::string>& chosen,
     for (const auto& [input, value] : inner["inputs"].items()) {
       const auto link = input_link(value);
       if (!link || chosen.count(link->node)) continue;
-      const std::string source = dotted(link->node, link->output);
+      const std::string source = link_text(*link);
       const std::string type = crossing_type(type_of_node(id), input, type_of_node(link->node), link->output);
       auto known = by_source.find(source);
       if (known == by_source.end() || inputs[known->second]["type"] != type) {
@@ -45,7 +44,7 @@ void add_interface_inputs(Grouping& g, const std::set<std::string>& chosen,
         g.instance_inputs[name] = {{"from", source}};
         known = by_source.insert_or_assign(source, name).first;
       }
-      inputs[known->second]["to"].push_back(dotted(id, input));
+      inputs[known->second]["to"].push_back(link_text(id, input));
       fed.push_back(input);
     }
     for (const std::string& input : fed) inner["inputs"].erase(input);
@@ -61,7 +60,7 @@ std::vector<Link> outputs_read_outside(const json& nodes, const std::set<std::st
     if (chosen.count(id) || !within(node, "inputs")) continue;
     for (const auto& [input, value] : node["inputs"].items())
       if (const auto link = input_link(value); link && chosen.count(link->node))
-        if (seen.insert(dotted(link->node, link->output)).second) read.push_back(*link);
+        if (seen.insert(link_text(*link)).second) read.push_back(*link);
   }
   return read;
 }
@@ -77,7 +76,7 @@ void add_interface_outputs(Grouping& g, const json& nodes, const std::set<std::s
     for (const auto& [input, value] : node["inputs"].items()) {
       const auto link = input_link(value);
       if (!link || !chosen.count(link->node)) continue;
-      const std::string source = dotted(link->node, link->output);
+      const std::string source = link_text(*link);
       auto known = by_source.find(source);
       if (known == by_source.end()) {
         const std::string base = uses[link->output] > 1 ? link->node + "_" + link->output : link->output;
@@ -123,7 +122,7 @@ Ungrouping dissolve_group(const std::string& id, const json& instance, const jso
     if (!within(node, "inputs")) continue;
     for (auto& [input, value] : node["inputs"].items())
       if (auto link = input_link(value); link && u.renamed.count(link->node))
-        value = {{"from", dotted(u.renamed[link->node], link->output)}};
+        value = {{"from", link_text(u.renamed[link->node], link->output)}};
   }
   const json given = instance.value("inputs", json::object());
   const json interface_inputs = definition.value("inputs", json::object());
@@ -139,7 +138,7 @@ Ungrouping dissolve_group(const std::string& id, const json& instance, const jso
   }
   for (const auto& [name, entry] : interface_outputs.items()) {
     const auto from = parse_link(entry.value("from", std::string()));
-    if (from && u.renamed.count(from->node)) u.outputs[name] = dotted(u.renamed[from->node], from->output);
+    if (from && u.renamed.count(from->node)) u.outputs[name] = link_text(u.renamed[from->node], from->output);
   }
   return u;
 }
@@ -149,17 +148,12 @@ std::string promote_input(json& group, const std::string& node, const std::strin
   json& inputs = group["inputs"];
   if (!inputs.is_object()) inputs = json::object();
   const std::string name = unique_name(input, [&](const std::string& n) { return inputs.contains(n); });
-  json entry = {{"type", declared.type->name}};
   json& inner = group["nodes"][node];
   const bool literal = within(inner, "inputs") && inner["inputs"].contains(input);
-  const json value = literal ? inner["inputs"][input] : declared.default_value;
-  if (!value.is_null()) entry["default"] = value;
-  if (declared.min) entry["min"] = *declared.min;
-  if (declared.max) entry["max"] = *declared.max;
-  if (!declared.choices.empty()) entry["choices"] = declared.choices;
-  if (declared.optional) entry["optional"] = true;
-  if (!declared.description.empty()) entry["description"] = declared.description;
-  entry["to"] = {dotted(node, input)};
+  InputSpec promoted = declared;  // the node's value becomes the interface's default
+  if (literal) promoted.default_value = inner["inputs"][input];
+  json entry = input_spec_to_json(promoted);
+  entry["to"] = {link_text(node, input)};
   inputs[name] = std::move(entry);
   if (literal) {
     inner["inputs"].erase(input);
@@ -170,7 +164,7 @@ std::string promote_input(json& group, const std::string& node, const std::strin
 
 std::string interface_input_of(const json& group, const std::string& node, const std::string& input) {
   if (!within(group, "inputs") || !group["inputs"].is_object()) return {};
-  const std::string target = dotted(node, input);
+  const std::string target = link_text(node, input);
   for (const auto& [name, entry] : group["inputs"].items())
     if (entry.is_object() && entry.contains("to") && entry["to"].is_array())
       for (const json& t : entry["to"])

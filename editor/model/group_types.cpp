@@ -2,32 +2,13 @@
 
 #include "loom/builtin_types.hpp"
 #include "loom/graph_view.hpp"
+#include "loom/input_declaration.hpp"
 
 namespace loom::editor {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-const TypeInfo* type_named(const json& name) {
-  const TypeInfo* type = name.is_string() ? find_type(name.get<std::string>()) : nullptr;
-  return type ? type : &type_of<Any>();
-}
-
-InputSpec interface_input(const std::string& name, const json& entry) {
-  InputSpec in;
-  in.name = name;
-  in.type = type_named(entry.value("type", json()));
-  in.description = entry.value("description", std::string());
-  in.default_value = entry.value("default", json());
-  in.optional = entry.value("optional", false);
-  if (entry.contains("min") && entry["min"].is_number()) in.min = entry["min"].get<double>();
-  if (entry.contains("max") && entry["max"].is_number()) in.max = entry["max"].get<double>();
-  if (entry.contains("choices") && entry["choices"].is_array())
-    for (const json& c : entry["choices"])
-      if (c.is_string()) in.choices.push_back(c.get<std::string>());
-  return in;
-}
 
 // The type of the inner output an interface output comes from ("from": "NODE.OUTPUT").
 const TypeInfo* inner_output_type(const json& entry, const json& nodes, const InnerTypeLookup& inner) {
@@ -52,7 +33,7 @@ NodeType interface_node_type(const std::string& name, const std::string& origin,
   const json inputs = definition.value("inputs", json::object());
   const json outputs = definition.value("outputs", json::object());
   for (const auto& [input, entry] : inputs.items())
-    if (entry.is_object()) t.spec.inputs.push_back(interface_input(input, entry));
+    if (entry.is_object()) t.spec.inputs.push_back(input_spec_from_json(input, entry, DeclarationReading::lenient));
   for (const auto& [output, entry] : outputs.items())
     t.spec.outputs.push_back({output, "from " + entry.value("from", std::string()),
                               inner_output_type(entry, nodes, inner)});

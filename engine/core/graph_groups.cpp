@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "graph_groups.hpp"
+#include "graph_parse.hpp"
 #include "json_text.hpp"
 #include "loom/input_file.hpp"
 #include "repeat.hpp"
@@ -39,7 +40,7 @@ struct GroupRef {
 
 bool is_json_path(const std::string& type) { return type.size() > 5 && type.compare(type.size() - 5, 5, ".json") == 0; }
 
-bool is_object_with(const json& j, const char* key) { return j.is_object() && j.contains(key); }
+bool object_has(const json& j, const char* key) { return j.is_object() && j.contains(key); }
 
 const std::set<std::string> kInterfaceKeys = {"type", "default", "min", "max", "choices",
                                               "optional", "description", "to"};
@@ -243,7 +244,7 @@ bool Expander::within_node_limit(const Graph& body, const Scope& scope, const st
 
 void Expander::add_node(Graph& g, const Scope& scope, const std::string& base, const std::string& id,
                         const json& node, std::vector<std::string>& own) {
-  const bool repeat = is_object_with(node, "type") && node["type"] == "Repeat";
+  const bool repeat = object_has(node, "type") && node["type"] == "Repeat";
   Issues local;
   auto n = parse_node(id, node, local, repeat);
   const std::string np = base + node_pointer(id);
@@ -306,7 +307,7 @@ void Expander::resolve_own_links(Graph& g, const Scope& scope, const std::vector
 
 // Whether the group being expanded feeds an instance's input from its own
 // interface (given when the group is used).
-bool fed_by_interface(const Graph& g, const std::string& id, const std::string& input) {
+bool fed_directly_by_interface(const Graph& g, const std::string& id, const std::string& input) {
   if (!g.interface) return false;
   for (const auto& [name, in] : g.interface->inputs)
     for (const Link& t : in.to)
@@ -334,7 +335,8 @@ void Expander::feed_instances(Graph& g, const Scope& scope, const std::vector<st
       InputBinding b;
       if (given != inst.given.end()) b = given->second;
       else if (input.declaration.contains("default")) b.literal = input.declaration["default"];
-      else if (input.declaration.value("optional", false) == true || fed_by_interface(g, id, name)) continue;
+      else if (input.declaration.value("optional", false) == true || fed_directly_by_interface(g, id, name))
+        continue;
       else {
         issue(scope, inst.place.pointer + "/inputs", "missing required input \"" + name + "\" of group " + inst.type);
         continue;
@@ -373,14 +375,15 @@ GroupInput Expander::parse_input_declaration(const Graph& g, const Scope& scope,
       continue;
     }
     if (const std::string other = feeder(so_far, *l); !other.empty()) {
-      issue(scope, p + "/to/" + std::to_string(k), "interface inputs \"" + other + "\" and \"" + name +
-                                                       "\" both feed " + l->node + "." + l->output +
-                                                       ": an input takes one value (feed it from one of them)");
+      issue(scope, p + "/to/" + std::to_string(k),
+            "interface inputs \"" + other + "\" and \"" + name + "\" both feed " + link_text(*l) +
+                ": an input takes one value (feed it from one of them)");
       continue;
     }
     gi.to.push_back(*l);
   }
   gi.declaration.erase("to");
+  gi.read = make_read_declaration(name);
   return gi;
 }
 
@@ -402,11 +405,12 @@ GroupInterface Expander::parse_interface(const Graph& g, const Scope& scope, con
     const std::string p = base + "/outputs/" + pointer_escape(it.key());
     const json& d = it.value();
     std::optional<Link> l;
-    if (is_object_with(d, "from") && d["from"].is_string()) l = parse_link(d["from"].get<std::string>());
+    if (object_has(d, "from") && d["from"].is_string()) l = parse_link(d["from"].get<std::string>());
     auto to = l && (g.nodes.count(l->node) || g.instances.count(l->node)) ? follow_instance_outputs(g, *l) : std::nullopt;
     if (!to) {
-      issue(scope, p + "/from", l ? "names no output of the group's nodes: \"" + l->node + "." + l->output + "\""
-                                  : "expected {\"from\": \"NODE.OUTPUT\"}");
+      issue(scope, p + "/from",
+            l ? "names no output of the group's nodes: \"" + link_text(*l) + "\""
+              : "expected {\"from\": \"NODE.OUTPUT\"}");
       continue;
     }
     in.outputs.emplace(it.key(), *to);

@@ -15,14 +15,6 @@ namespace loom::detail {
 
 using Issues = std::vector<GraphIssue>;
 
-// graph_parse.cpp: one node's structure. `repeat`: the node may also have
-// "body" and "cache_iterations".
-std::optional<GraphNode> parse_node(const std::string& id, const json& node, Issues& issues, bool repeat = false);
-
-// graph_parse.cpp: the flat nodes as a version 1 document (what Repeat hashes
-// its body by; graph_to_json refuses a graph with groups).
-json flat_graph_json(const Graph& g);
-
 // Limits of the expansion, checked before anything past them is allocated
 // (docs/robustness.md). Groups nest at most kMaxGroupDepth deep: expansion
 // recurses once per level (10,000 levels overflowed the stack) and a chain
@@ -36,7 +28,7 @@ constexpr std::size_t kMaxGroupNodes = 100000;
 constexpr std::uintmax_t kMaxGroupFileBytes = 64u << 20;
 std::size_t max_group_nodes();
 
-// graph_groups.cpp: the nodes (and groups, interface) of a version 2 document.
+// The nodes (and groups, interface) of a version 2 document.
 void expand_groups(const json& doc, Graph& g, Issues& issues);
 
 // Links naming an instance's output ("look.image") followed to the inner
@@ -50,31 +42,5 @@ void feed_input(Graph& g, const Link& target, const InputBinding& binding, bool 
 
 // The inner node inputs an interface input reaches, through nested instances.
 std::vector<Link> interface_targets(const Graph& g, const GroupInput& input);
-
-}  // namespace loom::detail
-
-namespace loom::detail {
-
-// group_interface.cpp: an interface input's declaration (type, default, min,
-// max, choices, optional, description) as the InputSpec a C++ node would
-// declare, so values given to it pass the one binding rule. Throws Error
-// saying what is wrong with the declaration.
-InputSpec interface_input_spec(const std::string& name, const json& declaration);
-
-// The type of a node: a Repeat node's own (repeat.cpp) or the registry's;
-// null when unknown or when a Repeat's body is invalid (validation says why).
-const NodeType* node_type_of(const GraphNode& node, const Registry& registry);
-
-}  // namespace loom::detail
-
-namespace loom::detail {
-
-// group_validate.cpp: against the registry, each instance's interface (the
-// declarations, the values given to it, the inner inputs each feeds) and a
-// group file's own interface. Issues point into the file that wrote them.
-// `known_types`: node types of plugins not loaded (a group may not share a
-// name with any node type, loaded or not).
-void validate_groups(const Graph& g, const Registry& registry, const std::vector<std::string>& known_types,
-                     Issues& issues);
 
 }  // namespace loom::detail

@@ -2,13 +2,16 @@
 // registry are in graph_validate.cpp, --set in graph_set.cpp.
 #include <algorithm>
 #include <fstream>
+#include <mutex>
 #include <set>
 #include <sstream>
 
 #include "graph_groups.hpp"
+#include "graph_parse.hpp"
 #include "graph_time.hpp"
 #include "json_text.hpp"
 #include "loom/graph.hpp"
+#include "loom/input_declaration.hpp"
 #include "repeat.hpp"
 
 namespace loom {
@@ -145,6 +148,41 @@ std::optional<Link> parse_link(std::string_view text) {
   return Link{std::string(text.substr(0, dot)), std::string(text.substr(dot + 1))};
 }
 
+// A group input's declaration, read once it reads: value types register as
+// plugins load, so a failure is not kept (it is asked again, and validation
+// reports it after the plugins are in).
+struct ReadDeclaration {
+  std::string name;
+  std::mutex mutex;
+  std::optional<InputSpec> spec;
+};
+
+std::shared_ptr<ReadDeclaration> detail::make_read_declaration(const std::string& name) {
+  auto r = std::make_shared<ReadDeclaration>();
+  r->name = name;
+  return r;
+}
+
+const InputSpec* GroupInput::spec(std::string* problem) const {
+  if (!read) return nullptr;
+  std::lock_guard<std::mutex> lock(read->mutex);
+  if (read->spec) return &*read->spec;
+  try {
+    read->spec = input_spec_from_json(read->name, declaration);
+    return &*read->spec;
+  } catch (const Error& e) {
+    if (problem) *problem = e.what();
+    return nullptr;
+  }
+}
+
+std::string link_text(std::string_view node, std::string_view member) {
+  std::string text(node);
+  text += '.';
+  text += member;
+  return text;
+}
+
 GraphError::GraphError(std::string file, std::vector<GraphIssue> issues)
     : Error(issues_text(file, issues)), file_(std::move(file)), issues_(std::move(issues)) {}
 
@@ -194,8 +232,7 @@ json flat_graph_json(const Graph& g) {
   json nodes = json::object();
   for (const auto& [id, n] : g.nodes) {
     json inputs = json::object();
-    for (const auto& [name, b] : n.inputs)
-      inputs[name] = b.link ? json{{"from", b.link->node + "." + b.link->output}} : b.literal;
+    for (const auto& [name, b] : n.inputs) inputs[name] = b.link ? json{{"from", link_text(*b.link)}} : b.literal;
     json node = {{"type", n.type}};
     if (!inputs.empty()) node["inputs"] = inputs;
     if (!n.ui.is_null()) node["ui"] = n.ui;

@@ -4,11 +4,12 @@
 #include <set>
 
 #include "graph_groups.hpp"
+#include "group_validate.hpp"
 #include "input_binding.hpp"
 #include "json_text.hpp"
-#include "repeat.hpp"
 #include "loom/graph.hpp"
 #include "loom/suggest.hpp"
+#include "repeat.hpp"
 
 namespace loom {
 
@@ -55,13 +56,14 @@ void validate_link(const Graph& g, const Registry& registry, const GraphNode& n,
   }
   const TypeInfo* have = ut->spec.outputs[static_cast<std::size_t>(o)].type;
   if (!link_compatible(*have, *spec.type))
-    issues.push_back(at_node(n, ip + "/from", "type mismatch: " + link.node + "." + link.output + " is " + have->name +
-                                        " but input \"" + spec.name + "\" expects " + spec.type->name));
+    issues.push_back(at_node(n, ip + "/from",
+                             "type mismatch: " + link_text(link) + " is " + have->name + " but input \"" + spec.name +
+                                 "\" expects " + spec.type->name));
 }
 
 // The inner inputs a group's own interface feeds (a group file validated on
 // its own, a Repeat body): given when the group is used, not in the file.
-std::set<std::pair<std::string, std::string>> fed_by_interface(const Graph& g) {
+std::set<std::pair<std::string, std::string>> own_interface_targets(const Graph& g) {
   std::set<std::pair<std::string, std::string>> fed;
   if (!g.interface) return fed;
   for (const auto& [name, input] : g.interface->inputs)
@@ -213,7 +215,7 @@ namespace {
 // Every issue of g, and of the bodies of its Repeat nodes (each body once).
 void collect_issues(const Graph& g, const Registry& registry, const std::string& searched,
                     const std::vector<std::string>& known_types, Issues& issues, std::set<const Graph*>& bodies) {
-  const auto fed = fed_by_interface(g), instance_fed = fed_by_instances(g);
+  const auto fed = own_interface_targets(g), instance_fed = fed_by_instances(g);
   for (const auto& [id, n] : g.nodes) {
     const NodeType* t = detail::node_type_of(n, registry);
     if (n.repeat && !t) try {

@@ -6,6 +6,7 @@
 
 #include "graph_groups.hpp"
 #include "loom/suggest.hpp"
+#include "repeat.hpp"
 
 namespace loom {
 
@@ -31,9 +32,9 @@ std::unique_ptr<NodeType> interface_type(const Graph& g, const GroupInstance& in
   spec.plugin = "group";
   spec.description = inst.interface.description;
   for (const auto& [name, input] : inst.interface.inputs) {
-    try {
-      spec.inputs.push_back(detail::interface_input_spec(name, input.declaration));
-    } catch (const Error&) {  // reported by validation; the view keeps the name
+    if (const InputSpec* read = input.spec()) {
+      spec.inputs.push_back(*read);
+    } else {  // reported by validation; the view keeps the name
       InputSpec s;
       s.name = name;
       spec.inputs.push_back(std::move(s));
@@ -163,22 +164,22 @@ std::vector<ResolvedOutput> GraphView::outputs(const std::string& address) const
     for (const auto& o : spec.outputs)
       if (output.empty() || o.name == output) {
         const Link l = *detail::follow_instance_outputs(graph_, {id, o.name});
-        out.push_back({id + "." + o.name, {l.node, l.output}});
+        out.push_back({link_text(id, o.name), {l.node, l.output}});
       }
     return out;
   }
-  if (!output.empty()) return {{id + "." + output, {id, output}}};
+  if (!output.empty()) return {{link_text(id, output), {id, output}}};
   // A node named whole: under its id, unless the id holds dots itself (then
   // "ID.OUTPUT" each, which no other address could mean).
   if (k != NodeKind::repeat && id.find('.') == std::string::npos) return {{id, {id, ""}}};
-  for (const auto& o : spec.outputs) out.push_back({id + "." + o.name, {id, o.name}});
+  for (const auto& o : spec.outputs) out.push_back({link_text(id, o.name), {id, o.name}});
   return out;
 }
 
 std::vector<ResolvedOutput> GraphView::outputs(const std::vector<Target>& targets) const {
   std::vector<ResolvedOutput> out;
   for (const Target& t : targets) {
-    auto r = outputs(t.output.empty() ? t.node : t.node + "." + t.output);
+    auto r = outputs(t.output.empty() ? t.node : link_text(t.node, t.output));
     out.insert(out.end(), r.begin(), r.end());
   }
   return out;
@@ -220,7 +221,7 @@ RunStages GraphView::stages(const std::vector<std::string>& targets) const {
     }
     s.sequences.push_back(t);
     for (const auto& [name, binding] : graph_.nodes.at(resolved[0].target.node).inputs)
-      if (binding.link) s.per_frame.push_back(binding.link->node + "." + binding.link->output);
+      if (binding.link) s.per_frame.push_back(link_text(*binding.link));
   }
   for (const auto& id : upstream(targets))
     if (type(id).spec.simulation()) s.simulations.push_back(id);
@@ -282,7 +283,7 @@ std::vector<std::pair<std::string, Value>> named_outputs(const GraphView& view,
     }
     const auto& outputs = view.type(name).spec.outputs;
     for (std::size_t i = 0; i < values.size(); ++i)
-      named.emplace_back(name + "." + (i < outputs.size() ? outputs[i].name : std::to_string(i)), values[i]);
+      named.emplace_back(link_text(name, i < outputs.size() ? outputs[i].name : std::to_string(i)), values[i]);
   }
   return named;
 }

@@ -5,6 +5,7 @@
 
 #include "graph_groups.hpp"
 #include "json_text.hpp"
+#include "repeat.hpp"
 
 namespace loom {
 
@@ -52,18 +53,17 @@ NodeType group_node_type(const Graph& group, const std::string& name, const std:
   spec.name = name;
   spec.plugin = plugin;
   spec.description = group.interface->description;
-  for (const auto& [input, declaration] : group.interface->inputs) {
-    try {
-      spec.inputs.push_back(detail::interface_input_spec(input, declaration.declaration));
-    } catch (const Error& e) {
-      throw Error(name + ": interface input \"" + input + "\": " + e.what());
-    }
+  for (const auto& [input, declared] : group.interface->inputs) {
+    std::string problem;
+    const InputSpec* read = declared.spec(&problem);
+    if (!read) throw Error(name + ": interface input \"" + input + "\": " + problem);
+    spec.inputs.push_back(*read);
   }
   for (const auto& [output, from] : group.interface->outputs) {
     auto n = group.nodes.find(from.node);
     const NodeType* t = n == group.nodes.end() ? nullptr : detail::node_type_of(n->second, registry);
     const int o = t ? t->spec.output_index(from.output) : -1;
-    if (o < 0) throw Error(name + ": output \"" + output + "\" comes from " + from.node + "." + from.output + ", unknown");
+    if (o < 0) throw Error(name + ": output \"" + output + "\" comes from " + link_text(from) + ", unknown");
     const OutputSpec& inner = t->spec.outputs[static_cast<std::size_t>(o)];
     spec.outputs.push_back({output, inner.description, inner.type});
   }

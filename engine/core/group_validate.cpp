@@ -6,9 +6,11 @@
 #include <set>
 
 #include "graph_groups.hpp"
+#include "group_validate.hpp"
 #include "input_binding.hpp"
 #include "json_text.hpp"
 #include "loom/suggest.hpp"
+#include "repeat.hpp"
 
 namespace loom::detail {
 
@@ -23,11 +25,10 @@ class InterfaceCheck {
   // what it is given.
   void check(const GroupInterface& in, const GroupInstance* inst, const std::string& path) {
     for (const auto& [name, input] : in.inputs) {
-      std::optional<InputSpec> spec;
-      try {
-        spec = interface_input_spec(name, input.declaration);
-      } catch (const Error& e) {
-        once(input.place, input.place.pointer, "interface input \"" + name + "\": " + e.what());
+      std::string problem;
+      const InputSpec* spec = input.spec(&problem);
+      if (!spec) {
+        once(input.place, input.place.pointer, "interface input \"" + name + "\": " + problem);
         continue;
       }
       for (std::size_t k = 0; k < input.to.size(); ++k) check_target(input, *spec, input.to[k], k, path);
@@ -63,12 +64,8 @@ class InterfaceCheck {
   const TypeInfo* target_type(const Link& t, std::string& problem) {
     if (auto inst = g_.instances.find(t.node); inst != g_.instances.end()) {
       auto in = inst->second.interface.inputs.find(t.output);
-      if (in == inst->second.interface.inputs.end()) return nullptr;
-      try {
-        return interface_input_spec(t.output, in->second.declaration).type;
-      } catch (const Error&) {
-        return nullptr;  // reported at that declaration
-      }
+      const InputSpec* spec = in == inst->second.interface.inputs.end() ? nullptr : in->second.spec();
+      return spec ? spec->type : nullptr;  // invalid: reported at the declaration
     }
     auto n = g_.nodes.find(t.node);
     const NodeType* type = n == g_.nodes.end() ? nullptr : node_type_of(n->second, registry_);
@@ -97,11 +94,11 @@ class InterfaceCheck {
     const std::string node = !path.empty() && t.node.rfind(path + ".", 0) == 0 ? t.node.substr(path.size() + 1) : t.node;
     if (!problem.empty())
       once(input.place, input.place.pointer + "/to/" + std::to_string(k),
-           "interface input \"" + spec.name + "\" feeds " + node + "." + t.output + ", but node \"" + node + "\" " +
+           "interface input \"" + spec.name + "\" feeds " + link_text(node, t.output) + ", but node \"" + node + "\" " +
                problem);
     if (inner && !link_compatible(*spec.type, *inner))
       once(input.place, input.place.pointer + "/type",
-           "interface input \"" + spec.name + "\" is " + spec.type->name + " but it feeds " + t.node + "." + t.output +
+           "interface input \"" + spec.name + "\" is " + spec.type->name + " but it feeds " + link_text(t) +
                ", which expects " + inner->name);
   }
 
@@ -122,8 +119,9 @@ class InterfaceCheck {
     if (o < 0) return;  // reported at the inner inputs it feeds
     const TypeInfo* have = ut->spec.outputs[static_cast<std::size_t>(o)].type;
     if (!link_compatible(*have, *spec.type))
-      issues_.push_back({ip + "/from", "type mismatch: " + b.link->node + "." + b.link->output + " is " + have->name +
-                                           " but group input \"" + spec.name + "\" expects " + spec.type->name,
+      issues_.push_back({ip + "/from",
+                         "type mismatch: " + link_text(*b.link) + " is " + have->name + " but group input \"" +
+                             spec.name + "\" expects " + spec.type->name,
                          source});
   }
 };

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "loom/frame_pattern.hpp"
+#include "loom/suggest.hpp"
 
 namespace loom::detail {
 
@@ -39,7 +40,9 @@ void check_choice(const InputSpec& spec, const std::string& s) {
     if (c == s) return;
   std::string list;
   for (const auto& c : spec.choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
-  throw Error("\"" + s.substr(0, 80) + "\" is not one of the choices: " + list);
+  const auto near = near_names(s, spec.choices, 1);
+  throw Error("\"" + s.substr(0, 80) + "\" is not one of the choices: " + list +
+              (near.empty() ? "" : "; did you mean \"" + near.front() + "\"?"));
 }
 
 void refuse_control_characters(const std::string& path) {

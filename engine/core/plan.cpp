@@ -3,6 +3,7 @@
 #include "computation_hash.hpp"
 #include "evaluation.hpp"
 #include "graph_groups.hpp"
+#include "repeat.hpp"
 
 namespace loom::detail {
 
@@ -55,7 +56,7 @@ void Evaluation::bind_inputs() {
       const InputSpec& spec = specs[i];
       auto& b = s.inputs[i];
       auto it = s.node->inputs.find(spec.name);
-      if (fed_inputs && bind_fed(s, spec, b)) continue;
+      if (iteration_values && bind_iteration_value(s, spec, b)) continue;
       if (it != s.node->inputs.end() && it->second.link) {
         b.kind = NodeState::Binding::link;
         b.upstream = index.at(it->second.link->node);
@@ -82,13 +83,12 @@ void Evaluation::collect_interface_checks() {
     for (const auto& [name, b] : inst.given) {
       auto in = inst.interface.inputs.find(name);
       if (!b.link || in == inst.interface.inputs.end()) continue;  // literals were checked by validation
-      const json& d = in->second.declaration;
-      if (!d.contains("min") && !d.contains("max") && !d.contains("choices")) continue;
-      const InputSpec spec = interface_input_spec(name, d);
+      const InputSpec* spec = in->second.spec();                   // null only in a graph validation refuses
+      if (!spec || (!spec->min && !spec->max && spec->choices.empty())) continue;
       for (const Link& t : interface_targets(graph, in->second)) {
         auto n = index.find(t.node);
         const int i = n == index.end() ? -1 : at(n->second).type->spec.input_index(t.output);
-        if (i >= 0) interface_checks[{&at(n->second), i}].emplace_back(path, spec);
+        if (i >= 0) interface_checks[{&at(n->second), i}].emplace_back(path, *spec);
       }
     }
 }
@@ -104,14 +104,14 @@ void Evaluation::check_interface_inputs(const NodeState& s, int input, const Val
     }
 }
 
-// A Repeat body's input fed with a value: bound by the same rule as a linked value.
-bool Evaluation::bind_fed(const NodeState& s, const InputSpec& spec, NodeState::Binding& b) {
-  auto fed = fed_inputs->find({s.node->id, spec.name});
-  if (fed == fed_inputs->end()) return false;
+// A Repeat body's input given its iteration's value: bound by the same rule as a linked value.
+bool Evaluation::bind_iteration_value(const NodeState& s, const InputSpec& spec, NodeState::Binding& b) {
+  auto given = iteration_values->find({s.node->id, spec.name});
+  if (given == iteration_values->end()) return false;
   b.kind = NodeState::Binding::literal;
-  b.fed_hash = fed->second.second;
+  b.iteration_hash = given->second.second;
   try {
-    b.literal_value = bind_value(spec, fed->second.first, place);
+    b.literal_value = bind_value(spec, given->second.first, place);
   } catch (const Error& e) {
     throw Error("node \"" + s.node->id + "\": " + e.what());
   }

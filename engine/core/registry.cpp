@@ -1,5 +1,7 @@
 #include "loom/registry.hpp"
 
+#include "loom/input_declaration.hpp"
+
 namespace loom {
 
 namespace {
@@ -53,14 +55,12 @@ json describe_node_type(const NodeType& type) {
   const NodeSpec& s = type.spec;
   json inputs = json::array();
   for (const InputSpec& in : s.inputs) {
-    json j = {{"name", in.name}, {"type", in.type->name}, {"description", in.description}};
+    json j = input_spec_to_json(in);  // with every key of the listing present
+    j["name"] = in.name;
+    j["description"] = in.description;
     j["default"] = in.default_value;
     j["required"] = in.required();
-    if (in.optional) j["optional"] = true;
     if (in.lazy) j["lazy"] = true;
-    if (in.min) j["min"] = *in.min;
-    if (in.max) j["max"] = *in.max;
-    if (!in.choices.empty()) j["choices"] = in.choices;
     if (in.role == InputRole::input_file) j["role"] = "input_file";
     if (in.role == InputRole::output_file) j["role"] = "output_file";
     inputs.push_back(std::move(j));

@@ -1,5 +1,5 @@
 // The Repeat node: runs a body group `count` times. Each iteration is an
-// evaluation of the body's flat graph with the interface inputs fed in as
+// evaluation of the body's flat graph with the interface inputs given as
 // values (hashed, not read): the initial values under the Repeat node's own
 // hash, a threaded value under the hash of the body node that produced it.
 // Iterations use a session of their own unless "cache_iterations" is set, so
@@ -11,6 +11,7 @@
 
 #include "evaluation.hpp"
 #include "graph_groups.hpp"
+#include "graph_parse.hpp"
 #include "loom/graph_view.hpp"
 #include "loom/hash.hpp"
 
@@ -75,7 +76,7 @@ const NodeType& repeat_node_type(const RepeatBody& r, const Registry& registry) 
 
 namespace {
 
-struct Fed {
+struct IterationValue {
   Value value;
   std::uint64_t hash = 0;
 };
@@ -94,21 +95,21 @@ class RepeatRun {
     if (!repeat_.cache_iterations) options_.disk_cache = nullptr;
     for (const auto& [name, input] : body_.interface->inputs) {
       targets_[name] = interface_targets(body_, input);
-      if (name == "iteration") iteration_is_float_ = input.declaration.value("type", "") == "Float";
+      if (name == "iteration") iteration_is_float_ = input.spec() && input.spec()->type == &type_of<double>();
     }
   }
 
   // Iteration i: the body's outputs, given the values of its inputs.
-  std::map<std::string, Fed> iterate(int i, std::map<std::string, Fed> inputs) {
+  std::map<std::string, IterationValue> iterate(int i, std::map<std::string, IterationValue> inputs) {
     if (targets_.count("iteration") && !inputs.count("iteration"))
       inputs["iteration"] = {iteration_is_float_ ? Value::make<double>(i) : Value::make<int>(i),
                              Hasher().str("iteration").pod(i).digest()};
-    std::map<std::pair<std::string, std::string>, std::pair<Value, std::uint64_t>> fed;
+    std::map<std::pair<std::string, std::string>, std::pair<Value, std::uint64_t>> by_input;
     for (const auto& [name, v] : inputs)
-      for (const Link& t : targets_[name]) fed[{t.node, t.output}] = {v.value, v.hash};
+      for (const Link& t : targets_[name]) by_input[{t.node, t.output}] = {v.value, v.hash};
     if (!repeat_.cache_iterations) ++state_.generation;  // the outer session's is the outer frame's
     Evaluation e(state_, body_, options_, outer_.time);
-    e.fed_inputs = &fed;
+    e.iteration_values = &by_input;
     e.scope = outer_.scoped_id(s_) + ".";
     e.build();
     std::vector<NodeIndex> roots;  // the body's outputs and its sinks (a body may only write files)
@@ -118,7 +119,7 @@ class RepeatRun {
     e.execute(roots);
     for (std::size_t n = 0; n < e.nodes.size(); ++n)
       if (e.nodes[n]->type->spec.sink && !e.nodes[n]->ok) throw_failed(i, *e.nodes[n]);
-    std::map<std::string, Fed> out;
+    std::map<std::string, IterationValue> out;
     for (const auto& [name, from] : body_.interface->outputs) {
       NodeState& n = e.at(e.index.at(from.node));
       if (!n.ok) throw_failed(i, n);
@@ -159,14 +160,14 @@ bool threaded(const NodeSpec& spec, const std::string& output) {
 void run_repeat(Evaluation& outer, NodeState& s, Inputs& in, Outputs& out, Context& ctx) {
   const NodeSpec& spec = s.type->spec;
   const int count = in.get<int>("count");
-  std::map<std::string, Fed> values;
+  std::map<std::string, IterationValue> values;
   for (const InputSpec& i : spec.inputs)
     if (i.name != "count" && in.has(i.name))
       values[i.name] = {in.value(i.name), Hasher(s.hash).str("input").str(i.name).digest()};
   std::unique_ptr<Session::State> own;
   if (!s.node->repeat->cache_iterations) own = std::make_unique<Session::State>(outer.session.registry);
   RepeatRun run(outer, s, own ? *own : outer.session);
-  std::map<std::string, Fed> result;
+  std::map<std::string, IterationValue> result;
   for (int i = 0; i < count; ++i) {
     ctx.check_cancelled();
     result = run.iterate(i, values);
@@ -183,6 +184,15 @@ void run_repeat(Evaluation& outer, NodeState& s, Inputs& in, Outputs& out, Conte
       throw Error("count is 0 and output \"" + o.name + "\" is not threaded (no body input has its name and type): "
                   "it has no value");
     }
+  }
+}
+
+const NodeType* node_type_of(const GraphNode& node, const Registry& registry) {
+  if (!node.repeat) return registry.find(node.type);
+  try {
+    return &repeat_node_type(*node.repeat, registry);
+  } catch (const Error&) {  // an invalid body: validation reports why (repeat_node_type)
+    return nullptr;
   }
 }
 

@@ -32,4 +32,8 @@ std::shared_ptr<const RepeatBody> make_repeat_body(std::string body_type, std::s
 // the body's outputs. Throws Error for a body whose interface is invalid.
 const NodeType& repeat_node_type(const RepeatBody& repeat, const Registry& registry);
 
+// The type of a graph node: a Repeat node's own or the registry's; null when
+// unknown or when a Repeat's body is invalid (validation says why).
+const NodeType* node_type_of(const GraphNode& node, const Registry& registry);
+
 }  // namespace loom::detail

@@ -1,5 +1,7 @@
 #include "loom/value.hpp"
 
+#include "loom/input_declaration.hpp"  // type_names
+
 #include <deque>
 #include <map>
 #include <mutex>
@@ -42,6 +44,14 @@ const TypeInfo* find_type(std::string_view name) {
   std::lock_guard lock(t.mutex);
   auto it = t.by_name.find(name);
   return it == t.by_name.end() ? nullptr : it->second;
+}
+
+std::vector<std::string> type_names() {
+  auto& t = table();
+  std::lock_guard lock(t.mutex);
+  std::vector<std::string> names;
+  for (const auto& [name, type] : t.by_name) names.push_back(name);
+  return names;
 }
 
 }  // namespace loom

@@ -31,9 +31,13 @@ class In:
         self.range, self.choices, self.optional = range, choices, optional
 
     def declaration(self, name):
-        return {"name": name, "type": self.type, "default": self.default, "doc": self.doc,
-                "range": None if self.range is None else tuple(self.range),
-                "choices": None if self.choices is None else list(self.choices), "optional": self.optional}
+        """The declaration in the engine's vocabulary (as group interfaces
+        and `loom nodes --json` write it), unset keys left out."""
+        low, high = (None, None) if self.range is None else tuple(self.range)
+        keys = {"type": self.type, "default": self.default, "description": self.doc or None,
+                "min": low, "max": high, "choices": None if self.choices is None else list(self.choices),
+                "optional": self.optional or None}
+        return {"name": name, **{k: v for k, v in keys.items() if v is not None}}
 
 
 class Out:
@@ -43,7 +47,7 @@ class Out:
         self.type, self.doc = type, doc
 
     def declaration(self, name):
-        return {"name": name, "type": self.type, "doc": self.doc}
+        return {"name": name, "type": self.type, "description": self.doc}
 
 
 def _declarations(spec, cls, what):

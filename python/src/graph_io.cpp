@@ -7,8 +7,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "loom/atomic_file.hpp"
 #include <pybind11/stl.h>
+#include "loom/atomic_file.hpp"
+#include "loom/input_declaration.hpp"
 
 #include "loom/suggest.hpp"
 #include "values.hpp"
@@ -74,13 +75,10 @@ py::tuple check_input(const std::string& type, const std::string& input, const p
   if (is_held_value(value, *s.type) || !s.type->literal())
     return py::make_tuple("held", hold(from_python(value, *s.type)));
   json j = to_json(value);
-  if (s.type->literal() && !is_any(*s.type)) s.type->from_json(j);
-  if (!s.choices.empty() && std::find(s.choices.begin(), s.choices.end(), j) == s.choices.end()) {
-    const std::string given = j.is_string() ? j.get<std::string>() : j.dump();
-    std::string choices;
-    for (const auto& c : s.choices) choices += (choices.empty() ? "" : ", ") + c;
-    throw Error("\"" + given + "\" is not one of " + input + "'s choices (" + choices + ")" +
-                near_text(given, s.choices));
+  try {
+    if (!is_any(*s.type)) check_literal(s, j);  // type, range and choices, as validation checks a graph file's
+  } catch (const Error& e) {
+    throw Error(input + ": " + e.what());
   }
   return py::make_tuple("literal", from_json(j));
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "loom/builtin_types.hpp"
+#include "loom/input_declaration.hpp"
 #include "values.hpp"
 #include "world.hpp"
 
@@ -130,39 +131,19 @@ constexpr std::array<RunFunction, sizeof...(I)> make_slots(std::index_sequence<I
 }
 const std::array<RunFunction, kSlots> kRunSlots = make_slots(std::make_index_sequence<kSlots>());
 
-const TypeInfo& type_named(const std::string& name) {
-  if (name == "Enum") return enum_type();
-  if (const TypeInfo* t = find_type(name)) return *t;
-  throw Error("unknown value type \"" + name +
-              "\" (Bool, Int, Float, String, Enum, Vec2i, Vec2, Vec3i, Vec3, Color, IntList, FloatList, "
-              "StringList, Vec2List, Vec3List, Json, Image, Mesh, PointSet, Polylines, Scene, Any)");
-}
-
+// An input declared by loom.In, in the engine's vocabulary (In.declaration).
 InputSpec input_spec(const py::dict& d) {
-  InputSpec s;
-  s.name = d["name"].cast<std::string>();
-  s.description = d["doc"].cast<std::string>();
-  s.type = &type_named(d["type"].cast<std::string>());
-  s.optional = d["optional"].cast<bool>();
-  if (!d["range"].is_none()) {
-    py::tuple r = d["range"];
-    if (!r[0].is_none()) s.min = r[0].cast<double>();
-    if (!r[1].is_none()) s.max = r[1].cast<double>();
+  json declaration = to_json(d);
+  const std::string name = declaration["name"];
+  declaration.erase("name");
+  try {
+    const TypeInfo* type = find_type(declaration.value("type", std::string()));
+    if (type && !type->literal() && declaration.contains("default"))
+      throw Error("a " + type->name + " input cannot have a default");
+    return input_spec_from_json(name, declaration);
+  } catch (const Error& e) {
+    throw Error("input \"" + name + "\": " + e.what());
   }
-  if (!d["choices"].is_none()) s.choices = d["choices"].cast<std::vector<std::string>>();
-  if (s.type == &enum_type() && s.choices.empty()) throw Error("input \"" + s.name + "\": an Enum needs choices");
-  if (!d["default"].is_none()) {
-    if (!s.type->literal()) throw Error("input \"" + s.name + "\": a " + s.type->name + " input cannot have a default");
-    s.default_value = to_json(d["default"]);
-    try {
-      s.type->from_json(s.default_value);
-    } catch (const Error& e) {
-      throw Error("input \"" + s.name + "\": default " + s.default_value.dump() + ": " + e.what());
-    }
-    if (!s.choices.empty() && std::find(s.choices.begin(), s.choices.end(), s.default_value) == s.choices.end())
-      throw Error("input \"" + s.name + "\": default " + s.default_value.dump() + " is not one of its choices");
-  }
-  return s;
 }
 
 // The NodeType for a declaration; `version` is the source hash folded to
@@ -179,8 +160,8 @@ NodeType node_type(const std::string& name, const std::string& description, cons
   }
   for (const auto& o : outputs) {
     py::dict d = o.cast<py::dict>();
-    t.spec.outputs.push_back({d["name"].cast<std::string>(), d["doc"].cast<std::string>(),
-                              &type_named(d["type"].cast<std::string>())});
+    t.spec.outputs.push_back({d["name"].cast<std::string>(), d["description"].cast<std::string>(),
+                              &declared_type(d["type"].cast<std::string>())});
   }
   if (t.spec.outputs.empty() && !flags["sink"].cast<bool>())
     throw Error("a node needs at least one output (or sink=True)");

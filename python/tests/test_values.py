@@ -113,6 +113,11 @@ def test_bad_literal_inputs():
         g.add("Checkerboard", cels=3)
     with pytest.raises(loom.Error, match="did you mean \"Checkerboard\""):
         g.add("CheckerBord")
+    # A value out of the declared range is refused when given, as in a graph file.
+    with pytest.raises(loom.InputError, match="out of range: expected between 1 and 4096"):
+        g.add("Checkerboard", cells=0)
+    with pytest.raises(loom.InputError, match="out of range"):
+        g.add("Checkerboard", size=[0, 8])
 
 
 def test_load_and_save_give_the_runner_and_editor_files(tmp_path):

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "loom/input_declaration.hpp"
+#include "loom/search_path.hpp"
 #include "loom/testing.hpp"
 #include "run_loom.hpp"
 #include "test_files.hpp"
@@ -85,6 +87,84 @@ TEST(Binding, OneParserOfIdDotMember) {
   const Target t = parse_target("warp");
   EXPECT_EQ(t.node, "warp");
   EXPECT_EQ(t.output, "");
+}
+
+TEST(Binding, OneWriterOfIdDotMember) {
+  for (const char* text : {"warp.image", "look.render.image", "a.b.c.d"}) {
+    const auto link = parse_link(text);
+    ASSERT_TRUE(link) << text;
+    EXPECT_EQ(link_text(*link), text);
+  }
+  EXPECT_EQ(link_text("look.render", "width"), "look.render.width");
+}
+
+// Every input of every node Loom ships, written as a declaration and read
+// back, is the same input: the reader and the writer speak one vocabulary.
+TEST(Binding, EveryShippedInputSurvivesItsDeclaration) {
+  testing::Engine engine;
+  engine.load_all_plugins();
+  int inputs = 0;
+  for (const NodeType* type : engine.registry().all())
+    for (const InputSpec& in : type->spec.inputs) {
+      if (in.lazy || in.role != InputRole::value) continue;  // not part of the vocabulary
+      const json written = input_spec_to_json(in);
+      const InputSpec read = input_spec_from_json(in.name, written);
+      const std::string where = type->spec.name + "." + in.name + " " + written.dump();
+      EXPECT_EQ(read.type, in.type) << where;
+      EXPECT_EQ(read.default_value, in.default_value) << where;
+      EXPECT_EQ(read.min, in.min) << where;
+      EXPECT_EQ(read.max, in.max) << where;
+      EXPECT_EQ(read.choices, in.choices) << where;
+      EXPECT_EQ(read.optional, in.optional) << where;
+      EXPECT_EQ(read.description, in.description) << where;
+      ++inputs;
+    }
+  EXPECT_GT(inputs, 200);
+}
+
+TEST(Binding, ADeclarationIsReadStrictlyOrLeniently) {
+  const json bad = {{"type", "Flaot"}, {"min", "zero"}, {"default", 0.5}, {"description", "gain"}};
+  try {
+    input_spec_from_json("gain", bad);
+    ADD_FAILURE() << "a misspelt type was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("\"type\": unknown type \"Flaot\"; did you mean \"Float\"?"),
+              std::string::npos)
+        << e.what();
+  }
+  try {
+    input_spec_from_json("gain", {{"type", "Float"}, {"min", "zero"}});
+    ADD_FAILURE() << "a min that is no number was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("\"min\": expected a number"), std::string::npos) << e.what();
+  }
+  try {
+    input_spec_from_json("gain", {{"type", "Float"}, {"max", 1}, {"default", 2}});
+    ADD_FAILURE() << "a default out of its own range was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("\"default\": value 2.0 is out of range: expected at most 1"),
+              std::string::npos)
+        << e.what();
+  }
+  // The editor, mid-edit: what can be read is kept, an unknown type is Any.
+  const InputSpec lenient = input_spec_from_json("gain", bad, DeclarationReading::lenient);
+  EXPECT_EQ(lenient.type->name, "Any");
+  EXPECT_FALSE(lenient.min);
+  EXPECT_EQ(lenient.default_value, 0.5);
+  EXPECT_EQ(lenient.description, "gain");
+}
+
+TEST(Binding, SearchPathsTakeAbsoluteFoldersOnly) {
+  ::setenv("LOOM_TEST_SEARCH_PATH", "/opt/a::relative/b:/opt/c/../d:", 1);
+  ::testing::internal::CaptureStderr();
+  const auto path = search_path_from_env("LOOM_TEST_SEARCH_PATH");
+  const std::string warned = ::testing::internal::GetCapturedStderr();
+  ::unsetenv("LOOM_TEST_SEARCH_PATH");
+  ASSERT_EQ(path.size(), 2u);
+  EXPECT_EQ(path[0], "/opt/a");
+  EXPECT_EQ(path[1], "/opt/d");
+  EXPECT_NE(warned.find("LOOM_TEST_SEARCH_PATH entry \"relative/b\" ignored"), std::string::npos) << warned;
+  EXPECT_TRUE(search_path_from_env("LOOM_TEST_UNSET_VARIABLE").empty());
 }
 
 NodeType type_with(const std::function<void(NodeSpec&)>& declare) {

@@ -1,4 +1,4 @@
-// Graph files: parsing, validation against a registry, and writing back.
+// Host API. Graph files: parsing, validation against a registry, and writing back.
 //
 //   {"loom": 1, "seed": 7, "nodes": {
 //     "board": {"type": "Checkerboard", "inputs": {"size": [512, 512]}},
@@ -38,6 +38,9 @@ struct Link {
 // empty or there is no '.'. Input and output names hold no '.', so paths of nodes in groups split too
 // ("look.render.width"); what an address names is the answer of loom/graph_view.hpp, not of the split.
 LOOM_API std::optional<Link> parse_link(std::string_view text);
+// The one writer of those names: "NODE.MEMBER".
+LOOM_API std::string link_text(std::string_view node, std::string_view member);
+inline std::string link_text(const Link& link) { return link_text(link.node, link.output); }
 
 struct InputBinding {
   std::optional<Link> link;  // set: linked; unset: literal
@@ -78,6 +81,11 @@ struct GroupInput {
   json declaration;
   std::vector<Link> to;
   SourcePlace place;  // of the declaration
+  // The declaration as the InputSpec a node declares (input_spec_from_json in
+  // loom/input_declaration.hpp), read at the first ask, when plugins have
+  // registered the value types, and kept: null when invalid, *problem saying why.
+  LOOM_API const InputSpec* spec(std::string* problem = nullptr) const;
+  std::shared_ptr<struct ReadDeclaration> read = {};  // what spec() keeps
 };
 struct GroupInterface {
   std::string description;
