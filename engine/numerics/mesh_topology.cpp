@@ -22,13 +22,18 @@ std::uint64_t edge_key(int a, int b) {
 // the 3·#F edge keys finds them (and the non-manifold ones) without hashing.
 // Each boundary half-edge a→b keeps the face's orientation, so following
 // "the boundary half-edge that starts where this one ends" walks a loop.
-std::vector<std::vector<int>> boundary_loops(const Eigen::MatrixX3i& F) {
+std::vector<std::vector<int>> boundary_loops(const Eigen::MatrixX3i& F, const std::function<void()>& check) {
+  auto checkpoint = [&check] {
+    if (check) check();
+  };
   const int m = static_cast<int>(F.rows());
   std::vector<std::pair<std::uint64_t, int>> edges;  // key, half-edge index 3f+k
   edges.reserve(3 * static_cast<size_t>(m));
   for (int f = 0; f < m; ++f)
     for (int k = 0; k < 3; ++k) edges.emplace_back(edge_key(F(f, k), F(f, (k + 1) % 3)), 3 * f + k);
+  checkpoint();
   std::sort(edges.begin(), edges.end());
+  checkpoint();
 
   std::vector<std::pair<int, int>> boundary;  // directed a→b
   for (size_t i = 0; i < edges.size();) {
@@ -44,6 +49,7 @@ std::vector<std::vector<int>> boundary_loops(const Eigen::MatrixX3i& F) {
     i = j;
   }
   if (boundary.empty()) return {};
+  checkpoint();
 
   // Outgoing boundary half-edges per vertex; a vertex where two loops touch
   // (a "bowtie") has several, and each is used once.
