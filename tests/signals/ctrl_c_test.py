@@ -190,6 +190,21 @@ class CtrlCTest(unittest.TestCase):
             "s": {"type": "SaveMesh", "inputs": {"mesh": {"from": "p.mesh"}, "path": "p.obj"}}})
         self.interrupt("Parameterize 2M vertices", run, after="h", cpu=2.0)
 
+    # Generators: GridMesh at its largest (4096², 16.8M vertices), in its loops.
+    def test_grid_mesh(self):
+        run = self.run_graph({
+            "g": {"type": "GridMesh", "inputs": {"resolution": [4096, 4096]}},
+            "s": {"type": "SaveMesh", "inputs": {"mesh": {"from": "g.mesh"}, "path": "g.ply"}}})
+        self.interrupt("GridMesh 4096x4096", run, cpu=0.3)
+
+    # Procedural maps: HeightMap 8192² (bricks), in its rows.
+    def test_height_map(self):
+        run = self.run_graph({
+            "h": {"type": "HeightMap", "inputs": {"size": [8192, 8192]}},
+            "n": {"type": "HeightToNormalMap", "inputs": {"height": {"from": "h.image"}}},
+            "s": {"type": "SaveImage", "inputs": {"image": {"from": "n.image"}, "path": "n.exr"}}})
+        self.interrupt("HeightMap 8192x8192", run, cpu=0.3)
+
     # A sweep of 300,000 quick points: the signal comes between points; a
     # cancelled sweep writes no tables (--sweep-collect writes them from the
     # points' files); each point.json left is whole.
