@@ -1,7 +1,7 @@
 // A sparse matrix from (row, column, value) triplets, in passes that call a
 // check between chunks, so a node can stop during the assembly of a large
-// system (Eigen's setFromTriplets is one uninterruptible call: about 1 s for
-// the 46M triplets of ARAP's ASAP start at 640k vertices).
+// system (Eigen's setFromTriplets is one uninterruptible call, over the 46M
+// triplets of ARAP's ASAP start at 640k vertices).
 //
 //   triplets  any order; duplicates are summed in the order given, as
 //             setFromTriplets sums them, so the result is the same bit for bit
