@@ -99,9 +99,12 @@ struct RunningBody {
   const Context& ctx;
   bool interrupted = false;  // under bodies().mutex
   explicit RunningBody(const Context& c);
-  ~RunningBody() {
+  ~RunningBody() {  // with the GIL held
     std::lock_guard lock(bodies().mutex);
     bodies().running.erase(this);
+    // One raised after the body returned would fire in the next Python code
+    // of this thread (another run's body): drop it.
+    if (interrupted) PyThreadState_SetAsyncExc(ident, nullptr);
   }
   RunningBody(const RunningBody&) = delete;
   RunningBody& operator=(const RunningBody&) = delete;
