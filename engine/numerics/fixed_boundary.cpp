@@ -30,7 +30,8 @@ void require_fixed_in_every_piece(const Eigen::MatrixX3i& F, int n, const std::v
 }  // namespace
 
 FixedBoundarySystem fixed_boundary_system(const SparseMatrix& W, const Eigen::MatrixX3i& F,
-                                          const std::vector<int>& fixed, const Eigen::MatrixXd& X0) {
+                                          const std::vector<int>& fixed, const Eigen::MatrixXd& X0,
+                                          const std::function<void()>& check) {
   const int n = static_cast<int>(W.rows()), k = static_cast<int>(X0.cols());
   std::vector<char> is_fixed(n, 0);
   for (int v : fixed) is_fixed[v] = 1;
@@ -54,6 +55,7 @@ FixedBoundarySystem fixed_boundary_system(const SparseMatrix& W, const Eigen::Ma
   inner.reserve(static_cast<std::size_t>(R.nonZeros() + m));
   value.reserve(inner.capacity());
   for (int v = 0; v < n; ++v) {
+    if (check && v % 65536 == 0) check();
     const int i = sys.index[v];
     if (i < 0) continue;
     double sum = 0;
@@ -109,7 +111,7 @@ FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::Matr
   auto checkpoint = [&check] {
     if (check) check();
   };
-  const FixedBoundarySystem sys = fixed_boundary_system(W, F, fixed, X0);
+  const FixedBoundarySystem sys = fixed_boundary_system(W, F, fixed, X0, check);
   FixedBoundarySolve result;
   result.X = X0;
   result.uniform_rows = sys.uniform_rows;
@@ -128,8 +130,10 @@ FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::Matr
     SparseCholesky chol;
     bool factored = false;
     try {
-      chol.compute(A);
+      chol.compute(A, check);  // checks between CHOLMOD's analysis and factorization
       factored = true;
+    } catch (const Cancelled&) {
+      throw;
     } catch (const Error&) {
     }
     checkpoint();
@@ -147,7 +151,7 @@ FixedBoundarySolve solve_fixed_boundary(const SparseMatrix& W, const Eigen::Matr
     // off-diagonal (an M-matrix): its LU needs no iterative refinement, which
     // would cost more than the triangular solves themselves.
     SparseLU lu(SparseLU::Options{positive ? 0 : 2});
-    lu.compute(A);
+    lu.compute(A, check);  // checks between UMFPACK's symbolic and numeric steps
     checkpoint();
     Y = lu.solve(B);
     result.solver = lu.backend();

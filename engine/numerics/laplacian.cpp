@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "loom/error.hpp"
+#include "loom/numerics/sparse_assembly.hpp"
 
 namespace loom::numerics {
 
@@ -17,10 +18,12 @@ namespace {
 
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
-SparseMatrix from_triplets(const Triplets& t, int n) {
-  SparseMatrix W(n, n);
-  W.setFromTriplets(t.begin(), t.end());
-  return W;
+SparseMatrix from_triplets(const Triplets& t, int n, const std::function<void()>& check = {}) {
+  return sparse_from_triplets(n, n, t, check);
+}
+
+void check_every(int f, const std::function<void()>& check) {
+  if (check && f % 65536 == 0) check();
 }
 
 // A triangle is degenerate when its doubled area is negligible against its
@@ -47,10 +50,12 @@ SparseMatrix uniform_weights(const Eigen::MatrixX3i& F, int n) {
 
 // cot of the angle at corner k = (e1·e2) / |e1×e2| with e1, e2 the two edges
 // leaving it; each face adds half of it to the opposite edge (i, j).
-SparseMatrix cotangent_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
+SparseMatrix cotangent_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
+                               const std::function<void()>& check) {
   Triplets t;
   t.reserve(6 * static_cast<size_t>(F.rows()));
   for (int f = 0; f < F.rows(); ++f) {
+    check_every(f, check);
     const Eigen::Vector3d u = V.row(F(f, 1)) - V.row(F(f, 0));
     const Eigen::Vector3d v = V.row(F(f, 2)) - V.row(F(f, 0));
     const double cross = u.cross(v).norm();
@@ -63,16 +68,18 @@ SparseMatrix cotangent_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i
       t.emplace_back(j, i, w);
     }
   }
-  return from_triplets(t, static_cast<int>(V.rows()));
+  return from_triplets(t, static_cast<int>(V.rows()), check);
 }
 
 // tan(θ/2) = |a×b| / (|a||b| + a·b) for the angle θ between a and b; a face
 // with corner i and edges a = x_j - x_i, b = x_k - x_i adds tan(θ_i/2)/|a| to
 // w_ij and tan(θ_i/2)/|b| to w_ik (Floater 2003, eq. 5.1).
-SparseMatrix mean_value_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
+SparseMatrix mean_value_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
+                                const std::function<void()>& check) {
   Triplets t;
   t.reserve(6 * static_cast<size_t>(F.rows()));
   for (int f = 0; f < F.rows(); ++f) {
+    check_every(f, check);
     const Eigen::Vector3d e1 = V.row(F(f, 1)) - V.row(F(f, 0));
     const Eigen::Vector3d e2 = V.row(F(f, 2)) - V.row(F(f, 0));
     if (degenerate(e1.cross(e2).norm(), e1.squaredNorm() + e2.squaredNorm())) continue;
@@ -85,7 +92,7 @@ SparseMatrix mean_value_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3
       t.emplace_back(i, l, half_tan / lb);
     }
   }
-  return from_triplets(t, static_cast<int>(V.rows()));
+  return from_triplets(t, static_cast<int>(V.rows()), check);
 }
 
 namespace {

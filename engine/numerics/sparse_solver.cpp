@@ -186,15 +186,17 @@ SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
 SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
 
-void SparseCholesky::compute(const SparseMatrix& A) {
+void SparseCholesky::compute(const SparseMatrix& A, const std::function<void()>& check) {
   require_square_finite(A, "sparse Cholesky");
   impl_->analyze(A);
+  if (check) check();
   impl_->factorize(A);
 }
 
-void SparseCholesky::refactor(const SparseMatrix& A) {
+void SparseCholesky::refactor(const SparseMatrix& A, const std::function<void()>& check) {
   require_square_finite(A, "sparse Cholesky");
   if (!impl_->L || !impl_->same_pattern(A)) impl_->analyze(A);
+  if (check) check();
   impl_->factorize(A);
 }
 
@@ -244,7 +246,7 @@ SparseLU::~SparseLU() = default;
 SparseLU::SparseLU(SparseLU&&) noexcept = default;
 SparseLU& SparseLU::operator=(SparseLU&&) noexcept = default;
 
-void SparseLU::compute(const SparseMatrix& A) {
+void SparseLU::compute(const SparseMatrix& A, const std::function<void()>& check) {
   require_square_finite(A, "sparse LU");
   Impl& m = *impl_;
   m.release();
@@ -258,6 +260,14 @@ void SparseLU::compute(const SparseMatrix& A) {
   if (status != UMFPACK_OK) {
     if (symbolic) umfpack_di_free_symbolic(&symbolic);
     throw Error("sparse LU: UMFPACK analysis failed (status " + std::to_string(status) + ")");
+  }
+  if (check) {
+    try {
+      check();
+    } catch (...) {
+      umfpack_di_free_symbolic(&symbolic);
+      throw;
+    }
   }
   status = umfpack_di_numeric(m.A.outerIndexPtr(), m.A.innerIndexPtr(), m.A.valuePtr(), symbolic,
                               &m.numeric, m.control, info);

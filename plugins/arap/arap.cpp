@@ -72,9 +72,10 @@ struct ARAP {
         .bytes(mesh.F.data(), sizeof(int) * mesh.F.size())
         .pod(pin);
     ctx.progress(0, 1, "factoring");
+    const auto check = [&ctx] { ctx.check_cancelled(); };
     const auto system = ctx.scratch<loom::arap::ArapSystem>(key.digest(), [&] {
       return std::make_shared<loom::arap::ArapSystem>(loom::arap::arap_system(
-          mesh.V, mesh.F, pin >= 0 ? std::vector<int>{pin} : std::vector<int>{}));
+          mesh.V, mesh.F, pin >= 0 ? std::vector<int>{pin} : std::vector<int>{}, check));
     });
     if (system->frames.degenerate > 0)
       ctx.warn(std::to_string(system->frames.degenerate) +
@@ -92,7 +93,7 @@ struct ARAP {
       UV0 = loom::arap::tutte_map(mesh.V, mesh.F);
     } else {
       UV0 = loom::arap::similarity_map(system->frames, mesh.F, n,
-                                       loom::arap::similarity_pins(mesh.V, mesh.F, {}))
+                                       loom::arap::similarity_pins(mesh.V, mesh.F, {}), check)
                 .UV;
     }
 
@@ -103,6 +104,7 @@ struct ARAP {
     if (!result.converged && options.max_iterations > 0)
       ctx.log("ARAP stopped at the iteration cap (" + std::to_string(options.max_iterations) +
               ") before the tolerance was met");
+    ctx.check_cancelled();
     loom::Mesh flat = mesh;
     flat.UV = in.get<bool>("normalize")
                   ? loom::arap::fit_unit_square(result.UV, loom::numerics::referenced_vertices(mesh.F, n))

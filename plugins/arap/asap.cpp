@@ -37,7 +37,8 @@ struct ASAP {
     const auto pins =
         loom::arap::similarity_pins(mesh.V, mesh.F, in.get<std::vector<int>>("pins"));
     ctx.progress(0, 1, "solving");
-    const auto map = loom::arap::similarity_map(frames, mesh.F, mesh.vertices(), pins);
+    const auto map = loom::arap::similarity_map(frames, mesh.F, mesh.vertices(), pins,
+                                                [&ctx] { ctx.check_cancelled(); });
     if (map.regularized)
       ctx.warn("the ASAP system is singular (parts joined at one vertex?): solved with a tiny "
                "diagonal shift");

@@ -8,6 +8,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "loom/numerics/sparse_assembly.hpp"
 #include "loom/numerics/svd.hpp"
 
 namespace loom::arap {
@@ -138,11 +139,15 @@ void gather_rhs(const ArapSystem& sys, const Eigen::MatrixX2d& ab, const Eigen::
 }  // namespace
 
 ArapSystem arap_system(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
-                       std::vector<int> pinned) {
+                       std::vector<int> pinned, const std::function<void()>& check) {
+  const auto check_now = [&] {
+    if (check) check();
+  };
   const int n = static_cast<int>(V.rows());
   ArapSystem sys;
   sys.frames = triangle_frames(V, F);
   sys.F = F;
+  check_now();
   const MeshParts parts = mesh_parts(F, n);
   std::vector<bool> part_pinned(parts.count, false), held(n, false);
   for (int v : pinned)
@@ -171,9 +176,11 @@ ArapSystem arap_system(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
       if (sys.free_index[F(t, i)] >= 0)
         sys.corners[fill[sys.free_index[F(t, i)]]++] = static_cast<int>(3 * t + i);
 
+  check_now();
   std::vector<Eigen::Triplet<double>> ff, fp;
   ff.reserve(F.rows() * 9);
-  for (Eigen::Index t = 0; t < F.rows(); ++t)
+  for (Eigen::Index t = 0; t < F.rows(); ++t) {
+    if (t % 65536 == 0) check_now();
     for (int i = 0; i < 3; ++i) {
       const int a = F(t, i), b = F(t, (i + 1) % 3);
       const double c = sys.frames.cot(t, i);
@@ -184,11 +191,11 @@ ArapSystem arap_system(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
       if (fa >= 0 && fb < 0) fp.emplace_back(fa, b, -c);
       if (fb >= 0 && fa < 0) fp.emplace_back(fb, a, -c);
     }
-  sys.K.resize(nfree, nfree);
-  sys.K.setFromTriplets(ff.begin(), ff.end());
-  sys.K_fp.resize(nfree, n);
-  sys.K_fp.setFromTriplets(fp.begin(), fp.end());
-  if (nfree > 0) sys.K_ff.compute(sys.K);
+  }
+  sys.K = numerics::sparse_from_triplets(nfree, nfree, ff, check);
+  sys.K_fp = numerics::sparse_from_triplets(nfree, n, fp, check);
+  check_now();
+  if (nfree > 0) sys.K_ff.compute(sys.K, check);
   return sys;
 }
 

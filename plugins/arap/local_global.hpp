@@ -33,9 +33,11 @@ struct ArapSystem {
 
 // pinned: vertices to hold (any may be given); every connected part without
 // one gets its lowest vertex pinned; vertices no face references are held too.
+// check (optional, may throw to stop) is called between the steps and within
+// the long loops of the assembly and factorization.
 //   V #V by 3, F #F by 3
 ArapSystem arap_system(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
-                       std::vector<int> pinned);
+                       std::vector<int> pinned, const std::function<void()>& check = {});
 
 struct ArapOptions {
   int max_iterations = 100;

@@ -7,6 +7,7 @@
 #include <Eigen/SparseCore>
 
 #include "loom/error.hpp"
+#include "loom/numerics/sparse_assembly.hpp"
 #include "loom/numerics/sparse_solver.hpp"
 
 namespace loom::arap {
@@ -40,7 +41,10 @@ Eigen::Matrix<double, 6, 6> triangle_form(const TriangleFrames& fr, Eigen::Index
 }  // namespace
 
 SimilarityMap similarity_map(const TriangleFrames& frames, const Eigen::MatrixX3i& F, int n,
-                             const std::vector<Pin>& pins) {
+                             const std::vector<Pin>& pins, const std::function<void()>& check) {
+  const auto check_every = [&](Eigen::Index t) {
+    if (check && t % 32768 == 0) check();
+  };
   SimilarityMap out;
   out.UV = Eigen::MatrixX2d::Zero(n, 2);
   std::vector<bool> referenced(n, false);
@@ -57,6 +61,7 @@ SimilarityMap similarity_map(const TriangleFrames& frames, const Eigen::MatrixX3
   triplets.reserve(F.rows() * 36);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * nfree);
   for (Eigen::Index t = 0; t < F.rows(); ++t) {
+    check_every(t);
     const Eigen::Matrix<double, 6, 6> M = triangle_form(frames, t);
     for (int a = 0; a < 6; ++a) {
       const int fa = free_index[F(t, a / 2)];
@@ -71,17 +76,19 @@ SimilarityMap similarity_map(const TriangleFrames& frames, const Eigen::MatrixX3
     }
   }
   if (nfree > 0) {
-    numerics::SparseMatrix K(2 * nfree, 2 * nfree);
-    K.setFromTriplets(triplets.begin(), triplets.end());
+    numerics::SparseMatrix K = numerics::sparse_from_triplets(2 * nfree, 2 * nfree, triplets, check);
+    triplets = {};
     numerics::SparseCholesky chol;
     try {
-      chol.compute(K);
+      chol.compute(K, check);
+    } catch (const Cancelled&) {
+      throw;
     } catch (const Error&) {
       // Parts joined at one vertex can turn about it freely: a shift much
       // smaller than the entries picks the solution nearest the origin.
       const double shift = 1e-8 * K.diagonal().cwiseAbs().mean();
       for (int k = 0; k < 2 * nfree; ++k) K.coeffRef(k, k) += shift;
-      chol.compute(K);
+      chol.compute(K, check);
       out.regularized = true;
     }
     const Eigen::VectorXd x = chol.solve(rhs);
@@ -90,6 +97,7 @@ SimilarityMap similarity_map(const TriangleFrames& frames, const Eigen::MatrixX3
   }
   double energy = 0;
   for (Eigen::Index t = 0; t < F.rows(); ++t) {
+    check_every(t);
     Eigen::Matrix<double, 6, 1> u;
     for (int i = 0; i < 3; ++i) u.segment<2>(2 * i) = out.UV.row(F(t, i)).transpose();
     energy += 0.5 * u.dot(triangle_form(frames, t) * u);

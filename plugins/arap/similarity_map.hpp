@@ -2,6 +2,7 @@
 // eqs. 24–28), one sparse linear solve.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -26,8 +27,10 @@ struct SimilarityMap {
 // system solved by sparse Cholesky with the pins eliminated.
 //   frames  of (V, F),  F #F by 3,  n = #V
 //   pins    at least two per connected part (vertices of no face are held at 0)
+//   check   optional, may throw to stop: called within the assembly and
+//           between the factorization's steps
 SimilarityMap similarity_map(const TriangleFrames& frames, const Eigen::MatrixX3i& F, int n,
-                             const std::vector<Pin>& pins);
+                             const std::vector<Pin>& pins, const std::function<void()>& check = {});
 
 // The pins ASAP needs: two per connected part, `given` (two vertex indices of
 // one part) for its part and a far-apart pair for every other, laid along u at

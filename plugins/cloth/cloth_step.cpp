@@ -84,6 +84,7 @@ struct ClothStep {
     settings.solve.chebyshev = in.get<bool>("chebyshev");
     settings.solve.chebyshev_rho = in.get<double>("chebyshev_rho");
     settings.solve.after_iteration = [&ctx] { ctx.check_cancelled(); };
+    settings.solve.check = settings.solve.after_iteration;
     settings.gravity = in.get<loom::Vec3>("gravity");
     settings.damping = in.get<double>("damping");
     settings.wind_direction = in.get<loom::Vec3>("wind_direction");

@@ -56,6 +56,10 @@ struct SolveOptions {
   // Called after every iteration from the calling thread (the node checks
   // cancellation there); may throw to stop.
   std::function<void()> after_iteration;
+  // Newton only: called from the calling thread within an iteration's long
+  // steps (the Hessian's assembly, between the factorization's phases, each
+  // line-search trial), the node's cancellation check; may throw to stop.
+  std::function<void()> check;
   // Newton only: a penalty potential P(x) added to the springs' (E gains
   // h² P). Returns P and adds ∇P to *gradient and (vertex, 3x3 block) pairs
   // of a positive semidefinite Hessian approximation to *blocks.

@@ -4,6 +4,7 @@
 
 #include "implicit_solvers.hpp"
 #include "incremental_potential.hpp"
+#include "loom/numerics/sparse_assembly.hpp"
 
 namespace loom::cloth {
 namespace {
@@ -26,6 +27,7 @@ loom::numerics::SparseMatrix hessian(const SpringSystem& s, const std::vector<in
     if (row[i] >= 0)
       for (int c = 0; c < 3; ++c) t.emplace_back(row[i] + c, row[i] + c, s.mass[i]);
   for (Eigen::Index k = 0; k < s.springs.rows(); ++k) {
+    if (options.check && k % 32768 == 0) options.check();
     const int a = s.springs(k, 0), b = s.springs(k, 1);
     if (row[a] < 0 && row[b] < 0) continue;
     const Eigen::Vector3d r = (x.row(a) - x.row(b)).transpose();
@@ -58,9 +60,7 @@ loom::numerics::SparseMatrix hessian(const SpringSystem& s, const std::vector<in
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) t.emplace_back(row[v] + i, row[v] + j, h * h * block(i, j));
   }
-  loom::numerics::SparseMatrix H(dofs, dofs);
-  H.setFromTriplets(t.begin(), t.end());
-  return H;
+  return loom::numerics::sparse_from_triplets(dofs, dofs, t, options.check);
 }
 
 Eigen::VectorXd gather(const Eigen::MatrixX3d& g, const std::vector<int>& row, int dofs) {
@@ -113,7 +113,8 @@ Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, 
     return x;
   }
   for (int it = 0; it < options.iterations; ++it) {
-    cholesky.refactor(hessian(s, row, dofs, x, h, options));
+    cholesky.refactor(hessian(s, row, dofs, x, h, options), options.check);
+    if (options.check) options.check();
     const Eigen::VectorXd p = -cholesky.solve(g);
     // Backtracking line search on E (Armijo, c = 1e-4): H is positive
     // definite, so p is a descent direction and a small enough step decreases E.
@@ -123,6 +124,7 @@ Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, 
     double trial_energy = energy;
     bool accepted = false;
     for (int halving = 0; halving < 40; ++halving, alpha *= 0.5) {
+      if (options.check) options.check();
       trial = x;
       for (int i = 0; i < s.vertices(); ++i)
         if (row[i] >= 0) trial.row(i) += alpha * p.segment<3>(row[i]).transpose();
@@ -146,6 +148,7 @@ Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, 
     if (options.project) options.project(x);
     energy = options.project ? potential(s, x, y, h, options) : trial_energy;
     g = gather(gradient(s, x, y, h, options), row, dofs);
+    if (options.check) options.check();
     rep.residuals.push_back(g.norm() / g0);
     if (g.norm() <= options.tolerance * g0 || step <= 1e-16 * x.norm()) {
       rep.converged = true;

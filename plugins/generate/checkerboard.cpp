@@ -15,9 +15,10 @@ struct Checkerboard {
         .input<loom::Color>("color_b", loom::Color{{0.15, 0.3, 0.6, 1}}, "the other color")
         .output<loom::Image>("image", "the checkerboard");
   }
-  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
+  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     const cv::Mat m = loom::generate::checkerboard(in.get<loom::Vec2i>("size"), in.get<int>("cells"),
-                                                   in.get<loom::Color>("color_a"), in.get<loom::Color>("color_b"));
+                                                   in.get<loom::Color>("color_a"), in.get<loom::Color>("color_b"),
+                                                   [&ctx] { ctx.check_cancelled(); });
     out.set("image", loom::Image(m, loom::Encoding::srgb));
   }
 };

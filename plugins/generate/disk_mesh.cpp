@@ -15,9 +15,10 @@ struct DiskMesh {
         .input<double>("bump_height", 0.0, "height h of the bumps")
         .output<loom::Mesh>("mesh", "the disk");
   }
-  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
+  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     out.set("mesh", loom::generate::disk_mesh(in.get<double>("radius"), in.get<int>("rings"),
-                                              in.get<int>("segments"), in.get<double>("bump_height")));
+                                              in.get<int>("segments"), in.get<double>("bump_height"),
+                                              [&ctx] { ctx.check_cancelled(); }));
   }
 };
 LOOM_NODE(DiskMesh);

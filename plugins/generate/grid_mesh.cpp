@@ -17,9 +17,11 @@ struct GridMesh {
                            "rotates the grid about its center: about x, then y, then z (fixed axes)")
         .output<loom::Mesh>("mesh", "the grid");
   }
-  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
+  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     const loom::Vec2i resolution = in.get<loom::Vec2i>("resolution");
-    loom::Mesh mesh = loom::generate::rectangle_mesh(in.get<loom::Vec2>("size"), resolution.x(), resolution.y());
+    loom::Mesh mesh = loom::generate::rectangle_mesh(in.get<loom::Vec2>("size"), resolution.x(), resolution.y(),
+                                                     [&ctx] { ctx.check_cancelled(); });
+    ctx.check_cancelled();
     const Eigen::Matrix3d R = loom::numerics::rotation_from_degrees(in.get<loom::Vec3>("rotate_degrees"));
     mesh.V = (mesh.V * R.transpose()).rowwise() + in.get<loom::Vec3>("center").transpose();
     out.set("mesh", std::move(mesh));

@@ -17,7 +17,8 @@ struct HemisphereMesh {
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     out.set("mesh", loom::generate::hemisphere_mesh(in.get<double>("radius"), in.get<int>("rings"),
-                                                    in.get<int>("segments"), in.get<double>("noise"), ctx.rng()));
+                                                    in.get<int>("segments"), in.get<double>("noise"), ctx.rng(),
+                                                    [&ctx] { ctx.check_cancelled(); }));
   }
 };
 LOOM_NODE(HemisphereMesh);

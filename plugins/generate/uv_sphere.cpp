@@ -13,9 +13,9 @@ struct UVSphere {
         .input<int>("segments", 32, "longitude segments").range(3, 65536)
         .output<loom::Mesh>("mesh", "the sphere");
   }
-  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
+  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     out.set("mesh", loom::generate::uv_sphere_mesh(in.get<double>("radius"), in.get<int>("rings"),
-                                                   in.get<int>("segments")));
+                                                   in.get<int>("segments"), [&ctx] { ctx.check_cancelled(); }));
   }
 };
 LOOM_NODE(UVSphere);

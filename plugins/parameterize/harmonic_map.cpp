@@ -15,7 +15,7 @@ Parameterization parameterize(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i&
   };
   if (F.rows() == 0) throw Error("the mesh has no faces");
   const int n = static_cast<int>(V.rows());
-  const auto loops = numerics::boundary_loops(F);
+  const auto loops = numerics::boundary_loops(F, check);
   if (loops.empty())
     throw Error("the mesh is closed (no boundary loop): a fixed-boundary map needs a disk; cut it open first");
 
@@ -42,7 +42,7 @@ Parameterization parameterize(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i&
   Eigen::MatrixXd X0 = Eigen::MatrixXd::Zero(n + extra, 2);
   for (size_t k = 0; k < loops[0].size(); ++k) X0.row(loops[0][k]) = boundary.row(k);
   checkpoint();
-  const numerics::SparseMatrix W = weight_matrix(V2, F2, weights);
+  const numerics::SparseMatrix W = weight_matrix(V2, F2, weights, check);
   checkpoint();
   const numerics::FixedBoundarySolve s = numerics::solve_fixed_boundary(W, F2, loops[0], X0, check);
 

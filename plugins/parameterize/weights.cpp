@@ -27,21 +27,22 @@ const std::vector<std::string>& weight_names() {
   return names;
 }
 
-Eigen::SparseMatrix<double> weight_matrix(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Weights weights) {
+Eigen::SparseMatrix<double> weight_matrix(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Weights weights,
+                                          const std::function<void()>& check) {
   switch (weights) {
     case Weights::uniform: return numerics::uniform_weights(F, static_cast<int>(V.rows()));
-    case Weights::cotangent: return numerics::cotangent_weights(V, F);
+    case Weights::cotangent: return numerics::cotangent_weights(V, F, check);
     case Weights::cotangent_clamped: {
       // Clamping at a small fraction of the mean magnitude keeps every weight
       // positive (Floater 2003, Tutte's theorem: the map cannot fold) while
       // changing only the obtuse-dominated edges.
-      Eigen::SparseMatrix<double> W = numerics::cotangent_weights(V, F);
+      Eigen::SparseMatrix<double> W = numerics::cotangent_weights(V, F, check);
       const double floor = 1e-3 * W.cwiseAbs().sum() / std::max<Eigen::Index>(W.nonZeros(), 1);
       for (Eigen::Index k = 0; k < W.nonZeros(); ++k) W.valuePtr()[k] = std::max(W.valuePtr()[k], floor);
       return W;
     }
     case Weights::intrinsic_delaunay: return numerics::intrinsic_delaunay_cotangent_weights(V, F);
-    case Weights::mean_value: return numerics::mean_value_weights(V, F);
+    case Weights::mean_value: return numerics::mean_value_weights(V, F, check);
     case Weights::shape_preserving: return shape_preserving_weights(V, F);
   }
   throw Error("unknown weights");

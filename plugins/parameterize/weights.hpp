@@ -2,6 +2,7 @@
 // the weighted average of its neighbours, Σ_j w_ij (x_j - x_i) = 0.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,7 +30,10 @@ const std::vector<std::string>& weight_names();
 // W #V by #V, W(i,j) = w_ij; row i holds the weights of vertex i (symmetric
 // except mean_value and shape_preserving).
 //   V #V by 3, F #F by 3
-Eigen::SparseMatrix<double> weight_matrix(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Weights weights);
+// check: a node's cancellation check (may throw), called within the
+// cotangent and mean-value assemblies.
+Eigen::SparseMatrix<double> weight_matrix(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, Weights weights,
+                                          const std::function<void()>& check = {});
 
 // Floater's shape-preserving weights (Floater 1997, section 6): each free
 // vertex's one-ring is flattened by a geodesic polar map (angles scaled to

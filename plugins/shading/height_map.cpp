@@ -22,15 +22,16 @@ struct HeightMap {
         .input<double>("bevel", 0.15, "bricks: width of the rounded edge, in brick heights").range(0, 1)
         .output<loom::Image>("image", "height, one channel, linear");
   }
-  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
+  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
+    const auto check = [&ctx] { ctx.check_cancelled(); };
     const loom::Vec2i size = in.get<loom::Vec2i>("size");
     if (size.minCoeff() < 2 || size.maxCoeff() > 16384)
       throw loom::Error("size must be 2..16384 pixels per side");
     const int rows = in.get<int>("rows"), columns = in.get<int>("columns");
     const cv::Mat h = in.get<Pattern>("pattern") == Pattern::bumps
-                          ? loom::shading::bump_height(size.x(), size.y(), rows, columns)
+                          ? loom::shading::bump_height(size.x(), size.y(), rows, columns, check)
                           : loom::shading::brick_height(size.x(), size.y(), rows, columns,
-                                                        in.get<double>("mortar"), in.get<double>("bevel"));
+                                                        in.get<double>("mortar"), in.get<double>("bevel"), check);
     out.set("image", loom::Image(h, loom::Encoding::linear));
   }
 };

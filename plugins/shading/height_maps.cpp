@@ -15,9 +15,11 @@ double smooth_edge(double distance, double bevel) {
 }
 }  // namespace
 
-cv::Mat brick_height(int width, int height, int rows, int columns, double mortar, double bevel) {
+cv::Mat brick_height(int width, int height, int rows, int columns, double mortar, double bevel,
+                     const std::function<void()>& check) {
   cv::Mat h(height, width, CV_32FC1);
   tbb::parallel_for(0, height, [&](int y) {
+    if (check) check();
     for (int x = 0; x < width; ++x) {
       // Brick coordinates: one unit per brick height (course) and per brick length.
       const double v = (y + 0.5) / height * rows;
@@ -36,9 +38,10 @@ cv::Mat brick_height(int width, int height, int rows, int columns, double mortar
   return h;
 }
 
-cv::Mat bump_height(int width, int height, int rows, int columns) {
+cv::Mat bump_height(int width, int height, int rows, int columns, const std::function<void()>& check) {
   cv::Mat h(height, width, CV_32FC1);
   tbb::parallel_for(0, height, [&](int y) {
+    if (check) check();
     for (int x = 0; x < width; ++x) {
       double u = (x + 0.5) / width * columns, v = (y + 0.5) / height * rows;
       u = u - std::floor(u) - 0.5;
@@ -50,10 +53,11 @@ cv::Mat bump_height(int width, int height, int rows, int columns) {
   return h;
 }
 
-cv::Mat height_to_normal_map(const cv::Mat& height, double strength, bool wrap) {
+cv::Mat height_to_normal_map(const cv::Mat& height, double strength, bool wrap, const std::function<void()>& check) {
   const int W = height.cols, H = height.rows;
   cv::Mat n(H, W, CV_32FC3);
   tbb::parallel_for(0, H, [&](int y) {
+    if (check) check();
     for (int x = 0; x < W; ++x) {
       auto at = [&](int xx, int yy) {
         if (wrap) {

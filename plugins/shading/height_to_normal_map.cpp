@@ -20,7 +20,7 @@ struct HeightToNormalMap {
         .input<bool>("wrap", true, "the height tiles: differences wrap around the edges")
         .output<loom::Image>("image", "the normal map, RGB, linear-tagged [0, 1] values");
   }
-  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
+  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
     const loom::Image& height = in.get<loom::Image>("height");
     if (height.empty()) throw loom::Error("height is empty");
     loom::require_finite(height, "height");
@@ -31,7 +31,8 @@ struct HeightToNormalMap {
       cv::extractChannel(height.pixels, h, 0);
     const double strength = in.get<double>("strength");
     if (!std::isfinite(strength)) throw loom::Error("strength must be finite");
-    out.set("image", loom::Image(loom::shading::height_to_normal_map(h, strength, in.get<bool>("wrap")),
+    out.set("image", loom::Image(loom::shading::height_to_normal_map(h, strength, in.get<bool>("wrap"),
+                                                                           [&ctx] { ctx.check_cancelled(); }),
                                  loom::Encoding::linear));
   }
 };

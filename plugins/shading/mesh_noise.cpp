@@ -24,7 +24,11 @@ struct MeshNoise {
     std::normal_distribution<double> gauss(0, in.get<double>("sigma"));
     auto& rng = ctx.rng();
     loom::Mesh result = mesh;
-    for (int i = 0; i < mesh.vertices(); ++i) result.V.row(i) += gauss(rng) * N.row(i);
+    for (int i = 0; i < mesh.vertices(); ++i) {
+      if (i % 65536 == 0) ctx.check_cancelled();
+      result.V.row(i) += gauss(rng) * N.row(i);
+    }
+    ctx.check_cancelled();
     result.N = loom::numerics::vertex_normals(result.V, result.F);
     out.set("mesh", std::move(result));
   }

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <set>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -80,25 +82,79 @@ std::vector<py::object> split_result(const py::object& result, const NodeSpec& s
   return values;
 }
 
-// The Python threads running a body now (interrupt_python_bodies).
-std::mutex g_bodies_mutex;
-std::multiset<unsigned long> g_bodies;
+// The Python threads running a body now, with their node's context
+// (interrupt_python_bodies, watch_cancellation). Lock order: the GIL, then
+// the mutex (a body holds the GIL when it registers and leaves).
+struct RunningBody;
+struct Bodies {
+  std::mutex mutex;
+  std::set<RunningBody*> running;
+};
+Bodies& bodies() {
+  static auto* b = new Bodies();  // never destroyed: the watch thread outlives static destruction
+  return *b;
+}
 
 struct RunningBody {
   unsigned long ident = PyThread_get_thread_ident();
-  RunningBody() {
-    std::lock_guard lock(g_bodies_mutex);
-    g_bodies.insert(ident);
+  const Context& ctx;
+  bool interrupted = false;  // under bodies().mutex
+  explicit RunningBody(const Context& c);
+  ~RunningBody() {  // with the GIL held
+    std::lock_guard lock(bodies().mutex);
+    bodies().running.erase(this);
+    // One raised after the body returned would fire in the next Python code
+    // of this thread (another run's body): drop it.
+    if (interrupted) PyThreadState_SetAsyncExc(ident, nullptr);
   }
-  ~RunningBody() {
-    std::lock_guard lock(g_bodies_mutex);
-    g_bodies.erase(g_bodies.find(ident));
-  }
+  RunningBody(const RunningBody&) = delete;
+  RunningBody& operator=(const RunningBody&) = delete;
 };
+
+// Raises KeyboardInterrupt, once, in each body whose run is cancelled; true if
+// one was. The caller holds the mutex (and the GIL when `raise`).
+bool interrupt_cancelled(bool raise) {
+  bool any = false;
+  for (RunningBody* b : bodies().running)
+    if (!b->interrupted && b->ctx.cancelled()) {
+      any = true;
+      if (!raise) break;
+      b->interrupted = true;
+      PyThreadState_SetAsyncExc(b->ident, PyExc_KeyboardInterrupt);
+    }
+  return any;
+}
+
+// `loom run` and the editor have no Python code waiting for Ctrl-C (a Session
+// has: SessionCore::run), so a thread started with the first body looks every
+// 20 ms; without it a body that never asks ctx.cancelled() ran on until the
+// runner's 5-s watchdog. The GIL is taken only when a body is to be stopped.
+void watch_cancellation() {
+  for (;;) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    {
+      std::lock_guard lock(bodies().mutex);
+      if (!interrupt_cancelled(false)) continue;
+    }
+    const PyGILState_STATE gil = PyGILState_Ensure();
+    {
+      std::lock_guard lock(bodies().mutex);
+      interrupt_cancelled(true);
+    }
+    PyGILState_Release(gil);
+  }
+}
+
+RunningBody::RunningBody(const Context& c) : ctx(c) {
+  static std::once_flag watching;
+  std::call_once(watching, [] { std::thread(watch_cancellation).detach(); });
+  std::lock_guard lock(bodies().mutex);
+  bodies().running.insert(this);
+}
 
 void run_python_node(int slot, Inputs& in, Outputs& out, Context& ctx) {
   py::gil_scoped_acquire gil;
-  const RunningBody running;
+  const RunningBody running(ctx);
   const PythonNode& node = *nodes().at(std::size_t(slot));
   const NodeSpec& spec = node.type.spec;
   py::dict kwargs;
@@ -219,8 +275,12 @@ ActiveRun::ActiveRun() { ++g_active_runs; }
 ActiveRun::~ActiveRun() { --g_active_runs; }
 
 void interrupt_python_bodies() {
-  std::lock_guard lock(g_bodies_mutex);
-  for (unsigned long ident : g_bodies) PyThreadState_SetAsyncExc(ident, PyExc_KeyboardInterrupt);
+  std::lock_guard lock(bodies().mutex);
+  for (RunningBody* b : bodies().running)
+    if (!b->interrupted) {
+      b->interrupted = true;
+      PyThreadState_SetAsyncExc(b->ident, PyExc_KeyboardInterrupt);
+    }
 }
 
 void register_python_nodes(Registry& registry) {

@@ -26,7 +26,9 @@ struct ActiveRun {
 // Raises KeyboardInterrupt in every thread now running a Python body (the
 // caller holds the GIL): a cancelled run's bodies stop at their next bytecode,
 // also those that never ask ctx.cancelled(). A body inside one long C call
-// (a time.sleep) stops when the call returns.
+// (a time.sleep) stops when the call returns. Where no Python code waits for
+// Ctrl-C (`loom run`, the editor), a thread started with the first body does
+// the same for each body whose run is cancelled, within 20 ms.
 void interrupt_python_bodies();
 
 // Adds every Python node type declared so far to a registry (and remembers

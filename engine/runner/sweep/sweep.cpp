@@ -221,7 +221,10 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
       r.collect ? 0 : static_cast<std::size_t>(std::count(plan.selected.begin(), plan.selected.end(), true));
   std::size_t done = 0;
   for (std::size_t i = 0; i < plan.points.size(); ++i) {
-    if (!plan.selected[i] || r.collect || cancel_flag()) {
+    // Cancelled: stop at once. Reading the remaining points' files and writing
+    // the tables took seconds for a large sweep (4.2 s at 300,000 points).
+    if (cancel_flag()) break;
+    if (!plan.selected[i] || r.collect) {
       points.push_back(read_point(s.out_dir, i, plan.points[i]));
       continue;
     }
@@ -233,6 +236,11 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
       std::fprintf(stderr, "[%zu/%zu] point %zu (%s): %s, %s, in %.3f s\n", ++done, selected, i,
                    plan.points[i].values.dump().c_str(), points.back()["status"].get<std::string>().c_str(),
                    points.back()["source"].get<std::string>().c_str(), points.back()["run_seconds"].get<double>());
+  }
+  if (cancel_flag()) {
+    std::cerr << interrupted_message() << "\nthe sweep's tables were not written: --sweep-collect writes them "
+                                         "from the points done\n";
+    return kInterrupted;
   }
   if (disk && !s.cache.no_trim && disk->bytes_written() > 0) disk->trim();
   if (!s.profile_path.empty() && !r.collect) {  // a profile per point run, by index
@@ -247,7 +255,7 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
   if (r.only.empty() || r.collect) {
     if (!write_sweep_tables(s.out_dir, plan.axes, points, r.plots, s.quiet)) exit = kNodeFailed;
   }
-  if (cancel_flag()) {
+  if (cancel_flag()) {  // while the tables were written
     std::cerr << interrupted_message() << "\n";
     return kInterrupted;
   }

@@ -33,8 +33,10 @@ struct FixedBoundarySystem {
   bool symmetric = false;   // A = Aᵀ (to 1e-12) and no fallback rows: Cholesky applies
   int uniform_rows = 0;     // as FixedBoundarySolve::uniform_rows
 };
+// check as for solve_fixed_boundary, every 65536 rows.
 LOOM_API FixedBoundarySystem fixed_boundary_system(const SparseMatrix& W, const Eigen::MatrixX3i& F,
-                                                   const std::vector<int>& fixed, const Eigen::MatrixXd& X0);
+                                                   const std::vector<int>& fixed, const Eigen::MatrixXd& X0,
+                                                   const std::function<void()>& check = {});
 
 // Solves Σ_j w_ij (x_j - x_i) = 0 for the free vertices: those referenced
 // by F and not fixed. Rows of unreferenced vertices keep X0's values.

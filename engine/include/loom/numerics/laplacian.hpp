@@ -5,7 +5,11 @@
 // so δ_i = Σ_j w_ij (x_j - x_i). Solvers build the rows they need from W.
 //
 //   V  #V by 3 positions    F  #F by 3 triangles
+//   check  (where taken) called every 65536 faces and within the assembly;
+//          a node's cancellation check, may throw to stop
 #pragma once
+
+#include <functional>
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -22,7 +26,8 @@ LOOM_API SparseMatrix uniform_weights(const Eigen::MatrixX3i& F, int n);
 // w_ij = (cot α_ij + cot β_ij) / 2, the angles opposite edge (i,j) (Pinkall and
 // Polthier 1993). Negative on obtuse triangles. Degenerate (zero-area)
 // triangles contribute nothing instead of infinities.
-LOOM_API SparseMatrix cotangent_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
+LOOM_API SparseMatrix cotangent_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
+                                       const std::function<void()>& check = {});
 
 // Cotangent weights of the intrinsic Delaunay triangulation (Bobenko and
 // Springborn 2007): the mesh's edges are flipped, on their lengths alone,
@@ -37,6 +42,7 @@ LOOM_API SparseMatrix intrinsic_delaunay_cotangent_weights(const Eigen::MatrixX3
 
 // w_ij = (tan(α_ij/2) + tan(β_ij/2)) / |x_i - x_j| (Floater 2003): positive, not
 // symmetric (row i belongs to vertex i).
-LOOM_API SparseMatrix mean_value_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
+LOOM_API SparseMatrix mean_value_weights(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
+                                        const std::function<void()>& check = {});
 
 }  // namespace loom::numerics

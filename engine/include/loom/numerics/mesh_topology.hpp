@@ -1,6 +1,7 @@
 // Plugin author API. Combinatorial mesh operators on F (#F by 3 triangle indices into #V vertices).
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -12,8 +13,10 @@ namespace loom::numerics {
 // Boundary loops, each an ordered list of vertex indices following the
 // boundary edges' orientation; sorted longest first (by edge count).
 // Throws loom::Error on a non-manifold edge (used by more than two faces),
-// naming the edge.
-LOOM_API std::vector<std::vector<int>> boundary_loops(const Eigen::MatrixX3i& F);
+// naming the edge. check (optional, may throw to stop) is called between the
+// steps: a node's cancellation check.
+LOOM_API std::vector<std::vector<int>> boundary_loops(const Eigen::MatrixX3i& F,
+                                                      const std::function<void()>& check = {});
 
 // For each vertex, its neighbours (sorted, no duplicates). n = #V.
 LOOM_API std::vector<std::vector<int>> vertex_adjacency(const Eigen::MatrixX3i& F, int n);

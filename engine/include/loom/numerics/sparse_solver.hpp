@@ -23,6 +23,7 @@
 // compute()/refactor() must not run concurrently with anything else on it.
 #pragma once
 
+#include <functional>
 #include <memory>
 
 #include <Eigen/Core>
@@ -43,11 +44,14 @@ class LOOM_API SparseCholesky {
 
   // Throws loom::Error if A is not square or not positive definite
   // ("matrix is not positive definite (pivot k)"), never returns garbage.
-  void compute(const SparseMatrix& A);
+  // `check` (optional, may throw to stop) is called between the symbolic
+  // analysis and the numeric factorization: a node's cancellation check, since
+  // neither CHOLMOD call can be interrupted (docs/robustness.md has their times).
+  void compute(const SparseMatrix& A, const std::function<void()>& check = {});
   // Same pattern as the last compute(): reuses the symbolic analysis (the
   // fill-reducing ordering and supernodes) and redoes only the numeric part.
   // A different pattern, or no earlier compute(), falls back to compute().
-  void refactor(const SparseMatrix& A);
+  void refactor(const SparseMatrix& A, const std::function<void()>& check = {});
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
   int rows() const;
   const char* backend() const;  // "cholmod"
@@ -68,7 +72,9 @@ class LOOM_API SparseLU {
   SparseLU(SparseLU&&) noexcept;
   SparseLU& operator=(SparseLU&&) noexcept;
 
-  void compute(const SparseMatrix& A);  // throws loom::Error if singular
+  // Throws loom::Error if singular; `check` as for SparseCholesky::compute,
+  // between UMFPACK's symbolic and numeric factorizations.
+  void compute(const SparseMatrix& A, const std::function<void()>& check = {});
   Eigen::MatrixXd solve(const Eigen::MatrixXd& B) const;
   const char* backend() const;  // "umfpack"
 
