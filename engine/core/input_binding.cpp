@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "loom/frame_pattern.hpp"
+#include "loom/suggest.hpp"
 
 namespace loom::detail {
 
@@ -39,7 +40,10 @@ void check_choice(const InputSpec& spec, const std::string& s) {
     if (c == s) return;
   std::string list;
   for (const auto& c : spec.choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
-  throw Error("\"" + s.substr(0, 80) + "\" is not one of the choices: " + list);
+  const std::vector<std::string> near = near_names(s, spec.choices);
+  for (std::size_t i = 0; i < near.size(); ++i)
+    list += (i == 0 ? "; did you mean \"" : i + 1 == near.size() ? " or \"" : ", \"") + near[i] + "\"";
+  throw Error("\"" + s.substr(0, 80) + "\" is not one of the choices: " + list + (near.empty() ? "" : "?"));
 }
 
 void refuse_control_characters(const std::string& path) {
