@@ -38,9 +38,10 @@ TEST(ColorConfig, OciocheckPassesTheShippedConfig) {
 
 // A test image with values from 0 to 4 (over-range: scene-linear light),
 // written as a float EXR by oiiotool (not by Loom).
-fs::path test_exr(const fs::path& dir, std::string* out) {
+fs::path test_exr(const fs::path& dir, std::string* out, double max = 4) {
   const fs::path file = dir / "in.exr";
-  if (test::run_shell("oiiotool --pattern noise:type=uniform:min=0:max=4:seed=3 32x16 3 -d float -o " + file.string(),
+  if (test::run_shell("oiiotool --pattern noise:type=uniform:min=0:max=" + std::to_string(max) +
+                          ":seed=3 32x16 3 -d float -o " + file.string(),
                       out) != 0)
     return {};
   return file;
@@ -130,6 +131,22 @@ TEST(ColorConvert, MatchesTheSrgbCurveAndTheAcescgMatrix) {
     }
   EXPECT_LT(curve, 1e-5);
   EXPECT_LT(matrix, 1e-5);  // the published matrix has 7 digits
+}
+
+// The Standard view is what SaveImage already does to a linear image for a
+// PNG: the IEC sRGB curve (within the display range, where the display clips).
+TEST(DisplayView, StandardIsTheSrgbCurveSaveImageApplies) {
+  testing::Engine e;
+  const fs::path dir = test::temp_dir();
+  std::string out;
+  const fs::path in = test_exr(dir, &out, 1.0);
+  if (in.empty()) GTEST_SKIP() << "oiiotool (openimageio-tools) is not installed: " << out;
+  const Image source = load(e, in);
+  const Image shown = convert(e, in, {{"type", "DisplayView"}, {"inputs", {{"view", "Standard"}}}});
+  ASSERT_FALSE(shown.empty());
+  EXPECT_EQ(shown.encoding, Encoding::srgb);
+  const Image encoded = with_encoding(source, Encoding::srgb);
+  EXPECT_LT(cv::norm(shown.pixels, encoded.pixels, cv::NORM_INF), 1e-5);
 }
 
 TEST(ColorConvert, AnUnknownSpaceIsRefusedWhenTheGraphLoads) {
