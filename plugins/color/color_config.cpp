@@ -50,19 +50,31 @@ OCIO::ConstConfigRcPtr config() {
   return c;
 }
 
-std::vector<std::string> space_names(const OCIO::ConstConfigRcPtr& c) {
-  std::vector<std::string> names;
+namespace {
+
+Choices read_choices(const OCIO::ConstConfigRcPtr& c) {
+  Choices out;
   const int n = c->getNumColorSpaces(OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ACTIVE);
   for (int i = 0; i < n; ++i)
-    names.emplace_back(c->getColorSpaceNameByIndex(OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ACTIVE, i));
-  return names;
+    out.spaces.emplace_back(c->getColorSpaceNameByIndex(OCIO::SEARCH_REFERENCE_SPACE_ALL, OCIO::COLORSPACE_ACTIVE, i));
+  out.linear_space = space_of(Encoding::linear, c);
+  out.display = c->getDefaultDisplay();
+  for (int i = 0; i < c->getNumViews(out.display.c_str()); ++i) out.views.emplace_back(c->getView(out.display.c_str(), i));
+  out.default_view = c->getDefaultView(out.display.c_str());
+  return out;
 }
 
-std::vector<std::string> view_names(const OCIO::ConstConfigRcPtr& c) {
-  std::vector<std::string> names;
-  const char* display = c->getDefaultDisplay();
-  for (int i = 0; i < c->getNumViews(display); ++i) names.emplace_back(c->getView(display, i));
-  return names;
+}  // namespace
+
+const Choices& choices() {
+  static const Choices c = [] {
+    try {
+      return read_choices(config());
+    } catch (const std::exception& e) {
+      return Choices{{kLinearSpace, kSrgbSpace}, kLinearSpace, "sRGB", {"Standard"}, "Standard", e.what()};
+    }
+  }();
+  return c;
 }
 
 std::string space_of(Encoding encoding, const OCIO::ConstConfigRcPtr& c) {

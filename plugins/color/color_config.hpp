@@ -14,12 +14,26 @@ namespace loom::color {
 
 namespace OCIO = OCIO_NAMESPACE;
 
+// Loom's config's names for its two image encodings.
+inline constexpr const char* kLinearSpace = "lin_rec709";
+inline constexpr const char* kSrgbSpace = "srgb";
+
 // Loaded once per process; throws loom::Error naming the file and OCIO's reason.
 OCIO::ConstConfigRcPtr config();
-// The config's colour spaces (scene- and display-referred), in its order.
-std::vector<std::string> space_names(const OCIO::ConstConfigRcPtr& c);
-// The views of the config's default display.
-std::vector<std::string> view_names(const OCIO::ConstConfigRcPtr& c);
+// What the nodes declare: the config's colour spaces (scene- and
+// display-referred, in its order), its default display's views, and the
+// defaults. Never throws: nodes are declared when the plugin loads, where an
+// exception would end the process. Without a config (a bad $OCIO) it holds
+// Loom's two spaces and `problem` says why; the nodes then fail when they run.
+struct Choices {
+  std::vector<std::string> spaces;
+  std::string linear_space;  // Loom's linear images (the default target)
+  std::string display;
+  std::vector<std::string> views;
+  std::string default_view;
+  std::string problem;  // empty when the config loaded
+};
+const Choices& choices();
 
 // What a Loom image tagged `encoding` is in the config: Loom's two encodings
 // are lin_rec709 and srgb in Loom's config and the scene_linear and

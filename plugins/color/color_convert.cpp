@@ -11,7 +11,7 @@ using namespace loom::color;
 constexpr const char* kTagged = "image";  // `from`: the space the image's tag names
 
 std::vector<std::string> from_choices() {
-  std::vector<std::string> names = space_names(config());
+  std::vector<std::string> names = choices().spaces;
   names.insert(names.begin(), kTagged);
   return names;
 }
@@ -19,15 +19,16 @@ std::vector<std::string> from_choices() {
 struct ColorConvert {
   static constexpr const char* name = "ColorConvert";
   static void declare(loom::NodeSpec& s) {
-    const OCIO::ConstConfigRcPtr c = config();
+    const Choices& c = choices();
     s.describe("Converts an RGB(A) image between two colour spaces of the OpenColorIO config: $OCIO when set, "
                "else Loom's (share/ocio/loom.ocio: lin_rec709, srgb, ACEScg, ACES2065-1, ACEScct...; "
                "docs/color.md). Loom's linear images are lin_rec709, its sRGB-encoded ones srgb. Alpha passes "
                "through. The result is tagged linear (scene- or display-linear spaces) or sRGB-encoded "
-               "(display-encoded spaces); other spaces (log, data) are refused.")
+               "(display-encoded spaces); other spaces (log, data) are refused." +
+               (c.problem.empty() ? "" : " Not usable now: " + c.problem))
         .input<loom::Image>("image", "an RGB or RGBA image")
         .enum_input("from", kTagged, from_choices(), "the image's colour space; 'image': the one its tag says")
-        .enum_input("to", space_of(loom::Encoding::linear, c), space_names(c), "the colour space to convert to")
+        .enum_input("to", c.linear_space, c.spaces, "the colour space to convert to")
         .output<loom::Image>("image", "the converted image");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {

@@ -8,7 +8,7 @@ namespace {
 using namespace loom::color;
 
 std::vector<std::string> from_choices() {
-  std::vector<std::string> names = space_names(config());
+  std::vector<std::string> names = choices().spaces;
   names.insert(names.begin(), "image");
   return names;
 }
@@ -16,15 +16,15 @@ std::vector<std::string> from_choices() {
 struct DisplayView {
   static constexpr const char* name = "DisplayView";
   static void declare(loom::NodeSpec& s) {
-    const OCIO::ConstConfigRcPtr c = config();
+    const Choices& c = choices();
     s.describe("Applies a display's view transform of the OpenColorIO config to an RGB(A) image: in Loom's "
                "config the sRGB display's views 'Standard' (the sRGB curve only: what SaveImage does to a "
                "linear image), 'ACES 1.0 - SDR Video' (the ACES filmic tone curve) and 'Raw'. The result is "
-               "display-encoded (tagged sRGB), so SaveImage writes its values to PNG or JPEG unchanged.")
+               "display-encoded (tagged sRGB), so SaveImage writes its values to PNG or JPEG unchanged." +
+               (c.problem.empty() ? "" : " Not usable now: " + c.problem))
         .input<loom::Image>("image", "an RGB or RGBA image")
         .enum_input("from", "image", from_choices(), "the image's colour space; 'image': the one its tag says")
-        .enum_input("view", c->getDefaultView(c->getDefaultDisplay()), view_names(c),
-                    std::string("a view of the display '") + c->getDefaultDisplay() + "'")
+        .enum_input("view", c.default_view, c.views, "a view of the display '" + c.display + "'")
         .output<loom::Image>("image", "the image as the display shows it (display-encoded)");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
@@ -35,7 +35,7 @@ struct DisplayView {
     const std::string& view = in.get<std::string>("view");
     try {
       const OCIO::ConstProcessorRcPtr p =
-          c->getProcessor(from.c_str(), c->getDefaultDisplay(), view.c_str(), OCIO::TRANSFORM_DIR_FORWARD);
+          c->getProcessor(from.c_str(), choices().display.c_str(), view.c_str(), OCIO::TRANSFORM_DIR_FORWARD);
       out.set("image", apply(p->getOptimizedProcessor(OCIO::OPTIMIZATION_LOSSLESS), image, loom::Encoding::srgb));
     } catch (const OCIO::Exception& e) {
       throw loom::Error("OpenColorIO cannot show " + from + " in view " + view + ": " + e.what());

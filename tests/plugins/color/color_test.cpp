@@ -4,6 +4,7 @@
 // Rec.709-to-ACEScg matrix.
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -172,6 +173,33 @@ TEST(ColorConvert, RefusesSpacesALoomImageCannotBeTaggedWith) {
   const testing::Run run = e.run(g, {"convert.image"});
   ASSERT_FALSE(run.ok());
   EXPECT_NE(run.error("convert").find("\"ACEScct\" (encoding 'log')"), std::string::npos) << run.error("convert");
+}
+
+// $OCIO replaces Loom's config: its spaces become the choices, its
+// scene_linear role the default; a config that cannot be read fails the
+// colour nodes with the file and the reason, and nothing else.
+TEST(ColorConfig, OcioNamesAStudioConfigAndABadOneFailsOnlyTheColourNodes) {
+  const fs::path dir = test::temp_dir();
+  std::string config = test::read_text(LOOM_SHIPPED_OCIO);
+  ASSERT_FALSE(config.empty());
+  for (std::size_t at; (at = config.find("lin_rec709")) != std::string::npos;)
+    config.replace(at, 10, "Linear Rec.709 (sRGB)");
+  std::ofstream(dir / "studio.ocio") << config;
+  std::string out;
+  ASSERT_EQ(test::run_loom_env("OCIO=" + (dir / "studio.ocio").string(), "nodes ColorConvert", &out), 0) << out;
+  EXPECT_NE(out.find("to: Enum = \"Linear Rec.709 (sRGB)\""), std::string::npos) << out;
+  EXPECT_EQ(out.find("| lin_rec709 |"), std::string::npos) << out;  // not a choice: the studio names it otherwise
+  std::ofstream(dir / "g.json") << R"({"loom": 1, "nodes": {
+    "board": {"type": "Checkerboard", "inputs": {"size": [8, 8]}},
+    "convert": {"type": "ColorConvert", "inputs": {"image": {"from": "board.image"}, "to": "srgb"}},
+    "save": {"type": "SaveImage", "inputs": {"image": {"from": "convert.image"}, "path": "c.png"}},
+    "plain": {"type": "SaveImage", "inputs": {"image": {"from": "board.image"}, "path": "b.png"}}}})";
+  const int rc = test::run_loom_env("OCIO=" + (dir / "missing.ocio").string(),
+                                    "run " + (dir / "g.json").string() + " --out " + (dir / "out").string(), &out);
+  EXPECT_EQ(rc, 1) << out;  // a node failed; the graph loaded
+  EXPECT_NE(out.find("missing.ocio ($OCIO)"), std::string::npos) << out;
+  EXPECT_TRUE(fs::exists(dir / "out" / "b.png"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "c.png"));
 }
 
 }  // namespace
