@@ -1,5 +1,5 @@
 // Points splatted onto a voxel lattice with the quadratic B-spline of MLS-MPM
-// (Hu et al. 2018, eq. 123 of Jiang et al.'s MPM course notes): the kernel
+// (Hu et al. 2018, as mpm88 and MPMStep compute it): the kernel
 // MPMStep's P2G uses, so a density grid with voxel_size = Δx is the grid mass
 // MPM itself sees, divided by the cell volume.
 #pragma once
