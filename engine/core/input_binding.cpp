@@ -40,9 +40,10 @@ void check_choice(const InputSpec& spec, const std::string& s) {
     if (c == s) return;
   std::string list;
   for (const auto& c : spec.choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
-  const auto near = near_names(s, spec.choices, 1);
-  throw Error("\"" + s.substr(0, 80) + "\" is not one of the choices: " + list +
-              (near.empty() ? "" : "; did you mean \"" + near.front() + "\"?"));
+  const std::vector<std::string> near = near_names(s, spec.choices);
+  for (std::size_t i = 0; i < near.size(); ++i)
+    list += (i == 0 ? "; did you mean \"" : i + 1 == near.size() ? " or \"" : ", \"") + near[i] + "\"";
+  throw Error("\"" + s.substr(0, 80) + "\" is not one of the choices: " + list + (near.empty() ? "" : "?"));
 }
 
 void refuse_control_characters(const std::string& path) {

@@ -323,8 +323,25 @@ class Sequence(Feature):
             time_range=(1, 5), version=1))
 
 
+class Volume(Feature):
+    name = "volume sink over frames (SaveVDB)"
+    interface = ("volume.voxel_size", 0.05)
+    record = "sim.substeps"
+    frames = "2-3"
+
+    def write(self):
+        return write_json(os.path.join(self.folder, "g.json"), doc({
+            "emit": {"type": "MPMEmitBox", "inputs": {"dimension": 3, "min": [0.4, 0.5, 0.4], "max": [0.6, 0.7, 0.6],
+                                                      "material": "fluid", "sampling": "grid", "spacing": 0.05}},
+            "sim": {"type": "MPMStep", "inputs": {"state": {"from": "emit.particles"}, "resolution": 16}},
+            "points": {"type": "MPMPoints", "inputs": {"state": {"from": "sim.state"}}},
+            "volume": {"type": "PointsToVolume", "inputs": {"points": {"from": "points.points"}, "voxel_size": 0.0625}},
+            "save": {"type": "SaveVDB", "inputs": {"volume": {"from": "volume.volume"}, "path": "v_{frame:02}.vdb"}}},
+            time_range=(1, 4), version=1))
+
+
 FEATURES = [Plain, InlineGroup, GroupFile, LibraryGroup, SearchPathGroup, NestedGroups, RepeatLiteral, RepeatLinked, PythonNode,
-            Simulation, Tiled, Sequence]
+            Simulation, Tiled, Sequence, Volume]
 
 
 # --- drivers: each runs a feature's graph its way and compares ------------------

@@ -1,0 +1,47 @@
+// DisplayView: a scene-referred image through a view of the config's default
+// display (an sRGB monitor in Loom's config), ready for an 8-bit PNG or JPEG.
+#include "color_config.hpp"
+#include "loom/plugin.hpp"
+
+namespace {
+
+using namespace loom::color;
+
+std::vector<std::string> from_choices() {
+  std::vector<std::string> names = choices().spaces;
+  names.insert(names.begin(), "image");
+  return names;
+}
+
+struct DisplayView {
+  static constexpr const char* name = "DisplayView";
+  static void declare(loom::NodeSpec& s) {
+    const Choices& c = choices();
+    s.describe("Applies a display's view transform of the OpenColorIO config to an RGB(A) image: in Loom's "
+               "config the sRGB display's views 'Standard' (the sRGB curve only: what SaveImage does to a "
+               "linear image), 'ACES 1.0 - SDR Video' (the ACES filmic tone curve) and 'Raw'. The result is "
+               "display-encoded (tagged sRGB), so SaveImage writes its values to PNG or JPEG unchanged." +
+               (c.problem.empty() ? "" : " Not usable now: " + c.problem))
+        .input<loom::Image>("image", "an RGB or RGBA image")
+        .enum_input("from", "image", from_choices(), "the image's colour space; 'image': the one its tag says")
+        .enum_input("view", c.default_view, c.views, "a view of the display '" + c.display + "'")
+        .output<loom::Image>("image", "the image as the display shows it (display-encoded)");
+  }
+  static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
+    const OCIO::ConstConfigRcPtr c = config();
+    const auto& image = in.get<loom::Image>("image");
+    std::string from = in.get<std::string>("from");
+    if (from == "image") from = space_of(image.encoding, c);
+    const std::string& view = in.get<std::string>("view");
+    try {
+      const OCIO::ConstProcessorRcPtr p =
+          c->getProcessor(from.c_str(), choices().display.c_str(), view.c_str(), OCIO::TRANSFORM_DIR_FORWARD);
+      out.set("image", apply(p->getOptimizedProcessor(OCIO::OPTIMIZATION_LOSSLESS), image, loom::Encoding::srgb));
+    } catch (const OCIO::Exception& e) {
+      throw loom::Error("OpenColorIO cannot show " + from + " in view " + view + ": " + e.what());
+    }
+  }
+};
+LOOM_NODE(DisplayView);
+
+}  // namespace
