@@ -326,7 +326,7 @@ struct SharedRayCounts {
 
 // What one pass takes: every pixel that is not done is brought up to `target`
 // samples; with stride k only the pixels whose x and y are multiples of k
-// (a sparse first pass, one pixel in k², shown as blocks).
+// (the coarse first passes, one pixel in k², shown as blocks).
 struct Pass {
   int target = 0;
   int stride = 1;
@@ -503,11 +503,11 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
     if (s.sum_over_parts) sum_pass_over_parts(film, total, s.sum_over_parts);
     if (hooks.after_pass) hooks.after_pass(film, spp_so_far);
   };
-  // Progressive: first sample 0 of one pixel in kSparse² (a blocky image in
-  // a sixteenth of a full pass's time), then every pixel takes its own samples
-  // in order as always.
-  constexpr int kSparse = 4;
-  if (s.progressive && !(s.adaptive_threshold > 0)) run_pass({1, kSparse}, 1.0 / (kSparse * kSparse));
+  // Progressive: first sample 0 of one pixel in 8², 4², 2² (coarse images in
+  // a 64th, 16th and 4th of a pass's time, as Cycles' viewport starts at a
+  // low resolution), then every pixel takes its own samples in order as always.
+  if (s.progressive && !(s.adaptive_threshold > 0))
+    for (int stride : {8, 4, 2}) run_pass({1, stride}, 1.0 / (stride * stride));
   for (int taken = 0; taken < s.spp;) {
     taken += next_pass(s, taken);
     run_pass({taken, 1}, taken);
@@ -524,12 +524,13 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
   return out;
 }
 
-cv::Mat mean_image(const Film& film, int block) {
+cv::Mat mean_image(const Film& film) {
   cv::Mat image(film.height, film.width, CV_32FC3);
   for (int y = 0; y < film.height; ++y)
     for (int x = 0; x < film.width; ++x) {
       const PixelAccumulator* p = &film.pixels[std::size_t(y) * film.width + x];
-      if (p->n == 0) p = &film.pixels[std::size_t(y - y % block) * film.width + (x - x % block)];
+      for (int block = 2; p->n == 0 && block <= 8; block *= 2)  // after the coarse passes: the block's corner
+        p = &film.pixels[std::size_t(y - y % block) * film.width + (x - x % block)];
       const PixelAccumulator& a = *p;
       const double inv = a.n > 0 ? 1.0 / a.n : 0;
       for (int i = 0; i < 3; ++i) image.at<cv::Vec3f>(y, x)[i] = float(a.L[i] * inv);

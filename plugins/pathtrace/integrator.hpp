@@ -43,8 +43,8 @@ struct RenderSettings {
   // by sum_over_parts after each pass (Context::sum_over_parts).
   PixelRegion region;
   std::function<void(double*, std::size_t)> sum_over_parts;
-  // Without adaptive sampling: a sparse pass (sample 0 of one pixel in 16),
-  // then passes of 1, 1, 2, 4, … samples per pixel, so that the image so far
+  // Without adaptive sampling: coarse passes (sample 0 of one pixel in 64,
+  // 16, 4), then passes of 1, 1, 2, 4, … samples per pixel, so that the image so far
   // can be shown after each (RenderHooks::after_pass); off: one pass of spp.
   // Every pixel takes its own samples in order either way, so the final
   // image is the same bit for bit.
@@ -54,8 +54,9 @@ struct RenderSettings {
 // The pixels' sums so far, between passes (integrator.cpp).
 struct Film;
 // The means so far, CV_32FC3; a pixel without samples shows the pixel at
-// the corner of its block x block square (after a sparse first pass).
-cv::Mat mean_image(const Film& film, int block = 4);
+// the corner of the smallest 2x2, 4x4 or 8x8 block that has one (after the
+// coarse first passes).
+cv::Mat mean_image(const Film& film);
 // The estimated relative RMS error of the pixels' luminance means so far,
 // from their sample variances; -1 while no pixel has two samples.
 double relative_error(const Film& film);
@@ -70,7 +71,8 @@ struct RenderHooks {
   std::function<void()> check_cancelled;
   // On the calling thread after each pass, the last one included (a viewer
   // then shows the whole image as soon as it is done, before the evaluation
-  // ends): the film and the samples per pixel so far (1/16 after the sparse pass).
+  // ends): the film and the samples per pixel so far (1/64, 1/16, 1/4 after
+  // the coarse passes).
   std::function<void(const Film&, double)> after_pass;
 };
 

@@ -1,5 +1,5 @@
-// PathTrace in passes (sample 0 of one pixel in 16, then 1, 1, 2, 4, …
-// samples per pixel) for whoever watches:
+// PathTrace in passes (sample 0 of one pixel in 64, 16 and 4, then 1, 1, 2,
+// 4, … samples per pixel) for whoever watches:
 // the final images are bit-identical to one pass of every sample, the image
 // after each pass is published with the estimated relative error of its mean,
 // and cancellation lands within a sample's time, not a pass's.
@@ -83,7 +83,7 @@ TEST(PathTraceProgressive, PassesEndBitIdenticalToOnePassOfEverySample) {
     if (extra.contains("adaptive_threshold")) continue;  // its own passes: 8, then a quarter more
     std::vector<double> spp;
     for (const auto& p : log.passes) spp.push_back(p.spp);
-    EXPECT_EQ(spp, (std::vector<double>{1.0 / 16, 1, 2, 4, 8, 16, 32, 37}));  // a sparse pass first
+    EXPECT_EQ(spp, (std::vector<double>{1.0 / 64, 1.0 / 16, 1.0 / 4, 1, 2, 4, 8, 16, 32, 37}));  // coarse passes first
     EXPECT_TRUE(identical(log.passes.back().image, one_shot[0]));  // the last pass is the result
   }
 }
