@@ -138,8 +138,11 @@ struct PathTrace {
     s.adaptive_threshold = in.get<double>("adaptive_threshold");
     s.adaptive_min_spp = in.get<int>("adaptive_min_spp");
     s.seed = ctx.seed();
-    s.progressive = ctx.partial_wanted();
     s.region = ctx.region();
+    // Split by samples, every part must sum its passes at the same points
+    // (Context::sum_over_parts): the pass split must not depend on who
+    // watches one part (`--preview` on rank 0 only), so no passes there.
+    s.progressive = ctx.partial_wanted() && !s.region.by_samples;
     if (s.region.by_samples)
       s.sum_over_parts = [&ctx](double* values, std::size_t count) { ctx.sum_over_parts(values, count); };
 
