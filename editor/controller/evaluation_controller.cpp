@@ -99,12 +99,43 @@ Value Evaluation::output(const std::string& node, const std::string& output) con
   return {};
 }
 
-// Collects node progress from the engine's worker threads.
+// Collects node progress and partial values from the engine's worker threads.
 class EvaluationController::Progress : public Observer {
  public:
   void node_started(const std::string& id, const std::string&) override {
     std::lock_guard<std::mutex> lock(mutex_);
     nodes_[id] = {true, 0, {}};
+    started_[id] = std::chrono::steady_clock::now();
+  }
+  // Every node's partials are wanted: only the viewed node's are shown, but
+  // the viewer may switch to another while it runs. Making one (PathTrace:
+  // the means of a pass) costs little next to the pass.
+  bool wants_partial(const std::string&) const override { return true; }
+  void node_partial(const std::string& id, const std::string& output, const Value& value,
+                    const PartialInfo& info) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto since = started_.count(id) ? started_[id] : std::chrono::steady_clock::now();
+    partials_[id + "." + output] = {revision_, value, info.done, info.total, std::string(info.unit),
+                                    info.relative_error,
+                                    std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count(),
+                                    ++serial_};
+  }
+  std::optional<Partial> partial(const std::string& name) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto it = partials_.find(name);
+    if (it == partials_.end()) return std::nullopt;
+    return it->second;
+  }
+  bool any_partial() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return !partials_.empty();
+  }
+  // A new run: the previous run's partials are of another graph.
+  void begin(std::uint64_t revision) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    revision_ = revision;
+    partials_.clear();
+    started_.clear();
   }
   void node_progress(const std::string& id, double fraction, const std::string& label) override {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -126,6 +157,9 @@ class EvaluationController::Progress : public Observer {
  private:
   mutable std::mutex mutex_;
   std::map<std::string, LiveNode> nodes_;
+  std::map<std::string, std::chrono::steady_clock::time_point> started_;
+  std::map<std::string, Partial> partials_;  // by "ID.OUTPUT"
+  std::uint64_t revision_ = 0, serial_ = 0;
 };
 
 EvaluationController::EvaluationController(const Registry& registry, int threads)
@@ -173,6 +207,18 @@ std::shared_ptr<const Evaluation> EvaluationController::latest() const {
 
 std::map<std::string, LiveNode> EvaluationController::live() const { return progress_->snapshot(); }
 
+bool EvaluationController::refining() const {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!running_) return false;
+  }
+  return progress_->any_partial();
+}
+
+std::optional<Partial> EvaluationController::partial(const std::string& node, const std::string& output) const {
+  return progress_->partial(node + "." + output);
+}
+
 bool EvaluationController::busy() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return running_ || pending_.has_value();
@@ -211,6 +257,7 @@ std::shared_ptr<Evaluation> EvaluationController::run(const EvalRequest& request
   eval->preview = request.preview;
   const auto start = std::chrono::steady_clock::now();
   progress_->reset();
+  progress_->begin(request.revision);
   try {
     auto graph = std::make_shared<Graph>(parse_graph(request.document, request.file));
     validate_graph(*graph, registry_);

@@ -71,6 +71,18 @@ struct Evaluation {
   Value output(const std::string& node, const std::string& output) const;
 };
 
+// The newest partial value a running node published (Context::publish_partial,
+// e.g. PathTrace after each pass): shown until its evaluation finishes.
+struct Partial {
+  std::uint64_t revision = 0;  // of the request whose run published it
+  Value value;
+  double done = 0, total = 0;  // e.g. samples per pixel so far, and asked for
+  std::string unit;            // what `done` counts ("spp")
+  double relative_error = -1;  // estimated relative error of the mean; < 0: unknown
+  double seconds = 0;          // since the node started
+  std::uint64_t serial = 0;    // rises with every partial of the controller
+};
+
 // What a node is doing right now, for the canvas while a run is under way.
 struct LiveNode {
   bool running = false;
@@ -89,7 +101,8 @@ class EvaluationController {
   // Replaces any pending request and cancels the running one. With
   // `cancel_running` false (a drag in progress) the running evaluation
   // finishes and is shown first: cancelling on every mouse move would leave a
-  // drag whose solve takes longer than a frame with no result at all.
+  // drag whose solve takes longer than a frame with no result at all. (A
+  // run that is refining() has shown a pass already: the editor cancels it.)
   void submit(EvalRequest request, bool cancel_running = true);
   // Drops the pending request and cancels the running one (the editor does
   // this before a plugin reload, then waits until !busy()).
@@ -98,6 +111,13 @@ class EvaluationController {
   std::optional<std::shared_ptr<const Evaluation>> take_finished();
   std::shared_ptr<const Evaluation> latest() const;  // the newest finished one
   std::map<std::string, LiveNode> live() const;
+  // The newest partial value of NODE.OUTPUT (by the engine's name, a flat
+  // node's id) published by the running or the last evaluation; empty when
+  // none since that evaluation started.
+  std::optional<Partial> partial(const std::string& node, const std::string& output) const;
+  // Whether the running evaluation has published a partial value: it shows
+  // something within a pass, so a drag may cancel it (see submit).
+  bool refining() const;
   bool busy() const;  // a request is pending or running
   // Blocks until idle (tests and the command line, never the UI loop).
   void wait_idle();

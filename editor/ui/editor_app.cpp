@@ -183,7 +183,9 @@ void EditorApp::sync_evaluation() {
   if (!write_outputs_) r.preview = level;
   // Viewing another node changes nothing evaluated (every non-sink node is
   // already), only whose cached frames are marked: it waits for the run.
-  controller_->submit(std::move(r), /*cancel_running=*/changed && !doc_.merging());
+  // A drag cancels a run only once it has shown a pass (a progressive
+  // render): the next one then answers within a pass, not a whole render.
+  controller_->submit(std::move(r), /*cancel_running=*/changed && (!doc_.merging() || controller_->refining()));
   write_outputs_ = false;
 }
 
@@ -428,16 +430,24 @@ void EditorApp::viewer() {
     ImGui::EndCombo();
   }
   ImGui::SameLine();
-  const Value value = state_.viewed_output(viewed_output_);
+  // A progressive render's newest pass stands in for the result until it comes.
+  const auto pass =
+      RenderViewport::newest_pass(state_, *controller_, id, t->spec.outputs[std::size_t(viewed_output_)].name);
+  const bool refining = pass && RenderViewport::refining(state_, *pass);
+  const Value value = refining ? pass->value : state_.viewed_output(viewed_output_);
   const bool stale = !evaluation_current();
   const auto& eval = state_.eval;
-  if (value && eval && eval->frame > 0) {
+  if (pass) {
+    ImGui::TextDisabled("%s%s", refining ? "refining: " : "", RenderViewport::status(*pass).c_str());
+  } else if (value && eval && eval->frame > 0) {
     ImGui::TextDisabled("frame %d: %s%s", eval->frame, value.summary().c_str(), stale ? " (updating)" : "");
   } else {
     ImGui::TextDisabled("%s%s", value ? value.summary().c_str() : "not evaluated", stale ? " (updating)" : "");
   }
+  shown_revision_ = refining ? pass->revision : eval ? eval->revision : 0;
   // The interactive tools draw on the viewed image and write node inputs.
   const bool poisson = PoissonTool::applies(state_, id), drawing = DrawTool::applies(state_, id);
+  const bool camera = RenderViewport::applies(state_, id) && render_viewport_.toolbar(state_, id);
   Value shown = value;
   if (poisson && poisson_tool_.toolbar()) {
     shown = state_.upstream_value(id, "source");
@@ -446,7 +456,8 @@ void EditorApp::viewer() {
   if (drawing) draw_tool_.toolbar();
   if (!shown) return;
   if (shown.is<Image>()) {
-    image_view_ = image_viewer_.draw(shown.as<Image>(), shown.shared<Image>().get());
+    image_view_ = image_viewer_.draw(shown.as<Image>(), shown.shared<Image>().get(), !camera);
+    if (camera) render_viewport_.draw(state_, id, image_view_);
     if (WarpTool::applies(state_, id)) warp_tool_.draw(state_, id, image_view_);
     if (poisson) poisson_tool_.draw(state_, id, image_view_);
     if (drawing) draw_tool_.draw(state_, id, image_view_);

@@ -27,6 +27,7 @@
 #include "loom/plugin_loader.hpp"
 #include "model/graph_document.hpp"
 #include "property_panel.hpp"
+#include "render_viewport.hpp"
 #include "timeline.hpp"
 #include "draw_tool.hpp"
 #include "poisson_tool.hpp"
@@ -99,6 +100,9 @@ class EditorApp {
   // Where the viewer drew the image last frame (scale 0: no image shown).
   const ImageView& image_view() const { return image_view_; }
   const MeshViewer& mesh_viewer() const { return mesh_viewer_; }
+  const ImageViewer& image_viewer() const { return image_viewer_; }
+  // The document revision whose result (or newest pass) the viewer drew last frame.
+  std::uint64_t shown_revision() const { return shown_revision_; }
   EvaluationController& controller() { return *controller_; }
   const Registry& registry() const { return registry_; }
   const std::vector<std::filesystem::path>& recent_files() const { return recent_; }
@@ -145,6 +149,7 @@ class EditorApp {
   PropertyPanel properties_;
   Timeline timeline_;
   ImageViewer image_viewer_;
+  RenderViewport render_viewport_;
   MeshViewer mesh_viewer_;
   WarpTool warp_tool_;
   PoissonTool poisson_tool_;
@@ -171,6 +176,7 @@ class EditorApp {
   std::vector<std::filesystem::path> recent_;
   std::string message_;
   int viewed_output_ = 0;
+  std::uint64_t shown_revision_ = 0;
   ImageView image_view_;
   PaneSplit panes_;
 };

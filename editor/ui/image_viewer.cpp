@@ -56,12 +56,7 @@ void ImageViewer::upload(const Image& image) {
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
 }
 
-ImageView ImageViewer::draw(const Image& image, const void* identity) {
-  ImageView view;
-  if (image.empty()) {
-    ImGui::TextDisabled("empty image");
-    return view;
-  }
+void ImageViewer::toolbar(const Image& image) {
   const int c = image.channels();
   const bool linear = image.encoding == Encoding::linear;
   static const char* names[4] = {"R", "G", "B", "A"};
@@ -79,10 +74,65 @@ ImageView ImageViewer::draw(const Image& image, const void* identity) {
   if (ImGui::SmallButton("fit")) fit_ = true;
   ImGui::SameLine();
   ImGui::TextDisabled("%dx%dx%d %s", image.width(), image.height(), c, linear ? "linear" : "sRGB");
+}
 
-  bool same_channels = std::equal(channels_, channels_ + 4, uploaded_channels_);
+// The image's place in the region at `origin`: fitted, or zoomed by the
+// wheel about the cursor and panned by a right or middle drag.
+ImageView ImageViewer::place(ImVec2 origin, ImVec2 size, bool navigate) {
+  if (fit_) {
+    zoom_ = std::min(size.x / float(width_), size.y / float(height_));
+    pan_ = ImVec2((size.x - width_ * zoom_) * 0.5f, (size.y - height_ * zoom_) * 0.5f);
+    fit_ = false;
+  }
+  ImGui::InvisibleButton("image", size, ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight |
+                                            ImGuiButtonFlags_MouseButtonMiddle);
+  ImageView view;
+  view.hovered = ImGui::IsItemHovered() || ImGui::IsItemActive();
+  view.active = ImGui::IsItemActive();
+  ImGuiIO& io = ImGui::GetIO();
+  if (navigate && ImGui::IsItemHovered() && io.MouseWheel != 0) {
+    const ImVec2 m = io.MousePos;
+    const float ix = (m.x - origin.x - pan_.x) / zoom_, iy = (m.y - origin.y - pan_.y) / zoom_;
+    zoom_ = std::clamp(zoom_ * std::pow(1.2f, io.MouseWheel), 0.02f, 64.0f);
+    pan_ = ImVec2(m.x - origin.x - ix * zoom_, m.y - origin.y - iy * zoom_);
+  }
+  if (navigate && ImGui::IsItemActive() &&
+      (ImGui::IsMouseDown(ImGuiMouseButton_Right) || ImGui::IsMouseDown(ImGuiMouseButton_Middle)))
+    pan_ = ImVec2(pan_.x + io.MouseDelta.x, pan_.y + io.MouseDelta.y);
+  view.origin = ImVec2(origin.x + pan_.x, origin.y + pan_.y);
+  view.scale = zoom_;
+  view.width = width_;
+  view.height = height_;
+  return view;
+}
+
+// Pixel inspector: the values as stored, in the image's encoding.
+void ImageViewer::inspect(const Image& image, const ImageView& view, bool navigate) const {
+  const int c = image.channels();
+  const ImVec2 p = view.to_image(ImGui::GetIO().MousePos);
+  const int x = int(std::floor(p.x)), y = int(std::floor(p.y));
+  if (view.hovered && x >= 0 && y >= 0 && x < width_ && y < height_) {
+    const float* px = image.pixels.ptr<float>(y) + std::size_t(x) * c;
+    char text[160];
+    int n = std::snprintf(text, sizeof text, "(%d, %d):", x, y);
+    for (int k = 0; k < c && n < int(sizeof text) - 16; ++k) n += std::snprintf(text + n, sizeof text - n, " %.4g", px[k]);
+    ImGui::TextUnformatted(text);
+  } else {
+    ImGui::TextDisabled(navigate ? "hover for pixel values; wheel zooms, right-drag pans"
+                                 : "hover for pixel values; drag orbits, right-drag pans, wheel dollies the camera");
+  }
+}
+
+ImageView ImageViewer::draw(const Image& image, const void* identity, bool navigate) {
+  if (image.empty()) {
+    ImGui::TextDisabled("empty image");
+    return {};
+  }
+  toolbar(image);
+  const bool same_channels = std::equal(channels_, channels_ + 4, uploaded_channels_);
   if (identity != uploaded_ || exposure_ != uploaded_exposure_ || !same_channels) {
     upload(image);
+    ++uploads_;
     uploaded_ = identity;
     uploaded_exposure_ = exposure_;
     std::copy(channels_, channels_ + 4, uploaded_channels_);
@@ -92,50 +142,18 @@ ImageView ImageViewer::draw(const Image& image, const void* identity) {
     height_ = image.height();
     fit_ = true;
   }
-
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   ImVec2 size = ImGui::GetContentRegionAvail();
   size.y -= ImGui::GetTextLineHeightWithSpacing();
   size.x = std::max(size.x, 32.0f);
   size.y = std::max(size.y, 32.0f);
-  if (fit_) {
-    zoom_ = std::min(size.x / float(width_), size.y / float(height_));
-    pan_ = ImVec2((size.x - width_ * zoom_) * 0.5f, (size.y - height_ * zoom_) * 0.5f);
-    fit_ = false;
-  }
-  ImGui::InvisibleButton("image", size, ImGuiButtonFlags_MouseButtonLeft | ImGuiButtonFlags_MouseButtonRight |
-                                            ImGuiButtonFlags_MouseButtonMiddle);
-  view.hovered = ImGui::IsItemHovered() || ImGui::IsItemActive();
-  ImGuiIO& io = ImGui::GetIO();
-  if (ImGui::IsItemHovered() && io.MouseWheel != 0) {
-    const ImVec2 m = io.MousePos;
-    const float ix = (m.x - origin.x - pan_.x) / zoom_, iy = (m.y - origin.y - pan_.y) / zoom_;
-    zoom_ = std::clamp(zoom_ * std::pow(1.2f, io.MouseWheel), 0.02f, 64.0f);
-    pan_ = ImVec2(m.x - origin.x - ix * zoom_, m.y - origin.y - iy * zoom_);
-  }
-  if (ImGui::IsItemActive() && (ImGui::IsMouseDown(ImGuiMouseButton_Right) || ImGui::IsMouseDown(ImGuiMouseButton_Middle)))
-    pan_ = ImVec2(pan_.x + io.MouseDelta.x, pan_.y + io.MouseDelta.y);
-
-  view.origin = ImVec2(origin.x + pan_.x, origin.y + pan_.y);
-  view.scale = zoom_;
+  const ImageView view = place(origin, size, navigate);
   ImDrawList* draw = ImGui::GetWindowDrawList();
   draw->PushClipRect(origin, ImVec2(origin.x + size.x, origin.y + size.y), true);
   draw->AddImage(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(texture_)), view.to_screen(0, 0),
                  view.to_screen(width_, height_));
   draw->PopClipRect();
-
-  // Pixel inspector: the values as stored, in the image's encoding.
-  const ImVec2 p = view.to_image(io.MousePos);
-  const int x = int(std::floor(p.x)), y = int(std::floor(p.y));
-  if (ImGui::IsItemHovered() && x >= 0 && y >= 0 && x < width_ && y < height_) {
-    const float* px = image.pixels.ptr<float>(y) + std::size_t(x) * c;
-    char text[160];
-    int n = std::snprintf(text, sizeof text, "(%d, %d):", x, y);
-    for (int k = 0; k < c && n < int(sizeof text) - 16; ++k) n += std::snprintf(text + n, sizeof text - n, " %.4g", px[k]);
-    ImGui::TextUnformatted(text);
-  } else {
-    ImGui::TextDisabled("hover for pixel values; wheel zooms, right-drag pans");
-  }
+  inspect(image, view, navigate);
   return view;
 }
 

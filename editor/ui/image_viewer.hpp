@@ -18,7 +18,9 @@ namespace loom::editor {
 struct ImageView {
   ImVec2 origin{0, 0};
   float scale = 1;
+  int width = 0, height = 0;  // the image's, in pixels
   bool hovered = false;
+  bool active = false;  // a mouse button went down on the image and is held
   ImVec2 to_screen(double x, double y) const {
     return {origin.x + float(x) * scale, origin.y + float(y) * scale};
   }
@@ -32,14 +34,20 @@ class ImageViewer {
   ImageViewer(const ImageViewer&) = delete;
   ImageViewer& operator=(const ImageViewer&) = delete;
 
-  // Draws the image into the remaining content region. `fixed` keeps the
-  // previous zoom and pan when the image changes size (a new result of the
-  // same node); otherwise it fits the image.
-  ImageView draw(const Image& image, const void* identity);
+  // Draws the image into the remaining content region; a new image of
+  // another size is fitted. With `navigate` false the wheel and the right
+  // and middle drags are left to the caller (the viewport camera) instead of
+  // zooming and panning the image.
+  ImageView draw(const Image& image, const void* identity, bool navigate = true);
   void fit() { fit_ = true; }
+  int uploads() const { return uploads_; }  // textures made so far (tests)
 
  private:
+  void toolbar(const Image& image);
   void upload(const Image& image);
+  ImageView place(ImVec2 origin, ImVec2 size, bool navigate);
+  void inspect(const Image& image, const ImageView& view, bool navigate) const;
+  int uploads_ = 0;
   unsigned texture_ = 0;
   const void* uploaded_ = nullptr;
   float uploaded_exposure_ = 0;

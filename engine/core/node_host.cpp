@@ -53,6 +53,23 @@ void Host::sum_over_parts(double* values, std::size_t count) {
   if (pixel_region().by_samples) e_.options.pixel_split->sum(values, count);
 }
 
+// Partials go to the observer and nowhere else: never into s_.outputs, the
+// cache or a downstream input, so a run with listeners ends bit-identical to
+// one without.
+bool Host::partial_wanted() const {
+  return e_.options.observer && e_.options.observer->wants_partial(s_.node->id);
+}
+
+void Host::publish_partial(std::string_view output, Value value, const PartialInfo& info) {
+  const NodeSpec& spec = s_.type->spec;
+  const int o = spec.output_index(output);
+  if (o < 0) throw Error("publish_partial: no output \"" + std::string(output) + "\"");
+  if (value.type() != spec.outputs[static_cast<std::size_t>(o)].type)
+    throw Error("publish_partial: output \"" + std::string(output) + "\" is a " +
+                spec.outputs[static_cast<std::size_t>(o)].type->name);
+  e_.options.observer->node_partial(s_.node->id, std::string(output), value, info);
+}
+
 bool Host::input_set(int i) const {
   return e_.takes_previous_state(s_, static_cast<std::size_t>(i)) ||
          s_.inputs[static_cast<std::size_t>(i)].kind != NodeState::Binding::unset;

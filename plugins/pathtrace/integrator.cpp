@@ -246,6 +246,8 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, PixelSample
   return r;
 }
 
+}  // namespace
+
 struct PixelAccumulator {
   double L[3] = {0, 0, 0};
   double albedo[3] = {0, 0, 0}, normal[3] = {0, 0, 0};
@@ -265,6 +267,22 @@ struct PixelAccumulator {
     lum2 += double(l) * l;
   }
 };
+
+// The image's pixels and what one pass over them needs.
+struct Film {
+  int width, height;
+  std::vector<PixelAccumulator> pixels;
+  static constexpr int kTile = 16;
+  int tiles_x, tiles;
+  Film(int w, int h)
+      : width(w),
+        height(h),
+        pixels(std::size_t(w) * h),
+        tiles_x((w + kTile - 1) / kTile),
+        tiles(tiles_x * ((h + kTile - 1) / kTile)) {}
+};
+
+namespace {
 
 // The scene's materials as the path loop reads them, per traced object.
 std::vector<ObjectShading> object_shading(const Scene& scene, const EmbreeScene& traced) {
@@ -288,20 +306,6 @@ std::vector<ObjectShading> object_shading(const Scene& scene, const EmbreeScene&
   return shading;
 }
 
-// The image's pixels and what one pass over them needs.
-struct Film {
-  int width, height;
-  std::vector<PixelAccumulator> pixels;
-  static constexpr int kTile = 16;
-  int tiles_x, tiles;
-  Film(int w, int h)
-      : width(w),
-        height(h),
-        pixels(std::size_t(w) * h),
-        tiles_x((w + kTile - 1) / kTile),
-        tiles(tiles_x * ((h + kTile - 1) / kTile)) {}
-};
-
 struct RayCounts {
   std::uint64_t rays = 0, shadow_rays = 0, nonfinite = 0;
   void operator+=(const RayCounts& o) {
@@ -320,8 +324,16 @@ struct SharedRayCounts {
   }
 };
 
-// `pass` more samples for every pixel of a tile that is not done.
-RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, int tile, int pass) {
+// What one pass takes: every pixel that is not done is brought up to `target`
+// samples; with stride k only the pixels whose x and y are multiples of k
+// (the coarse first passes, one pixel in k², shown as blocks).
+struct Pass {
+  int target = 0;
+  int stride = 1;
+};
+
+RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, int tile, Pass pass,
+                     const std::function<void()>& check_cancelled) {
   RayCounts counts;
   const int W = film.width, H = film.height;
   const int x0 = (tile % film.tiles_x) * Film::kTile, y0 = (tile / film.tiles_x) * Film::kTile;
@@ -329,11 +341,11 @@ RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, in
     for (int x = x0; x < std::min(W, x0 + Film::kTile); ++x) {
       const std::size_t index = std::size_t(y) * W + x;
       PixelAccumulator& a = film.pixels[index];
-      if (a.done || !c.settings.region.contains(x, y, W)) continue;
-      const int first = a.n;
-      for (int k = 0; k < pass; ++k) {
-        if (!c.settings.region.takes_sample(first + k)) continue;
-        PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(first + k));
+      if (a.done || !c.settings.region.contains(x, y, W) || x % pass.stride != 0 || y % pass.stride != 0) continue;
+      for (int sample = a.n; sample < pass.target; ++sample) {
+        if (!c.settings.region.takes_sample(sample)) continue;
+        if (check_cancelled) check_cancelled();  // a sample's time at most: cancel lands fast
+        PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(sample));
         const Vec2f j = sampler.camera_jitter();
         Vec3f origin, dir;
         cam.ray(2 * (x + j.x()) / W - 1, 1 - 2 * (y + j.y()) / H, &origin, &dir);
@@ -352,30 +364,36 @@ RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, in
 }
 
 // One pass of `pass` samples per active pixel, in batches of tiles with
-// progress and cancellation (between_batches) on the calling thread.
-void trace_pass(const PathContext& c, const CameraRays& cam, Film& film, int pass, SharedRayCounts& counts,
-                const std::function<void(double)>& between_batches) {
+// progress on the calling thread between batches; cancellation is checked
+// before every sample, on the workers.
+void trace_pass(const PathContext& c, const CameraRays& cam, Film& film, Pass pass, SharedRayCounts& counts,
+                const RenderHooks& hooks) {
   const double total = double(film.width) * film.height * c.settings.spp;
-  constexpr int kBatch = 32;  // tiles between progress reports and cancellation checks
+  constexpr int kBatch = 32;  // tiles between progress reports
   for (int first = 0; first < film.tiles; first += kBatch) {
     const int last = std::min(film.tiles, first + kBatch);
     tbb::parallel_for(tbb::blocked_range<int>(first, last, 1), [&](const tbb::blocked_range<int>& range) {
       RayCounts sum;
-      for (int tile = range.begin(); tile != range.end(); ++tile) sum += trace_tile(c, cam, film, tile, pass);
+      for (int tile = range.begin(); tile != range.end(); ++tile)
+        sum += trace_tile(c, cam, film, tile, pass, hooks.check_cancelled);
       counts += sum;
     });
-    if (between_batches) {
+    if (hooks.progress) {
       double done = 0;
       for (const auto& a : film.pixels) done += a.n;
-      between_batches(std::min(1.0, done / total));
+      hooks.progress(std::min(1.0, done / total));
     }
   }
 }
 
-// Samples per active pixel in the next pass: all at once without adaptive
-// sampling; else adaptive_min_spp first, then a quarter more each pass.
+// Samples per active pixel in the next pass. Adaptive sampling:
+// adaptive_min_spp first, then a quarter more each pass. Otherwise all at
+// once, or progressively 1, 1, 2, 4, … (the total doubling) so that the
+// image can be shown after each pass. Sample s of a pixel is the same
+// whatever pass takes it (PixelSampler(seed, pixel, s)) and is added in the
+// same order, so every schedule ends with the same image, bit for bit.
 int next_pass(const RenderSettings& s, int taken) {
-  if (!(s.adaptive_threshold > 0)) return s.spp - taken;
+  if (!(s.adaptive_threshold > 0)) return s.progressive ? std::min(s.spp - taken, std::max(1, taken)) : s.spp - taken;
   if (taken == 0) return std::min(s.spp, std::max(1, s.adaptive_min_spp));
   return std::min(s.spp - taken, std::max(4, taken / 4));
 }
@@ -464,7 +482,7 @@ void resolve(const Film& film, RenderResult& out) {
 }  // namespace
 
 RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene& traced, const RenderSettings& s,
-                    const std::function<void(double)>& between_batches) {
+                    const RenderHooks& hooks) {
   const std::vector<ObjectShading> shading = object_shading(scene, traced);
   std::vector<Vec3f> emission;
   bool emitters_hittable = false;
@@ -480,21 +498,62 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
   Film film(s.width, s.height);
   SharedRayCounts counts;
   std::vector<double> total(s.sum_over_parts ? film.pixels.size() * kSums : 0);  // split by samples: every part's sums
-  for (int taken = 0; taken < s.spp;) {
-    const int pass = next_pass(s, taken);
-    trace_pass(context, cam, film, pass, counts, between_batches);
+  auto run_pass = [&](Pass pass, double spp_so_far) {
+    trace_pass(context, cam, film, pass, counts, hooks);
     if (s.sum_over_parts) sum_pass_over_parts(film, total, s.sum_over_parts);
-    taken += pass;
+    if (hooks.after_pass) hooks.after_pass(film, spp_so_far);
+  };
+  // Progressive: first sample 0 of one pixel in 8², 4², 2² (coarse images in
+  // a 64th, 16th and 4th of a pass's time, as Cycles' viewport starts at a
+  // low resolution), then every pixel takes its own samples in order as always.
+  if (s.progressive && !(s.adaptive_threshold > 0))
+    for (int stride : {8, 4, 2}) run_pass({1, stride}, 1.0 / (stride * stride));
+  for (int taken = 0; taken < s.spp;) {
+    taken += next_pass(s, taken);
+    run_pass({taken, 1}, taken);
     if (s.adaptive_threshold > 0 && taken < s.spp) mark_converged(film, s.adaptive_threshold);
   }
   RenderResult out;
   resolve(film, out);
+  out.relative_error = relative_error(film);
   out.rays = counts.rays;
   out.shadow_rays = counts.shadow_rays;
   out.nonfinite = counts.nonfinite;
   out.emissive_triangles = lights.emissive_triangles();
   out.environment_sampled = lights.samples_environment();
   return out;
+}
+
+cv::Mat mean_image(const Film& film) {
+  cv::Mat image(film.height, film.width, CV_32FC3);
+  for (int y = 0; y < film.height; ++y)
+    for (int x = 0; x < film.width; ++x) {
+      const PixelAccumulator* p = &film.pixels[std::size_t(y) * film.width + x];
+      for (int block = 2; p->n == 0 && block <= 8; block *= 2)  // after the coarse passes: the block's corner
+        p = &film.pixels[std::size_t(y - y % block) * film.width + (x - x % block)];
+      const PixelAccumulator& a = *p;
+      const double inv = a.n > 0 ? 1.0 / a.n : 0;
+      for (int i = 0; i < 3; ++i) image.at<cv::Vec3f>(y, x)[i] = float(a.L[i] * inv);
+    }
+  return image;
+}
+
+// The relative RMS error of the pixels' luminance means, estimated from
+// their sample variances s² (the adaptive sampler's): the standard error of a
+// mean of n samples is s/√n, so  e = √(mean_p s_p²/n_p) / mean_p μ_p.
+// It falls as 1/√spp; -1 while no pixel has two samples.
+double relative_error(const Film& film) {
+  double variance_of_means = 0, mean = 0;
+  std::size_t counted = 0;
+  for (const PixelAccumulator& a : film.pixels) {
+    if (a.n < 2) continue;
+    const double mu = a.lum / a.n;
+    variance_of_means += std::max(0.0, (a.lum2 - a.lum * mu) / (a.n - 1)) / a.n;
+    mean += mu;
+    ++counted;
+  }
+  if (counted == 0 || !(mean > 0)) return -1;
+  return std::sqrt(variance_of_means / double(counted)) / (mean / double(counted));
 }
 
 }  // namespace loom::pathtrace

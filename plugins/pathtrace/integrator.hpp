@@ -43,6 +43,37 @@ struct RenderSettings {
   // by sum_over_parts after each pass (Context::sum_over_parts).
   PixelRegion region;
   std::function<void(double*, std::size_t)> sum_over_parts;
+  // Without adaptive sampling: coarse passes (sample 0 of one pixel in 64,
+  // 16, 4), then passes of 1, 1, 2, 4, … samples per pixel, so that the image so far
+  // can be shown after each (RenderHooks::after_pass); off: one pass of spp.
+  // Every pixel takes its own samples in order either way, so the final
+  // image is the same bit for bit.
+  bool progressive = false;
+};
+
+// The pixels' sums so far, between passes (integrator.cpp).
+struct Film;
+// The means so far, CV_32FC3; a pixel without samples shows the pixel at
+// the corner of the smallest 2x2, 4x4 or 8x8 block that has one (after the
+// coarse first passes).
+cv::Mat mean_image(const Film& film);
+// The estimated relative RMS error of the pixels' luminance means so far,
+// from their sample variances; -1 while no pixel has two samples.
+double relative_error(const Film& film);
+
+// What render() reports while it runs; each hook may throw (loom::Cancelled)
+// to stop it.
+struct RenderHooks {
+  // On the calling thread between batches of tiles: the fraction done.
+  std::function<void(double)> progress;
+  // On worker threads before every sample: cancellation lands within a
+  // sample's time, however many samples a pass takes.
+  std::function<void()> check_cancelled;
+  // On the calling thread after each pass, the last one included (a viewer
+  // then shows the whole image as soon as it is done, before the evaluation
+  // ends): the film and the samples per pixel so far (1/64, 1/16, 1/4 after
+  // the coarse passes).
+  std::function<void(const Film&, double)> after_pass;
 };
 
 struct RenderResult {
@@ -52,6 +83,7 @@ struct RenderResult {
   cv::Mat depth;    // CV_32FC1 first-hit distance along the ray (0 where nothing is hit)
   cv::Mat samples;  // CV_32FC1 samples taken per pixel
   double mean_spp = 0;
+  double relative_error = -1;  // relative_error(film) at the end
   std::uint64_t paths = 0, rays = 0;  // rays: closest-hit and shadow rays traced
   std::uint64_t shadow_rays = 0;
   std::uint64_t nonfinite = 0;  // samples discarded because they were NaN or infinite
@@ -59,10 +91,7 @@ struct RenderResult {
   bool environment_sampled = false;
 };
 
-// `between_batches(fraction done)` is called on the calling thread between
-// batches of tiles (progress; it may throw to cancel).
 RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene& traced,
-                    const RenderSettings& settings,
-                    const std::function<void(double)>& between_batches = {});
+                    const RenderSettings& settings, const RenderHooks& hooks = {});
 
 }  // namespace loom::pathtrace

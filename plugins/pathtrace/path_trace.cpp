@@ -75,9 +75,11 @@ struct PathTrace {
         .output<loom::Image>("depth", "first-hit distance along the camera ray (0: nothing hit)")
         .output<loom::Image>("samples", "samples taken per pixel")
         .output<double>("spp", "mean samples per pixel actually taken")
-        .output<loom::json>("stats", "paths, rays, seconds, throughput, BVH build time and reuse")
+        .output<loom::json>("stats", "paths, rays, seconds, throughput, estimated relative error of the mean, BVH "
+                                     "build time and reuse")
         .set_pixel_independent(&summarize)
-        .set_sample_passes();
+        .set_sample_passes()
+        .set_version(2);  // 2: stats has relative_error
   }
 
   // After the engine gathers an image split over processes: the mean spp and
@@ -93,6 +95,20 @@ struct PathTrace {
     stats["paths"] = std::uint64_t(sum);
     out.set("spp", mean_spp);
     out.set("stats", stats);
+  }
+
+  // Progress, cancellation before every sample, and the image after each
+  // pass for whoever watches (Context::publish_partial).
+  static RenderHooks hooks(loom::Context& ctx, const RenderSettings& s) {
+    RenderHooks h;
+    h.progress = [&ctx](double fraction) { ctx.progress(fraction, 1, "path tracing"); };
+    h.check_cancelled = [&ctx] { ctx.check_cancelled(); };
+    h.after_pass = [&ctx, spp = s.spp](const Film& film, double taken) {
+      if (!ctx.partial_wanted()) return;
+      ctx.publish_partial("image", [&] { return loom::Image(mean_image(film), loom::Encoding::linear); },
+                          {taken, double(spp), "spp", relative_error(film)});
+    };
+    return h;
   }
 
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context& ctx) {
@@ -123,6 +139,10 @@ struct PathTrace {
     s.adaptive_min_spp = in.get<int>("adaptive_min_spp");
     s.seed = ctx.seed();
     s.region = ctx.region();
+    // Split by samples, every part must sum its passes at the same points
+    // (Context::sum_over_parts): the pass split must not depend on who
+    // watches one part (`--preview` on rank 0 only), so no passes there.
+    s.progressive = ctx.partial_wanted() && !s.region.by_samples;
     if (s.region.by_samples)
       s.sum_over_parts = [&ctx](double* values, std::size_t count) { ctx.sum_over_parts(values, count); };
 
@@ -137,10 +157,7 @@ struct PathTrace {
         scene->camera ? *scene->camera : loom::framing_camera(*scene, double(s.width) / s.height);
 
     const auto start = std::chrono::steady_clock::now();
-    const RenderResult r = render(*scene, camera, *traced, s, [&](double fraction) {
-      ctx.check_cancelled();
-      ctx.progress(fraction, 1, "path tracing");
-    });
+    const RenderResult r = render(*scene, camera, *traced, s, hooks(ctx, s));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (r.nonfinite > 0)
       ctx.warn(std::to_string(r.nonfinite) + " samples were NaN or infinite and counted as black");
@@ -157,6 +174,7 @@ struct PathTrace {
                                 {"paths_per_second", double(r.paths) / std::max(seconds, 1e-9)},
                                 {"rays_per_second", double(r.rays) / std::max(seconds, 1e-9)},
                                 {"mean_spp", r.mean_spp},
+                                {"relative_error", r.relative_error},
                                 {"nonfinite_samples", r.nonfinite},
                                 {"emissive_triangles", r.emissive_triangles},
                                 {"environment_sampled", r.environment_sampled},

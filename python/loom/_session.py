@@ -11,10 +11,12 @@ from . import _loom
 from ._errors import Error, NodeError
 from ._graph import Graph, Node, Output
 
-Event = collections.namedtuple("Event", "kind node fraction text")
+Event = collections.namedtuple("Event", "kind node fraction text value", defaults=(None,))
 Event.__doc__ = """What a run reports: kind is "started", "progress" (fraction in [0, 1],
 text the label), "message", "warning", "finished" (fraction: seconds, text: the
-status) or "frame" (node: the frame number)."""
+status), "frame" (node: the frame number) or "partial" (a value so far of output
+text, e.g. PathTrace's image after a pass, in value; fraction: how far; only shown,
+never the result)."""
 
 
 def _target_text(t):

@@ -22,16 +22,19 @@ namespace loom::python {
 namespace {
 
 struct Event {
-  std::string kind;  // "started", "progress", "message", "finished", "frame"
+  std::string kind;  // "started", "progress", "message", "finished", "frame", "partial"
   std::string node;
   double fraction = 0;
   std::string text;
+  Value value;  // "partial": the value so far
 };
 
 // Collects what the engine reports from its threads; the caller's thread
 // drains it into Python.
 class QueueObserver : public Observer {
  public:
+  explicit QueueObserver(bool partials) : partials(partials) {}
+  const bool partials;  // a callback is there to take them
   std::mutex mutex;
   std::condition_variable wake;
   std::deque<Event> events;
@@ -39,25 +42,37 @@ class QueueObserver : public Observer {
 
   void push(Event e) {
     std::lock_guard<std::mutex> lock(mutex);
-    if (e.kind == "progress" && !events.empty() && events.back().kind == "progress" && events.back().node == e.node)
-      events.back() = std::move(e);  // only the latest progress of a node is worth showing
+    const bool latest_only = e.kind == "progress" || e.kind == "partial";
+    if (latest_only && !events.empty() && events.back().kind == e.kind && events.back().node == e.node &&
+        events.back().text == e.text)
+      events.back() = std::move(e);  // only the latest progress (or partial) of a node is worth showing
     else
       events.push_back(std::move(e));
   }
-  void node_started(const std::string& id, const std::string& type) override { push({"started", id, 0, type}); }
+  void node_started(const std::string& id, const std::string& type) override { push({"started", id, 0, type, {}}); }
   void node_progress(const std::string& id, double f, const std::string& label) override {
-    push({"progress", id, f, label});
+    push({"progress", id, f, label, {}});
   }
   void node_message(const std::string& id, bool warning, const std::string& text) override {
-    push({warning ? "warning" : "message", id, 0, text});
+    push({warning ? "warning" : "message", id, 0, text, {}});
   }
   void node_finished(const std::string& id, const NodeReport& r) override {
-    push({"finished", id, r.seconds, to_string(r.status)});
+    push({"finished", id, r.seconds, to_string(r.status), {}});
   }
   void frame_started(int frame, int index, int count) override {
-    push({"frame", std::to_string(frame), double(index) / count, ""});
+    push({"frame", std::to_string(frame), double(index) / count, "", {}});
+  }
+  bool wants_partial(const std::string&) const override { return partials; }
+  void node_partial(const std::string& id, const std::string& output, const Value& value,
+                    const PartialInfo& info) override {
+    push({"partial", id, info.total > 0 ? info.done / info.total : 0, output, value});
   }
 };
+
+py::object partial_value(const Value& v) {
+  std::lock_guard<std::recursive_mutex> lock(world().mutex);  // as the outputs are converted
+  return to_python(v);
+}
 
 py::dict report_to_python(const NodeReport& r) {
   py::dict d;
@@ -98,7 +113,7 @@ py::dict SessionCore::run(const PreparedGraph& prepared_graph, const std::vector
   if (disk) options.disk_cache = &*disk;
   std::atomic<bool> cancel{false};
   options.cancel = &cancel;
-  QueueObserver observer;
+  QueueObserver observer(!progress.is_none());
   options.observer = &observer;
 
   EvalResult result;
@@ -126,7 +141,8 @@ py::dict SessionCore::run(const PreparedGraph& prepared_graph, const std::vector
     }
     try {
       if (!progress.is_none())
-        for (const Event& e : events) progress(e.kind, e.node, e.fraction, e.text);
+        for (const Event& e : events)
+          progress(e.kind, e.node, e.fraction, e.text, e.value ? partial_value(e.value) : py::none());
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
     } catch (py::error_already_set& e) {  // Ctrl-C, or the callback raised: cancel, then re-raise
       cancel = true;

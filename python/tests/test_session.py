@@ -185,6 +185,22 @@ def test_progress_reaches_the_callback(session):
     assert all(0 <= e.fraction <= 1 for e in events if e.kind == "progress")
 
 
+def test_partial_images_reach_the_callback_and_the_result_is_unchanged(session):
+    def graph():
+        g = loom.Graph()
+        box = g.add("CornellBox", id="box")
+        g.add("PathTrace", id="pt", scene=box.scene, size=[32, 24], spp=16)
+        return g
+    events = []
+    watched = session.run(graph(), "pt.image", progress=events.append)
+    partials = [e for e in events if e.kind == "partial"]
+    assert partials and all(e.node == "pt" and e.text == "image" for e in partials)
+    assert all(e.value.shape == (24, 32, 3) for e in partials)
+    assert partials[-1].fraction == 1  # the last pass is the result
+    unwatched = loom.Session(disk_cache=False).run(graph(), "pt.image")
+    assert np.array_equal(watched, unwatched)  # watching changed no bit
+
+
 def test_help_and_completion_come_from_declarations():
     assert "ImageWarp" in dir(loom.nodes)
     doc = loom.nodes.Checkerboard.__doc__

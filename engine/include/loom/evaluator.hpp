@@ -68,6 +68,13 @@ class Observer {
   virtual void node_finished(const std::string& /*id*/, const NodeReport& /*report*/) {}
   // Before each frame of a frame range: frame number, index (1-based) and count.
   virtual void frame_started(int /*frame*/, int /*index*/, int /*count*/) {}
+  // Partial results (Context::publish_partial). Asked before each publish:
+  // a node builds its partial value only when this says yes for its id, so
+  // answer cheaply. node_partial runs on the node's thread, which waits for
+  // it: copy what you keep (the value is shared and immutable) and return.
+  virtual bool wants_partial(const std::string& /*id*/) const { return false; }
+  virtual void node_partial(const std::string& /*id*/, const std::string& /*output*/,
+                            const Value& /*value*/, const PartialInfo& /*info*/) {}
 };
 
 struct FrameRange {

@@ -129,6 +129,15 @@ struct PixelRegion {
   bool takes_sample(std::int64_t sample) const { return whole() || !by_samples || sample % parts == part; }
 };
 
+// What an intermediate value of an output says about itself
+// (Context::publish_partial): how far the work is, and for a mean of samples
+// the estimated relative error of the mean so far (negative: not known).
+struct PartialInfo {
+  double done = 0, total = 0;  // e.g. samples per pixel so far, and asked for
+  std::string_view unit;       // what done counts ("spp", "iterations")
+  double relative_error = -1;
+};
+
 class Inputs;
 class Outputs;
 class Context;
@@ -278,6 +287,12 @@ class NodeHost {
     (void)values;
     (void)count;
   }
+  virtual bool partial_wanted() const { return false; }
+  virtual void publish_partial(std::string_view output, Value value, const PartialInfo& info) {
+    (void)output;
+    (void)value;
+    (void)info;
+  }
 };
 
 class LOOM_API Inputs {
@@ -418,6 +433,21 @@ class LOOM_API Context {
   // engine keeps each file's size and modification time with the result (in
   // memory and on disk) and recomputes when one of them changed.
   void depends_on_file(const std::filesystem::path& path) { host_.depends_on_file(path); }
+
+  // An intermediate value of an output while the node runs (a path tracer's
+  // image after each pass of samples), for whoever watches the evaluation
+  // (the editor's viewer, `loom run --preview`). make() builds the value and
+  // is called only when someone listens, so publishing costs nothing
+  // otherwise. A partial value is shown, never cached, saved by a sink or
+  // passed downstream: only Outputs::set makes a result. Call it from the
+  // node's calling thread, between passes, never from inside parallel_for.
+  template <class Make>
+  void publish_partial(std::string_view output, Make make, const PartialInfo& info) {
+    if (!host_.partial_wanted()) return;
+    using T = std::decay_t<decltype(make())>;
+    host_.publish_partial(output, Value::make<T>(make()), info);
+  }
+  bool partial_wanted() const { return host_.partial_wanted(); }
 
  private:
   NodeHost& host_;

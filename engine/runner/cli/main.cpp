@@ -21,6 +21,7 @@
 #include "cli/profile.hpp"
 #include "cli/progress.hpp"
 #include "cli/signals.hpp"
+#include "cli/preview.hpp"
 #include "cli/watch.hpp"
 #include "cli/run_settings.hpp"
 #include "farm/farm_commands.hpp"
@@ -108,6 +109,12 @@ int cmd_run(const RunSettings& s) {
   if (!options) return kInvalid;
   loom::runner::ConsoleObserver observer(s.quiet || loom::runner::mpi_rank() > 0);
   options->observer = &observer;
+  std::optional<loom::runner::PreviewWriter> preview;
+  if (!s.preview_path.empty() && loom::runner::mpi_rank() == 0) {
+    const loom::NodeType* save = loom::runner::save_image_type(*loaded);
+    if (!save) return kPluginError;
+    options->observer = &preview.emplace(observer, *save, s.preview_path, s.preview_every);
+  }
   if (options->targets.empty() && view.sinks().empty())
     std::cerr << "warning: " << s.graph_path
               << " has no sink nodes (e.g. SaveImage): nothing to run; name outputs with --target\n";
@@ -273,6 +280,12 @@ CLI::App* add_run_command(CLI::App& app, RunSettings& s, loom::runner::SweepRequ
   run->add_flag("--watch", watch,
                 "run again whenever the graph, a group file, a Python node module or an input file it reads "
                 "changes; Ctrl-C ends");
+  run->add_option("--preview", s.preview_path,
+                  "write the partial images nodes publish while they run (PathTrace after each pass) to this "
+                  "file, atomically; sinks still write the final results");
+  run->add_option("--preview-every", s.preview_every, "with --preview: seconds between writes at least")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   run->add_option("--frames", s.frames, "frames to run, A-B or A (default: the graph's \"time\" range)");
   add_cache_options(run, s.cache);
   run->add_flag("--no-cache", s.cache.disabled, "neither read nor write the persistent cache");

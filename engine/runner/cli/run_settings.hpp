@@ -39,6 +39,8 @@ struct RunSettings {
   CacheSettings cache;
   bool allow_outside = false;
   std::string profile_path;  // --profile: empty for none
+  std::string preview_path;  // --preview: empty for none (cli/preview.hpp)
+  double preview_every = 1;  // --preview-every, seconds
 };
 
 // "A-B" or "A": the frames to run; nullopt when malformed.

@@ -1,0 +1,55 @@
+// `loom run --preview`: a long PathTrace shows its passes in a preview file
+// while it runs, and Ctrl-C (SIGINT) ends it within half a second (issue 37),
+// with no final file written.
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "runner_helpers.hpp"
+
+namespace loom {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(RunnerPreview, APathTraceIsPreviewedWhileItRunsAndSigintEndsItWithinHalfASecond) {
+  const auto dir = test::temp_dir();
+  const auto g = test::write_graph(
+      dir, {{"loom", 1},
+            {"nodes",
+             {{"box", {{"type", "CornellBox"}}},
+              {"pt", {{"type", "PathTrace"},
+                      {"inputs", {{"scene", test::from("box.scene")}, {"size", {640, 480}}, {"spp", 4096}}}}},
+              {"save", {{"type", "SaveImage"}, {"inputs", {{"image", test::from("pt.image")}, {"path", "final.png"}}}}}}}});
+  const fs::path preview = dir / "preview.png", out = dir / "out";
+  // Started in the background; once the preview file exists (the first
+  // passes are done and the render is well under way), SIGINT, timed.
+  const std::string script =
+      "env LOOM_PLUGIN_PATH=" LOOM_TEST_PLUGIN_DIR " " LOOM_RUNNER " run " + g.string() + " --no-cache --out " +
+      out.string() + " --preview " + preview.string() + " --preview-every 0.1 > " + (dir / "log").string() +
+      " 2>&1 & pid=$!; for i in $(seq 600); do [ -s " + preview.string() +
+      " ] && break; sleep 0.05; done; sleep 0.3; t0=$(date +%s.%N); kill -INT $pid; wait $pid; code=$?; "
+      "t1=$(date +%s.%N); echo \"exit $code after $(awk \"BEGIN{print $t1 - $t0}\") s\"";
+  std::string printed;
+  test::run_shell(script, &printed);
+  std::printf("%s", printed.c_str());
+  ASSERT_NE(printed.find("exit "), std::string::npos) << printed;
+  std::istringstream in(printed.substr(printed.find("exit ")));
+  std::string word;
+  int code = -1;
+  double seconds = 1e9;
+  in >> word >> code >> word >> seconds;
+  EXPECT_EQ(code, 130) << printed << test::read_text(dir / "log");
+  EXPECT_LT(seconds, 0.5) << printed;
+  // The preview is a whole image of the render so far: PNG, 640x480, lit.
+  const cv::Mat shown = cv::imread(preview.string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(shown.empty()) << test::read_text(dir / "log");
+  EXPECT_EQ(shown.cols, 640);
+  EXPECT_EQ(shown.rows, 480);
+  EXPECT_GT(cv::mean(shown)[2], 20);  // the red wall and the warm light
+  EXPECT_FALSE(fs::exists(out / "final.png"));  // the sink never saw a partial image
+}
+
+}  // namespace
+}  // namespace loom
