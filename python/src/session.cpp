@@ -100,6 +100,38 @@ SessionCore::SessionCore(int threads, std::optional<std::string> disk_cache, std
   }
 }
 
+namespace {
+
+// The run's outputs by "ID.OUTPUT", as the engine names them (one value, or
+// over several frames the list of its values), and each node's report.
+py::dict result_to_python(const Graph& prepared, const EvalResult& result) {
+  py::dict out;
+  py::dict outputs;
+  {
+    std::lock_guard<std::recursive_mutex> lock(world().mutex);
+    for (const auto& [name, values] : named_outputs_per_frame(GraphView(prepared, world().registry), result)) {
+      if (values.size() == 1) {
+        outputs[py::str(name)] = to_python(values[0]);
+        continue;
+      }
+      py::list frames;
+      for (const Value& v : values) frames.append(to_python(v));
+      outputs[py::str(name)] = frames;
+    }
+  }
+  py::dict nodes;
+  for (const auto& [id, r] : result.nodes)
+    if (prepared.nodes.at(id).type != "python.HeldValue") nodes[py::str(id)] = report_to_python(r);
+  out["outputs"] = outputs;
+  out["nodes"] = nodes;
+  out["seconds"] = result.total_seconds;
+  out["frames"] = result.frames;
+  out["cancelled"] = result.cancelled;
+  return out;
+}
+
+}  // namespace
+
 py::dict SessionCore::run(const PreparedGraph& prepared_graph, const std::vector<std::string>& targets,
                           std::optional<std::pair<int, int>> frames, const py::object& progress) {
   const Graph& prepared = prepared_graph.graph;
@@ -157,31 +189,7 @@ py::dict SessionCore::run(const PreparedGraph& prepared_graph, const std::vector
   if (interrupt) throw std::move(*interrupt);
   if (failure) std::rethrow_exception(failure);
 
-  py::dict out;
-  // By "ID.OUTPUT", as the engine names them: one value, or over several
-  // frames the list of its values, one per frame.
-  py::dict outputs;
-  {
-    std::lock_guard<std::recursive_mutex> lock(world().mutex);
-    for (const auto& [name, values] : named_outputs_per_frame(GraphView(prepared, world().registry), result)) {
-      if (values.size() == 1) {
-        outputs[py::str(name)] = to_python(values[0]);
-        continue;
-      }
-      py::list frames;
-      for (const Value& v : values) frames.append(to_python(v));
-      outputs[py::str(name)] = frames;
-    }
-  }
-  py::dict nodes;
-  for (const auto& [id, r] : result.nodes)
-    if (prepared.nodes.at(id).type != "python.HeldValue") nodes[py::str(id)] = report_to_python(r);
-  out["outputs"] = outputs;
-  out["nodes"] = nodes;
-  out["seconds"] = result.total_seconds;
-  out["frames"] = result.frames;
-  out["cancelled"] = result.cancelled;
-  return out;
+  return result_to_python(prepared, result);
 }
 
 void bind_session(py::module_& m) {
