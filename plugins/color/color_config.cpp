@@ -77,6 +77,12 @@ const Choices& choices() {
   return c;
 }
 
+std::vector<std::string> from_choices() {
+  std::vector<std::string> names = choices().spaces;
+  names.insert(names.begin(), kTagged);
+  return names;
+}
+
 std::string space_of(Encoding encoding, const OCIO::ConstConfigRcPtr& c) {
   const char* role = encoding == Encoding::srgb ? OCIO::ROLE_COLOR_PICKING : OCIO::ROLE_SCENE_LINEAR;
   const OCIO::ConstColorSpaceRcPtr space = c->getColorSpace(role);

@@ -34,6 +34,10 @@ struct Choices {
   std::string problem;  // empty when the config loaded
 };
 const Choices& choices();
+// A node's `from` input: kTagged (the space the image's tag names, space_of)
+// then the config's spaces.
+constexpr const char* kTagged = "image";
+std::vector<std::string> from_choices();
 
 // What a Loom image tagged `encoding` is in the config: Loom's two encodings
 // are lin_rec709 and srgb in Loom's config and the scene_linear and

@@ -8,14 +8,6 @@ namespace {
 
 using namespace loom::color;
 
-constexpr const char* kTagged = "image";  // `from`: the space the image's tag names
-
-std::vector<std::string> from_choices() {
-  std::vector<std::string> names = choices().spaces;
-  names.insert(names.begin(), kTagged);
-  return names;
-}
-
 struct ColorConvert {
   static constexpr const char* name = "ColorConvert";
   static void declare(loom::NodeSpec& s) {

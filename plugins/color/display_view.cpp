@@ -7,12 +7,6 @@ namespace {
 
 using namespace loom::color;
 
-std::vector<std::string> from_choices() {
-  std::vector<std::string> names = choices().spaces;
-  names.insert(names.begin(), "image");
-  return names;
-}
-
 struct DisplayView {
   static constexpr const char* name = "DisplayView";
   static void declare(loom::NodeSpec& s) {
@@ -23,7 +17,7 @@ struct DisplayView {
                "display-encoded (tagged sRGB), so SaveImage writes its values to PNG or JPEG unchanged." +
                (c.problem.empty() ? "" : " Not usable now: " + c.problem))
         .input<loom::Image>("image", "an RGB or RGBA image")
-        .enum_input("from", "image", from_choices(), "the image's colour space; 'image': the one its tag says")
+        .enum_input("from", kTagged, from_choices(), "the image's colour space; 'image': the one its tag says")
         .enum_input("view", c.default_view, c.views, "a view of the display '" + c.display + "'")
         .output<loom::Image>("image", "the image as the display shows it (display-encoded)");
   }
@@ -31,7 +25,7 @@ struct DisplayView {
     const OCIO::ConstConfigRcPtr c = config();
     const auto& image = in.get<loom::Image>("image");
     std::string from = in.get<std::string>("from");
-    if (from == "image") from = space_of(image.encoding, c);
+    if (from == kTagged) from = space_of(image.encoding, c);
     const std::string& view = in.get<std::string>("view");
     try {
       const OCIO::ConstProcessorRcPtr p =
