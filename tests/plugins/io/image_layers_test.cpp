@@ -14,6 +14,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "image_codec.hpp"
+#include "noise_image.hpp"
 #include "run_loom.hpp"
 #include "test_files.hpp"
 
@@ -23,10 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 Image noise(int channels, float low, float high, int seed) {
-  cv::Mat m(24, 40, CV_MAKETYPE(CV_32F, channels));
-  cv::RNG rng(static_cast<std::uint64_t>(seed));
-  rng.fill(m, cv::RNG::UNIFORM, low, high);
-  return Image(m, Encoding::linear);
+  return test::noise_image(24, 40, channels, low, high, seed);
 }
 
 std::vector<io::NamedImage> aovs() {

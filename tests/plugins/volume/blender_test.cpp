@@ -12,6 +12,7 @@
 
 #include "bspline_splat.hpp"
 #include "image_codec.hpp"
+#include "noise_image.hpp"
 #include "run_loom.hpp"
 #include "test_files.hpp"
 #include "vdb_file.hpp"
@@ -22,10 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 Image noise(int channels, float low, float high, int seed) {
-  cv::Mat m(12, 20, CV_MAKETYPE(CV_32F, channels));
-  cv::RNG rng(static_cast<std::uint64_t>(seed));
-  rng.fill(m, cv::RNG::UNIFORM, low, high);
-  return Image(m, Encoding::linear);
+  return test::noise_image(12, 20, channels, low, high, seed);
 }
 
 // Particles on a grid of spacing s filling [lo, hi] (a box of water).
