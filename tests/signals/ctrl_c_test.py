@@ -182,7 +182,9 @@ class CtrlCTest(unittest.TestCase):
                                                      "iterations": 1000, "substeps": 10}},
             "s": {"type": "SaveMesh", "inputs": {"mesh": {"from": "step.mesh"}, "path": "c{frame:04}.obj"}}},
             "--frames", "2", time={"start": 1, "end": 2, "fps": 30})
-        self.interrupt("ClothStep newton 300x300", run, after="grid", cpu=0.8)
+        # Not after="grid": a node's "done" line is printed only when it ran
+        # for 0.3 s or more, and the grid is quicker on a quiet machine.
+        self.interrupt("ClothStep newton 300x300", run, cpu=0.8)
 
     # Parameterize at 2M vertices: weights, assembly, factorization, solve.
     def test_parameterize(self):
