@@ -83,6 +83,10 @@ std::vector<std::string> from_choices() {
   return names;
 }
 
+std::string source_space(const std::string& from, Encoding tag, const OCIO::ConstConfigRcPtr& c) {
+  return from == kTagged ? space_of(tag, c) : from;
+}
+
 std::string space_of(Encoding encoding, const OCIO::ConstConfigRcPtr& c) {
   const char* role = encoding == Encoding::srgb ? OCIO::ROLE_COLOR_PICKING : OCIO::ROLE_SCENE_LINEAR;
   const OCIO::ConstColorSpaceRcPtr space = c->getColorSpace(role);

@@ -38,6 +38,9 @@ const Choices& choices();
 // then the config's spaces.
 constexpr const char* kTagged = "image";
 std::vector<std::string> from_choices();
+// The space a `from` input names: itself, or for kTagged the one the image's
+// tag names (space_of).
+std::string source_space(const std::string& from, Encoding tag, const OCIO::ConstConfigRcPtr& c);
 
 // What a Loom image tagged `encoding` is in the config: Loom's two encodings
 // are lin_rec709 and srgb in Loom's config and the scene_linear and

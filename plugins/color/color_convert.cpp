@@ -26,8 +26,7 @@ struct ColorConvert {
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
     const OCIO::ConstConfigRcPtr c = config();
     const auto& image = in.get<loom::Image>("image");
-    std::string from = in.get<std::string>("from");
-    if (from == kTagged) from = space_of(image.encoding, c);
+    const std::string from = source_space(in.get<std::string>("from"), image.encoding, c);
     const std::string& to = in.get<std::string>("to");
     const loom::Encoding tag = encoding_of(to, c);
     try {

@@ -24,8 +24,7 @@ struct DisplayView {
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
     const OCIO::ConstConfigRcPtr c = config();
     const auto& image = in.get<loom::Image>("image");
-    std::string from = in.get<std::string>("from");
-    if (from == kTagged) from = space_of(image.encoding, c);
+    const std::string from = source_space(in.get<std::string>("from"), image.encoding, c);
     const std::string& view = in.get<std::string>("view");
     try {
       const OCIO::ConstProcessorRcPtr p =
