@@ -51,6 +51,7 @@ EmitOptions read_emit_options(Inputs& in, Context& ctx) {
     ctx.progress(done, total, "placing particles");
     ctx.check_cancelled();
   };
+  o.check_cancelled = [&ctx] { ctx.check_cancelled(); };
   return o;
 }
 

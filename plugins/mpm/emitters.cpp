@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <numeric>
 #include <random>
 #include <utility>
 #include <vector>
@@ -18,6 +20,9 @@ namespace {
 
 template <int D>
 using Vec = Eigen::Matrix<double, D, 1>;
+
+// Items between two cancellation checks in the loops over particles.
+constexpr std::size_t kChunk = std::size_t(1) << 16;
 
 // Cells of size h along each axis of [lo, hi] (at least one; rounded up or
 // down) and their product, refused above `limit` before anything is cast or
@@ -38,8 +43,8 @@ std::pair<Eigen::Matrix<long, D, 1>, long> cell_counts(const Vec<D>& lo, const V
 // Points of the lattice spacing·(i + 1/2) inside [lo, hi], optionally jittered
 // uniformly within their cell.
 template <int D>
-std::vector<Vec<D>> lattice(const Vec<D>& lo, const Vec<D>& hi, double h, bool jitter,
-                            std::mt19937_64& rng) {
+std::vector<Vec<D>> lattice(const Vec<D>& lo, const Vec<D>& hi, double h, bool jitter, std::mt19937_64& rng,
+                            const std::function<void()>& check_cancelled) {
   const auto counts = cell_counts<D>(lo, hi, h, false, 100'000'000,
                                      "the shape holds more than 100 million particles at this spacing");
   const Eigen::Matrix<long, D, 1>& n = counts.first;
@@ -48,6 +53,7 @@ std::vector<Vec<D>> lattice(const Vec<D>& lo, const Vec<D>& hi, double h, bool j
   std::vector<Vec<D>> points;
   points.reserve(static_cast<std::size_t>(total));
   for (long k = 0; k < total; ++k) {
+    if (std::size_t(k) % kChunk == 0) check_cancelled();
     Vec<D> x;
     long r = k;
     for (int d = D - 1; d >= 0; --d) {
@@ -142,16 +148,74 @@ std::vector<Vec<D>> poisson_disk(const Vec<D>& lo, const Vec<D>& hi, double h, s
 // meshes) runs in parallel.
 template <int D>
 std::vector<Vec<D>> candidates_inside(const std::vector<Vec<D>>& candidates,
-                                      const std::function<bool(const Vec<D>&)>& inside) {
+                                      const std::function<bool(const Vec<D>&)>& inside,
+                                      const std::function<void()>& check_cancelled) {
   std::vector<char> in(candidates.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i < r.end(); ++i) in[i] = inside(candidates[i]);
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        if (i % 16 == 0) check_cancelled();  // a mesh's winding number: 16 cost ms
+                        in[i] = inside(candidates[i]);
+                      }
                     });
   std::vector<Vec<D>> out;
   for (std::size_t i = 0; i < candidates.size(); ++i)
     if (in[i]) out.push_back(candidates[i]);
   return out;
+}
+
+// The permutation that sorts `keys` stably: an LSD radix sort, 16 bits a
+// pass, skipping the digits that every key shares (a Morton key over a
+// shape's cells varies in its low 20-30 bits: two passes).
+std::vector<std::uint32_t> stable_order(const std::vector<std::uint64_t>& keys,
+                                        const std::function<void()>& check_cancelled) {
+  const std::size_t n = keys.size();
+  std::vector<std::uint32_t> order(n), next(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::uint64_t any = 0, all = ~std::uint64_t(0);
+  for (const std::uint64_t k : keys) any |= k, all &= k;
+  for (int shift = 0; shift < 64; shift += 16) {
+    if ((((any ^ all) >> shift) & 0xffff) == 0) continue;
+    std::vector<std::size_t> start(65537, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i % kChunk == 0) check_cancelled();
+      ++start[((keys[i] >> shift) & 0xffff) + 1];
+    }
+    for (std::size_t d = 1; d < start.size(); ++d) start[d] += start[d - 1];
+    for (std::size_t i = 0; i < n; ++i) {
+      if (i % kChunk == 0) check_cancelled();
+      next[start[(keys[order[i]] >> shift) & 0xffff]++] = order[i];
+    }
+    order.swap(next);
+  }
+  return order;
+}
+
+// The points in Morton order of cells of 4·spacing: neighbours in space are
+// neighbours in memory, and the solver's blocks read their particles from few
+// places. Equal keys keep their order.
+template <int D>
+std::vector<Vec<D>> in_morton_order(const std::vector<Vec<D>>& points, const Vec<D>& lo, double spacing,
+                                    const std::function<void()>& check_cancelled) {
+  std::vector<std::uint64_t> keys(points.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), kChunk),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      check_cancelled();
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        std::uint32_t c[D];
+                        for (int d = 0; d < D; ++d)
+                          c[d] = static_cast<std::uint32_t>(
+                              std::clamp((points[i][d] - lo[d]) / (4 * spacing), 0.0, 1048575.0));
+                        std::uint64_t key = 0;
+                        for (int bit = 19; bit >= 0; --bit)
+                          for (int d = 0; d < D; ++d) key = (key << 1) | ((c[d] >> bit) & 1u);
+                        keys[i] = key;
+                      }
+                    });
+  const std::vector<std::uint32_t> order = stable_order(keys, check_cancelled);
+  std::vector<Vec<D>> sorted(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) sorted[i] = points[order[i]];
+  return sorted;
 }
 
 }  // namespace
@@ -169,8 +233,8 @@ Particles<D> fill_shape(const std::function<bool(const Vec<D>&)>& inside, const 
   std::mt19937_64 rng(o.seed);
   std::vector<Vec<D>> candidates;
   switch (o.sampling) {
-    case Sampling::grid: candidates = lattice<D>(lo, hi, o.spacing, false, rng); break;
-    case Sampling::jittered: candidates = lattice<D>(lo, hi, o.spacing, true, rng); break;
+    case Sampling::grid: candidates = lattice<D>(lo, hi, o.spacing, false, rng, o.check_cancelled); break;
+    case Sampling::jittered: candidates = lattice<D>(lo, hi, o.spacing, true, rng, o.check_cancelled); break;
     case Sampling::poisson: candidates = poisson_disk<D>(lo, hi, o.spacing, rng, o.progress); break;
     case Sampling::random: {
       if (o.count <= 0) throw Error("count must be positive for random sampling");
@@ -178,6 +242,7 @@ Particles<D> fill_shape(const std::function<bool(const Vec<D>&)>& inside, const 
       for (long tries = 0; static_cast<int>(candidates.size()) < o.count; ++tries) {
         if (tries > 100L * o.count + 1000000)
           throw Error("the shape is too thin to place random particles in its bounds");
+        if (std::size_t(tries) % kChunk == 0) o.check_cancelled();
         Vec<D> x;
         for (int d = 0; d < D; ++d) x[d] = lo[d] + u(rng) * (hi[d] - lo[d]);
         if (inside(x)) candidates.push_back(x);
@@ -185,22 +250,8 @@ Particles<D> fill_shape(const std::function<bool(const Vec<D>&)>& inside, const 
       break;
     }
   }
-  std::vector<Vec<D>> points;
-  points.reserve(candidates.size());
-  for (const auto& x : candidates_inside(candidates, inside)) points.push_back(x);
-  // Neighbours in space are neighbours in memory (Morton order of cells of
-  // 4·spacing): the solver's blocks then read their particles from few places.
-  auto cell_key = [&](const Vec<D>& x) {
-    std::uint64_t key = 0;
-    std::uint32_t c[D];
-    for (int d = 0; d < D; ++d)
-      c[d] = static_cast<std::uint32_t>(std::clamp((x[d] - lo[d]) / (4 * o.spacing), 0.0, 1048575.0));
-    for (int bit = 19; bit >= 0; --bit)
-      for (int d = 0; d < D; ++d) key = (key << 1) | ((c[d] >> bit) & 1u);
-    return key;
-  };
-  std::stable_sort(points.begin(), points.end(),
-                   [&](const Vec<D>& a, const Vec<D>& b) { return cell_key(a) < cell_key(b); });
+  const std::vector<Vec<D>> points =
+      in_morton_order<D>(candidates_inside(candidates, inside, o.check_cancelled), lo, o.spacing, o.check_cancelled);
   if (points.empty())
     throw Error("the shape holds no particle at this spacing: lower spacing or enlarge it");
   double volume = o.particle_volume;
@@ -208,7 +259,8 @@ Particles<D> fill_shape(const std::function<bool(const Vec<D>&)>& inside, const 
     // The shape's volume, counted on the regular lattice at `spacing`.
     std::mt19937_64 unused(0);
     const long in = static_cast<long>(
-        candidates_inside(lattice<D>(lo, hi, o.spacing, false, unused), inside).size());
+        candidates_inside(lattice<D>(lo, hi, o.spacing, false, unused, o.check_cancelled), inside, o.check_cancelled)
+            .size());
     volume = std::pow(o.spacing, D) * static_cast<double>(std::max(in, 1L)) /
              static_cast<double>(points.size());
   }
@@ -216,7 +268,10 @@ Particles<D> fill_shape(const std::function<bool(const Vec<D>&)>& inside, const 
   ps.reserve(points.size());
   const Lame lame = lame_parameters(o.material, o.E, o.nu);
   const Vec<D> v = o.velocity.head<D>();
-  for (const auto& x : points) ps.add(x, v, o.material, lame, o.density * volume, volume, o.color);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (i % kChunk == 0) o.check_cancelled();
+    ps.add(points[i], v, o.material, lame, o.density * volume, volume, o.color);
+  }
   return ps;
 }
 

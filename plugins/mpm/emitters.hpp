@@ -27,6 +27,9 @@ struct EmitOptions {
   std::uint64_t seed = 1;
   // Reports long set-up work (Poisson-disk sampling) and may throw to cancel it.
   std::function<void(double done, double total)> progress;
+  // Called between chunks of every loop over the particles (a few ms each);
+  // throws to cancel.
+  std::function<void()> check_cancelled = [] {};
 };
 
 // Fills {x in [lo, hi] : inside(x)} (lo/hi bound the shape). Throws loom::Error

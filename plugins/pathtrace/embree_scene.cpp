@@ -3,7 +3,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -101,70 +105,89 @@ void* new_buffer(RTCDevice device, RTCGeometry g, RTCBufferType type, RTCFormat 
   return b;
 }
 
+// body(i) for i in [0, n), in parallel chunks; `cancelled` is asked before
+// each chunk (a few milliseconds of work) and ends the loop with Cancelled.
+template <class Body>
+void for_each_index(std::size_t n, const std::function<bool()>& cancelled, const Body& body) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::size_t(1) << 16),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      if (cancelled()) throw Cancelled();
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) body(i);
+                    });
+}
+
 // A mesh in world space (displaced first when it is), with the attributes the
 // integrator reads; extends `box` by its vertices.
-TracedObject traced_mesh(const SceneObject& o, int displacement_level, Eigen::AlignedBox3f& box) {
+TracedObject traced_mesh(const SceneObject& o, int displacement_level, Eigen::AlignedBox3f& box,
+                         const std::function<bool()>& cancelled) {
   const Eigen::Matrix4d& T = o.transform;
   const Eigen::Matrix3d L = T.topLeftCorner<3, 3>();
   const Eigen::Matrix3d normal_matrix = L.inverse().transpose();
-  const Mesh m = displaced(o, displacement_level) ? displaced_mesh(*o.mesh, *o.material.displacement_map,
-                                                                   o.material.displacement_scale, displacement_level)
-                                                  : *o.mesh;
+  std::optional<Mesh> displaced_copy;
+  if (displaced(o, displacement_level))
+    displaced_copy = displaced_mesh(*o.mesh, *o.material.displacement_map, o.material.displacement_scale,
+                                    displacement_level);
+  const Mesh& m = displaced_copy ? *displaced_copy : *o.mesh;
+  const auto vertices = std::size_t(m.vertices()), faces = std::size_t(m.faces());
   TracedObject t;
-  t.P.resize(m.vertices());
-  for (int v = 0; v < m.vertices(); ++v) {
-    t.P[v] = (L * m.V.row(v).transpose() + T.block<3, 1>(0, 3)).cast<float>();
-    box.extend(t.P[v]);
-  }
+  t.P.resize(vertices);
+  for_each_index(vertices, cancelled, [&](std::size_t v) {
+    t.P[v] = (L * m.V.row(Eigen::Index(v)).transpose() + T.block<3, 1>(0, 3)).cast<float>();
+  });
+  for (const Vec3f& p : t.P) box.extend(p);
   if (m.has_normals()) {
-    t.N.resize(m.vertices());
-    for (int v = 0; v < m.vertices(); ++v) {
-      const Eigen::Vector3d n = normal_matrix * m.N.row(v).transpose();
+    t.N.resize(vertices);
+    for_each_index(vertices, cancelled, [&](std::size_t v) {
+      const Eigen::Vector3d n = normal_matrix * m.N.row(Eigen::Index(v)).transpose();
       t.N[v] = n.norm() > 0 ? Vec3f(n.normalized().cast<float>()) : Vec3f(Vec3f::Zero());
-    }
+    });
   }
   if (m.has_uv()) {
-    t.UV.resize(m.vertices());
-    for (int v = 0; v < m.vertices(); ++v) t.UV[v] = m.UV.row(v).transpose().cast<float>();
+    t.UV.resize(vertices);
+    for_each_index(vertices, cancelled,
+                   [&](std::size_t v) { t.UV[v] = m.UV.row(Eigen::Index(v)).transpose().cast<float>(); });
   }
   if (m.has_uv() && o.material.normal_map && !o.material.normal_map->empty()) {
     Eigen::MatrixX3d world(m.vertices(), 3), dPdu, dPdv;
     for (int v = 0; v < m.vertices(); ++v) world.row(v) = t.P[v].cast<double>().transpose();
     numerics::uv_tangents(world, m.F, m.UV, dPdu, dPdv);
-    t.dPdu.resize(m.vertices());
-    t.dPdv.resize(m.vertices());
+    t.dPdu.resize(vertices);
+    t.dPdv.resize(vertices);
     for (int v = 0; v < m.vertices(); ++v) {
       t.dPdu[v] = dPdu.row(v).transpose().cast<float>();
       t.dPdv[v] = dPdv.row(v).transpose().cast<float>();
     }
   }
   if (m.has_colors()) {
-    t.C.resize(m.vertices());
-    for (int v = 0; v < m.vertices(); ++v) t.C[v] = m.C.row(v).transpose().cast<float>();
+    t.C.resize(vertices);
+    for_each_index(vertices, cancelled,
+                   [&](std::size_t v) { t.C[v] = m.C.row(Eigen::Index(v)).transpose().cast<float>(); });
   }
-  t.F.resize(m.faces());
-  t.face_normal.resize(m.faces());
-  for (int f = 0; f < m.faces(); ++f) {
-    const Eigen::Vector3i tri = m.F.row(f).transpose();
+  t.F.resize(faces);
+  t.face_normal.resize(faces);
+  for_each_index(faces, cancelled, [&](std::size_t f) {
+    const Eigen::Vector3i tri = m.F.row(Eigen::Index(f)).transpose();
     t.F[f] = tri;
     const Vec3f n = (t.P[tri[1]] - t.P[tri[0]]).cross(t.P[tri[2]] - t.P[tri[0]]);
     const float n2 = n.squaredNorm();
     t.face_normal[f] = n2 > 0 && std::isfinite(n2) ? Vec3f(n / std::sqrt(n2)) : Vec3f(Vec3f::Zero());
-  }
+  });
   return t;
 }
 
-GeometryHandle triangle_geometry(RTCDevice device, const TracedObject& t) {
+GeometryHandle triangle_geometry(RTCDevice device, const TracedObject& t, const std::function<bool()>& cancelled) {
   GeometryHandle g(rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE));
   if (!g) throw Error("Embree could not create a triangle geometry");
   auto* vb = static_cast<float*>(
       new_buffer(device, g.get(), RTC_BUFFER_TYPE_VERTEX, RTC_FORMAT_FLOAT3, 3 * sizeof(float), t.P.size()));
-  for (std::size_t v = 0; v < t.P.size(); ++v)
+  for_each_index(t.P.size(), cancelled, [&](std::size_t v) {
     for (int k = 0; k < 3; ++k) vb[3 * v + k] = t.P[v][k];
+  });
   auto* ib = static_cast<unsigned*>(
       new_buffer(device, g.get(), RTC_BUFFER_TYPE_INDEX, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), t.F.size()));
-  for (std::size_t f = 0; f < t.F.size(); ++f)
+  for_each_index(t.F.size(), cancelled, [&](std::size_t f) {
     for (int k = 0; k < 3; ++k) ib[3 * f + k] = unsigned(t.F[f][k]);
+  });
   return g;
 }
 
@@ -204,24 +227,35 @@ GeometryHandle sphere_geometry(RTCDevice device, const TracedObject& t) {
   return g;
 }
 
+// Embree's build progress monitor (any build thread): false stops the build.
+bool keep_building(void* cancelled, double /*done*/) {
+  return !(*static_cast<const std::function<bool()>*>(cancelled))();
+}
+
 }  // namespace
 
-EmbreeScene::EmbreeScene(const Scene& scene, int displacement_level) {
+EmbreeScene::EmbreeScene(const Scene& scene, int displacement_level, std::function<bool()> cancelled) {
   const auto start = std::chrono::steady_clock::now();
+  if (!cancelled) cancelled = [] { return false; };
+  const auto check_cancelled = [&cancelled] {
+    if (cancelled()) throw Cancelled();
+  };
   device_.reset(rtcNewDevice(nullptr));
   if (!device_)
     throw Error("Embree could not create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
   scene_.reset(rtcNewScene(device_.get()));
   if (!scene_) throw Error("Embree could not create a scene (out of memory?)");
   rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneProgressMonitorFunction(scene_.get(), keep_building, &cancelled);
   Eigen::AlignedBox3f box;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const SceneObject& o = scene.objects[i];
+    check_cancelled();
     TracedObject t;
     GeometryHandle g;
     if (o.mesh && o.mesh->faces() > 0) {
-      t = traced_mesh(o, displacement_level, box);
-      g = triangle_geometry(device_.get(), t);
+      t = traced_mesh(o, displacement_level, box, cancelled);
+      g = triangle_geometry(device_.get(), t, cancelled);
       triangles_ += t.F.size();
     } else if (o.points && o.points->points() > 0) {
       t = traced_points(o, box);
@@ -238,7 +272,10 @@ EmbreeScene::EmbreeScene(const Scene& scene, int displacement_level) {
     object_of_geometry_[id] = int(objects_.size());
     objects_.push_back(std::move(t));
   }
+  check_cancelled();
   rtcCommitScene(scene_.get());
+  rtcSetSceneProgressMonitorFunction(scene_.get(), nullptr, nullptr);  // `cancelled` ends here
+  check_cancelled();  // the monitor stopped the build: no BVH
   if (rtcGetDeviceError(device_.get()) != RTC_ERROR_NONE)
     throw Error("Embree failed to build the BVH (out of memory?)");
   extent_ = box.isEmpty() ? 1.f : std::max(box.diagonal().norm(), 1e-6f);

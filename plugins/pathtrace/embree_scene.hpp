@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -63,8 +64,11 @@ class EmbreeScene {
  public:
   // `skipped` counts objects that are not traced (polylines, empty geometry).
   // Displaced meshes (displaced()) are subdivided `displacement_level` times
-  // and displaced (displacement.hpp) before the build.
-  explicit EmbreeScene(const Scene& scene, int displacement_level = 0);
+  // and displaced (displacement.hpp) before the build. `cancelled` is asked
+  // between objects and their stages, and by Embree's progress monitor during
+  // the BVH build, which stops when it says yes: the constructor then throws
+  // loom::Cancelled.
+  explicit EmbreeScene(const Scene& scene, int displacement_level = 0, std::function<bool()> cancelled = {});
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
 

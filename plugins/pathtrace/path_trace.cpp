@@ -150,7 +150,7 @@ struct PathTrace {
     const auto traced = ctx.scratch<EmbreeScene>(geometry_key(*scene, displacement_level), [&] {
       ctx.progress(0, 1, "building the BVH");
       built = true;
-      return std::make_shared<EmbreeScene>(*scene, displacement_level);
+      return std::make_shared<EmbreeScene>(*scene, displacement_level, [&ctx] { return ctx.cancelled(); });
     });
     warn_about_unused(*scene, *traced, s, displacement_level, ctx);
     const loom::Camera camera =
