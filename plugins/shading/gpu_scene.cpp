@@ -27,14 +27,17 @@ GLuint buffer(const GlApi& gl, GpuCache::Geometry& g, const void* data, std::siz
   return b;
 }
 
-void attribute(const GlApi& gl, GpuCache::Geometry& g, GLuint location, const Eigen::MatrixXd& values) {
-  const auto f = floats(values);
-  const int components = static_cast<int>(values.cols());
-  const GLuint b = buffer(gl, g, f.data(), f.size() * sizeof(float));
+void attribute(const GlApi& gl, GpuCache::Geometry& g, GLuint location, int components,
+               const std::vector<float>& values) {
+  const GLuint b = buffer(gl, g, values.data(), values.size() * sizeof(float));
   gl.VertexArrayVertexBuffer(g.vao, location, b, 0, static_cast<GLsizei>(components * sizeof(float)));
   gl.VertexArrayAttribFormat(g.vao, location, components, GL_FLOAT, GL_FALSE, 0);
   gl.VertexArrayAttribBinding(g.vao, location, location);
   gl.EnableVertexArrayAttrib(g.vao, location);
+}
+
+void attribute(const GlApi& gl, GpuCache::Geometry& g, GLuint location, const Eigen::MatrixXd& values) {
+  attribute(gl, g, location, static_cast<int>(values.cols()), floats(values));
 }
 
 void elements(const GlApi& gl, GpuCache::Geometry& g, const Eigen::MatrixXi& m) {
@@ -43,23 +46,35 @@ void elements(const GlApi& gl, GpuCache::Geometry& g, const Eigen::MatrixXi& m) 
   g.count = static_cast<GLsizei>(idx.size());
 }
 
-GpuCache::Geometry mesh_geometry(const GlApi& gl, const Mesh& m) {
-  GpuCache::Geometry g;
-  gl.CreateVertexArrays(1, &g.vao);
-  const Eigen::MatrixX3d N = m.has_normals() ? Eigen::MatrixX3d(m.N) : numerics::vertex_normals(m.V, m.F);
-  const Eigen::MatrixX2d UV = m.has_uv() ? Eigen::MatrixX2d(m.UV) : Eigen::MatrixX2d::Zero(m.V.rows(), 2);
+// The vertex arrays are made first, asking `check_cancelled` between them
+// (they are the slow part of a big mesh's upload), so that a cancel leaves
+// no GL object behind; then they are uploaded.
+GpuCache::Geometry mesh_geometry(const GlApi& gl, const Mesh& m, const std::function<void()>& check_cancelled) {
+  struct Attribute {
+    GLuint location;
+    int components;
+    std::vector<float> values;
+  };
+  std::vector<Attribute> attributes;
+  const auto add = [&](GLuint location, const Eigen::MatrixXd& values) {
+    attributes.push_back({location, static_cast<int>(values.cols()), floats(values)});
+    if (check_cancelled) check_cancelled();
+  };
+  add(0, m.V);
+  add(1, m.has_normals() ? Eigen::MatrixXd(m.N) : Eigen::MatrixXd(numerics::vertex_normals(m.V, m.F)));
+  add(2, m.has_uv() ? Eigen::MatrixXd(m.UV) : Eigen::MatrixXd::Zero(m.V.rows(), 2));
   Eigen::MatrixX3d dPdu, dPdv;
   if (m.has_uv()) {
     numerics::uv_tangents(m.V, m.F, m.UV, dPdu, dPdv);
   } else {
     dPdu = dPdv = Eigen::MatrixX3d::Zero(m.V.rows(), 3);
   }
-  attribute(gl, g, 0, m.V);
-  attribute(gl, g, 1, N);
-  attribute(gl, g, 2, UV);
-  attribute(gl, g, 3, dPdu);
-  attribute(gl, g, 4, dPdv);
-  attribute(gl, g, 5, m.has_colors() ? Eigen::MatrixX3d(m.C) : Eigen::MatrixX3d::Ones(m.V.rows(), 3));
+  add(3, dPdu);
+  add(4, dPdv);
+  add(5, m.has_colors() ? Eigen::MatrixXd(m.C) : Eigen::MatrixXd::Ones(m.V.rows(), 3));
+  GpuCache::Geometry g;
+  gl.CreateVertexArrays(1, &g.vao);
+  for (const Attribute& a : attributes) attribute(gl, g, a.location, a.components, a.values);
   elements(gl, g, m.F);
   return g;
 }
@@ -150,14 +165,16 @@ GpuCache::~GpuCache() {
   for (auto& [key, e] : textures_) gl_.DeleteTextures(1, &e.texture);
 }
 
-GpuScene::GpuScene(const GlApi& gl, const Scene& scene, GpuCache& cache) {
+GpuScene::GpuScene(const GlApi& gl, const Scene& scene, GpuCache& cache,
+                   const std::function<void()>& check_cancelled) {
   for (const SceneObject& object : scene.objects) {
+    if (check_cancelled) check_cancelled();
     GpuObject o;
     o.source = &object;
     const GpuCache::Geometry* g = nullptr;
     if (object.mesh) {
       o.kind = GpuObject::Kind::mesh;
-      g = &cache.geometry(object.mesh, [&] { return mesh_geometry(gl, *object.mesh); });
+      g = &cache.geometry(object.mesh, [&] { return mesh_geometry(gl, *object.mesh, check_cancelled); });
       o.base_map = cache.texture(object.material.base_color_map, true);
       o.normal_map = cache.texture(object.material.normal_map, false);
       o.displacement_map = cache.texture(object.material.displacement_map, false);
@@ -189,6 +206,20 @@ void draw_patches(const GlApi& gl, GLsizei count, int level) {
   for (GLsizei first = 0; first < count; first += per_draw)
     gl.DrawElements(GL_PATCHES, std::min(per_draw, count - first), GL_UNSIGNED_INT,
                     reinterpret_cast<const void*>(static_cast<std::uintptr_t>(first) * sizeof(unsigned)));
+}
+
+void draw_triangles(const GlApi& gl, GLsizei count, const std::function<void()>& check_cancelled) {
+  constexpr GLsizei per_draw = 3 << 18;
+  if (count <= per_draw || !check_cancelled) {
+    gl.DrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+    return;
+  }
+  for (GLsizei first = 0; first < count; first += per_draw) {
+    gl.DrawElements(GL_TRIANGLES, std::min(per_draw, count - first), GL_UNSIGNED_INT,
+                    reinterpret_cast<const void*>(static_cast<std::uintptr_t>(first) * sizeof(unsigned)));
+    gl.Finish();
+    check_cancelled();
+  }
 }
 
 }  // namespace loom::shading

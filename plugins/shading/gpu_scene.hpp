@@ -6,6 +6,7 @@
 // destroyed with the context current.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <utility>
@@ -73,10 +74,15 @@ bool displaced(const GpuObject& o, int tessellation);
 // Draws a displaced mesh's patches. llvmpipe loses triangles (and time) when
 // one draw tessellates more than about 10^5 triangles: such draws go in chunks.
 void draw_patches(const GlApi& gl, GLsizei count, int level);
+// Draws a mesh's triangles (`count` indices). Above 2^18 triangles, in
+// batches, each finished before `check_cancelled` (may throw; may be empty)
+// is asked: a cancel waits for one batch at most. Same image: same order.
+void draw_triangles(const GlApi& gl, GLsizei count, const std::function<void()>& check_cancelled);
 
 class GpuScene {
  public:
-  GpuScene(const GlApi& gl, const Scene& scene, GpuCache& cache);
+  // `check_cancelled` (may be empty) is asked before each object's upload.
+  GpuScene(const GlApi& gl, const Scene& scene, GpuCache& cache, const std::function<void()>& check_cancelled);
 
   const std::vector<GpuObject>& objects() const { return objects_; }
 

@@ -491,7 +491,7 @@ void Rasterizer::State::draw_object(const Frame& f, const GpuObject& o) {
     p.set("u_tess_level", static_cast<double>(options.tessellation));
     draw_patches(gl, o.count, options.tessellation);
   } else {
-    gl.DrawElements(GL_TRIANGLES, o.count, GL_UNSIGNED_INT, nullptr);
+    draw_triangles(gl, o.count, options.check_cancelled);
   }
 }
 
@@ -555,7 +555,10 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   const GlApi& gl = s.gl();
   auto t = Clock::now();
 
-  GpuScene gpu(gl, scene, *s.gpu_cache);
+  const auto check_cancelled = [&options] {
+    if (options.check_cancelled) options.check_cancelled();
+  };
+  GpuScene gpu(gl, scene, *s.gpu_cache, options.check_cancelled);
   const double aspect = static_cast<double>(options.width) / options.height;
   const Camera camera = scene.camera ? *scene.camera : framing_camera(scene, aspect);
   Eigen::Matrix4d view, proj;
@@ -570,6 +573,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   ShadowMaps shadows(gl);
   render_shadow_maps(gl, {*s.depth, *s.depth_only, *s.depth_tess, *s.sphere_depth}, gpu, scene, box, options, shadows);
   gl.Finish();
+  check_cancelled();
   time.shadows = since(t);
 
   t = Clock::now();
@@ -597,6 +601,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   if (options.wireframe) s.draw_wireframe(frame, gpu);
   gl.check("drawing the scene");
   gl.Finish();
+  check_cancelled();
   time.draw = since(t);
 
   t = Clock::now();

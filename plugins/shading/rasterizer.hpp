@@ -4,6 +4,7 @@
 // uses, so nothing carries over from one run to the next.
 #pragma once
 
+#include <functional>
 #include <memory>
 
 #include <opencv2/core.hpp>
@@ -33,6 +34,9 @@ struct RenderOptions {
   bool wireframe = false;
   Eigen::Vector3d wireframe_color{0, 0, 0};
   bool aux = false;                   // also render normal, position/depth and shadow images
+  // Asked between the render's phases and batches of triangles; throws to
+  // cancel (empty: never asked).
+  std::function<void()> check_cancelled;
 };
 
 struct RenderImages {

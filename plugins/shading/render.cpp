@@ -74,6 +74,7 @@ struct Render {
     o.wireframe = in.get<bool>("wireframe");
     o.wireframe_color = in.get<loom::Color>("wireframe_color").rgba.head<3>();
     o.aux = in.get<bool>("extra_images");
+    o.check_cancelled = [&ctx] { ctx.check_cancelled(); };
     for (const std::string& w : loom::scene_warnings(scene)) ctx.warn(w);
     using loom::shading::max_lights, loom::shading::max_shadows;
     if (scene.lights.size() > static_cast<std::size_t>(max_lights))

@@ -90,7 +90,7 @@ void draw_casters(const GlApi& gl, const DepthPrograms& programs, const GpuScene
       gl.BindTextureUnit(unit_displacement, o.displacement_map);
       draw_patches(gl, o.count, options.tessellation);
     } else {
-      gl.DrawElements(GL_TRIANGLES, o.count, GL_UNSIGNED_INT, nullptr);
+      draw_triangles(gl, o.count, options.check_cancelled);
     }
   }
 }
@@ -132,6 +132,7 @@ void render_shadow_maps(const GlApi& gl, const DepthPrograms& programs, const Gp
       draw_casters(gl, programs, gpu, m, m.view.cube ? m.view.faces[f] : m.view.view, options);
     }
     gl.BindTextureUnit(m.view.cube ? unit_cube + mi : unit_shadow + mi, m.color);
+    if (options.check_cancelled) options.check_cancelled();
   }
   gl.check("rendering the shadow maps");
 }

@@ -128,7 +128,7 @@ class CtrlCTest(unittest.TestCase):
     def graph(self, nodes, **extra):
         return write_json(os.path.join(self.dir, "g.json"), {"loom": 1, "seed": 1, "nodes": nodes, **extra})
 
-    def interrupt(self, name, run, after=None, delay=1.0, cpu=None, whole=lambda path: False):
+    def interrupt(self, name, run, after=None, delay=1.0, cpu=None, whole=lambda path: False, quiet_bound=QUIET_BOUND):
         """Waits until the node `after` is done (else until the handlers are
         installed), then `delay` more seconds, or with `cpu` until the process
         has used that many more CPU seconds (a point inside one step of the
@@ -145,7 +145,7 @@ class CtrlCTest(unittest.TestCase):
                 time.sleep(0.01)
         self.assertIsNone(run.proc.poll(), f"{name}: ended before the signal (too small):\n{run.stderr()}")
         seconds = run.interrupt()
-        bound = QUIET_BOUND * load_factor()
+        bound = quiet_bound * load_factor()
         self.figures.append((name, seconds, bound))
         print(f"\n{name}: SIGINT -> exit {seconds:.2f} s (bound {bound:.2f} s)", file=sys.stderr)
         self.assertEqual(run.proc.returncode, 130, run.stderr())
@@ -228,6 +228,25 @@ class CtrlCTest(unittest.TestCase):
             "t": {"type": "PathTrace", "inputs": {"scene": {"from": "o.scene"}, "size": [64, 64], "spp": 1}},
             "s": {"type": "SaveImage", "inputs": {"image": {"from": "t.image"}, "path": "t.png"}}})
         self.interrupt("PathTrace BVH of 4.5M triangles", run, cpu=3.0)
+
+    # Render (OSMesa) of 4.5M triangles at 1080p with a shadow map: the
+    # upload asks between vertex arrays, the shadow and main passes between
+    # batches of 2^18 triangles (each finished first). Before: the upload and
+    # one draw of the whole mesh could not be stopped (5 s, the watchdog).
+    # Bound 2.5 s, not 0.5 (issue 37 stays open for it): the longest steps
+    # between two checks, on the quiet machine, are llvmpipe's shader compile
+    # at a program's first draw together with the 1080p 4x MSAA targets' set-up
+    # (up to 2.2 s) and single vertex arrays of the upload (up to 0.9 s);
+    # docs/robustness.md. A signal landing elsewhere exits in 0.17-0.22 s.
+    def test_render(self):
+        run = self.run_graph({
+            "g": {"type": "GridMesh", "inputs": {"resolution": [1500, 1500]}},
+            "o": {"type": "Object", "inputs": {"mesh": {"from": "g.mesh"}}},
+            "l": {"type": "Light"},
+            "m": {"type": "MergeScenes", "inputs": {"a": {"from": "o.scene"}, "b": {"from": "l.scene"}}},
+            "t": {"type": "Render", "inputs": {"scene": {"from": "m.scene"}, "width": 1920, "height": 1080}},
+            "s": {"type": "SaveImage", "inputs": {"image": {"from": "t.image"}, "path": "t.exr"}}})
+        self.interrupt("Render 4.5M triangles at 1080p", run, cpu=7.0, quiet_bound=2.5)
 
     # An MPM emitter of 12M particles: the lattice, the inside test, the
     # Morton sort (a radix sort in passes) and the particles' set-up each ask
