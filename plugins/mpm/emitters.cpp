@@ -198,20 +198,19 @@ template <int D>
 std::vector<Vec<D>> in_morton_order(const std::vector<Vec<D>>& points, const Vec<D>& lo, double spacing,
                                     const std::function<void()>& check_cancelled) {
   std::vector<std::uint64_t> keys(points.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), kChunk),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      check_cancelled();
-                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                        std::uint32_t c[D];
-                        for (int d = 0; d < D; ++d)
-                          c[d] = static_cast<std::uint32_t>(
-                              std::clamp((points[i][d] - lo[d]) / (4 * spacing), 0.0, 1048575.0));
-                        std::uint64_t key = 0;
-                        for (int bit = 19; bit >= 0; --bit)
-                          for (int d = 0; d < D; ++d) key = (key << 1) | ((c[d] >> bit) & 1u);
-                        keys[i] = key;
-                      }
-                    });
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, points.size(), kChunk), [&](const tbb::blocked_range<std::size_t>& r) {
+        check_cancelled();
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+          std::uint32_t c[D];
+          for (int d = 0; d < D; ++d)
+            c[d] = static_cast<std::uint32_t>(std::clamp((points[i][d] - lo[d]) / (4 * spacing), 0.0, 1048575.0));
+          std::uint64_t key = 0;
+          for (int bit = 19; bit >= 0; --bit)
+            for (int d = 0; d < D; ++d) key = (key << 1) | ((c[d] >> bit) & 1u);
+          keys[i] = key;
+        }
+      });
   const std::vector<std::uint32_t> order = stable_order(keys, check_cancelled);
   std::vector<Vec<D>> sorted(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) sorted[i] = points[order[i]];
@@ -233,8 +232,12 @@ Particles<D> fill_shape(const std::function<bool(const Vec<D>&)>& inside, const 
   std::mt19937_64 rng(o.seed);
   std::vector<Vec<D>> candidates;
   switch (o.sampling) {
-    case Sampling::grid: candidates = lattice<D>(lo, hi, o.spacing, false, rng, o.check_cancelled); break;
-    case Sampling::jittered: candidates = lattice<D>(lo, hi, o.spacing, true, rng, o.check_cancelled); break;
+    case Sampling::grid:
+      candidates = lattice<D>(lo, hi, o.spacing, false, rng, o.check_cancelled);
+      break;
+    case Sampling::jittered:
+      candidates = lattice<D>(lo, hi, o.spacing, true, rng, o.check_cancelled);
+      break;
     case Sampling::poisson: candidates = poisson_disk<D>(lo, hi, o.spacing, rng, o.progress); break;
     case Sampling::random: {
       if (o.count <= 0) throw Error("count must be positive for random sampling");

@@ -125,8 +125,8 @@ TracedObject traced_mesh(const SceneObject& o, int displacement_level, Eigen::Al
   const Eigen::Matrix3d normal_matrix = L.inverse().transpose();
   std::optional<Mesh> displaced_copy;
   if (displaced(o, displacement_level))
-    displaced_copy = displaced_mesh(*o.mesh, *o.material.displacement_map, o.material.displacement_scale,
-                                    displacement_level);
+    displaced_copy =
+        displaced_mesh(*o.mesh, *o.material.displacement_map, o.material.displacement_scale, displacement_level);
   const Mesh& m = displaced_copy ? *displaced_copy : *o.mesh;
   const auto vertices = std::size_t(m.vertices()), faces = std::size_t(m.faces());
   TracedObject t;
@@ -275,7 +275,7 @@ EmbreeScene::EmbreeScene(const Scene& scene, int displacement_level, std::functi
   check_cancelled();
   rtcCommitScene(scene_.get());
   rtcSetSceneProgressMonitorFunction(scene_.get(), nullptr, nullptr);  // `cancelled` ends here
-  check_cancelled();  // the monitor stopped the build: no BVH
+  check_cancelled();                                                   // the monitor stopped the build: no BVH
   if (rtcGetDeviceError(device_.get()) != RTC_ERROR_NONE)
     throw Error("Embree failed to build the BVH (out of memory?)");
   extent_ = box.isEmpty() ? 1.f : std::max(box.diagonal().norm(), 1e-6f);

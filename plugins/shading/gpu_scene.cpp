@@ -165,8 +165,7 @@ GpuCache::~GpuCache() {
   for (auto& [key, e] : textures_) gl_.DeleteTextures(1, &e.texture);
 }
 
-GpuScene::GpuScene(const GlApi& gl, const Scene& scene, GpuCache& cache,
-                   const std::function<void()>& check_cancelled) {
+GpuScene::GpuScene(const GlApi& gl, const Scene& scene, GpuCache& cache, const std::function<void()>& check_cancelled) {
   for (const SceneObject& object : scene.objects) {
     if (check_cancelled) check_cancelled();
     GpuObject o;
