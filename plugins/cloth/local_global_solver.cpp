@@ -130,8 +130,8 @@ Eigen::MatrixXd LocalGlobalSolver::global_step(const SpringSystem& s, const Eige
   return cholesky_.solve(rhs);
 }
 
-// Over 80 lines on purpose: Liu et al. (2013)'s iteration and its two
-// accelerations read as one loop, with the convergence measure beside them.
+// Liu et al. (2013)'s iteration and its two accelerations as one loop, with
+// the convergence measure beside them.
 Eigen::MatrixX3d LocalGlobalSolver::solve(const SpringSystem& s, const Eigen::MatrixX3d& y,
                                           Eigen::MatrixX3d x, const SolveOptions& options,
                                           SolveReport* report) const {
