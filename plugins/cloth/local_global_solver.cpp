@@ -161,7 +161,9 @@ Eigen::MatrixX3d LocalGlobalSolver::solve(const SpringSystem& s, const Eigen::Ma
   double E = local_step(s, x, y, options, anderson, excess, target);
   if (anderson) rep.energies.push_back(E);
   Eigen::MatrixX3d next_target;
+  bool local_done = true;  // whether `excess` and `target` are x's
   for (int it = 0; it < options.iterations; ++it) {
+    if (!local_done) local_step(s, x, y, options, false, excess, target);
     const Eigen::MatrixXd delta = global_step(s, x, y, excess, contacts ? &target : nullptr);
     Eigen::MatrixX3d plain = x;  // G(x_k), the plain iterate
     for (int r = 0; r < n; ++r) plain.row(free_[r]) += delta.row(r);
@@ -196,7 +198,7 @@ Eigen::MatrixX3d LocalGlobalSolver::solve(const SpringSystem& s, const Eigen::Ma
       previous = std::move(x);
       x = std::move(plain);
       if (options.project) options.project(x);
-      local_step(s, x, y, options, false, excess, target);
+      local_done = false;
     }
     if (options.after_iteration) options.after_iteration();
     ++rep.iterations;
