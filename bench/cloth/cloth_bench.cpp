@@ -1,5 +1,6 @@
 // Mass-spring cloth: implicit Euler by Newton against Liu et al. 2013's
-// local/global iteration (plain and with Wang 2015's Chebyshev acceleration).
+// local/global iteration (plain, with Wang 2015's Chebyshev acceleration, and
+// with Peng et al. 2018's Anderson acceleration).
 //
 //  cloth_frame:   one frame (h = 1/30) of an 81×81 curtain (k = 1e5, top edge
 //                 pinned, in gusty wind, already swinging): time per frame
@@ -21,6 +22,9 @@
 //  cloth_cuboid:  the assignment's cuboid (5×5×5, 0.5 m, 1000 kg/m³) dropped
 //                 from 0.3 m onto the ground with k = 1e3, 1e4, 1e5: its height
 //                 over time relative to the rest height (Newton, 4 substeps).
+//  cloth_accuracy: one step's relative ‖∇E‖ against time, per iteration, for
+//                 plain, Chebyshev, Anderson and Newton on the light and heavy
+//                 81² curtains and the drape (see accuracy_study).
 // Curtains are 1 m wide, k = 1e5 for every class, 0.1 kg/m² (--density D:
 // D kg/m², CSV names suffixed _densityD).
 // Run with OPENBLAS_NUM_THREADS=1 on a shared machine: CPU time then counts no
@@ -35,6 +39,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -327,6 +332,133 @@ void cuboid_study() {
 }
 
 
+// Time to accuracy: one step's relative ‖∇E‖ against the time spent, per
+// iteration, for plain local/global, Chebyshev (ρ = 0.99 and 0.999), Anderson
+// (window 6, energy safeguard) and Newton, on three scenes: the light 81²
+// curtain (0.1 kg/m²) and the heavy one (6400 kg/m², about 1 kg per vertex),
+// swinging in wind, and the drape (31², k = 1e4, 1 kg/m², on a sphere and the
+// ground with friction 0.5, 30 frames in: in contact). Each curve is the
+// median, per iteration, of `runs` runs' timestamps (the iterates are the
+// same in every run). The drape's residual measures the springs' E only
+// (docs/cloth.md: with contacts it does not reach zero), and Newton's there is
+// relative to each of its two passes' starts: its drape curve is shown, not
+// compared. Printed: the time each method takes to each tolerance.
+struct AccuracyScene {
+  std::string name;
+  std::shared_ptr<const SpringSystem> system;
+  StepSettings base;  // the scene's forces and colliders
+  ClothState state;   // the state the measured step starts from
+  std::shared_ptr<const LocalGlobalSolver> solver;
+};
+
+std::vector<AccuracyScene> accuracy_scenes(int n, double h) {
+  std::vector<AccuracyScene> scenes;
+  const double saved = g_density;
+  for (double density : {0.1, 6400.0}) {
+    g_density = density;
+    AccuracyScene sc{density < 1 ? "light" : "heavy", std::make_shared<const SpringSystem>(curtain(n)),
+                     windy(Solver::local_global, 100), {}, {}};
+    sc.solver = std::make_shared<const LocalGlobalSolver>(*sc.system, h);
+    sc.state = rest_state(sc.system);
+    for (int f = 0; f < 20; ++f) sc.state = step(sc.state, h, sc.base, sc.solver.get()).state;
+    scenes.push_back(std::move(sc));
+  }
+  g_density = saved;
+  const int d = n == 81 ? 31 : 21;
+  AccuracyScene drape{"drape",
+                      std::make_shared<const SpringSystem>(grid_cloth(d, d, Eigen::Vector3d(-0.8, 1.2, -0.8),
+                                                                      Eigen::Vector3d(1.6, 0, 0),
+                                                                      Eigen::Vector3d(0, 0, 1.6), 1, 1e4, 1e4, 1e2)),
+                      windy(Solver::local_global, 20), {}, {}};
+  drape.base.wind_speed = 0;
+  drape.base.damping = 0.2;
+  drape.base.ground = true;
+  drape.base.friction = 0.5;
+  drape.base.spheres.push_back({Eigen::Vector3d(0, 0.5, 0), 0.5});
+  drape.solver = std::make_shared<const LocalGlobalSolver>(*drape.system, h, contact_weight(*drape.system));
+  drape.state = rest_state(drape.system);
+  for (int f = 0; f < 30; ++f) drape.state = step(drape.state, h, drape.base, drape.solver.get()).state;
+  scenes.push_back(std::move(drape));
+  return scenes;
+}
+
+void accuracy_study(int n, int runs) {
+  const double h = 1.0 / 30;
+  const std::vector<AccuracyScene> scenes = accuracy_scenes(n, h);
+  loom::bench::Csv csv("cloth_accuracy", {"curve", "scene", "method", "iteration", "seconds", "residual", "load"});
+  struct Method {
+    std::string name;
+    Solver solver;
+    int iterations;
+    double rho;    // Chebyshev's, 0: off
+    int anderson;  // window, 0: off
+  };
+  const std::vector<Method> methods = {{"plain", Solver::local_global, 3000, 0, 0},
+                                       {"chebyshev 0.99", Solver::local_global, 3000, 0.99, 0},
+                                       {"chebyshev 0.999", Solver::local_global, 3000, 0.999, 0},
+                                       {"anderson 6", Solver::local_global, 3000, 0, 6},
+                                       {"newton", Solver::newton, 200, 0, 0}};
+  const double tolerances[] = {1e-2, 1e-3, 1e-4, 1e-6, 1e-8};
+  for (std::size_t sc = 0; sc < scenes.size(); ++sc) {
+    std::printf("\n%s (%d vertices), load %s: seconds to relative |grad E| (iterations)\n", scenes[sc].name.c_str(),
+                scenes[sc].system->vertices(), load().c_str());
+    for (const Method& m : methods) {
+      StepSettings st = scenes[sc].base;
+      st.solver = m.solver;
+      st.solve.iterations = m.iterations;
+      st.solve.tolerance = 1e-9;
+      st.solve.record_residuals = true;
+      st.solve.chebyshev = m.rho > 0;
+      if (m.rho > 0) st.solve.chebyshev_rho = m.rho;
+      st.solve.anderson = m.anderson;
+      Clock::time_point t0;
+      std::vector<double> stamps;
+      st.solve.after_iteration = [&] { stamps.push_back(seconds_since(t0)); };
+      std::vector<std::vector<double>> all;
+      SolveReport report;
+      loom::numerics::SparseCholesky newton_factor;
+      for (int r = 0; r <= runs; ++r) {  // run 0 warms up (Newton's symbolic analysis)
+        stamps.clear();
+        t0 = Clock::now();
+        report = step(scenes[sc].state, h, st, scenes[sc].solver.get(), &newton_factor).report;
+        if (r > 0) all.push_back(stamps);
+      }
+      std::vector<double> median(stamps.size());
+      for (std::size_t k = 0; k < median.size(); ++k) {
+        std::vector<double> at;
+        for (const auto& a : all) at.push_back(a[k]);
+        std::sort(at.begin(), at.end());
+        median[k] = at[at.size() / 2];
+      }
+      const std::size_t count = std::min(median.size(), report.residuals.size());
+      for (std::size_t k = 0; k < count; ++k)
+        csv.row({scenes[sc].name + ", " + m.name, scenes[sc].name, m.name, static_cast<long long>(k + 1), median[k],
+                 report.residuals[k], load()});
+      std::printf("  %-16s", m.name.c_str());
+      for (double tol : tolerances) {
+        std::size_t k = 0;
+        while (k < count && report.residuals[k] > tol) ++k;
+        if (k < count)
+          std::printf("  %g: %.4f s (%zu)", tol, median[k], k + 1);
+        else
+          std::printf("  %g: not in %zu (min %.2g)", tol, count,
+                      count ? *std::min_element(report.residuals.begin(), report.residuals.begin() + count) : 1.0);
+      }
+      std::printf("\n");
+    }
+  }
+  csv.save();
+  for (const auto& sc : scenes) {
+    loom::bench::Csv part("cloth_accuracy_" + sc.name, csv.columns());
+    for (const auto& row : csv.rows())
+      if (std::get<std::string>(row[1]) == sc.name) part.row(row);
+    loom::bench::plot(part, {"seconds", "residual", "method",
+                             sc.name + " " + std::to_string(sc.system->vertices()) +
+                                 " vertices, one step (h = 1/30): relative |grad E| vs time",
+                             true, true, ""});
+  }
+}
+
 const char* start_name(Start start) {
   return start == Start::prediction ? "prediction" : start == Start::extrapolation ? "extrapolation" : "lower_energy";
 }
@@ -447,7 +579,9 @@ int main(int argc, char** argv) {
               {"frames100", "100 frames of the 25² curtain: error against time (cloth_frames100)"},
               {"convergence", "local/global residual per iteration (cloth_convergence)"},
               {"start", "where local/global starts: at rest, in motion, cost per frame (cloth_start)"},
-              {"scaling", "factorization and frame time, memory, from 41² to 321² (cloth_scaling)"}},
+              {"scaling", "factorization and frame time, memory, from 41² to 321² (cloth_scaling)"},
+              {"accuracy", "time against relative |grad E| per step: plain, Chebyshev, Anderson, Newton on the "
+                           "light and heavy curtains and the drape (cloth_accuracy)"}},
              "parts to run (default: all; the cuboid not with --density)")
       .threads();
   cli.parse(argc, argv);
@@ -469,6 +603,7 @@ int main(int argc, char** argv) {
   if (loom::bench::wants(modes, "start")) start_study(quick ? 3 : 7);
   if (loom::bench::wants(modes, "scaling"))
     scaling_study(quick ? std::vector<int>{41, 81} : std::vector<int>{41, 81, 161, 321}, quick ? 3 : 5);
+  if (loom::bench::wants(modes, "accuracy")) accuracy_study(quick ? 41 : 81, quick ? 1 : 3);
   std::printf("load at end: %s\n", load().c_str());
   return 0;
 }

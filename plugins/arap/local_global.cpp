@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Cholesky>
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "loom/numerics/anderson.hpp"
 #include "loom/numerics/sparse_assembly.hpp"
 #include "loom/numerics/svd.hpp"
 
@@ -65,53 +64,6 @@ Eigen::Vector2d local_fit(const TriangleFrames& fr, const Eigen::MatrixX3i& F,
   *energy = E;
   return ab;
 }
-
-// Anderson acceleration of a fixed-point map u ↦ G(u) (Anderson 1965; for
-// local/global solvers, Peng et al. 2018, eq. 4): from the last m residuals
-// f_j = G(u_j) − u_j, the next iterate is G(u_k) − Σ_j θ_j ΔG_j with θ the
-// least-squares fit of f_k by the residual differences ΔF_j. m = 0 is the
-// plain iteration.
-class AndersonMixing {
- public:
-  AndersonMixing(int m, Eigen::Index size) : m_(std::max(m, 0)), dF_(size, m_), dG_(size, m_) {}
-  bool active() const { return used_ > 0; }
-  void reset() { used_ = 0, have_last_ = false; }
-
-  // u: the current iterate, g = G(u) (both #free by 2); returns the next iterate.
-  Eigen::MatrixXd extrapolate(const Eigen::MatrixXd& u, const Eigen::MatrixXd& g) {
-    if (m_ == 0) return g;
-    const Eigen::Map<const Eigen::VectorXd> gv(g.data(), g.size());
-    const Eigen::VectorXd f = gv - Eigen::Map<const Eigen::VectorXd>(u.data(), u.size());
-    if (have_last_) {
-      const int slot = next_slot_;
-      dF_.col(slot) = f - last_f_;
-      dG_.col(slot) = gv - last_g_;
-      next_slot_ = (next_slot_ + 1) % m_;
-      used_ = std::min(used_ + 1, m_);
-    }
-    last_f_ = f, last_g_ = gv, have_last_ = true;
-    if (used_ == 0) return g;
-    // θ = argmin ‖f − ΔF θ‖ by the normal equations (m ≤ a few), ridge-
-    // regularized a little so nearly parallel differences stay solvable.
-    const auto dF = dF_.leftCols(used_);
-    Eigen::MatrixXd gram = dF.transpose() * dF;
-    gram.diagonal().array() += 1e-10 * gram.diagonal().maxCoeff() + 1e-300;
-    const Eigen::VectorXd theta = gram.ldlt().solve(dF.transpose() * f);
-    if (!theta.allFinite()) {
-      reset();
-      return g;
-    }
-    Eigen::MatrixXd next = g;
-    Eigen::Map<Eigen::VectorXd>(next.data(), next.size()) -= dG_.leftCols(used_) * theta;
-    return next;
-  }
-
- private:
-  int m_, used_ = 0, next_slot_ = 0;
-  bool have_last_ = false;
-  Eigen::MatrixXd dF_, dG_;
-  Eigen::VectorXd last_f_, last_g_;
-};
 
 // b(L) of the global step, in parallel: each corner's share (3t + i), then
 // per free vertex the sum over its corners plus the pinned vertices' share.
@@ -249,7 +201,7 @@ ArapResult arap(const ArapSystem& sys, const Eigen::MatrixX2d& UV0, const ArapOp
     return out;
   }
   // u: the accepted iterate (free rows), whose rotations are in `ab`.
-  AndersonMixing mixing(options.anderson, 2 * static_cast<Eigen::Index>(nfree));
+  numerics::AndersonMixing mixing(options.anderson, 2 * static_cast<Eigen::Index>(nfree));
   Eigen::MatrixXd u = free_rows();
   for (int k = 1; k <= options.max_iterations; ++k) {
     const Eigen::MatrixXd g = global_step();  // G(u): one plain local/global iteration

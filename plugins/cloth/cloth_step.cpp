@@ -36,8 +36,8 @@ struct ClothStep {
   static void declare(loom::NodeSpec& s) {
     s.describe("Advances a mass-spring system by one frame (1/fps, in substeps): implicit Euler by "
                "Newton's method (clamped sparse Hessian, line search, CHOLMOD) or by Liu et al. "
-               "2013's local/global iteration (M + h²L factored once, optional Chebyshev "
-               "acceleration), or symplectic Euler. Gravity, velocity damping, wind, ground and "
+               "2013's local/global iteration (M + h²L factored once, optional Chebyshev or "
+               "Anderson acceleration), or symplectic Euler. Gravity, velocity damping, wind, ground and "
                "sphere colliders.")
         .input<loom::cloth::ClothState>("state", "the state at the previous frame (at the start "
                                                  "frame: the initial state, returned unchanged)")
@@ -66,6 +66,10 @@ struct ClothStep {
         .input<double>("friction", 0, "Coulomb friction coefficient of the colliders (0: frictionless)").range(0, 10)
         .input<bool>("chebyshev", false, "Chebyshev acceleration of local/global (Wang 2015)")
         .input<double>("chebyshev_rho", 0.99, "estimated spectral radius for Chebyshev").range(0, 0.9999)
+        .input<int>("anderson", 0,
+                    "Anderson acceleration of local/global over this many past iterates (Peng et al. 2018; "
+                    "0: off), with an energy safeguard that falls back to the plain step")
+        .range(0, 50)
         .output<loom::cloth::ClothState>("state", "the state at this frame")
         .output<loom::Mesh>("mesh", "the deformed surface at this frame")
         .output<std::vector<double>>("residuals",
@@ -83,6 +87,9 @@ struct ClothStep {
     settings.solve.tolerance = in.get<double>("tolerance");
     settings.solve.chebyshev = in.get<bool>("chebyshev");
     settings.solve.chebyshev_rho = in.get<double>("chebyshev_rho");
+    settings.solve.anderson = in.get<int>("anderson");
+    if (settings.solve.chebyshev && settings.solve.anderson > 0)
+      throw loom::Error("chebyshev and anderson both accelerate local/global: set anderson to 0 or chebyshev to false");
     settings.solve.after_iteration = [&ctx] { ctx.check_cancelled(); };
     settings.solve.check = settings.solve.after_iteration;
     settings.gravity = in.get<loom::Vec3>("gravity");

@@ -18,6 +18,11 @@
 //   Optional Chebyshev semi-iterative acceleration (Wang 2015, eq. 9-10)
 //   after 4 plain iterations, with a given estimate ρ of the plain
 //   iteration's spectral radius (0.99 suits cloth at k = 1e5, h = 1/30).
+//   Or Anderson acceleration (Peng et al. 2018, loom/numerics/anderson.hpp)
+//   of the map x_k ↦ x_{k+1} over the last m iterations, safeguarded by the
+//   energy E the iteration lowers (below): an extrapolated iterate whose E is
+//   not below the last accepted one is replaced by the plain step, and the
+//   history starts again.
 //
 // Residual: ‖∇E(x_k)‖ / ‖∇E(x0)‖ after each iteration (the same measure for
 // both, so they are compared on one scale); tolerance 0 runs every iteration.
@@ -41,6 +46,8 @@ struct SolveOptions {
   bool record_residuals = true;  // local/global: skip the gradient when false and tolerance is 0
   bool chebyshev = false;        // local/global only
   double chebyshev_rho = 0.99;   // spectral radius of the plain iteration, in (0, 1)
+  // Local/global only, not with chebyshev: Anderson's window m (0: off).
+  int anderson = 0;
   // Called on every iterate (e.g. to push positions out of colliders); empty:
   // nothing. It makes the iteration a projected one, so the residual then
   // measures the unconstrained gradient and no longer reaches zero.
@@ -70,6 +77,11 @@ struct SolveOptions {
 
 struct SolveReport {
   std::vector<double> residuals;
+  // Local/global with Anderson: the E (springs, inertia and contact
+  // constraints) of the start, then of each accepted iterate (the start's
+  // plus the accepted changes, each computed without cancellation).
+  std::vector<double> energies;
+  int rejected = 0;  // Anderson iterates the safeguard replaced by the plain step
   int iterations = 0;
   bool converged = false;
 };
@@ -95,6 +107,21 @@ class LocalGlobalSolver {
   int free_vertices() const { return static_cast<int>(free_.size()); }
 
  private:
+  // Local step at x (eq. 12): the springs' r_s − d_s into `excess` and, with
+  // contacts, the projections p_i into `target`. With `energy`: returns
+  //   E(x) = ½ ‖x − y‖²_M + h² (Σ_s ½ k_s ‖r_s − d_s‖² + ½ w Σ_i ‖x_i − p_i‖²),
+  // the objective local/global minimizes (‖r_s − d_s‖ = |‖r_s‖ − l_s|); else 0.
+  double local_step(const SpringSystem& s, const Eigen::MatrixX3d& x, const Eigen::MatrixX3d& y,
+                    const SolveOptions& options, bool energy, Eigen::MatrixX3d& excess,
+                    Eigen::MatrixX3d& target) const;
+  // E(b) − E(a) for E above, accurate to rounding relative to the change;
+  // target_a, target_b: the contact projections at a and b (nullptr: none).
+  double energy_change(const SpringSystem& s, const Eigen::MatrixX3d& a, const Eigen::MatrixX3d& b,
+                       const Eigen::MatrixX3d& y, const Eigen::MatrixX3d* target_a,
+                       const Eigen::MatrixX3d* target_b) const;
+  // Global step (eq. 10): Δ = x_{k+1} − x_k over the free rows, #free by 3.
+  Eigen::MatrixXd global_step(const SpringSystem& s, const Eigen::MatrixX3d& x, const Eigen::MatrixX3d& y,
+                              const Eigen::MatrixX3d& excess, const Eigen::MatrixX3d* target) const;
   double h_;
   double contact_weight_;
   std::vector<int> free_;   // free vertex of each unknown row

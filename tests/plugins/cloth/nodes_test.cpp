@@ -231,6 +231,9 @@ TEST(ClothNodes, ActionableErrors) {
   loom::testing::Engine engine;
   auto doc = grid_graph({{"sphere_centers", {{0, 0, 0}}}, {"sphere_radii", loom::json::array()}});
   EXPECT_THROW(engine.value(doc, "step.state"), loom::Error);
+  // Two accelerations of the same iteration: the user is asked to choose one.
+  EXPECT_NO_THROW(engine.value(grid_graph({{"anderson", 6}}), "step.state"));
+  EXPECT_THROW(engine.value(grid_graph({{"chebyshev", true}, {"anderson", 6}}), "step.state"), loom::Error);
   doc = grid_graph({});
   doc["nodes"]["grid"]["inputs"]["fixed"] = {1000};
   EXPECT_THROW(engine.value(doc, "grid.state"), loom::Error);
