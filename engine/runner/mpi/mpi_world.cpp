@@ -2,15 +2,13 @@
 #include "mpi/mpi_world.hpp"
 
 #include <mpi.h>
+#include <sched.h>
 
 #include <chrono>
 #include <cstdio>
 #include <algorithm>
-#include <cstring>
-#include <limits>
 #include <thread>
 
-#include "loom/error.hpp"
 #include "loom/image.hpp"
 
 namespace loom::runner {
@@ -25,50 +23,76 @@ void wait_for(MPI_Request& request) {
     std::this_thread::sleep_for(std::chrono::microseconds(200));
 }
 
+// Waits for an exchange that every rank has started. The tiles are not
+// contiguous, so MPI copies them through shared memory in 32-kB fragments, a
+// few in flight at a time (the sender packs one while the receiver unpacks
+// another): both ranks must run at once. Where ranks share cores, a blocking
+// wait polls while the peer waits for a time slice; yielding between polls
+// hands the core over (this exchange of 99.5 MB over 2 ranks, alone, at load
+// 6 on 2 cores: 0.03-0.11 s yielding, 0.06-0.73 s blocking, 0.12-0.24 s
+// sleeping 20 us between polls; docs/farm.md).
+void exchange_all(std::vector<MPI_Request>& requests) {
+  for (int done = 0; MPI_Testall(int(requests.size()), requests.data(), &done, MPI_STATUSES_IGNORE), !done;)
+    sched_yield();
+}
+
 void barrier() {
   MPI_Request request;
   MPI_Ibarrier(MPI_COMM_WORLD, &request);
   wait_for(request);
 }
 
-// The tiles of one rank, as rectangles of the image.
-struct Rect {
-  int x, y, w, h;
-};
-std::vector<Rect> tiles_of(int width, int height, const PixelRegion& r) {
-  std::vector<Rect> rects;
-  const int columns = (width + r.tile - 1) / r.tile, rows = (height + r.tile - 1) / r.tile;
-  for (int t = r.part; t < columns * rows; t += r.parts) {
-    const int x = (t % columns) * r.tile, y = (t / columns) * r.tile;
-    rects.push_back({x, y, std::min(r.tile, width - x), std::min(r.tile, height - y)});
+// The tiles of rank `part` of `parts` in rows [y0, y1) of `image`, as one MPI
+// datatype over the image's own memory, so tiles are sent from and received
+// into the image with no packed copy (PixelRegion's tiles: tile t at column
+// t % columns of its band of rows). In a band, the rank's tiles are every
+// parts-th column from its first: one strided vector of whole tiles, plus the
+// band's last tile on its own when the image's width cuts it short. Built from
+// bytes (a pixel is elemSize() of them), so any channel count or depth fits.
+MPI_Datatype tiles_type(const cv::Mat& image, int y0, int y1, int tile, int part, int parts) {
+  const int columns = (image.cols + tile - 1) / tile, whole_columns = image.cols / tile;
+  const MPI_Aint row = MPI_Aint(image.step), pixel = MPI_Aint(image.elemSize());
+  std::vector<MPI_Datatype> types;
+  std::vector<MPI_Aint> at;
+  auto add = [&](int y, int h, int column, int count, int width) {
+    MPI_Datatype one, strided;  // one tile: h rows of width pixels; then `count` of them, `parts` columns apart
+    MPI_Type_create_hvector(h, int(width * pixel), row, MPI_BYTE, &one);
+    MPI_Type_create_hvector(count, 1, MPI_Aint(parts) * tile * pixel, one, &strided);
+    MPI_Type_free(&one);
+    types.push_back(strided);
+    at.push_back(MPI_Aint(y) * row + MPI_Aint(column) * tile * pixel);
+  };
+  for (int band = y0 / tile; band * tile < y1; ++band) {
+    const int y = std::max(y0, band * tile), h = std::min(y1, (band + 1) * tile) - y;
+    const int first = ((part - int(std::int64_t(band) * columns % parts)) % parts + parts) % parts;
+    if (first < whole_columns) add(y, h, first, (whole_columns - 1 - first) / parts + 1, tile);
+    const int last = columns - 1;
+    if (whole_columns < columns && last >= first && (last - first) % parts == 0)
+      add(y, h, last, 1, image.cols - last * tile);
   }
-  return rects;
+  MPI_Datatype tiles;
+  const std::vector<int> ones(types.size(), 1);
+  MPI_Type_create_struct(int(types.size()), ones.data(), at.data(), types.data(), &tiles);
+  MPI_Type_commit(&tiles);
+  for (MPI_Datatype& t : types) MPI_Type_free(&t);
+  return tiles;
 }
 
-std::int64_t pixels_in(const std::vector<Rect>& rects) {
-  std::int64_t n = 0;
-  for (const Rect& r : rects) n += std::int64_t(r.w) * r.h;
-  return n;
-}
-
-// Copies the rows of each rectangle between the image and a packed buffer
-// (tile after tile, row after row): `to_image` unpacks.
-void copy_tiles(cv::Mat& image, const std::vector<Rect>& rects, float* packed, bool to_image) {
-  const int channels = image.channels();
-  for (const Rect& r : rects)
-    for (int y = r.y; y < r.y + r.h; ++y) {
-      float* row = image.ptr<float>(y) + std::size_t(r.x) * channels;
-      const std::size_t n = std::size_t(r.w) * channels;
-      if (to_image) std::memcpy(row, packed, n * sizeof(float));
-      else std::memcpy(packed, row, n * sizeof(float));
-      packed += n;
-    }
+// The pixels to receive the other ranks' tiles into: the part's own when
+// nothing else holds them (the node made them for this output), so the image
+// is gathered in place; else a copy (a node may output pixels it shares with
+// an input, which a cache holds, or with another output).
+cv::Mat receiving_pixels(const Value& part) {
+  const std::shared_ptr<const Image> image = part.shared<Image>();
+  const cv::Mat& pixels = image->pixels;
+  const bool alone = image.use_count() == 2 && pixels.u && pixels.u->refcount == 1;  // `part` and `image`
+  return alone ? pixels : pixels.clone();
 }
 
 class Split final : public PixelSplit {
  public:
-  Split(std::string node, int tile, int rank, int size, bool by_samples)
-      : node_(std::move(node)), tile_(tile), rank_(rank), size_(size), by_samples_(by_samples) {}
+  Split(std::string node, int tile, int rank, int size, bool by_samples, Gather gather)
+      : node_(std::move(node)), tile_(tile), rank_(rank), size_(size), by_samples_(by_samples), gather_(gather) {}
 
   PixelRegion region(const std::string& node) const override {
     return node == node_ ? PixelRegion{tile_, rank_, size_, by_samples_} : PixelRegion{};
@@ -84,62 +108,69 @@ class Split final : public PixelSplit {
     }
   }
 
+  // Every image output's tiles sent to the ranks that receive (rank 0, or
+  // every rank), all the messages in flight at once; a receiving rank's part
+  // becomes the whole image, the others keep their part.
   void combine(const std::string& node, const NodeSpec& spec, std::vector<Value>& outputs) const override {
     using Clock = std::chrono::steady_clock;
     const auto arrived = Clock::now();
     barrier();  // so that the time below is the exchange's, not the wait for the slowest rank
     const auto start = Clock::now();
+    std::vector<std::pair<std::size_t, cv::Mat>> images;  // kept until every message is done
+    std::vector<MPI_Request> requests;
     double megabytes = 0;
     for (std::size_t o = 0; o < outputs.size(); ++o) {
       if (spec.outputs[o].type != &type_of<Image>()) continue;
-      const Image& part = outputs[o].as<Image>();
-      megabytes += double(part.pixels.total() * part.pixels.elemSize()) / 1e6;
-      outputs[o] = Value::make<Image>(Image(gather(part.pixels), part.encoding));  // `part` dies here
+      const cv::Mat& part = outputs[o].as<Image>().pixels;
+      megabytes += double(part.total() * part.elemSize()) / 1e6;
+      images.emplace_back(o, receives(rank_) ? receiving_pixels(outputs[o]) : part);
+      exchange(images.back().second, requests);
     }
+    // Every rank is here already (the barrier): polled without sleeping, since
+    // the exchange progresses only while MPI is polled, but yielding the core
+    // between polls (see exchange_all).
+    exchange_all(requests);
+    if (receives(rank_))
+      for (auto& [o, pixels] : images)
+        outputs[o] = Value::make<Image>(Image(std::move(pixels), outputs[o].as<Image>().encoding));
     if (rank_ == 0)
       std::fprintf(stderr,
-                   "mpi: %s: %.1f MB of images gathered from %d ranks in %.3f s (rank 0 waited %.3f s for the others)\n",
-                   node.c_str(), megabytes, size_, std::chrono::duration<double>(Clock::now() - start).count(),
+                   "mpi: %s: %.1f MB of images gathered from %d ranks to %s in %.3f s (rank 0 waited %.3f s "
+                   "for the others)\n",
+                   node.c_str(), megabytes, size_, gather_ == Gather::to_every_rank ? "every rank" : "rank 0",
+                   std::chrono::duration<double>(Clock::now() - start).count(),
                    std::chrono::duration<double>(start - arrived).count());
   }
 
  private:
-  // Every rank's tiles of `part`, gathered into the whole image on every rank.
-  cv::Mat gather(const cv::Mat& part) const {
-    const int channels = part.channels();
-    std::vector<std::vector<Rect>> rects(static_cast<std::size_t>(size_));
-    std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_));
-    std::int64_t total = 0;
-    for (int r = 0; r < size_; ++r) {
-      rects[std::size_t(r)] = tiles_of(part.cols, part.rows, PixelRegion{tile_, r, size_});
-      const std::int64_t n = pixels_in(rects[std::size_t(r)]);
-      if (total + n > std::numeric_limits<int>::max())
-        throw Error("image too large to gather over MPI (more than 2^31 pixels)");
-      counts[std::size_t(r)] = int(n);
-      offsets[std::size_t(r)] = int(total);
-      total += n;
+  bool receives(int rank) const { return gather_ == Gather::to_every_rank || rank == 0; }
+
+  // Posts this rank's tiles of `image` to every rank that receives and, if
+  // this one does, every other rank's tiles into it. In strips of rows of at
+  // most 1 GB, so that no message nears MPI's 2^31-byte limits.
+  void exchange(cv::Mat& image, std::vector<MPI_Request>& requests) const {
+    const int strip = int(std::max<std::size_t>(1, (std::size_t(1) << 30) / image.step));
+    for (int y0 = 0; y0 < image.rows; y0 += strip) {
+      const int y1 = std::min(image.rows, y0 + strip);
+      auto post = [&](int owner, int peer, bool send) {
+        MPI_Datatype tiles = tiles_type(image, y0, y1, tile_, owner, size_);
+        MPI_Request& request = requests.emplace_back();
+        if (send) MPI_Isend(image.data, 1, tiles, peer, 0, MPI_COMM_WORLD, &request);
+        else MPI_Irecv(image.data, 1, tiles, peer, 0, MPI_COMM_WORLD, &request);
+        MPI_Type_free(&tiles);  // MPI keeps it until the message using it is done
+      };
+      for (int r = 0; r < size_; ++r) {
+        if (r == rank_) continue;
+        if (receives(rank_)) post(r, r, false);
+        if (receives(r)) post(rank_, r, true);
+      }
     }
-    cv::Mat mine_image = part;  // a view: packing reads it
-    std::vector<float> mine(std::size_t(counts[std::size_t(rank_)]) * channels);
-    copy_tiles(mine_image, rects[std::size_t(rank_)], mine.data(), false);
-    std::vector<float> all(std::size_t(total) * channels);
-    MPI_Datatype pixel;  // one pixel's floats: counts stay in pixels, below 2^31
-    MPI_Type_contiguous(channels, MPI_FLOAT, &pixel);
-    MPI_Type_commit(&pixel);
-    // Blocking: every rank is here already (the barrier in combine), and a
-    // large exchange progresses only while MPI is polled.
-    MPI_Allgatherv(mine.data(), counts[std::size_t(rank_)], pixel, all.data(), counts.data(), offsets.data(), pixel,
-                   MPI_COMM_WORLD);
-    MPI_Type_free(&pixel);
-    cv::Mat whole(part.rows, part.cols, part.type());
-    for (int r = 0; r < size_; ++r)
-      copy_tiles(whole, rects[std::size_t(r)], all.data() + std::size_t(offsets[std::size_t(r)]) * channels, true);
-    return whole;
   }
 
   std::string node_;
   int tile_, rank_, size_;
   bool by_samples_;
+  Gather gather_;
 };
 
 class World final : public MpiWorld {
@@ -172,8 +203,8 @@ class World final : public MpiWorld {
     MPI_Abort(MPI_COMM_WORLD, exit_code);
     std::_Exit(exit_code);  // MPI_Abort does not return; this says so to the compiler
   }
-  std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples) override {
-    return std::make_unique<Split>(node, tile, rank_, size_, by_samples);
+  std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples, Gather gather) override {
+    return std::make_unique<Split>(node, tile, rank_, size_, by_samples, gather);
   }
 
  private:
