@@ -189,10 +189,16 @@ void report_balance(const MpiWorld& world, const std::string& node, bool by_samp
     slowest = std::max(slowest, s);
   }
   const double mean = sum / double(seconds.size());
+  std::string each;
+  for (double s : seconds) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%s%.3f", each.empty() ? "" : " ", s);
+    each += text;
+  }
   std::fprintf(stderr, "mpi: %s: %s computed in %.3f s on the slowest of %zu ranks, %.3f s on average "
-               "(imbalance %.3f)\n",
+               "(imbalance %.3f; ranks 0..%zu: %s s)\n",
                node.c_str(), by_samples ? "sample passes" : "tiles", slowest, seconds.size(), mean,
-               mean > 0 ? slowest / mean : 1.0);
+               mean > 0 ? slowest / mean : 1.0, seconds.size() - 1, each.c_str());
 }
 
 // Where a split node's images are gathered: on every rank when a node split
@@ -228,7 +234,8 @@ EvalResult evaluate_tiles(MpiWorld& world, Session& session, const GraphView& vi
     EvalOptions o = options;
     o.targets = split_so_far;
     const bool by_samples = mpi_settings().split == "samples" && spec.sample_passes;
-    const auto pixel_split = world.split(id, mpi_settings().tile, by_samples, gather[i]);
+    const bool dealt = mpi_settings().deal == "dynamic" && !by_samples;
+    const auto pixel_split = world.split(id, mpi_settings().tile, by_samples, gather[i], dealt);
     o.pixel_split = pixel_split.get();
     // A rank left with its part reads the cache but stores nothing: its part is not the result.
     std::optional<DiskCache> reading_only;

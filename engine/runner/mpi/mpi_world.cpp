@@ -78,24 +78,51 @@ MPI_Datatype tiles_type(const cv::Mat& image, int y0, int y1, int tile, int part
   return tiles;
 }
 
-// The pixels to receive the other ranks' tiles into: the part's own when
-// nothing else holds them (the node made them for this output), so the image
-// is gathered in place; else a copy (a node may output pixels it shares with
-// an input, which a cache holds, or with another output).
-cv::Mat receiving_pixels(const Value& part) {
+// The pixels to receive the other ranks' tiles into (or to keep this rank's
+// dealt parts in): the part's own when nothing else holds them (the node made
+// them for this output), so the image is gathered in place; else a copy (a
+// node may output pixels it shares with an input, which a cache holds, or
+// with another output).
+cv::Mat writable_pixels(const Value& part) {
   const std::shared_ptr<const Image> image = part.shared<Image>();
   const cv::Mat& pixels = image->pixels;
   const bool alone = image.use_count() == 2 && pixels.u && pixels.u->refcount == 1;  // `part` and `image`
   return alone ? pixels : pixels.clone();
 }
 
+// Copies the tiles of part `part` of `parts` from one image to another.
+void copy_part(const cv::Mat& from, cv::Mat& to, int tile, int part, int parts) {
+  const int columns = (from.cols + tile - 1) / tile, rows = (from.rows + tile - 1) / tile;
+  for (std::int64_t t = part; t < std::int64_t(columns) * rows; t += parts) {
+    const int x = int(t % columns) * tile, y = int(t / columns) * tile;
+    const cv::Rect r(x, y, std::min(tile, from.cols - x), std::min(tile, from.rows - y));
+    from(r).copyTo(to(r));
+  }
+}
+
+// Parts per rank when they are dealt as ranks ask: a rank that runs out
+// waits for at most one part of a slower rank, 1/16 of its share.
+constexpr int kDealtPartsPerRank = 16;
+
 class Split final : public PixelSplit {
  public:
-  Split(std::string node, int tile, int rank, int size, bool by_samples, Gather gather)
-      : node_(std::move(node)), tile_(tile), rank_(rank), size_(size), by_samples_(by_samples), gather_(gather) {}
+  Split(std::string node, int tile, int rank, int size, bool by_samples, Gather gather, bool dealt)
+      : node_(std::move(node)), tile_(tile), rank_(rank), size_(size), by_samples_(by_samples), gather_(gather),
+        parts_(dealt ? size * kDealtPartsPerRank : size), part_(rank), dealt_(dealt) {
+    if (!dealt_) return;
+    // The next part to deal, a counter on rank 0 that every rank takes from
+    // without rank 0's help (MPI_Fetch_and_op on a window); parts 0..size-1
+    // are every rank's first.
+    MPI_Win_allocate(rank_ == 0 ? sizeof(long) : 0, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &next_, &window_);
+    if (rank_ == 0) *next_ = size_;
+    MPI_Barrier(MPI_COMM_WORLD);
+  }
+  ~Split() override {
+    if (dealt_) MPI_Win_free(&window_);
+  }
 
   PixelRegion region(const std::string& node) const override {
-    return node == node_ ? PixelRegion{tile_, rank_, size_, by_samples_} : PixelRegion{};
+    return node == node_ ? PixelRegion{tile_, part_, parts_, by_samples_} : PixelRegion{};
   }
 
   void sum(double* values, std::size_t count) const override {
@@ -108,61 +135,107 @@ class Split final : public PixelSplit {
     }
   }
 
-  // Every image output's tiles sent to the ranks that receive (rank 0, or
-  // every rank), all the messages in flight at once; a receiving rank's part
-  // becomes the whole image, the others keep their part.
+  // Dealt: keeps the part's tiles and takes the next part, if any is left
+  // (the engine then runs the node on it). Then, or at once when the split
+  // is static, every image output's tiles go to the ranks that receive (rank
+  // 0, or every rank), all the messages in flight at once; a receiving
+  // rank's image becomes the whole, the others keep their parts.
   void combine(const std::string& node, const NodeSpec& spec, std::vector<Value>& outputs) const override {
+    if (dealt_ && keep_and_take_next(spec, outputs)) return;
     using Clock = std::chrono::steady_clock;
     const auto arrived = Clock::now();
     barrier();  // so that the time below is the exchange's, not the wait for the slowest rank
     const auto start = Clock::now();
+    const std::vector<int> owner = owners();
     std::vector<std::pair<std::size_t, cv::Mat>> images;  // kept until every message is done
     std::vector<MPI_Request> requests;
     double megabytes = 0;
-    for (std::size_t o = 0; o < outputs.size(); ++o) {
+    for (std::size_t o = 0, kept = 0; o < outputs.size(); ++o) {
       if (spec.outputs[o].type != &type_of<Image>()) continue;
       const cv::Mat& part = outputs[o].as<Image>().pixels;
       megabytes += double(part.total() * part.elemSize()) / 1e6;
-      images.emplace_back(o, receives(rank_) ? receiving_pixels(outputs[o]) : part);
-      exchange(images.back().second, requests);
+      images.emplace_back(o, dealt_ ? kept_[kept++] : receives(rank_) ? writable_pixels(outputs[o]) : part);
+      exchange(images.back().second, owner, requests);
     }
     // Every rank is here already (the barrier): polled without sleeping, since
     // the exchange progresses only while MPI is polled, but yielding the core
     // between polls (see exchange_all).
     exchange_all(requests);
-    if (receives(rank_))
-      for (auto& [o, pixels] : images)
-        outputs[o] = Value::make<Image>(Image(std::move(pixels), outputs[o].as<Image>().encoding));
-    if (rank_ == 0)
-      std::fprintf(stderr,
-                   "mpi: %s: %.1f MB of images gathered from %d ranks to %s in %.3f s (rank 0 waited %.3f s "
-                   "for the others)\n",
-                   node.c_str(), megabytes, size_, gather_ == Gather::to_every_rank ? "every rank" : "rank 0",
-                   std::chrono::duration<double>(Clock::now() - start).count(),
-                   std::chrono::duration<double>(start - arrived).count());
+    for (auto& [o, pixels] : images)
+      outputs[o] = Value::make<Image>(Image(std::move(pixels), outputs[o].as<Image>().encoding));
+    kept_.clear();
+    if (rank_ != 0) return;
+    std::fprintf(stderr,
+                 "mpi: %s: %.1f MB of images gathered from %d ranks to %s in %.3f s (rank 0 waited %.3f s "
+                 "for the others)\n",
+                 node.c_str(), megabytes, size_, gather_ == Gather::to_every_rank ? "every rank" : "rank 0",
+                 std::chrono::duration<double>(Clock::now() - start).count(),
+                 std::chrono::duration<double>(start - arrived).count());
+    if (dealt_) report_dealing(node, owner);
   }
 
  private:
   bool receives(int rank) const { return gather_ == Gather::to_every_rank || rank == 0; }
 
-  // Posts this rank's tiles of `image` to every rank that receives and, if
-  // this one does, every other rank's tiles into it. In strips of rows of at
-  // most 1 GB, so that no message nears MPI's 2^31-byte limits.
-  void exchange(cv::Mat& image, std::vector<MPI_Request>& requests) const {
+  // Dealt: this part's tiles kept (the first part's images become the ones
+  // kept), and the next part taken. False when none is left.
+  bool keep_and_take_next(const NodeSpec& spec, std::vector<Value>& outputs) const {
+    for (std::size_t o = 0, kept = 0; o < outputs.size(); ++o) {
+      if (spec.outputs[o].type != &type_of<Image>()) continue;
+      if (kept == kept_.size()) kept_.push_back(writable_pixels(outputs[o]));
+      else copy_part(outputs[o].as<Image>().pixels, kept_[kept], tile_, part_, parts_);
+      ++kept;
+    }
+    mine_.push_back(part_);
+    long one = 1, next = 0;
+    MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window_);
+    MPI_Fetch_and_op(&one, &next, MPI_LONG, 0, 0, MPI_SUM, window_);
+    MPI_Win_unlock(0, window_);
+    if (next >= parts_) return false;
+    part_ = int(next);
+    return true;
+  }
+
+  // The rank that computed each part: every rank's own, or as dealt.
+  std::vector<int> owners() const {
+    std::vector<int> owner(std::size_t(parts_), -1);
+    if (!dealt_) {
+      for (int p = 0; p < parts_; ++p) owner[std::size_t(p)] = p;
+      return owner;
+    }
+    for (int p : mine_) owner[std::size_t(p)] = rank_;
+    MPI_Allreduce(MPI_IN_PLACE, owner.data(), parts_, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    return owner;
+  }
+
+  void report_dealing(const std::string& node, const std::vector<int>& owner) const {
+    std::vector<int> count(std::size_t(size_), 0);
+    for (int q : owner) ++count[std::size_t(q)];
+    std::string counts;
+    for (int c : count) counts += (counts.empty() ? "" : ", ") + std::to_string(c);
+    std::fprintf(stderr, "mpi: %s: %d parts dealt as ranks asked: %s to ranks 0..%d\n", node.c_str(), parts_,
+                 counts.c_str(), size_ - 1);
+  }
+
+  // Posts the tiles of this rank's parts of `image` to every rank that
+  // receives and, if this one does, every other rank's parts into it (the
+  // message's tag is the part). In strips of rows of at most 1 GB, so that no
+  // message nears MPI's 2^31-byte limits.
+  void exchange(cv::Mat& image, const std::vector<int>& owner, std::vector<MPI_Request>& requests) const {
     const int strip = int(std::max<std::size_t>(1, (std::size_t(1) << 30) / image.step));
     for (int y0 = 0; y0 < image.rows; y0 += strip) {
       const int y1 = std::min(image.rows, y0 + strip);
-      auto post = [&](int owner, int peer, bool send) {
-        MPI_Datatype tiles = tiles_type(image, y0, y1, tile_, owner, size_);
-        MPI_Request& request = requests.emplace_back();
-        if (send) MPI_Isend(image.data, 1, tiles, peer, 0, MPI_COMM_WORLD, &request);
-        else MPI_Irecv(image.data, 1, tiles, peer, 0, MPI_COMM_WORLD, &request);
-        MPI_Type_free(&tiles);  // MPI keeps it until the message using it is done
-      };
-      for (int r = 0; r < size_; ++r) {
-        if (r == rank_) continue;
-        if (receives(rank_)) post(r, r, false);
-        if (receives(r)) post(rank_, r, true);
+      for (int p = 0; p < parts_; ++p) {
+        const int from = owner[std::size_t(p)];
+        if (from != rank_ && !receives(rank_)) continue;
+        MPI_Datatype tiles = tiles_type(image, y0, y1, tile_, p, parts_);
+        for (int r = 0; r < size_; ++r) {
+          if (from == rank_ && r != rank_ && receives(r))
+            MPI_Isend(image.data, 1, tiles, r, p, MPI_COMM_WORLD, &requests.emplace_back());
+          else if (from != rank_ && r == from)
+            MPI_Irecv(image.data, 1, tiles, r, p, MPI_COMM_WORLD, &requests.emplace_back());
+        }
+        MPI_Type_free(&tiles);  // MPI keeps it until the messages using it are done
       }
     }
   }
@@ -171,6 +244,14 @@ class Split final : public PixelSplit {
   int tile_, rank_, size_;
   bool by_samples_;
   Gather gather_;
+  int parts_;
+  // Dealt: the state of the dealing, changed by combine() (const in PixelSplit).
+  mutable int part_;                  // the part the node computes now
+  bool dealt_;
+  mutable std::vector<int> mine_;     // the parts this rank computed
+  mutable std::vector<cv::Mat> kept_;  // their tiles, one image per Image output
+  long* next_ = nullptr;              // rank 0: the next part to deal
+  MPI_Win window_ = MPI_WIN_NULL;
 };
 
 class World final : public MpiWorld {
@@ -203,8 +284,9 @@ class World final : public MpiWorld {
     MPI_Abort(MPI_COMM_WORLD, exit_code);
     std::_Exit(exit_code);  // MPI_Abort does not return; this says so to the compiler
   }
-  std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples, Gather gather) override {
-    return std::make_unique<Split>(node, tile, rank_, size_, by_samples, gather);
+  std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples, Gather gather,
+                                    bool dealt) override {
+    return std::make_unique<Split>(node, tile, rank_, size_, by_samples, gather, dealt);
   }
 
  private:

@@ -32,11 +32,15 @@ class MpiWorld {
   // t % size == rank of tile x tile pixels; combine() gathers every rank's
   // tiles of each Image output into the whole image on the ranks `gather`
   // names, in place (the other ranks keep their part: their results must
-  // then not be stored, nor read by anything they evaluate later). By
+  // then not be stored, nor read by anything they evaluate later). `dealt`:
+  // the tiles are cut into 16 parts per rank (t % parts == part), each rank
+  // takes its next part as it finishes one (combine() hands it over; the
+  // engine runs the node again on it), so a slower rank computes fewer. By
   // samples: this rank takes the samples s % size == rank of every pixel and
   // sum() adds the node's sums over the ranks (reduced on rank 0, then
   // broadcast, so that every rank holds the very same doubles).
-  virtual std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples, Gather gather) = 0;
+  virtual std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples, Gather gather,
+                                            bool dealt) = 0;
 };
 
 }  // namespace loom::runner
