@@ -10,6 +10,9 @@ configurations alternated so that the machine's load spoils them alike:
     between two buffers already touched, measured in the same run);
   - imbalance: the static split's slowest rank's time in PathTrace over the
     mean, for tile edges 8..128 on 2 and 4 ranks;
+  - uneven: 3 ranks, rank 2 held to half speed, tiles dealt statically and
+    dynamically: PathTrace's time on the slowest rank over what the ranks'
+    measured speeds would need if the work were shared in proportion;
   - startup: mpiexec's start-up, 4 ranks of a one-node graph against one `loom run`.
 Writes mpi.csv and mpi.png to --out (else $LOOM_BENCH_OUT, else bench/results).
 Usage: mpi_bench.py LOOM SOURCE_DIR [--quick] [--repeats N] [--only MEASURE,...] [--out DIR]."""
@@ -19,10 +22,12 @@ import json
 import os
 import re
 import shutil
+import signal
 import statistics
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 parser = argparse.ArgumentParser(prog="bench_mpi", description=__doc__.split("\n")[0])
@@ -31,7 +36,7 @@ parser.add_argument("source", help=argparse.SUPPRESS)
 parser.add_argument("--quick", action="store_true", help="smaller image and fewer samples, one repeat")
 parser.add_argument("--repeats", type=int, help="timings per measure, the median kept (default 3)")
 parser.add_argument("--out", help="results folder (default: $LOOM_BENCH_OUT, else bench/results)")
-parser.add_argument("--only", default="distribution,gather,imbalance,startup",
+parser.add_argument("--only", default="distribution,gather,imbalance,uneven,startup",
                     help="measures to take, comma-separated (default: all)")
 ARGS = parser.parse_args()
 LOOM, SOURCE, QUICK = ARGS.loom, ARGS.source, ARGS.quick
@@ -145,6 +150,86 @@ def measure_imbalance(tmp, box, out, rows):
                          "detail": "slowest / mean rank time"})
 
 
+def rank_pid(launcher, rank, timeout=60):
+    """The PID of `rank` among the processes that mpiexec `launcher` started."""
+    deadline = time.time() + timeout
+    while time.time() < deadline and launcher.poll() is None:
+        for pid in filter(str.isdigit, os.listdir("/proc")):
+            try:
+                with open(f"/proc/{pid}/environ", "rb") as f:
+                    env = f.read().split(b"\0")
+                with open(f"/proc/{pid}/stat") as f:
+                    parent = int(f.read().rsplit(")", 1)[1].split()[1])
+            except OSError:
+                continue
+            if parent == launcher.pid and f"OMPI_COMM_WORLD_RANK={rank}".encode() in env:
+                return int(pid)
+        time.sleep(0.05)
+    return None
+
+
+def half_speed_run(cmd):
+    """Runs cmd (mpiexec) with rank 2 held to half speed: stopped 50 ms of
+    every 100 ms (SIGSTOP/SIGCONT), which slows it alone on any number of
+    cores (pinning it to a core shared with a busy process would, on 2
+    cores, share the others' cores too). Returns stderr and the wall time."""
+    start = time.time()
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+    slow = rank_pid(p, 2)
+
+    def duty_cycle():
+        while slow and p.poll() is None:
+            try:
+                os.kill(slow, signal.SIGSTOP)
+                time.sleep(0.05)
+                os.kill(slow, signal.SIGCONT)
+                time.sleep(0.05)
+            except ProcessLookupError:
+                return
+    threading.Thread(target=duty_cycle, daemon=True).start()
+    _, err = p.communicate(timeout=1800)
+    if slow:
+        try:
+            os.kill(slow, signal.SIGCONT)
+        except ProcessLookupError:
+            pass
+    if p.returncode != 0:
+        sys.exit(f"bench_mpi: {' '.join(cmd)}: exit {p.returncode}\n{err}")
+    return err, time.time() - start
+
+
+def against_even_sharing(err, deal):
+    """PathTrace's time on the slowest rank over the time the ranks' measured
+    speeds would need for the whole if it were shared in proportion to them:
+    rank r did a share w_r of the tiles in t_r seconds, so its speed is
+    w_r / t_r and the ideal is 1 / sum(w_r / t_r). Static shares are a third
+    each (interleaved tiles, imbalance 1.00-1.06 on equal ranks); dealt ones
+    are the parts each rank took."""
+    seconds = [float(x) for x in re.search(r"mpi: trace: tiles computed .*ranks 0\.\.2: ([0-9. ]+) s", err)
+               .group(1).split()]
+    if deal == "dynamic":
+        m = re.search(r"mpi: trace: (\d+) parts dealt as ranks asked: (\d+), (\d+), (\d+)", err)
+        shares = [int(c) / int(m.group(1)) for c in m.groups()[1:]]
+    else:
+        shares = [1 / 3] * 3
+    ideal = 1 / sum(w / t for w, t in zip(shares, seconds))
+    return max(seconds) / ideal, seconds, shares
+
+
+def measure_uneven(tmp, box, out, rows):
+    for deal in ("static", "dynamic"):
+        ratios, details = [], []
+        for _ in range(REPEATS):
+            err, wall = half_speed_run(command(3, 1, box, "--out", out, "--mpi-tile", 16, "--mpi-deal", deal))
+            ratio, seconds, shares = against_even_sharing(err, deal)
+            ratios.append(ratio)
+            details.append("PathTrace on ranks 0..2 " + " ".join(f"{t:.1f}" for t in seconds) + " s, shares " +
+                           " ".join(f"{w:.2f}" for w in shares) + f", command {wall:.1f} s")
+        median = statistics.median(ratios)
+        rows.append({"measure": f"3 ranks, rank 2 at half speed, {deal} tiles: slowest / even sharing",
+                     "seconds": median, "detail": details[ratios.index(median)] if median in ratios else ""})
+
+
 def measure_startup(tmp, out, rows):
     tiny = write(tmp, "tiny.json", {"v": {"type": "Math", "inputs": {"a": 1, "b": 2, "op": "add"}}})
     times, _ = alternate({"loom run": command(0, 1, tiny, "--out", out, "--target", "v.result"),
@@ -174,6 +259,8 @@ def main():
         measure_gather(tmp, out, rows)
     if "imbalance" in ONLY:
         measure_imbalance(tmp, box, out, rows)
+    if "uneven" in ONLY:
+        measure_uneven(tmp, box, out, rows)
     if "startup" in ONLY:
         measure_startup(tmp, out, rows)
 
