@@ -1,25 +1,33 @@
 """`loom run` over MPI ranks (docs/farm.md, "MPI"): on the Cornell box
 (graphs/pathtrace-cornell-box.json's blocks), medians of --repeats, the
 configurations alternated so that the machine's load spoils them alike:
-  - the cost of distribution: 1 rank x 2 threads against 2 ranks x 1 thread
-    (and 1 rank x 1 thread: the per-sample cost), wall time of the command;
-  - the gather: a 3840x2160 float RGB image (Checkerboard -> Posterize, split
-    in tiles) gathered on 2 and 4 ranks, as `loom` reports it;
-  - the static split's imbalance: the slowest rank's time in PathTrace over
-    the mean, for tile edges 8..128 on 2 and 4 ranks;
-  - mpiexec's start-up: 4 ranks of a one-node graph against one `loom run`.
+  - distribution: 1 rank x 2 threads against 2 ranks x 1 thread (and 1 rank x
+    1 thread: the per-sample cost), wall time of the command;
+  - gather: a 3840x2160 float RGB image (Checkerboard -> Posterize, split in
+    tiles) gathered on rank 0, and on every rank (a second Posterize reads
+    it), on 2 and 4 ranks, as `loom` reports it, against the bytes that cross
+    between ranks at this machine's copy bandwidth (memcpy of the image
+    between two buffers already touched, measured in the same run);
+  - imbalance: the static split's slowest rank's time in PathTrace over the
+    mean, for tile edges 8..128 on 2 and 4 ranks;
+  - uneven: 3 ranks, rank 2 held to half speed, tiles dealt statically and
+    dynamically: PathTrace's time on the slowest rank over what the ranks'
+    measured speeds would need if the work were shared in proportion;
+  - startup: mpiexec's start-up, 4 ranks of a one-node graph against one `loom run`.
 Writes mpi.csv and mpi.png to --out (else $LOOM_BENCH_OUT, else bench/results).
-Usage: mpi_bench.py LOOM SOURCE_DIR [--quick] [--repeats N] [--out DIR]."""
+Usage: mpi_bench.py LOOM SOURCE_DIR [--quick] [--repeats N] [--only MEASURE,...] [--out DIR]."""
 import argparse
 import csv
 import json
 import os
 import re
 import shutil
+import signal
 import statistics
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 parser = argparse.ArgumentParser(prog="bench_mpi", description=__doc__.split("\n")[0])
@@ -28,10 +36,13 @@ parser.add_argument("source", help=argparse.SUPPRESS)
 parser.add_argument("--quick", action="store_true", help="smaller image and fewer samples, one repeat")
 parser.add_argument("--repeats", type=int, help="timings per measure, the median kept (default 3)")
 parser.add_argument("--out", help="results folder (default: $LOOM_BENCH_OUT, else bench/results)")
+parser.add_argument("--only", default="distribution,gather,imbalance,uneven,startup",
+                    help="measures to take, comma-separated (default: all)")
 ARGS = parser.parse_args()
 LOOM, SOURCE, QUICK = ARGS.loom, ARGS.source, ARGS.quick
 REPEATS = ARGS.repeats or (1 if QUICK else 3)
 OUT = ARGS.out or os.environ.get("LOOM_BENCH_OUT") or os.path.join(SOURCE, "bench", "results")
+ONLY = ARGS.only.split(",")
 MPIEXEC = shutil.which("mpiexec")
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
 # Shared memory with its single copy (CMA) where the kernel allows it, loopback only.
@@ -71,6 +82,163 @@ def alternate(configs):
     return times, logs
 
 
+def copy_bandwidth(nbytes):
+    """Bytes per second of one memcpy between two buffers already touched, the
+    median of 5 (CPython copies a bytearray slice with memcpy)."""
+    src = bytearray(b"\x01") * nbytes
+    dst = bytearray(nbytes)
+    dst[:] = src  # first touch of dst's pages: not what is measured
+    seconds = []
+    for _ in range(5):
+        start = time.perf_counter()
+        dst[:] = src
+        seconds.append(time.perf_counter() - start)
+    return nbytes / statistics.median(seconds)
+
+
+def measure_distribution(tmp, box, out, rows):
+    times, _ = alternate({"1 rank x 1 thread": command(0, 1, box, "--out", out),
+                          "1 rank x 2 threads": command(0, 2, box, "--out", out),
+                          "2 ranks x 1 thread": command(2, 1, box, "--out", out, "--mpi-tile", 16)})
+    paths = SIZE[0] * SIZE[1] * SPP
+    for name, ts in times.items():
+        rows.append({"measure": "cornell box " + name, "seconds": statistics.median(ts),
+                     "detail": f"{SIZE[0]}x{SIZE[1]} at {SPP} spp"})
+    one = statistics.median(times["1 rank x 1 thread"])
+    rows.append({"measure": "seconds per path, 1 thread (whole command)", "seconds": one / paths, "detail": ""})
+    rows.append({"measure": "ratio 2 ranks x 1 thread / 1 rank x 2 threads",
+                 "seconds": statistics.median(times["2 ranks x 1 thread"]) /
+                 statistics.median(times["1 rank x 2 threads"]), "detail": "ratio"})
+
+
+def measure_gather(tmp, out, rows):
+    """poster is gathered on every rank (poster2, split after it, reads it),
+    poster2 on rank 0 alone; each against the bytes that cross between ranks,
+    (N-1)/N of the image to each receiving rank, at the copy bandwidth."""
+    width, height = 3840, 2160
+    image_bytes = width * height * 3 * 4
+    big = write(tmp, "big.json", {
+        "board": {"type": "Checkerboard", "inputs": {"size": [width, height], "cells": 27}},
+        "poster": {"type": "Posterize", "inputs": {"image": {"from": "board.image"}, "levels": 3}},
+        "poster2": {"type": "Posterize", "inputs": {"image": {"from": "poster.image"}, "levels": 2}}})
+    bandwidth = copy_bandwidth(image_bytes)
+    rows.append({"measure": "memcpy of the image, buffers already touched", "seconds": image_bytes / bandwidth,
+                 "detail": f"{bandwidth / 1e9:.2f} GB/s"})
+    for ranks in (2, 4):
+        gathers = {"poster": [], "poster2": []}
+        for _ in range(REPEATS):
+            _, err = timed(command(ranks, 1, big, "--out", out, "--target", "poster2.image", "-q"))
+            for node in gathers:
+                gathers[node].append(float(re.search(rf"mpi: {node}: .* in ([0-9.]+) s", err).group(1)))
+        for node, receivers in (("poster2", 1), ("poster", ranks)):
+            seconds = statistics.median(gathers[node])
+            moved = image_bytes * (ranks - 1) / ranks * receivers
+            where = "rank 0" if receivers == 1 else "every rank"
+            rows.append({"measure": f"gather 3840x2160 float RGB to {where}, {ranks} ranks", "seconds": seconds,
+                         "detail": f"{moved / 1e6:.1f} MB between ranks: {seconds / (moved / bandwidth):.1f}x "
+                                   "their memcpy"})
+
+
+def measure_imbalance(tmp, box, out, rows):
+    for ranks in (2, 4):
+        for tile in (8, 16, 32, 64, 128):
+            imbalance = []
+            for _ in range(REPEATS):
+                _, err = timed(command(ranks, 1, box, "--out", out, "--mpi-tile", tile))
+                imbalance.append(float(re.search(r"mpi: trace: .*imbalance ([0-9.]+)", err).group(1)))
+            rows.append({"measure": f"imbalance {ranks} ranks tile {tile}", "seconds": statistics.median(imbalance),
+                         "detail": "slowest / mean rank time"})
+
+
+def rank_pid(launcher, rank, timeout=60):
+    """The PID of `rank` among the processes that mpiexec `launcher` started."""
+    deadline = time.time() + timeout
+    while time.time() < deadline and launcher.poll() is None:
+        for pid in filter(str.isdigit, os.listdir("/proc")):
+            try:
+                with open(f"/proc/{pid}/environ", "rb") as f:
+                    env = f.read().split(b"\0")
+                with open(f"/proc/{pid}/stat") as f:
+                    parent = int(f.read().rsplit(")", 1)[1].split()[1])
+            except OSError:
+                continue
+            if parent == launcher.pid and f"OMPI_COMM_WORLD_RANK={rank}".encode() in env:
+                return int(pid)
+        time.sleep(0.05)
+    return None
+
+
+def half_speed_run(cmd):
+    """Runs cmd (mpiexec) with rank 2 held to half speed: stopped 50 ms of
+    every 100 ms (SIGSTOP/SIGCONT), which slows it alone on any number of
+    cores (pinning it to a core shared with a busy process would, on 2
+    cores, share the others' cores too). Returns stderr and the wall time."""
+    start = time.time()
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+    slow = rank_pid(p, 2)
+
+    def duty_cycle():
+        while slow and p.poll() is None:
+            try:
+                os.kill(slow, signal.SIGSTOP)
+                time.sleep(0.05)
+                os.kill(slow, signal.SIGCONT)
+                time.sleep(0.05)
+            except ProcessLookupError:
+                return
+    threading.Thread(target=duty_cycle, daemon=True).start()
+    _, err = p.communicate(timeout=1800)
+    if slow:
+        try:
+            os.kill(slow, signal.SIGCONT)
+        except ProcessLookupError:
+            pass
+    if p.returncode != 0:
+        sys.exit(f"bench_mpi: {' '.join(cmd)}: exit {p.returncode}\n{err}")
+    return err, time.time() - start
+
+
+def against_even_sharing(err, deal):
+    """PathTrace's time on the slowest rank over the time the ranks' measured
+    speeds would need for the whole if it were shared in proportion to them:
+    rank r did a share w_r of the tiles in t_r seconds, so its speed is
+    w_r / t_r and the ideal is 1 / sum(w_r / t_r). Static shares are a third
+    each (interleaved tiles, imbalance 1.00-1.06 on equal ranks); dealt ones
+    are the parts each rank took."""
+    seconds = [float(x) for x in re.search(r"mpi: trace: tiles computed .*ranks 0\.\.2: ([0-9. ]+) s", err)
+               .group(1).split()]
+    if deal == "dynamic":
+        m = re.search(r"mpi: trace: (\d+) parts dealt as ranks asked: (\d+), (\d+), (\d+)", err)
+        shares = [int(c) / int(m.group(1)) for c in m.groups()[1:]]
+    else:
+        shares = [1 / 3] * 3
+    ideal = 1 / sum(w / t for w, t in zip(shares, seconds))
+    return max(seconds) / ideal, seconds, shares
+
+
+def measure_uneven(tmp, box, out, rows):
+    for deal in ("static", "dynamic"):
+        ratios, details = [], []
+        for _ in range(REPEATS):
+            err, wall = half_speed_run(command(3, 1, box, "--out", out, "--mpi-tile", 16, "--mpi-deal", deal))
+            ratio, seconds, shares = against_even_sharing(err, deal)
+            ratios.append(ratio)
+            details.append("PathTrace on ranks 0..2 " + " ".join(f"{t:.1f}" for t in seconds) + " s, shares " +
+                           " ".join(f"{w:.2f}" for w in shares) + f", command {wall:.1f} s")
+        median = statistics.median(ratios)
+        rows.append({"measure": f"3 ranks, rank 2 at half speed, {deal} tiles: slowest / even sharing",
+                     "seconds": median, "detail": details[ratios.index(median)] if median in ratios else ""})
+
+
+def measure_startup(tmp, out, rows):
+    tiny = write(tmp, "tiny.json", {"v": {"type": "Math", "inputs": {"a": 1, "b": 2, "op": "add"}}})
+    times, _ = alternate({"loom run": command(0, 1, tiny, "--out", out, "--target", "v.result"),
+                          "mpiexec -n 4 loom run": command(4, 1, tiny, "--out", out, "--target", "v.result")})
+    for name, ts in times.items():
+        rows.append({"measure": "start-up: " + name + " of a one-node graph", "seconds": statistics.median(ts),
+                     "detail": ""})
+
+
 def main():
     if not MPIEXEC:
         print("bench_mpi: skipped: mpiexec is not installed (openmpi-bin)")
@@ -85,46 +253,16 @@ def main():
                                                   "max_depth": 8}},
         "save": {"type": "SaveImage", "inputs": {"image": {"from": "trace.image"}, "path": "box.exr"}}})
     out = os.path.join(tmp, "out")
-
-    times, _ = alternate({"1 rank x 1 thread": command(0, 1, box, "--out", out),
-                          "1 rank x 2 threads": command(0, 2, box, "--out", out),
-                          "2 ranks x 1 thread": command(2, 1, box, "--out", out, "--mpi-tile", 16)})
-    paths = SIZE[0] * SIZE[1] * SPP
-    for name, ts in times.items():
-        rows.append({"measure": "cornell box " + name, "seconds": statistics.median(ts),
-                     "detail": f"{SIZE[0]}x{SIZE[1]} at {SPP} spp"})
-    one = statistics.median(times["1 rank x 1 thread"])
-    rows.append({"measure": "seconds per path, 1 thread (whole command)", "seconds": one / paths, "detail": ""})
-    rows.append({"measure": "ratio 2 ranks x 1 thread / 1 rank x 2 threads",
-                 "seconds": statistics.median(times["2 ranks x 1 thread"]) /
-                 statistics.median(times["1 rank x 2 threads"]), "detail": "ratio"})
-
-    big = write(tmp, "big.json", {
-        "board": {"type": "Checkerboard", "inputs": {"size": [3840, 2160], "cells": 27}},
-        "poster": {"type": "Posterize", "inputs": {"image": {"from": "board.image"}, "levels": 3}}})
-    for ranks in (2, 4):
-        gathers = []
-        for _ in range(REPEATS):
-            _, err = timed(command(ranks, 1, big, "--out", out, "--target", "poster.image", "-q"))
-            gathers.append(float(re.search(r"mpi: poster: .* in ([0-9.]+) s", err).group(1)))
-        rows.append({"measure": f"gather 3840x2160 float RGB, {ranks} ranks", "seconds": statistics.median(gathers),
-                     "detail": "99.5 MB"})
-
-    for ranks in (2, 4):
-        for tile in (8, 16, 32, 64, 128):
-            imbalance = []
-            for _ in range(REPEATS):
-                _, err = timed(command(ranks, 1, box, "--out", out, "--mpi-tile", tile))
-                imbalance.append(float(re.search(r"mpi: trace: .*imbalance ([0-9.]+)", err).group(1)))
-            rows.append({"measure": f"imbalance {ranks} ranks tile {tile}", "seconds": statistics.median(imbalance),
-                         "detail": "slowest / mean rank time"})
-
-    tiny = write(tmp, "tiny.json", {"v": {"type": "Math", "inputs": {"a": 1, "b": 2, "op": "add"}}})
-    times, _ = alternate({"loom run": command(0, 1, tiny, "--out", out, "--target", "v.result"),
-                          "mpiexec -n 4 loom run": command(4, 1, tiny, "--out", out, "--target", "v.result")})
-    for name, ts in times.items():
-        rows.append({"measure": "start-up: " + name + " of a one-node graph", "seconds": statistics.median(ts),
-                     "detail": ""})
+    if "distribution" in ONLY:
+        measure_distribution(tmp, box, out, rows)
+    if "gather" in ONLY:
+        measure_gather(tmp, out, rows)
+    if "imbalance" in ONLY:
+        measure_imbalance(tmp, box, out, rows)
+    if "uneven" in ONLY:
+        measure_uneven(tmp, box, out, rows)
+    if "startup" in ONLY:
+        measure_startup(tmp, out, rows)
 
     csv_path = os.path.join(OUT, "mpi.csv")
     with open(csv_path, "w", newline="") as f:
@@ -134,8 +272,9 @@ def main():
             w.writerow({**r, "load": load})
     for r in rows:
         print(f"{r['measure']:55s} {r['seconds']:.6g} {r['detail']}")
-    print(f"load average at the start: {load}; {csv_path}")
-    plot(rows)
+    print(f"load average at the start: {load}, at the end: {open('/proc/loadavg').read().split()[0]}; {csv_path}")
+    if "imbalance" in ONLY:
+        plot(rows)
     shutil.rmtree(tmp, ignore_errors=True)
 
 

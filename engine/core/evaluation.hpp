@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -231,7 +232,7 @@ struct Evaluation {
     double seconds = 0;
   };
   Outcome invoke(NodeState& s);
-  void gather_parts(NodeState& s, Outputs& out);
+  void gather_parts(NodeState& s, Outputs& out, const std::function<void()>& run_again);
   void record(NodeState& s, Outcome outcome);
   // Simulations past the start frame: fills s.previous with the outputs at
   // frame - 1, stepping from the latest cached frame. False if it could not.

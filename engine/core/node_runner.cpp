@@ -60,11 +60,21 @@ void check_outputs(const NodeSpec& spec, const std::vector<Value>& values) {
 
 // An image split over processes: this one's part is replaced by the whole,
 // gathered from every part, and the node's summaries are recomputed from it.
-void Evaluation::gather_parts(NodeState& s, Outputs& out) {
+// A split that deals parts as processes ask for them (an MPI run with
+// --mpi-deal dynamic) may instead hand this process another part in
+// combine(): region() then names it, and the body runs again on it.
+void Evaluation::gather_parts(NodeState& s, Outputs& out, const std::function<void()>& run_again) {
   const NodeSpec& spec = s.type->spec;
-  const PixelRegion region = options.pixel_split->region(s.node->id);
-  if (region.whole() || region.by_samples) return;  // by samples, every part holds the whole already
-  options.pixel_split->combine(s.node->id, spec, out.values());
+  const PixelSplit& split = *options.pixel_split;
+  PixelRegion ran = split.region(s.node->id);
+  if (ran.whole() || ran.by_samples) return;  // by samples, every part holds the whole already
+  for (;;) {
+    split.combine(s.node->id, spec, out.values());
+    const PixelRegion next = split.region(s.node->id);
+    if (next.part == ran.part && next.parts == ran.parts) break;
+    run_again();
+    ran = next;
+  }
   if (spec.summarize) spec.summarize(out);
 }
 
@@ -132,18 +142,22 @@ Evaluation::Outcome Evaluation::invoke(NodeState& s) {
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   Outcome o;
+  auto run_body = [&] {
+    const double before = elapsed();
+    tbb::this_task_arena::isolate([&] {
+      if (s.node->repeat) run_repeat(*this, s, in, out, ctx);
+      else s.type->run(in, out, ctx);
+    });
+    o.seconds += elapsed() - before;  // the body's time, not the output checks' nor the gather's
+    check_outputs(spec, out.values());
+  };
   try {
     // Every non-lazy linked value is bound before the body runs, whether or
     // not the body reads it (the binding checks ranges, choices and paths).
     for (std::size_t i = 0; i < s.inputs.size(); ++i)
       if (links_upstream(s, i) && !spec.inputs[i].lazy) host.fetch_input(static_cast<int>(i));
-    tbb::this_task_arena::isolate([&] {
-      if (s.node->repeat) run_repeat(*this, s, in, out, ctx);
-      else s.type->run(in, out, ctx);
-    });
-    o.seconds = elapsed();  // the body's time, not the output checks'
-    check_outputs(spec, out.values());
-    if (options.pixel_split && spec.pixel_independent) gather_parts(s, out);
+    run_body();
+    if (options.pixel_split && spec.pixel_independent) gather_parts(s, out, run_body);
     o.outputs = std::move(out.values());
     o.status = NodeStatus::ran;
   } catch (...) {

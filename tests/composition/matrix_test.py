@@ -477,13 +477,14 @@ def d_submit_slurm(feature, work):
     submit_cell(feature, work, "slurm")
 
 
-def mpi_cell(feature, work, split):
+def mpi_cell(feature, work, split, *extra):
     if not MPIEXEC:
         raise Skipped("mpiexec is not installed (openmpi-bin; scripts/install-deps)")
     if not os.path.exists(os.path.join(BUILD, "lib", "libloom_mpi.so")):
         raise Skipped("loom was built without MPI")
-    out = os.path.join(work, "mpi-" + split)
-    run([MPIEXEC, "-n", "2", *MPI_ARGS, LOOM, "run", feature.graph, "--out", out, "--no-cache", "-q", "--mpi-split", split],
+    out = os.path.join(work, "mpi-" + split + "".join(extra))
+    run([MPIEXEC, "-n", "2", *MPI_ARGS, LOOM, "run", feature.graph, "--out", out, "--no-cache", "-q", "--mpi-split", split,
+         *extra],
         env=dict(MPI_ENV, **(feature.env() if hasattr(feature, "env") else {})))
     same_files(reference(feature, work), out)
 
@@ -494,6 +495,10 @@ def d_mpi_frames(feature, work):
 
 def d_mpi_tiles(feature, work):
     mpi_cell(feature, work, "tiles")
+
+
+def d_mpi_dealt(feature, work):
+    mpi_cell(feature, work, "tiles", "--mpi-deal", "dynamic")
 
 
 def d_mpi_samples(feature, work):
@@ -579,6 +584,7 @@ def d_editor(feature, work):
 DRIVERS = [("frames", d_frames), ("sweep iface", d_sweep_interface), ("sweep inner", d_sweep_inner),
            ("record", d_record), ("cache rerun", d_cache_rerun), ("submit local", d_submit_local),
            ("submit slurm", d_submit_slurm), ("mpi frames", d_mpi_frames), ("mpi tiles", d_mpi_tiles),
+           ("mpi dealt", d_mpi_dealt),
            ("mpi samples", d_mpi_samples), ("watch", d_watch), ("python", d_python), ("editor", d_editor)]
 
 

@@ -6,6 +6,7 @@ import filecmp
 import glob
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -100,17 +101,19 @@ def traced_graph(folder, size, spp=4, adaptive=0.0, posterize=True):
 class TileTest(MpiCase):
     """One image in interleaved tiles over ranks, gathered: bit-identical."""
 
-    def check_tiles(self, ranks, size, tile, **kw):
+    def check_tiles(self, ranks, size, tile, deal="static", **kw):
         g = traced_graph(self.dir, size, **kw)
         one, many = os.path.join(self.dir, "one"), os.path.join(self.dir, f"many{ranks}")
         loom("run", g, "--out", one, "--no-cache")
-        p = mpi_loom(ranks, "run", g, "--out", many, "--no-cache", "--mpi-tile", tile)
-        self.assertIn(f"mpi: trace: ", p.stderr)  # the image was split and gathered...
-        self.assertIn(f"gathered from {ranks} ranks", p.stderr)
-        self.assertIn("mpi: poster: ", p.stderr)  # ...and the posterized one too
+        p = mpi_loom(ranks, "run", g, "--out", many, "--no-cache", "--mpi-tile", tile, "--mpi-deal", deal)
+        # The traced images gathered on every rank (each posterizes its tiles of
+        # them), the posterized one on rank 0 alone (which saves it).
+        self.assertRegex(p.stderr, f"mpi: trace: .* gathered from {ranks} ranks to every rank in")
+        self.assertRegex(p.stderr, f"mpi: poster: .* gathered from {ranks} ranks to rank 0 in")
         names = ["image.exr", "albedo.exr", "normal.exr", "depth.exr", "samples.exr", "poster.exr"]
         self.assertSameFiles(one, many, names)
         self.assertEqual(files_under(many), sorted(names))  # nothing else, no staging file left
+        return p.stderr
 
     def test_pathtrace_and_posterize_in_tiles_that_do_not_divide_the_image_2_ranks(self):
         self.check_tiles(2, [37, 29], 8)
@@ -123,6 +126,39 @@ class TileTest(MpiCase):
 
     def test_one_tile_more_than_the_image_leaves_ranks_idle(self):
         self.check_tiles(2, [20, 12], 32)  # one tile: rank 1 computes nothing and still gathers
+
+    def test_tiles_dealt_as_ranks_ask_3_ranks(self):
+        """16 parts a rank, each rank taking the next as it finishes one: the
+        engine runs the node once per part, the parts' tiles gathered."""
+        err = self.check_tiles(3, [37, 29], 4, deal="dynamic", spp=8, adaptive=0.2)
+        dealt = re.search(r"mpi: trace: 48 parts dealt as ranks asked: (\d+), (\d+), (\d+) to ranks 0..2", err)
+        self.assertIsNotNone(dealt, err)
+        self.assertEqual(sum(map(int, dealt.groups())), 48)
+
+    def test_a_rank_left_with_its_tiles_stores_none_of_them(self):
+        """The posterized image is gathered on rank 0 alone: rank 1 keeps only
+        its tiles, which must not enter its cache, where a later run would
+        read them as the image. Each rank has a cache of its own here. The
+        image is large enough for Posterize to take the 0.2 ms that make it
+        worth storing (reading an entry back is counted 0.1 ms)."""
+        g = traced_graph(self.dir, [480, 360], spp=1)
+        one, many = os.path.join(self.dir, "one"), os.path.join(self.dir, "many")
+        loom("run", g, "--out", one, "--no-cache")
+        caches = [os.path.join(self.dir, f"cache{r}") for r in range(2)]
+        rank = lambda r: ["-n", "1", LOOM, "run", g, "--out", many, "--cache", caches[r], "--cache-min-seconds", 0]
+        p = subprocess.run([MPIEXEC, *MPI_ARGS, *map(str, rank(0)), ":", *map(str, rank(1))], capture_output=True,
+                           text=True, timeout=240, env=MPI_ENV)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        names = ["image.exr", "albedo.exr", "normal.exr", "depth.exr", "samples.exr", "poster.exr"]
+        for r, cache in enumerate(caches):  # each cache read back by one process: what one process writes
+            again = os.path.join(self.dir, f"again{r}")
+            p = loom("run", g, "--out", again, "--cache", cache, "--cache-min-seconds", 0, "--profile",
+                     os.path.join(self.dir, f"profile{r}.json"))
+            self.assertSameFiles(one, again, names)
+            with open(os.path.join(self.dir, f"profile{r}.json")) as f:
+                nodes = json.load(f)["nodes"]
+            self.assertEqual(nodes["trace"]["status"], "cached")  # whole on both ranks: stored by both
+            self.assertEqual(nodes["poster"]["status"], "cached" if r == 0 else "ran")  # stored where whole
 
 
 def image_difference(a, b):

@@ -52,6 +52,11 @@ void add_mpi_options(CLI::App* run) {
   run->add_option("--mpi-tile", s.tile, "under mpirun/srun: tile edge in pixels when an image is split")
       ->capture_default_str()
       ->check(CLI::Range(1, 16384));
+  run->add_option("--mpi-deal", s.deal,
+                  "under mpirun/srun, tiles: static (rank r takes the tiles t mod N = r) or dynamic (16 parts "
+                  "a rank, each rank taking the next as it finishes one: for ranks of uneven speed)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"static", "dynamic"}));
 }
 
 int start_mpi_if_launched(bool watch) {

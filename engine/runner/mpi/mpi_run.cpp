@@ -11,7 +11,8 @@
 // Tiles (one frame; with --mpi-split samples, nodes that declare sample
 // passes are split by samples instead): every pixel-independent node the targets need is
 // split alone, in dependency order: every rank computes its interleaved tiles
-// and they are gathered on every rank (MpiWorld::split). Each of these
+// and they are gathered, in place, on rank 0, or on every rank when a node
+// split later reads them (gathers(), MpiWorld::split). Each of these
 // evaluations also targets the nodes split before it, so that the memory
 // cache keeps them all; rank 0 then evaluates the targets, finding them there.
 #include "mpi/mpi_run.hpp"
@@ -20,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <set>
 
@@ -187,28 +189,61 @@ void report_balance(const MpiWorld& world, const std::string& node, bool by_samp
     slowest = std::max(slowest, s);
   }
   const double mean = sum / double(seconds.size());
+  std::string each;
+  for (double s : seconds) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%s%.3f", each.empty() ? "" : " ", s);
+    each += text;
+  }
   std::fprintf(stderr, "mpi: %s: %s computed in %.3f s on the slowest of %zu ranks, %.3f s on average "
-               "(imbalance %.3f)\n",
+               "(imbalance %.3f; ranks 0..%zu: %s s)\n",
                node.c_str(), by_samples ? "sample passes" : "tiles", slowest, seconds.size(), mean,
-               mean > 0 ? slowest / mean : 1.0);
+               mean > 0 ? slowest / mean : 1.0, seconds.size() - 1, each.c_str());
+}
+
+// Where a split node's images are gathered: on every rank when a node split
+// after it reads them (every rank evaluates that node, upstream included),
+// else on rank 0 alone, which runs the targets. Its own tiles would not do
+// for a split node downstream: pixel-independent says an output pixel
+// depends on the inputs and its position, not that it reads the inputs at
+// that position alone (a lens distortion, a texture lookup).
+std::vector<Gather> gathers(const GraphView& view, const std::vector<std::string>& split) {
+  std::vector<Gather> g(split.size(), Gather::to_rank_0);
+  for (std::size_t later = 1; later < split.size(); ++later)
+    for (const std::string& id : view.upstream({split[later]}))
+      for (std::size_t i = 0; i < later; ++i)
+        if (split[i] == id) g[i] = Gather::to_every_rank;
+  return g;
 }
 
 EvalResult evaluate_tiles(MpiWorld& world, Session& session, const GraphView& view, const EvalOptions& options,
                           FrameRange range) {
   const Graph& graph = view.graph();
+  std::vector<std::string> split;
+  for (const auto& id : view.upstream(target_texts(options)))
+    if (view.type(id).spec.pixel_independent) split.push_back(id);
+  const std::vector<Gather> gather = gathers(view, split);
   EvalResult parts;
   std::vector<Target> split_so_far;  // targets of each evaluation, so the memory cache keeps them all
-  for (const auto& id : view.upstream(target_texts(options))) {
+  for (std::size_t i = 0; i < split.size(); ++i) {
+    const std::string& id = split[i];
     const NodeSpec& spec = view.type(id).spec;
-    if (!spec.pixel_independent) continue;
     split_so_far.push_back({id, ""});
     const int kept = session.cached_frames(graph, id, range, options).empty() ? 0 : 1;
     if (world.min_over_ranks(kept) == 1) continue;
     EvalOptions o = options;
     o.targets = split_so_far;
     const bool by_samples = mpi_settings().split == "samples" && spec.sample_passes;
-    const auto split = world.split(id, mpi_settings().tile, by_samples);
-    o.pixel_split = split.get();
+    const bool dealt = mpi_settings().deal == "dynamic" && !by_samples;
+    const auto pixel_split = world.split(id, mpi_settings().tile, by_samples, gather[i], dealt);
+    o.pixel_split = pixel_split.get();
+    // A rank left with its part reads the cache but stores nothing: its part is not the result.
+    std::optional<DiskCache> reading_only;
+    if (o.disk_cache && gather[i] == Gather::to_rank_0 && world.rank() != 0 && !by_samples) {
+      DiskCache::Options never_storing = o.disk_cache->options();
+      never_storing.min_seconds = std::numeric_limits<double>::infinity();
+      o.disk_cache = &reading_only.emplace(never_storing);
+    }
     // A rank that found the result would not compute its tiles while the others wait for them.
     if (world.max_over_ranks(kept) == 1) o.disk_cache = nullptr;
     const EvalResult r = session.evaluate(graph, o);

@@ -8,6 +8,7 @@ namespace loom::runner {
 struct MpiSettings {
   std::string split = "auto";  // auto, frames, tiles, samples
   int tile = 32;               // tile edge in pixels (PixelRegion::tile)
+  std::string deal = "static";  // static, dynamic: how tiles are dealt to ranks
 };
 MpiSettings& mpi_settings();
 

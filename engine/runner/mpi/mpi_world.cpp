@@ -2,16 +2,15 @@
 #include "mpi/mpi_world.hpp"
 
 #include <mpi.h>
+#include <sched.h>
 
 #include <chrono>
 #include <cstdio>
 #include <algorithm>
-#include <cstring>
-#include <limits>
 #include <thread>
 
-#include "loom/error.hpp"
 #include "loom/image.hpp"
+#include "mpi/mpi_tiles.hpp"
 
 namespace loom::runner {
 namespace {
@@ -25,53 +24,48 @@ void wait_for(MPI_Request& request) {
     std::this_thread::sleep_for(std::chrono::microseconds(200));
 }
 
+// Waits for an exchange that every rank has started. The tiles are not
+// contiguous, so MPI copies them through shared memory in 32-kB fragments, a
+// few in flight at a time (the sender packs one while the receiver unpacks
+// another): both ranks must run at once. Where ranks share cores, a blocking
+// wait polls while the peer waits for a time slice; yielding between polls
+// hands the core over (this exchange of 99.5 MB over 2 ranks, alone, at load
+// 6 on 2 cores: 0.03-0.11 s yielding, 0.06-0.73 s blocking, 0.12-0.24 s
+// sleeping 20 us between polls; docs/farm.md).
+void exchange_all(std::vector<MPI_Request>& requests) {
+  for (int done = 0; MPI_Testall(int(requests.size()), requests.data(), &done, MPI_STATUSES_IGNORE), !done;)
+    sched_yield();
+}
+
 void barrier() {
   MPI_Request request;
   MPI_Ibarrier(MPI_COMM_WORLD, &request);
   wait_for(request);
 }
 
-// The tiles of one rank, as rectangles of the image.
-struct Rect {
-  int x, y, w, h;
-};
-std::vector<Rect> tiles_of(int width, int height, const PixelRegion& r) {
-  std::vector<Rect> rects;
-  const int columns = (width + r.tile - 1) / r.tile, rows = (height + r.tile - 1) / r.tile;
-  for (int t = r.part; t < columns * rows; t += r.parts) {
-    const int x = (t % columns) * r.tile, y = (t / columns) * r.tile;
-    rects.push_back({x, y, std::min(r.tile, width - x), std::min(r.tile, height - y)});
-  }
-  return rects;
-}
-
-std::int64_t pixels_in(const std::vector<Rect>& rects) {
-  std::int64_t n = 0;
-  for (const Rect& r : rects) n += std::int64_t(r.w) * r.h;
-  return n;
-}
-
-// Copies the rows of each rectangle between the image and a packed buffer
-// (tile after tile, row after row): `to_image` unpacks.
-void copy_tiles(cv::Mat& image, const std::vector<Rect>& rects, float* packed, bool to_image) {
-  const int channels = image.channels();
-  for (const Rect& r : rects)
-    for (int y = r.y; y < r.y + r.h; ++y) {
-      float* row = image.ptr<float>(y) + std::size_t(r.x) * channels;
-      const std::size_t n = std::size_t(r.w) * channels;
-      if (to_image) std::memcpy(row, packed, n * sizeof(float));
-      else std::memcpy(packed, row, n * sizeof(float));
-      packed += n;
-    }
-}
+// Parts per rank when they are dealt as ranks ask: a rank that runs out
+// waits for at most one part of a slower rank, 1/16 of its share.
+constexpr int kDealtPartsPerRank = 16;
 
 class Split final : public PixelSplit {
  public:
-  Split(std::string node, int tile, int rank, int size, bool by_samples)
-      : node_(std::move(node)), tile_(tile), rank_(rank), size_(size), by_samples_(by_samples) {}
+  Split(std::string node, int tile, int rank, int size, bool by_samples, Gather gather, bool dealt)
+      : node_(std::move(node)), tile_(tile), rank_(rank), size_(size), by_samples_(by_samples), gather_(gather),
+        parts_(dealt ? size * kDealtPartsPerRank : size), part_(rank), dealt_(dealt) {
+    if (!dealt_) return;
+    // The next part to deal, a counter on rank 0 that every rank takes from
+    // without rank 0's help (MPI_Fetch_and_op on a window); parts 0..size-1
+    // are every rank's first.
+    MPI_Win_allocate(rank_ == 0 ? sizeof(long) : 0, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &next_, &window_);
+    if (rank_ == 0) *next_ = size_;
+    MPI_Barrier(MPI_COMM_WORLD);
+  }
+  ~Split() override {
+    if (dealt_) MPI_Win_free(&window_);
+  }
 
   PixelRegion region(const std::string& node) const override {
-    return node == node_ ? PixelRegion{tile_, rank_, size_, by_samples_} : PixelRegion{};
+    return node == node_ ? PixelRegion{tile_, part_, parts_, by_samples_} : PixelRegion{};
   }
 
   void sum(double* values, std::size_t count) const override {
@@ -84,62 +78,123 @@ class Split final : public PixelSplit {
     }
   }
 
+  // Dealt: keeps the part's tiles and takes the next part, if any is left
+  // (the engine then runs the node on it). Then, or at once when the split
+  // is static, every image output's tiles go to the ranks that receive (rank
+  // 0, or every rank), all the messages in flight at once; a receiving
+  // rank's image becomes the whole, the others keep their parts.
   void combine(const std::string& node, const NodeSpec& spec, std::vector<Value>& outputs) const override {
+    if (dealt_ && keep_and_take_next(spec, outputs)) return;
     using Clock = std::chrono::steady_clock;
     const auto arrived = Clock::now();
     barrier();  // so that the time below is the exchange's, not the wait for the slowest rank
     const auto start = Clock::now();
+    const std::vector<int> owner = owners();
+    std::vector<std::pair<std::size_t, cv::Mat>> images;  // kept until every message is done
+    std::vector<MPI_Request> requests;
     double megabytes = 0;
-    for (std::size_t o = 0; o < outputs.size(); ++o) {
+    for (std::size_t o = 0, kept = 0; o < outputs.size(); ++o) {
       if (spec.outputs[o].type != &type_of<Image>()) continue;
-      const Image& part = outputs[o].as<Image>();
-      megabytes += double(part.pixels.total() * part.pixels.elemSize()) / 1e6;
-      outputs[o] = Value::make<Image>(Image(gather(part.pixels), part.encoding));  // `part` dies here
+      const cv::Mat& part = outputs[o].as<Image>().pixels;
+      megabytes += double(part.total() * part.elemSize()) / 1e6;
+      images.emplace_back(o, dealt_ ? kept_[kept++] : receives(rank_) ? writable_pixels(outputs[o]) : part);
+      exchange(images.back().second, owner, requests);
     }
-    if (rank_ == 0)
-      std::fprintf(stderr,
-                   "mpi: %s: %.1f MB of images gathered from %d ranks in %.3f s (rank 0 waited %.3f s for the others)\n",
-                   node.c_str(), megabytes, size_, std::chrono::duration<double>(Clock::now() - start).count(),
-                   std::chrono::duration<double>(start - arrived).count());
+    // Every rank is here already (the barrier): polled without sleeping, since
+    // the exchange progresses only while MPI is polled, but yielding the core
+    // between polls (see exchange_all).
+    exchange_all(requests);
+    for (auto& [o, pixels] : images)
+      outputs[o] = Value::make<Image>(Image(std::move(pixels), outputs[o].as<Image>().encoding));
+    kept_.clear();
+    if (rank_ != 0) return;
+    std::fprintf(stderr,
+                 "mpi: %s: %.1f MB of images gathered from %d ranks to %s in %.3f s (rank 0 waited %.3f s "
+                 "for the others)\n",
+                 node.c_str(), megabytes, size_, gather_ == Gather::to_every_rank ? "every rank" : "rank 0",
+                 std::chrono::duration<double>(Clock::now() - start).count(),
+                 std::chrono::duration<double>(start - arrived).count());
+    if (dealt_) report_dealing(node, owner);
   }
 
  private:
-  // Every rank's tiles of `part`, gathered into the whole image on every rank.
-  cv::Mat gather(const cv::Mat& part) const {
-    const int channels = part.channels();
-    std::vector<std::vector<Rect>> rects(static_cast<std::size_t>(size_));
-    std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_));
-    std::int64_t total = 0;
-    for (int r = 0; r < size_; ++r) {
-      rects[std::size_t(r)] = tiles_of(part.cols, part.rows, PixelRegion{tile_, r, size_});
-      const std::int64_t n = pixels_in(rects[std::size_t(r)]);
-      if (total + n > std::numeric_limits<int>::max())
-        throw Error("image too large to gather over MPI (more than 2^31 pixels)");
-      counts[std::size_t(r)] = int(n);
-      offsets[std::size_t(r)] = int(total);
-      total += n;
+  bool receives(int rank) const { return gather_ == Gather::to_every_rank || rank == 0; }
+
+  // Dealt: this part's tiles kept (the first part's images become the ones
+  // kept), and the next part taken. False when none is left.
+  bool keep_and_take_next(const NodeSpec& spec, std::vector<Value>& outputs) const {
+    for (std::size_t o = 0, kept = 0; o < outputs.size(); ++o) {
+      if (spec.outputs[o].type != &type_of<Image>()) continue;
+      if (kept == kept_.size()) kept_.push_back(writable_pixels(outputs[o]));
+      else copy_part(outputs[o].as<Image>().pixels, kept_[kept], tile_, part_, parts_);
+      ++kept;
     }
-    cv::Mat mine_image = part;  // a view: packing reads it
-    std::vector<float> mine(std::size_t(counts[std::size_t(rank_)]) * channels);
-    copy_tiles(mine_image, rects[std::size_t(rank_)], mine.data(), false);
-    std::vector<float> all(std::size_t(total) * channels);
-    MPI_Datatype pixel;  // one pixel's floats: counts stay in pixels, below 2^31
-    MPI_Type_contiguous(channels, MPI_FLOAT, &pixel);
-    MPI_Type_commit(&pixel);
-    // Blocking: every rank is here already (the barrier in combine), and a
-    // large exchange progresses only while MPI is polled.
-    MPI_Allgatherv(mine.data(), counts[std::size_t(rank_)], pixel, all.data(), counts.data(), offsets.data(), pixel,
-                   MPI_COMM_WORLD);
-    MPI_Type_free(&pixel);
-    cv::Mat whole(part.rows, part.cols, part.type());
-    for (int r = 0; r < size_; ++r)
-      copy_tiles(whole, rects[std::size_t(r)], all.data() + std::size_t(offsets[std::size_t(r)]) * channels, true);
-    return whole;
+    mine_.push_back(part_);
+    long one = 1, next = 0;
+    MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window_);
+    MPI_Fetch_and_op(&one, &next, MPI_LONG, 0, 0, MPI_SUM, window_);
+    MPI_Win_unlock(0, window_);
+    if (next >= parts_) return false;
+    part_ = int(next);
+    return true;
+  }
+
+  // The rank that computed each part: every rank's own, or as dealt.
+  std::vector<int> owners() const {
+    std::vector<int> owner(std::size_t(parts_), -1);
+    if (!dealt_) {
+      for (int p = 0; p < parts_; ++p) owner[std::size_t(p)] = p;
+      return owner;
+    }
+    for (int p : mine_) owner[std::size_t(p)] = rank_;
+    MPI_Allreduce(MPI_IN_PLACE, owner.data(), parts_, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+    return owner;
+  }
+
+  void report_dealing(const std::string& node, const std::vector<int>& owner) const {
+    std::vector<int> count(std::size_t(size_), 0);
+    for (int q : owner) ++count[std::size_t(q)];
+    std::string counts;
+    for (int c : count) counts += (counts.empty() ? "" : ", ") + std::to_string(c);
+    std::fprintf(stderr, "mpi: %s: %d parts dealt as ranks asked: %s to ranks 0..%d\n", node.c_str(), parts_,
+                 counts.c_str(), size_ - 1);
+  }
+
+  // Posts the tiles of this rank's parts of `image` to every rank that
+  // receives and, if this one does, every other rank's parts into it (the
+  // message's tag is the part). In strips of rows of at most 1 GB, so that no
+  // message nears MPI's 2^31-byte limits.
+  void exchange(cv::Mat& image, const std::vector<int>& owner, std::vector<MPI_Request>& requests) const {
+    const int strip = int(std::max<std::size_t>(1, (std::size_t(1) << 30) / image.step));
+    for (int y0 = 0; y0 < image.rows; y0 += strip) {
+      const int y1 = std::min(image.rows, y0 + strip);
+      for (int p = 0; p < parts_; ++p) {
+        const int from = owner[std::size_t(p)];
+        if (from != rank_ && !receives(rank_)) continue;
+        MPI_Datatype tiles = tiles_type(image, y0, y1, tile_, p, parts_);
+        for (int r = 0; r < size_; ++r) {
+          if (from == rank_ && r != rank_ && receives(r))
+            MPI_Isend(image.data, 1, tiles, r, p, MPI_COMM_WORLD, &requests.emplace_back());
+          else if (from != rank_ && r == from)
+            MPI_Irecv(image.data, 1, tiles, r, p, MPI_COMM_WORLD, &requests.emplace_back());
+        }
+        MPI_Type_free(&tiles);  // MPI keeps it until the messages using it are done
+      }
+    }
   }
 
   std::string node_;
   int tile_, rank_, size_;
   bool by_samples_;
+  Gather gather_;
+  int parts_;
+  // Dealt: the state of the dealing, changed by combine() (const in PixelSplit).
+  mutable int part_;                  // the part the node computes now
+  bool dealt_;
+  mutable std::vector<int> mine_;     // the parts this rank computed
+  mutable std::vector<cv::Mat> kept_;  // their tiles, one image per Image output
+  long* next_ = nullptr;              // rank 0: the next part to deal
+  MPI_Win window_ = MPI_WIN_NULL;
 };
 
 class World final : public MpiWorld {
@@ -172,8 +227,9 @@ class World final : public MpiWorld {
     MPI_Abort(MPI_COMM_WORLD, exit_code);
     std::_Exit(exit_code);  // MPI_Abort does not return; this says so to the compiler
   }
-  std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples) override {
-    return std::make_unique<Split>(node, tile, rank_, size_, by_samples);
+  std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples, Gather gather,
+                                    bool dealt) override {
+    return std::make_unique<Split>(node, tile, rank_, size_, by_samples, gather, dealt);
   }
 
  private:

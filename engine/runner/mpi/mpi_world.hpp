@@ -12,6 +12,9 @@
 
 namespace loom::runner {
 
+// Which ranks receive a split node's whole images.
+enum class Gather { to_rank_0, to_every_rank };
+
 class MpiWorld {
  public:
   virtual ~MpiWorld() = default;  // MPI_Finalize
@@ -27,11 +30,17 @@ class MpiWorld {
   [[noreturn]] virtual void abort(int exit_code) = 0;
   // A PixelSplit for `node`: this rank computes the interleaved tiles
   // t % size == rank of tile x tile pixels; combine() gathers every rank's
-  // tiles of each Image output into the whole image on every rank. By
+  // tiles of each Image output into the whole image on the ranks `gather`
+  // names, in place (the other ranks keep their part: their results must
+  // then not be stored, nor read by anything they evaluate later). `dealt`:
+  // the tiles are cut into 16 parts per rank (t % parts == part), each rank
+  // takes its next part as it finishes one (combine() hands it over; the
+  // engine runs the node again on it), so a slower rank computes fewer. By
   // samples: this rank takes the samples s % size == rank of every pixel and
   // sum() adds the node's sums over the ranks (reduced on rank 0, then
   // broadcast, so that every rank holds the very same doubles).
-  virtual std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples) = 0;
+  virtual std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples, Gather gather,
+                                            bool dealt) = 0;
 };
 
 }  // namespace loom::runner
