@@ -1,8 +1,13 @@
 #include "held_value.hpp"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <mutex>
+#include <vector>
+
+#include <tbb/parallel_for.h>
 
 #include "loom/builtin_types.hpp"
 #include "loom/image.hpp"
@@ -49,7 +54,17 @@ std::string content_key(const Value& value) {
     const Image& image = value.as<Image>();
     const cv::Mat& p = image.pixels;
     h.pod(p.rows).pod(p.cols).pod(p.channels()).pod(int(image.encoding));
-    for (int y = 0; y < p.rows; ++y) h.bytes(p.ptr(y), p.elemSize() * std::size_t(p.cols));
+    // Bands of kBand rows hashed in parallel, their digests then in order:
+    // the same key whatever the thread count.
+    constexpr int kBand = 32;
+    std::vector<std::uint64_t> bands(std::size_t((p.rows + kBand - 1) / kBand));
+    tbb::parallel_for(std::size_t(0), bands.size(), [&](std::size_t b) {
+      Hasher band;
+      for (int y = int(b) * kBand; y < std::min(p.rows, int(b + 1) * kBand); ++y)
+        band.bytes(p.ptr(y), p.elemSize() * std::size_t(p.cols));
+      bands[b] = band.digest();
+    });
+    for (const std::uint64_t d : bands) h.pod(d);
   } else if (value.type()->storable()) {
     ByteWriter w;
     value.type()->write(value.data(), w);

@@ -4,6 +4,8 @@
 #include <cstring>
 
 #include <pybind11/numpy.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "loom/builtin_types.hpp"
 #include "loom/image.hpp"
@@ -75,13 +77,20 @@ Value image_from_python(const py::handle& object) {
   if (h == 0 || w == 0) throw Error("image: it is empty (" + std::to_string(h) + "×" + std::to_string(w) + ")");
   if (h > (1 << 20) || w > (1 << 20)) throw Error("image: larger than 1048576 pixels on a side");
   Image image(cv::Mat(int(h), int(w), CV_32FC(int(c))), Encoding::linear);
-  std::memcpy(image.pixels.ptr<float>(), a.data(), sizeof(float) * std::size_t(h * w * c));
   if (py::hasattr(object, "encoding")) {
     const std::string e = py::str(object.attr("encoding"));
     if (e != "linear" && e != "srgb") throw Error("image: encoding must be \"linear\" or \"srgb\", got \"" + e + "\"");
     image.encoding = e == "srgb" ? Encoding::srgb : Encoding::linear;
   }
-  require_finite(image, "image");
+  // One pass, in parallel bands of rows: each band copied, then checked while
+  // it is in the cache.
+  const std::size_t row_bytes = sizeof(float) * std::size_t(w * c);
+  const auto* source = reinterpret_cast<const unsigned char*>(a.data());
+  tbb::parallel_for(tbb::blocked_range<int>(0, int(h), 32), [&](const tbb::blocked_range<int>& rows) {
+    std::memcpy(image.pixels.ptr(rows.begin()), source + row_bytes * std::size_t(rows.begin()),
+                row_bytes * rows.size());
+    require_finite(Image(image.pixels.rowRange(rows.begin(), rows.end()), image.encoding), "image");
+  });
   return Value::make(std::move(image));
 }
 
