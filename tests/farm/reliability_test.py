@@ -538,8 +538,11 @@ class MpiLeftoversTest(unittest.TestCase):
             time.sleep(0.05)
         self.assertTrue(os.path.isdir(store))
         time.sleep(0.5)  # rank 0 simulating, rank 1 waiting
+        # This test's ranks only: every `loom run` of the binary would also
+        # stop the suite's other tests running beside it (the example graphs'
+        # runs failed "interrupted by SIGTERM" now and then).
         ranks = [int(e) for e in filter(str.isdigit, os.listdir("/proc"))
-                 if read_quiet(f"/proc/{e}/cmdline").split("\0")[:2] == [LOOM, "run"]]
+                 if read_quiet(f"/proc/{e}/cmdline").split("\0")[:3] == [LOOM, "run", g]]
         for pid in ranks:
             os.kill(pid, signal.SIGTERM)
         _, err = run.communicate(timeout=60)

@@ -79,10 +79,11 @@ std::optional<loom::EvalOptions> run_options(const RunSettings& s, const loom::G
 // of an MPI run only) and, unless quiet, the counts.
 void print_result(const RunSettings& s, const loom::Graph& graph, const loom::Registry& registry,
                   const loom::EvalResult& result, double total) {
-  std::map<loom::NodeStatus, int> counts;
+  std::map<std::string, int> counts;
   for (const auto& [id, r] : result.nodes) {
-    ++counts[r.status];
-    if (r.status == loom::NodeStatus::failed)
+    const std::string status = loom::runner::status_text(r, result);
+    ++counts[status];
+    if (status == "failed")
       std::cerr << "error: node \"" << id << "\" (" << graph.nodes.at(id).type << ") failed: " << r.error
                 << "\n";
   }
@@ -91,9 +92,10 @@ void print_result(const RunSettings& s, const loom::Graph& graph, const loom::Re
                                : loom::runner::target_lines(graph, registry, result));
   if (s.quiet || loom::runner::mpi_rank() > 0) return;  // an MPI run's summary is rank 0's
   const std::string over = result.frames > 1 ? " over " + std::to_string(result.frames) + " frames" : "";
-  std::fprintf(stderr, "%d ran, %d cached, %d pruned, %d skipped, %d failed%s in %.3f s\n",
-               counts[loom::NodeStatus::ran], counts[loom::NodeStatus::cached], counts[loom::NodeStatus::pruned],
-               counts[loom::NodeStatus::skipped], counts[loom::NodeStatus::failed], over.c_str(), total);
+  const std::string cancelled = counts["cancelled"] ? ", " + std::to_string(counts["cancelled"]) + " cancelled" : "";
+  std::fprintf(stderr, "%d ran, %d cached, %d pruned, %d skipped, %d failed%s%s in %.3f s\n", counts["ran"],
+               counts["cached"], counts["pruned"], counts["skipped"], counts["failed"], cancelled.c_str(), over.c_str(),
+               total);
 }
 
 int cmd_run(const RunSettings& s) {

@@ -1,13 +1,20 @@
 #include "cli/profile.hpp"
 
+#include "loom/error.hpp"
+
 namespace loom::runner {
+
+const char* status_text(const NodeReport& r, const EvalResult& result) {
+  const bool stopped = result.cancelled && r.status == NodeStatus::failed && r.error == Cancelled().what();
+  return stopped ? "cancelled" : to_string(r.status);
+}
 
 json profile_json(const Graph& graph, const EvalResult& result, double total_seconds,
                   const std::vector<std::string>& plugins_loaded, const DiskCache* disk) {
   json nodes = json::object();
   for (const auto& [id, r] : result.nodes) {
     json j = {{"type", graph.nodes.at(id).type},
-              {"status", to_string(r.status)},
+              {"status", status_text(r, result)},
               {"seconds", r.seconds},
               {"compute_seconds", r.compute_seconds},
               {"runs", r.runs}};

@@ -9,6 +9,11 @@
 
 namespace loom::runner {
 
+// A node's status as a user is told it: "cancelled" for a node a cancelled
+// run stopped (the engine reports it failed, its error "cancelled"), else
+// the engine's word.
+const char* status_text(const NodeReport& report, const EvalResult& result);
+
 // The profile of one evaluation: per node its type, status, seconds (the
 // body's time in this run), compute_seconds (what its results took to
 // compute, cached ones included), runs and cache hits; the disk cache's

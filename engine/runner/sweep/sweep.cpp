@@ -152,7 +152,7 @@ json run_point(const SweepRequest& r, const RunSettings& s, const Plan& plan, st
   const GraphView view(graph, registry);
   for (const auto& [id, report] : result.nodes) {
     if (report.status == NodeStatus::pruned) continue;
-    nodes[id] = {{"status", to_string(report.status)},
+    nodes[id] = {{"status", status_text(report, result)},
                  {"seconds", report.compute_seconds},
                  {"source", source_of(report)}};
     if (!report.error.empty()) nodes[id]["error"] = report.error;
