@@ -22,6 +22,15 @@ Eigen::MatrixX3d target(const SpringSystem& s, const Eigen::MatrixX3d& x, const 
   return y;
 }
 
+// The target of a step of a cloth swinging out of its plane (v_z = sin 5x,
+// the fixed vertices still), under gravity: springs stretched and compressed.
+Eigen::MatrixX3d swinging_target(const SpringSystem& s, double h) {
+  Eigen::MatrixX3d v = Eigen::MatrixX3d::Zero(s.vertices(), 3);
+  for (int i = 0; i < s.vertices(); ++i)
+    if (!s.fixed[i]) v(i, 2) = std::sin(5 * s.X(i, 0));
+  return target(s, s.X, v, h, Eigen::Vector3d(0, -9.81, 0));
+}
+
 TEST(ImplicitSolvers, NewtonAndLocalGlobalConvergeToTheSameStep) {
   // Local/global converges linearly, slowly for stiff springs on light
   // masses: k = 100 lets it reach 1e-12 in tens of thousands of iterations.
@@ -84,10 +93,7 @@ TEST(ImplicitSolvers, AndersonConvergesToNewtonsMinimizer) {
                               Eigen::Vector3d(0, 1, 0), 1000, 1e5, 1e5, 1e5);
   fix_vertices(s, {}, Eigen::Vector3d(-1, 0.49, -1), Eigen::Vector3d(1, 1, 1));
   const double h = 1.0 / 30;
-  Eigen::MatrixX3d v = Eigen::MatrixX3d::Zero(s.vertices(), 3);
-  for (int i = 0; i < s.vertices(); ++i)
-    if (!s.fixed[i]) v(i, 2) = std::sin(5 * s.X(i, 0));
-  const Eigen::MatrixX3d y = target(s, s.X, v, h, Eigen::Vector3d(0, -9.81, 0));
+  const Eigen::MatrixX3d y = swinging_target(s, h);
   SolveOptions tight;
   tight.iterations = 500;
   tight.tolerance = 1e-11;
@@ -114,10 +120,7 @@ TEST(ImplicitSolvers, AndersonConvergesToNewtonsMinimizer) {
 TEST(ImplicitSolvers, AndersonSafeguardKeepsThePotentialMonotone) {
   const SpringSystem s = test::curtain(20, 1e5);
   const double h = 1.0 / 30;
-  Eigen::MatrixX3d v = Eigen::MatrixX3d::Zero(s.vertices(), 3);
-  for (int i = 0; i < s.vertices(); ++i)
-    if (!s.fixed[i]) v(i, 2) = std::sin(5 * s.X(i, 0));
-  const Eigen::MatrixX3d y = target(s, s.X, v, h, Eigen::Vector3d(0, -9.81, 0));
+  const Eigen::MatrixX3d y = swinging_target(s, h);
   const LocalGlobalSolver lg(s, h);
   SolveOptions options;
   options.iterations = 300;
@@ -138,10 +141,7 @@ TEST(ImplicitSolvers, AndersonSafeguardKeepsThePotentialMonotone) {
 TEST(ImplicitSolvers, ChebyshevGetsCloserInTheSameIterations) {
   const SpringSystem s = test::curtain(20, 1e5);
   const double h = 1.0 / 30;
-  Eigen::MatrixX3d v = Eigen::MatrixX3d::Zero(s.vertices(), 3);
-  for (int i = 0; i < s.vertices(); ++i)
-    if (!s.fixed[i]) v(i, 2) = std::sin(5 * s.X(i, 0));
-  const Eigen::MatrixX3d y = target(s, s.X, v, h, Eigen::Vector3d(0, -9.81, 0));
+  const Eigen::MatrixX3d y = swinging_target(s, h);
   SolveOptions tight;
   tight.iterations = 100;
   const Eigen::MatrixX3d reference = newton_solve(s, y, h, y, tight);
