@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -10,8 +11,10 @@
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
+#include <tbb/parallel_for.h>
 
 #include "image_files.hpp"
+#include "loom/error.hpp"
 #include "loom/formats/image_header.hpp"
 #include "loom/input_file.hpp"
 #include "loom/temporary_file.hpp"
@@ -80,6 +83,26 @@ std::vector<std::string> channel_names(int n, const std::vector<std::string>& de
   return n == 3 ? std::vector<std::string>{"R", "G", "B"} : std::vector<std::string>{"R", "G", "B", "A"};
 }
 
+// What a file of extension `ext` and `depth` holds for these pixels: float
+// files linear values, integer files sRGB-encoded ones quantized (clamped to
+// [0, 1]). Radiance HDR and JPEG have no alpha; gray+alpha (2 channels) goes
+// out as RGBA with the gray in all three colours, as it did through OpenCV
+// (which no encoder took 2 channels from); HDR holds RGB only.
+cv::Mat file_pixels(const Image& image, const std::string& ext, Depth depth) {
+  const bool floating = depth == Depth::f32 || depth == Depth::f16;
+  cv::Mat m = with_encoding(image, floating ? Encoding::linear : Encoding::srgb).pixels.clone();
+  std::vector<cv::Mat> planes;
+  cv::split(m, planes);
+  const bool alpha = planes.size() == 2 || planes.size() == 4;
+  if (alpha && (ext == ".hdr" || ext == ".jpg" || ext == ".jpeg")) planes.pop_back();
+  else if (planes.size() == 2) planes = {planes[0], planes[0], planes[0], planes[1]};
+  if (ext == ".hdr" && planes.size() == 1) planes = {planes[0], planes[0], planes[0]};
+  cv::merge(planes, m);
+  if (depth == Depth::u8) m.convertTo(m, CV_8U, 255.0);  // saturates to [0, 255]
+  else if (depth == Depth::u16) m.convertTo(m, CV_16U, 65535.0);
+  return m;
+}
+
 }  // namespace
 
 Image read_image(const fs::path& path, Decode decode, std::uint64_t max_pixels, const std::string& layer) {
@@ -101,32 +124,33 @@ Image read_image(const fs::path& path, Decode decode, std::uint64_t max_pixels, 
   return decode == Decode::linear ? with_encoding(image, Encoding::linear) : image;
 }
 
-void write_image(const Image& image, const fs::path& path, Depth depth, const Metadata& metadata, bool tiled) {
+void write_image(const Image& image, const fs::path& path, Depth depth, const Metadata& metadata, bool tiled,
+                 const std::function<bool()>& cancelled) {
   if (image.empty()) throw Error("the image is empty: nothing to save");
   require_finite(image, "the image");
   const std::string ext = extension(path);
   depth = file_depth(ext, depth, path);
-  // Float files hold linear values; integer files hold sRGB-encoded ones.
-  const bool floating = depth == Depth::f32 || depth == Depth::f16;
-  cv::Mat m = with_encoding(image, floating ? Encoding::linear : Encoding::srgb).pixels.clone();
-  std::vector<cv::Mat> planes;
-  cv::split(m, planes);
-  // Radiance HDR and JPEG have no alpha; gray+alpha (2 channels) goes out as
-  // RGBA with the gray in all three colours, as it did through OpenCV (which
-  // no encoder took 2 channels from); HDR holds RGB only.
-  const bool alpha = planes.size() == 2 || planes.size() == 4;
-  if (alpha && (ext == ".hdr" || ext == ".jpg" || ext == ".jpeg")) planes.pop_back();
-  else if (planes.size() == 2) planes = {planes[0], planes[0], planes[0], planes[1]};
-  if (ext == ".hdr" && planes.size() == 1) planes = {planes[0], planes[0], planes[0]};
-  cv::merge(planes, m);
-  if (depth == Depth::u8) m.convertTo(m, CV_8U, 255.0);  // saturates to [0, 255]
-  else if (depth == Depth::u16) m.convertTo(m, CV_16U, 65535.0);
+  // The file's pixels made in bands of rows, in parallel, `cancelled` asked
+  // before each (a 16384² image's conversion took seconds in one piece).
+  constexpr int kBand = 64;
+  const auto band_pixels = [&](int band) {
+    if (cancelled && cancelled()) throw Cancelled();
+    const int first = band * kBand, end = std::min(image.height(), first + kBand);
+    return file_pixels(Image(image.pixels.rowRange(first, end), image.encoding), ext, depth);
+  };
+  const cv::Mat top = band_pixels(0);  // its type is the file's
+  cv::Mat m(image.height(), image.width(), top.type());
+  top.copyTo(m.rowRange(0, top.rows));
+  tbb::parallel_for(1, (image.height() + kBand - 1) / kBand, [&](int band) {
+    band_pixels(band).copyTo(m.rowRange(band * kBand, std::min(image.height(), (band + 1) * kBand)));
+  });
   static const std::vector<std::vector<std::string>> names = {{"Y"}, {}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
   ImageLayer layer{"", m, names[static_cast<std::size_t>(m.channels() - 1)]};
   WriteOptions options;
   options.half = depth == Depth::f16;
   options.tiled = tiled;
   options.metadata = metadata;
+  options.cancelled = cancelled;
   write_staged({layer}, path, options);
 }
 

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -35,9 +36,10 @@ Image read_image(const std::filesystem::path& path, Decode decode, std::uint64_t
 // Encodes by the image's tag (8/16-bit files get sRGB values, float files
 // linear ones), clamps integer formats to [0, 1], writes atomically. JPEG and
 // BMP are 8-bit only; EXR and HDR are float only (EXR also half). Throws on
-// NaN pixels. `tiled`: EXR and TIFF in 64×64 tiles.
+// NaN pixels. `tiled`: EXR and TIFF in 64×64 tiles. `cancelled` is asked
+// between the conversions and bands of the write; true: loom::Cancelled.
 void write_image(const Image& image, const std::filesystem::path& path, Depth depth, const Metadata& metadata = {},
-                 bool tiled = false);
+                 bool tiled = false, const std::function<bool()>& cancelled = {});
 
 // One layer of a layered EXR: its name and what its channels are called
 // ({"R", "G", "B"}, {"X", "Y", "Z"}, {"Z"}); images of 1 channel write as

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,6 +35,9 @@ struct WriteOptions {
   bool tiled = false;  // EXR and TIFF: 64×64 tiles instead of scanlines
   bool parts = false;  // EXR: one part per layer (multi-part) instead of one part of prefixed channels
   std::vector<std::pair<std::string, std::string>> metadata;  // header attributes ("loom:node", ...)
+  // Asked between bands of about 8 MB of scanlines; true stops the write
+  // (loom::Cancelled). Tiled files are written in one call.
+  std::function<bool()> cancelled;
 };
 
 // What lib/libloom_image_files.so exports as loom_image_files().
@@ -46,7 +50,7 @@ struct ImageFiles {
   // Writes every layer (all of one size) into one file, by its extension.
   void (*write)(const std::vector<ImageLayer>& layers, const std::filesystem::path& path, const WriteOptions& options);
 };
-constexpr int kImageFilesVersion = 1;
+constexpr int kImageFilesVersion = 2;
 
 // The library, opened on first use from beside libloom_types (lib/); throws
 // loom::Error saying which file is missing or why it cannot be loaded.

@@ -2,6 +2,8 @@
 // (quantized by the caller for 8/16-bit files), alpha unassociated as Loom
 // keeps it, header attributes (provenance) in every format that has a place
 // for them.
+#include <algorithm>
+
 #include <OpenImageIO/imageio.h>
 #include <opencv2/core.hpp>
 
@@ -68,9 +70,25 @@ void check_layers(const std::vector<ImageLayer>& layers, const std::string& what
   }
 }
 
-void write_part(OIIO::ImageOutput& out, const cv::Mat& pixels, const std::string& what) {
+// A part's pixels: scanline files in bands of about 8 MB, `cancelled` asked
+// before each (an encoder's one call on a 16384² PNG took seconds).
+void write_part(OIIO::ImageOutput& out, const cv::Mat& pixels, const std::string& what, const WriteOptions& o) {
   const cv::Mat data = pixels.isContinuous() ? pixels : pixels.clone();
-  if (!out.write_image(oiio_type(data.depth()), data.data)) throw Error("cannot write " + what + ": " + out.geterror());
+  const auto ask = [&] {
+    if (o.cancelled && o.cancelled()) throw Cancelled();
+  };
+  ask();
+  const OIIO::TypeDesc type = oiio_type(data.depth());
+  if (out.spec().tile_width > 0) {
+    if (!out.write_image(type, data.data)) throw Error("cannot write " + what + ": " + out.geterror());
+    return;
+  }
+  const int band = std::max(1, int((std::size_t(8) << 20) / std::max<std::size_t>(1, data.step[0])));
+  for (int y = 0; y < data.rows; y += band) {
+    ask();
+    const int end = std::min(data.rows, y + band);
+    if (!out.write_scanlines(y, end, 0, type, data.ptr(y))) throw Error("cannot write " + what + ": " + out.geterror());
+  }
 }
 
 }  // namespace
@@ -108,7 +126,7 @@ void write(const std::vector<ImageLayer>& layers, const std::filesystem::path& p
   for (std::size_t k = 0; k < specs.size(); ++k) {
     if (k > 0 && !out->open(path.string(), specs[k], OIIO::ImageOutput::AppendSubimage))
       throw Error("cannot write " + what + ": " + out->geterror());
-    write_part(*out, o.parts ? layers[k].pixels : interleaved(layers), what);
+    write_part(*out, o.parts || layers.size() == 1 ? layers[k].pixels : interleaved(layers), what, o);
   }
   if (!out->close()) throw Error("cannot write " + what + ": " + out->geterror());
 }

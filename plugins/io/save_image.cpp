@@ -29,7 +29,7 @@ struct SaveImage {
   static void run(loom::Inputs& in, loom::Outputs&, loom::Context& ctx) {
     const std::string& path = in.get<std::string>("path");
     loom::io::write_image(in.get<loom::Image>("image"), path, in.get<loom::io::Depth>("depth"),
-                          loom::io::provenance(ctx), in.get<bool>("tiled"));
+                          loom::io::provenance(ctx), in.get<bool>("tiled"), [&ctx] { return ctx.cancelled(); });
     ctx.log("wrote " + path);
   }
 };
