@@ -1,9 +1,11 @@
 #include "farm/dispatch.hpp"
 
+#include <dlfcn.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -15,11 +17,14 @@
 #include <optional>
 
 #include "cli/exit_codes.hpp"
+#include "cli/image_info.hpp"
+#include "cli/run_settings.hpp"
 #include "cli/signals.hpp"
 #include "farm/child_process.hpp"
 #include "farm/jobs.hpp"
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
+#include "loom/graph.hpp"
 
 namespace loom::runner {
 namespace fs = std::filesystem;
@@ -47,6 +52,42 @@ std::vector<std::vector<int>> waves(const JobManifest& m, const std::vector<int>
   return out;
 }
 
+// Loads what each task of the job would load again — the plugins its graph
+// uses and, with the io plugin, its image library (OpenImageIO: about 260
+// shared libraries) — so that tasks forked from here find them mapped. Best
+// effort and quiet: a task that cannot load them says so in its own log.
+std::optional<LoadedGraph> warm_up(const JobManifest& m) {
+  LoadedGraph g;
+  try {
+    g.graph = load_graph_file(m.dir / "graph.json");
+    g.loader->load_for(node_types_used(g.graph));
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  const auto loaded = g.loader->loaded_names();
+  if (std::find(loaded.begin(), loaded.end(), "io") != loaded.end())
+    ::dlopen(image_files_library().c_str(), RTLD_NOW | RTLD_LOCAL);  // never closed: the tasks use it
+  return g;
+}
+
+// A task's process: a fork of this dispatcher running `loom jobs task` in
+// place when the job's `loom` is this very executable (what warm_up loaded
+// is then mapped already), else `loom jobs task` started anew.
+pid_t start_task(const JobManifest& m, int id) {
+  if (m.loom != own_executable())
+    return spawn_process({m.loom, "jobs", "task", m.dir.string(), std::to_string(id)}, -1, true);
+  return fork_call(
+      [&] {
+        try {
+          return run_task(m, id);
+        } catch (const std::exception& e) {  // as `loom jobs task` ends
+          std::cerr << "error: " << e.what() << "\n";
+          return static_cast<int>(kNodeFailed);
+        }
+      },
+      true);
+}
+
 // Runs one stage's tasks with up to m.jobs at once; false if one failed.
 bool run_stage(const JobManifest& m, const std::vector<int>& ids) {
   std::map<pid_t, int> running;
@@ -55,7 +96,7 @@ bool run_stage(const JobManifest& m, const std::vector<int>& ids) {
   while (next < ids.size() || !running.empty()) {
     while (next < ids.size() && static_cast<int>(running.size()) < m.jobs && !cancel_flag()) {
       const int id = ids[next++];
-      const pid_t pid = spawn_process({m.loom, "jobs", "task", m.dir.string(), std::to_string(id)}, -1, true);
+      const pid_t pid = start_task(m, id);
       if (pid < 0) {
         std::cerr << "error: cannot start " << m.loom << " for task " << id << ": " << std::strerror(errno) << "\n";
         ok = false;
@@ -138,6 +179,7 @@ int dispatch_local(const JobManifest& m, const std::vector<int>& asked) {
     const auto written = fs::last_write_time(task_status_path(m.dir, id), ec);
     if (ec || written < process_started() || read_status(m.dir, id).state != TaskState::done) ids.push_back(id);
   }
+  const auto warm = ids.empty() ? std::nullopt : warm_up(m);
   stop_on_signals(false);
   bool ok = true, previous_ok = true;
   for (Stage stage : {kSimulate, kWork, kAssemble}) {
@@ -241,7 +283,7 @@ namespace {
 // One attempt of the task's `loom run`, its output appended to the log.
 int run_attempt(const JobManifest& m, int id, const std::vector<std::string>& argv, bool* signalled) {
   const int log = open_task_log(m.dir, id);
-  const pid_t pid = spawn_process(argv, log, false);
+  const pid_t pid = start_loom(argv, log, false);
   const int error = errno;
   ::close(log);
   if (pid < 0) {
