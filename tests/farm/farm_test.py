@@ -67,22 +67,37 @@ def statuses(job):
     return {int(os.path.basename(p)[:4]): json.loads(read(p)) for p in glob.glob(os.path.join(job, "status", "*.json"))}
 
 
-def find_task_process(graph_marker, frames=None, timeout=30):
-    """The pid of a task's `loom run` whose arguments hold graph_marker (and --frames `frames`)."""
+def task_run_child(job, ids):
+    """The pid of the `loom run` of one of the tasks `ids` of `job` now running,
+    or None: the child of the process its status names (`loom jobs task`, or
+    the local dispatcher's fork of itself, whose command line is the
+    dispatcher's)."""
+    for i in ids:
+        try:
+            st = json.loads(read(os.path.join(job, "status", f"{i:04}.json")))
+            children = read(f"/proc/{st['pid']}/task/{st['pid']}/children").split()
+        except (OSError, ValueError, KeyError):
+            continue
+        if st.get("state") == "running" and children:
+            return int(children[0])
+    return None
+
+
+def find_task_process(job, frames=None, timeout=30):
+    """The pid of the `loom run` of a task of `job` (with --frames `frames`)."""
     deadline = time.time() + timeout
     while time.time() < deadline:
-        for entry in os.listdir("/proc"):
-            if not entry.isdigit():
-                continue
-            try:
-                args = read(f"/proc/{entry}/cmdline").split("\0")
-            except OSError:
-                continue
-            if len(args) > 2 and args[1] == "run" and graph_marker in args[2] and \
-                    (frames is None or ("--frames" in args and args[args.index("--frames") + 1] == frames)):
-                return int(entry)
+        try:  # written by `loom submit`, which may not have got there yet
+            tasks = json.loads(read(os.path.join(job, "manifest.json")))["tasks"]
+        except (OSError, ValueError):
+            tasks = []
+        ids = [t["id"] for t in tasks if frames is None or
+               ("--frames" in t["args"] and t["args"][t["args"].index("--frames") + 1] == frames)]
+        pid = task_run_child(job, ids)
+        if pid:
+            return pid
         time.sleep(0.02)
-    raise TimeoutError(f"no loom run of {graph_marker} {frames or ''} started")
+    raise TimeoutError(f"no loom run of {job} {frames or ''} started")
 
 
 class SweepTest(unittest.TestCase):

@@ -21,6 +21,7 @@ std::vector<char*> c_argv(const std::vector<std::string>& argv) {
   return v;
 }
 LoomMain g_loom_main = nullptr;
+bool g_fork_runs = false;
 
 // A forked child's end: what it printed is flushed, then it exits without
 // running the static destructors of the parent's libraries a second time.
@@ -34,6 +35,8 @@ LoomMain g_loom_main = nullptr;
 }  // namespace
 
 void set_loom_main(LoomMain main) { g_loom_main = main; }
+
+void fork_loom_runs(bool on) { g_fork_runs = on; }
 
 pid_t fork_call(const std::function<int()>& call, bool own_group) {
   std::cout.flush();  // else the child would print the parent's buffered text again
@@ -52,7 +55,7 @@ pid_t fork_call(const std::function<int()>& call, bool own_group) {
 }
 
 pid_t start_loom(const std::vector<std::string>& argv, int log_fd, bool own_group) {
-  if (!g_loom_main || argv.empty() || argv[0] != own_executable()) return spawn_process(argv, log_fd, own_group);
+  if (!g_fork_runs || !g_loom_main || argv.empty() || argv[0] != own_executable()) return spawn_process(argv, log_fd, own_group);
   return fork_call(
       [&] {
         if (log_fd >= 0) {

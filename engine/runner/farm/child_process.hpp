@@ -23,11 +23,16 @@ pid_t spawn_process(const std::vector<std::string>& argv, int log_fd, bool own_g
 using LoomMain = int (*)(int argc, char** argv);
 void set_loom_main(LoomMain main);
 
-// As spawn_process, but when argv[0] is this process's own executable and
-// the command line was registered, the child is a fork of this process that
-// runs it without exec: it keeps every library already loaded here (the
-// dynamic linking is most of what a small task costs: docs/farm.md, "What a
-// task costs"). The same `loom` code runs on the same arguments.
+// Whether start_loom forks (the local dispatcher turns it on once it has
+// loaded what the job's tasks need); off, every `loom` is started anew.
+void fork_loom_runs(bool on);
+
+// As spawn_process, but when forks are on, argv[0] is this process's own
+// executable and the command line was registered, the child is a fork of
+// this process that runs it without exec: it keeps every library already
+// loaded here (the dynamic linking is most of what a small task costs:
+// docs/farm.md, "What a task costs"). The same `loom` code runs on the same
+// arguments; only /proc/PID/cmdline still shows the forking process's.
 pid_t start_loom(const std::vector<std::string>& argv, int log_fd, bool own_group);
 
 // Runs `call` in a forked child (in a process group of its own when asked),

@@ -56,6 +56,7 @@ std::vector<std::vector<int>> waves(const JobManifest& m, const std::vector<int>
 // uses and, with the io plugin, its image library (OpenImageIO: about 260
 // shared libraries) — so that tasks forked from here find them mapped. Best
 // effort and quiet: a task that cannot load them says so in its own log.
+// Only then are the tasks' `loom run`s forks too (start_loom).
 std::optional<LoadedGraph> warm_up(const JobManifest& m) {
   LoadedGraph g;
   try {
@@ -67,14 +68,15 @@ std::optional<LoadedGraph> warm_up(const JobManifest& m) {
   const auto loaded = g.loader->loaded_names();
   if (std::find(loaded.begin(), loaded.end(), "io") != loaded.end())
     ::dlopen(image_files_library().c_str(), RTLD_NOW | RTLD_LOCAL);  // never closed: the tasks use it
+  fork_loom_runs(true);
   return g;
 }
 
 // A task's process: a fork of this dispatcher running `loom jobs task` in
 // place when the job's `loom` is this very executable (what warm_up loaded
 // is then mapped already), else `loom jobs task` started anew.
-pid_t start_task(const JobManifest& m, int id) {
-  if (m.loom != own_executable())
+pid_t start_task(const JobManifest& m, int id, bool warm) {
+  if (!warm || m.loom != own_executable())
     return spawn_process({m.loom, "jobs", "task", m.dir.string(), std::to_string(id)}, -1, true);
   return fork_call(
       [&] {
@@ -89,14 +91,14 @@ pid_t start_task(const JobManifest& m, int id) {
 }
 
 // Runs one stage's tasks with up to m.jobs at once; false if one failed.
-bool run_stage(const JobManifest& m, const std::vector<int>& ids) {
+bool run_stage(const JobManifest& m, const std::vector<int>& ids, bool warm) {
   std::map<pid_t, int> running;
   std::size_t next = 0;
   bool ok = true, forwarded = false;
   while (next < ids.size() || !running.empty()) {
     while (next < ids.size() && static_cast<int>(running.size()) < m.jobs && !cancel_flag()) {
       const int id = ids[next++];
-      const pid_t pid = start_task(m, id);
+      const pid_t pid = start_task(m, id, warm);
       if (pid < 0) {
         std::cerr << "error: cannot start " << m.loom << " for task " << id << ": " << std::strerror(errno) << "\n";
         ok = false;
@@ -130,7 +132,7 @@ bool run_stage(const JobManifest& m, const std::vector<int>& ids) {
 }
 
 // Runs a stage's waves in order; a wave runs only if the one before succeeded.
-bool run_waves(const JobManifest& m, const std::vector<int>& ids) {
+bool run_waves(const JobManifest& m, const std::vector<int>& ids, bool warm) {
   bool ok = true;
   for (const auto& wave : waves(m, ids)) {
     if (cancel_flag()) return false;
@@ -139,7 +141,7 @@ bool run_waves(const JobManifest& m, const std::vector<int>& ids) {
                 << (wave.size() == 1 ? "" : "s") << " did not run\n";
       return false;
     }
-    ok = run_stage(m, wave);
+    ok = run_stage(m, wave, warm);
   }
   return ok;
 }
@@ -190,7 +192,7 @@ int dispatch_local(const JobManifest& m, const std::vector<int>& asked) {
       ok = false;
       continue;
     }
-    previous_ok = run_waves(m, stage_ids);
+    previous_ok = run_waves(m, stage_ids, warm.has_value());
     ok = ok && previous_ok;
   }
   std::error_code ec;
