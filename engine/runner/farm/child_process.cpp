@@ -20,6 +20,7 @@ std::vector<char*> c_argv(const std::vector<std::string>& argv) {
   v.push_back(nullptr);
   return v;
 }
+
 LoomMain g_loom_main = nullptr;
 bool g_fork_runs = false;
 
@@ -55,7 +56,8 @@ pid_t fork_call(const std::function<int()>& call, bool own_group) {
 }
 
 pid_t start_loom(const std::vector<std::string>& argv, int log_fd, bool own_group) {
-  if (!g_fork_runs || !g_loom_main || argv.empty() || argv[0] != own_executable()) return spawn_process(argv, log_fd, own_group);
+  if (!g_fork_runs || !g_loom_main || argv.empty() || argv[0] != own_executable())
+    return spawn_process(argv, log_fd, own_group);
   return fork_call(
       [&] {
         if (log_fd >= 0) {

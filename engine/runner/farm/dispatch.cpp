@@ -66,7 +66,11 @@ std::optional<LoadedGraph> warm_up(const JobManifest& m) {
     return std::nullopt;
   }
   const auto loaded = g.loader->loaded_names();
-  if (std::find(loaded.begin(), loaded.end(), "io") != loaded.end())
+  const auto has = [&](const char* name) { return std::find(loaded.begin(), loaded.end(), name) != loaded.end(); };
+  // Python nodes: the interpreter, started while loading, is not forked (its
+  // own threads and NumPy's BLAS pool would not follow): such tasks start anew.
+  if (has("python")) return std::nullopt;
+  if (has("io"))
     ::dlopen(image_files_library().c_str(), RTLD_NOW | RTLD_LOCAL);  // never closed: the tasks use it
   fork_loom_runs(true);
   return g;
