@@ -2,12 +2,19 @@
 and on a private single-node Slurm cluster (tests/farm/slurm_cluster.py; root
 only), the seconds from `loom submit` to the last task's end for
   - an empty task (one 8x8 image), against `loom run` of the same graph;
+  - 8 one-frame tasks of that graph over 2 slots, against one `loom run` of
+    its 8 frames: the cost of a task beyond its work is the difference over
+    the 4 tasks each slot runs;
   - the 48 frames of graphs/time-twist-sequence.json in chunks of 1..48 frames
-    over 2 slots, against one `loom run` of all 48 (medians of --repeats).
+    over 2 slots, against one `loom run` of all 48 (medians of --repeats);
+  - what one task pays by part (task_part rows: wall and CPU seconds of
+    `loom --help`, `loom validate`, `loom run` without and with a cache, and
+    `loom jobs task` against the `loom run` it runs; differences are parts).
 Writes farm.csv and farm.png to --out (else $LOOM_BENCH_OUT, else bench/results).
 Usage: farm_bench.py LOOM SOURCE_DIR [--quick] [--repeats N] [--out DIR]
 (build/bin/bench_farm passes LOOM and SOURCE_DIR)."""
 import argparse
+import resource
 import json
 import os
 import shutil
@@ -42,15 +49,25 @@ def timed(cmd, cluster=None):
     return time.time() - start
 
 
+def timed_cpu(cmd):
+    """Wall and CPU (user + system of the children) seconds of cmd."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.time()
+    subprocess.run(cmd, check=True, capture_output=True, timeout=900)
+    wall = time.time() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
 def median(f):
     return statistics.median(f() for _ in range(REPEATS))
 
 
-def empty_graph(folder):
-    g = {"loom": 1, "time": {"start": 1, "end": 1, "fps": 24}, "nodes": {
+def empty_graph(folder, frames=1):
+    g = {"loom": 1, "time": {"start": 1, "end": frames, "fps": 24}, "nodes": {
         "board": {"type": "Checkerboard", "inputs": {"size": [8, 8], "cells": 2}},
         "save": {"type": "SaveImage", "inputs": {"image": {"from": "board.image"}, "path": "e_{frame}.png"}}}}
-    path = os.path.join(folder, "empty.json")
+    path = os.path.join(folder, f"empty{frames}.json")
     with open(path, "w") as f:
         json.dump(g, f)
     return path
@@ -65,12 +82,32 @@ def measure(to, cluster, work, rows):
     empty = empty_graph(work)
     out = os.path.join(work, "o")
     rows.append(("empty_task", to, 1, median(lambda: submit(to, empty, out, cluster))))
+    eight = empty_graph(work, 8)
+    rows.append(("tasks8", to, 1, median(lambda: submit(to, eight, out, cluster, "--chunk", "1"))))
+    print(f"{to}: 8 one-frame tasks: {rows[-1][3]:.2f} s", flush=True)
     chunks = [1, 12, 48] if QUICK else [1, 2, 4, 6, 12, 24, 48]
     for chunk in chunks:
         # The video is left out: its assemble task would read every frame back.
         seconds = median(lambda: submit(to, TWIST, out, cluster, "--chunk", str(chunk), "--target", "frames"))
         rows.append(("twist48", to, chunk, seconds))
         print(f"{to}: 48 frames in chunks of {chunk}: {seconds:.2f} s", flush=True)
+
+
+def task_parts(work, rows):
+    """Each command's wall and CPU seconds, medians: docs/farm.md's table of
+    what a task pays takes the differences."""
+    empty, out, cache = empty_graph(work), os.path.join(work, "p"), os.path.join(work, "cache")
+    submit("local", empty, out, None)
+    task = json.load(open(os.path.join(out, ".loom-job", "manifest.json")))["tasks"][0]["args"]
+    commands = {"help": [LOOM, "--help"], "validate": [LOOM, "validate", empty],
+                "run": [LOOM, "run", empty, "--out", out, "--no-cache", "-q"],
+                "run_cache": [LOOM, "run", empty, "--out", out, "--cache", cache, "-q"],
+                "task_run": [LOOM, *task], "jobs_task": [LOOM, "jobs", "task", os.path.join(out, ".loom-job"), "0"]}
+    for name, cmd in commands.items():
+        runs = [timed_cpu(cmd) for _ in range(max(REPEATS, 5))]
+        rows.append(("task_part_wall", name, 1, statistics.median(r[0] for r in runs)))
+        rows.append(("task_part_cpu", name, 1, statistics.median(r[1] for r in runs)))
+        print(f"{name}: {rows[-2][3]:.3f} s wall, {rows[-1][3]:.3f} s CPU", flush=True)
 
 
 def main():
@@ -83,6 +120,9 @@ def main():
     rows.append(("twist48", "loom run", 48, median(lambda: timed(
         [LOOM, "run", TWIST, "--out", out, "--no-cache", "-q", "--target", "frames"]))))
     print(f"one loom run of 48 frames: {rows[-1][3]:.2f} s", flush=True)
+    rows.append(("tasks8", "loom run", 8, median(lambda: timed(
+        [LOOM, "run", empty_graph(work, 8), "--out", out, "--no-cache", "-q"]))))
+    task_parts(work, rows)
     measure("local", None, work, rows)
     reason = slurm_cluster.unavailable_reason()
     if reason:

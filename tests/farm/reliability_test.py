@@ -46,16 +46,19 @@ def status(job, task):
 
 
 def task_run_pid(job, timeout=30):
-    """The pid of a `loom run` started by a task of `job`."""
+    """The pid of a `loom run` started by a task of `job`: the child of the
+    process a running task's status names (`loom jobs task`, or the local
+    dispatcher's fork of itself, whose command line is the dispatcher's)."""
     deadline = time.time() + timeout
     while time.time() < deadline:
-        for entry in filter(str.isdigit, os.listdir("/proc")):
+        for name in sorted(os.listdir(os.path.join(job, "status"))) if os.path.isdir(os.path.join(job, "status")) else []:
             try:
-                args = read(f"/proc/{entry}/cmdline").split("\0")
-            except OSError:
+                st = json.loads(read(os.path.join(job, "status", name)))
+                children = read(f"/proc/{st['pid']}/task/{st['pid']}/children").split()
+            except (OSError, ValueError, KeyError):
                 continue
-            if len(args) > 2 and args[1] == "run" and args[2].startswith(job):
-                return int(entry)
+            if st.get("state") == "running" and children:
+                return int(children[0])
         time.sleep(0.02)
     raise TimeoutError("no task started")
 

@@ -10,20 +10,14 @@
 
 namespace loom::runner {
 
-namespace {
-
-// The io plugin's image library beside libloom: it links OpenImageIO, which
-// `loom` itself must not (a second of dynamic linking at every start).
-std::filesystem::path image_library() {
+std::filesystem::path image_files_library() {
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   return exe.parent_path().parent_path() / "lib" / "libloom_image_files.so";
 }
 
-}  // namespace
-
 int image_info(const std::vector<std::string>& files) {
-  const std::filesystem::path library = image_library();
+  const std::filesystem::path library = image_files_library();
   void* handle = ::dlopen(library.c_str(), RTLD_NOW | RTLD_LOCAL);
   using Entry = char* (*)(const char*, int*);
   auto entry = handle ? reinterpret_cast<Entry>(::dlsym(handle, "loom_image_info")) : nullptr;

@@ -24,6 +24,7 @@
 #include "cli/preview.hpp"
 #include "cli/watch.hpp"
 #include "cli/run_settings.hpp"
+#include "farm/child_process.hpp"
 #include "farm/farm_commands.hpp"
 #include "cli/group_listing.hpp"
 #include "cli/image_info.hpp"
@@ -305,7 +306,7 @@ CLI::App* add_run_command(CLI::App& app, RunSettings& s, loom::runner::SweepRequ
 
 // Longer than our ~80-line rule on purpose: it is the command line's
 // declaration, one option per line, read top to bottom like `loom --help`.
-int main(int argc, char** argv) {
+static int loom_main(int argc, char** argv) {
   CLI::App app{std::string("loom: run graphs of computer-graphics nodes.\n") + loom::runner::kExitCodesText};
   app.require_subcommand(1);
 
@@ -370,4 +371,11 @@ int main(int argc, char** argv) {
   if (*info) return loom::runner::image_info(info_files);
   if (*scaffold) return loom::runner::new_plugin(plugin_name, plugin_dir);
   return kInvalid;
+}
+
+// The local dispatcher runs a task's `loom run` in a fork of itself, through
+// this same function (farm/child_process.hpp, start_loom).
+int main(int argc, char** argv) {
+  loom::runner::set_loom_main(&loom_main);
+  return loom_main(argc, argv);
 }

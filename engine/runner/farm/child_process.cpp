@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
+#include <iostream>
 
 extern char** environ;
 
@@ -18,7 +20,56 @@ std::vector<char*> c_argv(const std::vector<std::string>& argv) {
   v.push_back(nullptr);
   return v;
 }
+
+LoomMain g_loom_main = nullptr;
+bool g_fork_runs = false;
+
+// A forked child's end: what it printed is flushed, then it exits without
+// running the static destructors of the parent's libraries a second time.
+[[noreturn]] void leave_child(int exit) {
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);
+  ::_exit(exit);
+}
+
 }  // namespace
+
+void set_loom_main(LoomMain main) { g_loom_main = main; }
+
+void fork_loom_runs(bool on) { g_fork_runs = on; }
+
+pid_t fork_call(const std::function<int()>& call, bool own_group) {
+  std::cout.flush();  // else the child would print the parent's buffered text again
+  std::cerr.flush();
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid != 0) return pid;
+  if (own_group) ::setpgid(0, 0);
+  int exit = 1;
+  try {
+    exit = call();
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+  }
+  leave_child(exit);
+}
+
+pid_t start_loom(const std::vector<std::string>& argv, int log_fd, bool own_group) {
+  if (!g_fork_runs || !g_loom_main || argv.empty() || argv[0] != own_executable())
+    return spawn_process(argv, log_fd, own_group);
+  return fork_call(
+      [&] {
+        if (log_fd >= 0) {
+          ::dup2(log_fd, 1);
+          ::dup2(log_fd, 2);
+          ::close(log_fd);
+        }
+        auto args = c_argv(argv);
+        return g_loom_main(static_cast<int>(argv.size()), args.data());
+      },
+      own_group);
+}
 
 pid_t spawn_process(const std::vector<std::string>& argv, int log_fd, bool own_group) {
   posix_spawn_file_actions_t files;

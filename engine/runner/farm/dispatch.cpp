@@ -1,9 +1,11 @@
 #include "farm/dispatch.hpp"
 
+#include <dlfcn.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -15,11 +17,14 @@
 #include <optional>
 
 #include "cli/exit_codes.hpp"
+#include "cli/image_info.hpp"
+#include "cli/run_settings.hpp"
 #include "cli/signals.hpp"
 #include "farm/child_process.hpp"
 #include "farm/jobs.hpp"
 #include "loom/atomic_file.hpp"
 #include "loom/error.hpp"
+#include "loom/graph.hpp"
 
 namespace loom::runner {
 namespace fs = std::filesystem;
@@ -47,15 +52,57 @@ std::vector<std::vector<int>> waves(const JobManifest& m, const std::vector<int>
   return out;
 }
 
+// Loads what each task of the job would load again — the plugins its graph
+// uses and, with the io plugin, its image library (OpenImageIO: about 260
+// shared libraries) — so that tasks forked from here find them mapped. Best
+// effort and quiet: a task that cannot load them says so in its own log.
+// Only then are the tasks' `loom run`s forks too (start_loom).
+std::optional<LoadedGraph> warm_up(const JobManifest& m) {
+  LoadedGraph g;
+  try {
+    g.graph = load_graph_file(m.dir / "graph.json");
+    g.loader->load_for(node_types_used(g.graph));
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  const auto loaded = g.loader->loaded_names();
+  const auto has = [&](const char* name) { return std::find(loaded.begin(), loaded.end(), name) != loaded.end(); };
+  // Python nodes: the interpreter, started while loading, is not forked (its
+  // own threads and NumPy's BLAS pool would not follow): such tasks start anew.
+  if (has("python")) return std::nullopt;
+  if (has("io"))
+    ::dlopen(image_files_library().c_str(), RTLD_NOW | RTLD_LOCAL);  // never closed: the tasks use it
+  fork_loom_runs(true);
+  return g;
+}
+
+// A task's process: a fork of this dispatcher running `loom jobs task` in
+// place when the job's `loom` is this very executable (what warm_up loaded
+// is then mapped already), else `loom jobs task` started anew.
+pid_t start_task(const JobManifest& m, int id, bool warm) {
+  if (!warm || m.loom != own_executable())
+    return spawn_process({m.loom, "jobs", "task", m.dir.string(), std::to_string(id)}, -1, true);
+  return fork_call(
+      [&] {
+        try {
+          return run_task(m, id);
+        } catch (const std::exception& e) {  // as `loom jobs task` ends
+          std::cerr << "error: " << e.what() << "\n";
+          return static_cast<int>(kNodeFailed);
+        }
+      },
+      true);
+}
+
 // Runs one stage's tasks with up to m.jobs at once; false if one failed.
-bool run_stage(const JobManifest& m, const std::vector<int>& ids) {
+bool run_stage(const JobManifest& m, const std::vector<int>& ids, bool warm) {
   std::map<pid_t, int> running;
   std::size_t next = 0;
   bool ok = true, forwarded = false;
   while (next < ids.size() || !running.empty()) {
     while (next < ids.size() && static_cast<int>(running.size()) < m.jobs && !cancel_flag()) {
       const int id = ids[next++];
-      const pid_t pid = spawn_process({m.loom, "jobs", "task", m.dir.string(), std::to_string(id)}, -1, true);
+      const pid_t pid = start_task(m, id, warm);
       if (pid < 0) {
         std::cerr << "error: cannot start " << m.loom << " for task " << id << ": " << std::strerror(errno) << "\n";
         ok = false;
@@ -89,7 +136,7 @@ bool run_stage(const JobManifest& m, const std::vector<int>& ids) {
 }
 
 // Runs a stage's waves in order; a wave runs only if the one before succeeded.
-bool run_waves(const JobManifest& m, const std::vector<int>& ids) {
+bool run_waves(const JobManifest& m, const std::vector<int>& ids, bool warm) {
   bool ok = true;
   for (const auto& wave : waves(m, ids)) {
     if (cancel_flag()) return false;
@@ -98,7 +145,7 @@ bool run_waves(const JobManifest& m, const std::vector<int>& ids) {
                 << (wave.size() == 1 ? "" : "s") << " did not run\n";
       return false;
     }
-    ok = run_stage(m, wave);
+    ok = run_stage(m, wave, warm);
   }
   return ok;
 }
@@ -138,6 +185,7 @@ int dispatch_local(const JobManifest& m, const std::vector<int>& asked) {
     const auto written = fs::last_write_time(task_status_path(m.dir, id), ec);
     if (ec || written < process_started() || read_status(m.dir, id).state != TaskState::done) ids.push_back(id);
   }
+  const auto warm = ids.empty() ? std::nullopt : warm_up(m);
   stop_on_signals(false);
   bool ok = true, previous_ok = true;
   for (Stage stage : {kSimulate, kWork, kAssemble}) {
@@ -148,7 +196,7 @@ int dispatch_local(const JobManifest& m, const std::vector<int>& asked) {
       ok = false;
       continue;
     }
-    previous_ok = run_waves(m, stage_ids);
+    previous_ok = run_waves(m, stage_ids, warm.has_value());
     ok = ok && previous_ok;
   }
   std::error_code ec;
@@ -241,7 +289,7 @@ namespace {
 // One attempt of the task's `loom run`, its output appended to the log.
 int run_attempt(const JobManifest& m, int id, const std::vector<std::string>& argv, bool* signalled) {
   const int log = open_task_log(m.dir, id);
-  const pid_t pid = spawn_process(argv, log, false);
+  const pid_t pid = start_loom(argv, log, false);
   const int error = errno;
   ::close(log);
   if (pid < 0) {
