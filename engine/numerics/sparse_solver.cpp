@@ -220,18 +220,22 @@ const char* SparseCholesky::backend() const { return "cholmod"; }
 
 // ---------------------------------------------------------------------------
 
+// UMFPACK's 64-bit interface (umfpack_dl_*): the 32-bit one counts its
+// memory in int and failed "out of memory" (status -1) on Parameterize's
+// 2M-vertex system (docs/robustness.md); the indices are copied to 64 bits.
 struct SparseLU::Impl {
   SparseMatrix A;  // compressed copy: UMFPACK's iterative refinement reads it
+  std::vector<SuiteSparse_long> Ap, Ai;  // A's outer and inner indices, 64-bit
   void* numeric = nullptr;
   double control[UMFPACK_CONTROL];
 
   Impl() {
     blas_on_calling_thread();
-    umfpack_di_defaults(control);
+    umfpack_dl_defaults(control);
   }
   ~Impl() { release(); }
   void release() {
-    if (numeric) umfpack_di_free_numeric(&numeric);
+    if (numeric) umfpack_dl_free_numeric(&numeric);
   }
 };
 
@@ -252,26 +256,27 @@ void SparseLU::compute(const SparseMatrix& A, const std::function<void()>& check
   m.release();
   m.A = A;
   m.A.makeCompressed();
-  const int n = static_cast<int>(m.A.rows());
+  const SuiteSparse_long n = m.A.rows();
+  m.Ap.assign(m.A.outerIndexPtr(), m.A.outerIndexPtr() + n + 1);
+  m.Ai.assign(m.A.innerIndexPtr(), m.A.innerIndexPtr() + m.A.nonZeros());
   double info[UMFPACK_INFO];
   void* symbolic = nullptr;
-  int status = umfpack_di_symbolic(n, n, m.A.outerIndexPtr(), m.A.innerIndexPtr(), m.A.valuePtr(),
-                                   &symbolic, m.control, info);
+  SuiteSparse_long status =
+      umfpack_dl_symbolic(n, n, m.Ap.data(), m.Ai.data(), m.A.valuePtr(), &symbolic, m.control, info);
   if (status != UMFPACK_OK) {
-    if (symbolic) umfpack_di_free_symbolic(&symbolic);
+    if (symbolic) umfpack_dl_free_symbolic(&symbolic);
     throw Error("sparse LU: UMFPACK analysis failed (status " + std::to_string(status) + ")");
   }
   if (check) {
     try {
       check();
     } catch (...) {
-      umfpack_di_free_symbolic(&symbolic);
+      umfpack_dl_free_symbolic(&symbolic);
       throw;
     }
   }
-  status = umfpack_di_numeric(m.A.outerIndexPtr(), m.A.innerIndexPtr(), m.A.valuePtr(), symbolic,
-                              &m.numeric, m.control, info);
-  umfpack_di_free_symbolic(&symbolic);
+  status = umfpack_dl_numeric(m.Ap.data(), m.Ai.data(), m.A.valuePtr(), symbolic, &m.numeric, m.control, info);
+  umfpack_dl_free_symbolic(&symbolic);
   if (status == UMFPACK_WARNING_singular_matrix) {
     m.release();
     throw Error("matrix is singular: the system has no unique solution (check for rows or "
@@ -287,13 +292,12 @@ Eigen::MatrixXd SparseLU::solve(const Eigen::MatrixXd& B) const {
   const Impl& m = *impl_;
   require_rhs_rows(B, m.numeric ? m.A.rows() : -1, "sparse LU");
   Eigen::MatrixXd X(B.rows(), B.cols());
-  std::atomic<int> failed{UMFPACK_OK};
-  // umfpack_di_solve only reads the factors and allocates its own workspace.
+  std::atomic<SuiteSparse_long> failed{UMFPACK_OK};
+  // umfpack_dl_solve only reads the factors and allocates its own workspace.
   tbb::parallel_for(Eigen::Index(0), B.cols(), [&](Eigen::Index j) {
     double info[UMFPACK_INFO];
-    const int status = umfpack_di_solve(UMFPACK_A, m.A.outerIndexPtr(), m.A.innerIndexPtr(),
-                                        m.A.valuePtr(), X.col(j).data(), B.col(j).data(),
-                                        m.numeric, m.control, info);
+    const SuiteSparse_long status = umfpack_dl_solve(UMFPACK_A, m.Ap.data(), m.Ai.data(), m.A.valuePtr(),
+                                                     X.col(j).data(), B.col(j).data(), m.numeric, m.control, info);
     if (status != UMFPACK_OK) failed = status;
   });
   if (failed.load() != UMFPACK_OK)
