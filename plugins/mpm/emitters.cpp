@@ -194,23 +194,26 @@ std::vector<std::uint32_t> stable_order(const std::vector<std::uint64_t>& keys,
 // The points in Morton order of cells of 4·spacing: neighbours in space are
 // neighbours in memory, and the solver's blocks read their particles from few
 // places. Equal keys keep their order.
+// The Morton key of x's cell of size `cell` (20 bits per axis, interleaved).
+template <int D>
+std::uint64_t morton_key(const Vec<D>& x, const Vec<D>& lo, double cell) {
+  std::uint32_t c[D];
+  for (int d = 0; d < D; ++d) c[d] = static_cast<std::uint32_t>(std::clamp((x[d] - lo[d]) / cell, 0.0, 1048575.0));
+  std::uint64_t key = 0;
+  for (int bit = 19; bit >= 0; --bit)
+    for (int d = 0; d < D; ++d) key = (key << 1) | ((c[d] >> bit) & 1u);
+  return key;
+}
+
 template <int D>
 std::vector<Vec<D>> in_morton_order(const std::vector<Vec<D>>& points, const Vec<D>& lo, double spacing,
                                     const std::function<void()>& check_cancelled) {
   std::vector<std::uint64_t> keys(points.size());
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, points.size(), kChunk), [&](const tbb::blocked_range<std::size_t>& r) {
-        check_cancelled();
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-          std::uint32_t c[D];
-          for (int d = 0; d < D; ++d)
-            c[d] = static_cast<std::uint32_t>(std::clamp((points[i][d] - lo[d]) / (4 * spacing), 0.0, 1048575.0));
-          std::uint64_t key = 0;
-          for (int bit = 19; bit >= 0; --bit)
-            for (int d = 0; d < D; ++d) key = (key << 1) | ((c[d] >> bit) & 1u);
-          keys[i] = key;
-        }
-      });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), kChunk),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      check_cancelled();
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) keys[i] = morton_key<D>(points[i], lo, 4 * spacing);
+                    });
   const std::vector<std::uint32_t> order = stable_order(keys, check_cancelled);
   std::vector<Vec<D>> sorted(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) sorted[i] = points[order[i]];
