@@ -1,15 +1,16 @@
 """Ctrl-C within half a second, everywhere (issue 37): for each long-running
 node and driver, `loom run` on a generated graph that runs for many seconds,
 SIGINT about 1 s into the work (for the solvers: after a given amount of CPU
-time, so the signal lands in the same step whatever the load: an assembly or
-weights loop, not a sparse factorization, which cannot be interrupted; see
-docs/robustness.md for those), then:
+time, so the signal lands in the same step whatever the load), then:
 
 - the process exits within BOUND = 0.5 s x LOAD of the signal (the measured
   figure is printed). LOAD = max(1, 1-minute load average / cores), at most 6,
   so a shared CI machine gets more time; LOOM_CTRLC_LOAD overrides it.
   Before the fix each case but "--watch, waiting" (a control, fine before)
-  took 5.0-5.4 s: the runner's 5-s watchdog ended it;
+  took 5.0-5.4 s: the runner's 5-s watchdog ended it. The runner now leaves
+  0.3 s after the signal whatever its nodes do (for calls that cannot stop,
+  such as a sparse factorization); every case but ARAP's sets that grace to
+  30 s, so what is measured is the node stopping at its own checks;
 - the exit code is 130 and the last line says "interrupted" (a run that ended
   before the signal is a failure: the graph is too small);
 - --out holds no file but those a case lists as whole (a sweep's finished
@@ -31,6 +32,11 @@ LOOM, SOURCE = map(os.path.abspath, sys.argv[1:3])
 del sys.argv[1:3]
 
 QUIET_BOUND = 0.5  # seconds from SIGINT to exit, on a quiet machine
+# The runner leaves 0.3 s after a signal whatever its nodes do (the grace,
+# for calls that cannot stop): a case that checks a node stops at its own
+# checks runs with a grace far longer than any bound, so the grace cannot
+# hide a node that never checks.
+COOPERATIVE_GRACE = "30"
 PYTHON_PLUGIN = os.path.exists(os.path.join(os.path.dirname(os.path.dirname(LOOM)), "lib", "loom", "plugins",
                                             "libloom_python.so"))
 
@@ -66,12 +72,15 @@ def catches_sigint(pid):
 class Run:
     """`loom run ARGS` with its stderr read line by line as it comes."""
 
-    def __init__(self, args, env=None, cwd=None):
+    def __init__(self, args, env=None, cwd=None, grace=COOPERATIVE_GRACE):
         self.lines = []
         self.changed = threading.Condition()
+        environment = dict(os.environ, **(env or {}))
+        environment.pop("LOOM_STOP_GRACE", None)
+        if grace is not None:
+            environment["LOOM_STOP_GRACE"] = grace
         self.proc = subprocess.Popen([LOOM, "run", *map(str, args)], stdout=subprocess.DEVNULL,
-                                     stderr=subprocess.PIPE, text=True, cwd=cwd,
-                                     env=dict(os.environ, **(env or {})))
+                                     stderr=subprocess.PIPE, text=True, cwd=cwd, env=environment)
         self.reader = threading.Thread(target=self._read, daemon=True)
         self.reader.start()
 
@@ -146,6 +155,8 @@ class CtrlCTest(unittest.TestCase):
         self.assertIsNone(run.proc.poll(), f"{name}: ended before the signal (too small):\n{run.stderr()}")
         seconds = run.interrupt()
         bound = quiet_bound * load_factor()
+        if any("leaving without them" in line for line in run.lines):
+            name += " (the grace)"
         self.figures.append((name, seconds, bound))
         print(f"\n{name}: SIGINT -> exit {seconds:.2f} s (bound {bound:.2f} s)", file=sys.stderr)
         self.assertEqual(run.proc.returncode, 130, run.stderr())
@@ -160,18 +171,22 @@ class CtrlCTest(unittest.TestCase):
         self.assertEqual(left, [], "files left in --out")
         self.assertLessEqual(seconds, bound, f"{name}: {seconds:.2f} s from SIGINT to exit\n{run.stderr()}")
 
-    def run_graph(self, nodes, *args, env=None, **extra):
-        return Run([self.graph(nodes, **extra), "--out", self.out, "--no-cache", *args], env=env)
+    def run_graph(self, nodes, *args, env=None, grace=COOPERATIVE_GRACE, **extra):
+        return Run([self.graph(nodes, **extra), "--out", self.out, "--no-cache", *args], env=env, grace=grace)
 
     # ARAP at 90,000 vertices: the system's assembly and factorization, the
-    # ASAP start, then iterations. Small enough that its factorizations, which
-    # cannot be interrupted, stay short (at 640,000 one took 1.9 s, which a
-    # signal landing in it must wait: docs/robustness.md).
+    # ASAP start, then iterations. CHOLMOD's factorizations cannot be
+    # interrupted (the ASAP start's takes 0.6-1.3 s here, at 640,000 vertices
+    # 1.9 s for the smaller one), so this case runs with the runner's own
+    # grace: the signal lands in an assembly (the node stops at its check) or
+    # in a factorization (the runner leaves after 0.3 s, staging files
+    # removed); either way within the bound. CI once measured 0.72 s here,
+    # with the grace at 5 s.
     def test_arap(self):
         run = self.run_graph({
             "g": {"type": "GridMesh", "inputs": {"resolution": [299, 299]}},
             "a": {"type": "ARAP", "inputs": {"mesh": {"from": "g.mesh"}, "iterations": 10000, "tolerance": 0}},
-            "s": {"type": "SaveMesh", "inputs": {"mesh": {"from": "a.mesh"}, "path": "a.obj"}}})
+            "s": {"type": "SaveMesh", "inputs": {"mesh": {"from": "a.mesh"}, "path": "a.obj"}}}, grace=None)
         self.interrupt("ARAP 90k vertices", run, cpu=1.0)
 
     # Cloth by Newton's method at 300 x 300 vertices: Hessian assembly,

@@ -122,7 +122,7 @@ int cmd_run(const RunSettings& s) {
     std::cerr << "warning: " << s.graph_path
               << " has no sink nodes (e.g. SaveImage): nothing to run; name outputs with --target\n";
 
-  loom::runner::stop_on_signals();
+  loom::runner::stop_on_signals(loom::runner::mpi_world() ? loom::runner::Grace::ranks : loom::runner::Grace::brief);
   loom::EvalResult result;
   try {
     loom::Session session(registry);
@@ -358,7 +358,7 @@ static int loom_main(int argc, char** argv) {
   if (*run)
     if (int refused = loom::runner::start_mpi_if_launched(watch)) return refused;
   if (*run && watch) {
-    loom::runner::stop_on_signals(false);  // waiting for a change is not a run to end in 5 s
+    loom::runner::stop_on_signals(loom::runner::Grace::none);  // waiting for a change is not a run to end at once
     return loom::runner::watch(settings.graph_path, loom::runner::cancel_flag(), [&] { return cmd_run(settings); });
   }
   if (farm->chosen()) return farm->run();

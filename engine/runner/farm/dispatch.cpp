@@ -186,7 +186,7 @@ int dispatch_local(const JobManifest& m, const std::vector<int>& asked) {
     if (ec || written < process_started() || read_status(m.dir, id).state != TaskState::done) ids.push_back(id);
   }
   const auto warm = ids.empty() ? std::nullopt : warm_up(m);
-  stop_on_signals(false);
+  stop_on_signals(Grace::none);
   bool ok = true, previous_ok = true;
   for (Stage stage : {kSimulate, kWork, kAssemble}) {
     const auto stage_ids = in_stage(m, ids, stage);
@@ -310,7 +310,7 @@ int run_task(const JobManifest& m, int id) {
               << static_cast<long>(m.tasks.size()) - 1 << ")\n";
     return kInvalid;
   }
-  stop_on_signals(false);
+  stop_on_signals(Grace::none);
   const Task& task = m.tasks[static_cast<std::size_t>(id)];
   const auto start = std::chrono::steady_clock::now();
   check_job_subfolders(m.dir);  // logs/ or status/ deleted by hand: made again

@@ -11,6 +11,7 @@
 #include "cli/signals.hpp"
 #include "cli/target_json.hpp"
 #include "loom/atomic_file.hpp"
+#include "mpi/mpi_run.hpp"
 #include "sweep/sweep_axes.hpp"
 #include "sweep/sweep_table.hpp"
 
@@ -212,7 +213,7 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
   }
   std::optional<DiskCache> disk;
   if (!s.cache.disabled) disk.emplace(s.cache.options());
-  stop_on_signals();
+  stop_on_signals(mpi_world() ? Grace::ranks : Grace::brief);
   Session session(*g->registry);
   std::vector<json> points;
   json profiles = json::object();
