@@ -30,11 +30,16 @@ void say(const char* text) {
 
 std::string signal_name(int signal) {
   switch (signal) {
-    case SIGINT: return "SIGINT (Ctrl-C)";
-    case SIGTERM: return "SIGTERM";
-    case SIGHUP: return "SIGHUP";
-    case SIGPIPE: return "SIGPIPE (the reader of the output went away)";
-    default: return "";
+    case SIGINT:
+      return "SIGINT (Ctrl-C)";
+    case SIGTERM:
+      return "SIGTERM";
+    case SIGHUP:
+      return "SIGHUP";
+    case SIGPIPE:
+      return "SIGPIPE (the reader of the output went away)";
+    default:
+      return "";
   }
 }
 
@@ -104,8 +109,8 @@ void stop_on_signals(Grace grace) {
     if (end != text && *end == '\0' && seconds >= 0.01 && seconds <= 3600)
       g_grace_ms = static_cast<int>(seconds * 1000);
     else
-      std::fprintf(stderr, "warning: LOOM_STOP_GRACE=%s is not a number of seconds from 0.01 to 3600: using %g\n",
-                   text, g_grace_ms / 1000.0);
+      std::fprintf(stderr, "warning: LOOM_STOP_GRACE=%s is not a number of seconds from 0.01 to 3600: using %g\n", text,
+                   g_grace_ms / 1000.0);
   }
   for (std::size_t i = 0; i < kStopSignals.size(); ++i) {
     const double seconds = g_grace_ms / 1000.0;
@@ -113,7 +118,8 @@ void stop_on_signals(Grace grace) {
     std::snprintf(figure, sizeof figure, "%g", seconds);
     g_leave_lines[i] = std::string("loom: nodes still running ") + figure +
                        " s after the signal (inside a call that cannot stop, such as a sparse factorization): "
-                       "leaving without them\n" + message_for(kStopSignals[i]) + "\n";
+                       "leaving without them\n" +
+                       message_for(kStopSignals[i]) + "\n";
   }
   for (int s : kStopSignals) handle(s, on_stop_signal);
   handle(SIGALRM, on_alarm);

@@ -3,10 +3,10 @@
 // their next check and the run ends with exit 130. A second such signal, or
 // the grace without the run ending (a node inside a library call that never
 // checks, such as a sparse factorization or a driver's shader compile),
-// removes this process's staging files and exits 130 at once. SIGXFSZ is ignored, so a file-size limit makes a write fail
-// with an error instead of killing the process mid-file. A crash (SIGSEGV,
-// SIGBUS, SIGABRT, SIGFPE, SIGILL) removes the staging files before the
-// process dies of it.
+// removes this process's staging files and exits 130 at once. SIGXFSZ is
+// ignored, so a file-size limit makes a write fail with an error instead of
+// killing the process mid-file. A crash (SIGSEGV, SIGBUS, SIGABRT, SIGFPE,
+// SIGILL) removes the staging files before the process dies of it.
 #pragma once
 
 #include <atomic>
