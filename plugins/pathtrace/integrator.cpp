@@ -383,6 +383,7 @@ void trace_pass(const PathContext& c, const CameraRays& cam, Film& film, Pass pa
       for (const auto& a : film.pixels) done += a.n;
       hooks.progress(std::min(1.0, done / total));
     }
+    if (hooks.between_batches && last < film.tiles) hooks.between_batches(film);
   }
 }
 
@@ -536,6 +537,12 @@ cv::Mat mean_image(const Film& film) {
       for (int i = 0; i < 3; ++i) image.at<cv::Vec3f>(y, x)[i] = float(a.L[i] * inv);
     }
   return image;
+}
+
+double mean_samples(const Film& film) {
+  double n = 0;
+  for (const PixelAccumulator& a : film.pixels) n += a.n;
+  return film.pixels.empty() ? 0 : n / double(film.pixels.size());
 }
 
 // The relative RMS error of the pixels' luminance means, estimated from

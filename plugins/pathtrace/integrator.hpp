@@ -60,6 +60,8 @@ cv::Mat mean_image(const Film& film);
 // The estimated relative RMS error of the pixels' luminance means so far,
 // from their sample variances; -1 while no pixel has two samples.
 double relative_error(const Film& film);
+// The samples per pixel so far, over the whole image.
+double mean_samples(const Film& film);
 
 // What render() reports while it runs; each hook may throw (loom::Cancelled)
 // to stop it.
@@ -74,6 +76,9 @@ struct RenderHooks {
   // ends): the film and the samples per pixel so far (1/64, 1/16, 1/4 after
   // the coarse passes).
   std::function<void(const Film&, double)> after_pass;
+  // On the calling thread between batches of tiles inside a pass (a pass of
+  // many samples takes seconds: a viewer may show the film as it fills).
+  std::function<void(const Film&)> between_batches;
 };
 
 struct RenderResult {

@@ -72,7 +72,10 @@ TEST(EditorProgressive, PassesRefineOnScreenAndAnEditShowsTheNewRenderFast) {
   std::printf("PathTrace 512x512 in the editor: edit -> first new pixels %.0f ms (median of 5; %.0f..%.0f), "
               "%.1f updates/s while refining\n",
               latencies[2] * 1e3, latencies.front() * 1e3, latencies.back() * 1e3, updates);
-  EXPECT_GT(updates, 1.0);  // passes keep coming
+  // Partials come at least 0.08 s apart inside long passes (10-12 a second
+  // quiet); half the target leaves room for a loaded machine. Passes alone
+  // gave 2.0-2.3 a second.
+  EXPECT_GE(updates, 5.0);
 
   // A left drag on the image orbits: the camera's eye moves, one undo step.
   const json eye = doc.literal("camera", "eye");

@@ -3,6 +3,7 @@
 // the final images are bit-identical to one pass of every sample, the image
 // after each pass is published with the estimated relative error of its mean,
 // and cancellation lands within a sample's time, not a pass's.
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -86,6 +87,31 @@ TEST(PathTraceProgressive, PassesEndBitIdenticalToOnePassOfEverySample) {
     EXPECT_EQ(spp, (std::vector<double>{1.0 / 64, 1.0 / 16, 1.0 / 4, 1, 2, 4, 8, 16, 32, 37}));  // coarse passes first
     EXPECT_TRUE(identical(log.passes.back().image, one_shot[0]));  // the last pass is the result
   }
+}
+
+// A pass of many samples takes long: inside it the film is published too,
+// between batches of tiles, at least 0.08 s apart (10-12 images a second in
+// the editor, however the passes grow). Those images count the samples so far
+// (between two passes' counts), and the final images stay the same bits.
+TEST(PathTraceProgressive, LongPassesPublishBetweenBatchesAndEndBitIdentical) {
+  const json doc = cornell(64, json::object(), {128, 128});  // 64 tiles: two batches a pass
+  const auto one_shot = render(doc, nullptr);
+  PassLog log;
+  const auto progressive = render(doc, &log);
+  for (std::size_t k = 0; k < kImages.size(); ++k) EXPECT_TRUE(identical(one_shot[k], progressive[k])) << kImages[k];
+  const std::vector<double> pass_ends = {1.0 / 64, 1.0 / 16, 1.0 / 4, 1, 2, 4, 8, 16, 32, 64};
+  std::vector<double> spp, inside;
+  for (const auto& p : log.passes) {
+    spp.push_back(p.spp);
+    if (std::find(pass_ends.begin(), pass_ends.end(), p.spp) == pass_ends.end()) inside.push_back(p.spp);
+  }
+  EXPECT_TRUE(std::is_sorted(spp.begin(), spp.end()));
+  for (double e : pass_ends) EXPECT_NE(std::find(spp.begin(), spp.end(), e), spp.end()) << "no image after " << e;
+  // The 32 -> 64 pass alone is 0.5 M paths (0.3-1 s here): it was shown inside.
+  ASSERT_FALSE(inside.empty());
+  EXPECT_GT(inside.back(), 32);
+  EXPECT_LT(inside.back(), 64);
+  EXPECT_TRUE(identical(log.passes.back().image, one_shot[0]));
 }
 
 // Luminance, Rec. 709, as the integrator's variance is kept.
