@@ -104,7 +104,7 @@ class EvaluationController::Progress : public Observer {
  public:
   void node_started(const std::string& id, const std::string&) override {
     std::lock_guard<std::mutex> lock(mutex_);
-    nodes_[id] = {true, 0, {}};
+    nodes_[id] = {true, 0, {}, {}};
     started_[id] = std::chrono::steady_clock::now();
   }
   // Every node's partials are wanted: only the viewed node's are shown, but
@@ -139,11 +139,11 @@ class EvaluationController::Progress : public Observer {
   }
   void node_progress(const std::string& id, double fraction, const std::string& label) override {
     std::lock_guard<std::mutex> lock(mutex_);
-    nodes_[id] = {true, fraction, label};
+    nodes_[id] = {true, fraction, label, {}};
   }
-  void node_finished(const std::string& id, const NodeReport&) override {
+  void node_finished(const std::string& id, const NodeReport& report) override {
     std::lock_guard<std::mutex> lock(mutex_);
-    nodes_.erase(id);
+    nodes_[id] = {false, 1, {}, report};
   }
   void reset() {
     std::lock_guard<std::mutex> lock(mutex_);

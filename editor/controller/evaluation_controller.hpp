@@ -83,11 +83,14 @@ struct Partial {
   std::uint64_t serial = 0;    // rises with every partial of the controller
 };
 
-// What a node is doing right now, for the canvas while a run is under way.
+// What a node is doing right now, for the canvas while a run is under way:
+// running, or finished in this run (its report), so that the nodes a long
+// one waits behind show what they did before the run ends.
 struct LiveNode {
   bool running = false;
   double progress = 0;  // 0..1
   std::string label;
+  NodeReport report;  // once finished (running false)
 };
 
 class EvaluationController {

@@ -29,16 +29,25 @@ struct EditorState {
 
   // The engine names a node inside the group entered by its path ("look.render").
   std::string engine_id(const std::string& id) const { return doc.path_prefix() + id; }
-  // The node's last report: a flat node's, or a group instance's summary.
-  const NodeReport* report(const std::string& id) const { return eval ? eval->report(engine_id(id)) : nullptr; }
-  // What the node is doing in the running evaluation, or null; a group
-  // node runs while one of its inner nodes does.
+  // The node's last report: from the running evaluation once the node has
+  // finished there, else the newest evaluation's (a flat node's, or a group
+  // instance's summary).
+  const NodeReport* report(const std::string& id) const {
+    if (auto it = live.find(engine_id(id)); it != live.end() && !it->second.running) return &it->second.report;
+    return eval ? eval->report(engine_id(id)) : nullptr;
+  }
+  // What the node is doing in the running evaluation, or null when it is
+  // not running; a group node runs while one of its inner nodes does.
   const LiveNode* live_node(const std::string& id) const {
+    const auto running = [&](const std::string& path) -> const LiveNode* {
+      auto it = live.find(path);
+      return it != live.end() && it->second.running ? &it->second : nullptr;
+    };
     const std::string path = engine_id(id);
-    if (auto it = live.find(path); it != live.end()) return &it->second;
+    if (const LiveNode* node = running(path)) return node;
     if (live.empty() || !eval || !eval->view) return nullptr;
     for (const auto& inner : eval->view->inner_nodes(path))
-      if (auto it = live.find(inner); it != live.end()) return &it->second;
+      if (const LiveNode* node = running(inner)) return node;
     return nullptr;
   }
   // Enters a group node (an inline group, a group file, a Repeat body) in

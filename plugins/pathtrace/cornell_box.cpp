@@ -17,6 +17,9 @@ struct CornellBox {
                     "what stands in the box")
         .input<loom::Color>("light", loom::Color{{17, 12, 4, 1}},
                             "the light's emitted radiance (linear RGB)")
+        .input<bool>("camera", true,
+                     "include the box's camera (eye 278 273 -800, 39.3° vertical field); off: a Camera "
+                     "node merged in gives it, and the viewer's orbit moves that")
         .output<loom::Scene>("scene", "walls, light, contents and camera");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
@@ -25,7 +28,9 @@ struct CornellBox {
     options.light_radiance = in.get<loom::Color>("light").rgba.head<3>();
     if (!options.light_radiance.allFinite() || (options.light_radiance.array() < 0).any())
       throw loom::Error("light must be a finite, non-negative color");
-    out.set("scene", loom::pathtrace::cornell_box(options));
+    loom::Scene scene = loom::pathtrace::cornell_box(options);
+    if (!in.get<bool>("camera")) scene.camera.reset();
+    out.set("scene", std::move(scene));
   }
 };
 LOOM_NODE(CornellBox);

@@ -91,5 +91,27 @@ TEST(EditorProgressive, PassesRefineOnScreenAndAnEditShowsTheNewRenderFast) {
   EXPECT_EQ(doc.literal("camera", "eye"), eye);
 }
 
+// The shipped graph, as a new user opens it: the blocks' render refines on
+// screen and a drag on it orbits the graph's own Camera node.
+TEST(EditorProgressive, TheShippedCornellGraphOrbitsWithTheMouse) {
+  Harness h(1600, 900);
+  h.app.open(std::filesystem::path(LOOM_SOURCE_DIR) / "graphs" / "pathtrace-cornell-box.json");
+  h.frame(2);
+  h.click(h.app.canvas().node_header(h.app.state(), "trace"));
+  ASSERT_EQ(h.app.state().viewed, "trace");
+  const double first = until_shown(h, 60);
+  ASSERT_GT(first, 0) << "no pass shown";
+  GraphDocument& doc = h.app.document();
+  const json eye = doc.literal("camera", "eye");
+  const ImageView view = h.app.image_view();
+  ASSERT_GT(view.scale, 0);
+  const ImVec2 centre = view.to_screen(128, 128);
+  h.drag(centre, ImVec2(centre.x - 100, centre.y + 20));
+  EXPECT_NE(doc.literal("camera", "eye"), eye);
+  ASSERT_GT(until_shown(h), 0) << "the orbited render never shown";
+  h.frame(30);
+  h.screenshot("cornell-graph-orbited");
+}
+
 }  // namespace
 }  // namespace loom::editor::test

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <map>
 #include <thread>
 
 #include "controller/evaluation_controller.hpp"
@@ -52,6 +53,29 @@ TEST_F(EvaluationControllerTest, DeliversTheTargetsOutputs) {
   ASSERT_TRUE(e.result.ok()) << e.error;
   EXPECT_DOUBLE_EQ(e.result.outputs.at("twice").at(0).as<double>(), 2.5);
   EXPECT_FALSE(controller.take_finished().has_value());  // handed over once
+}
+
+// While a long node runs, the nodes it waited for show what they did in this
+// run (the canvas read "not evaluated" on them until the whole run ended).
+TEST_F(EvaluationControllerTest, NodesFinishedInTheRunningEvaluationHaveTheirReport) {
+  json doc = sleepy(20000, 1);
+  doc["nodes"]["first"] = {{"type", "Math"}, {"inputs", {{"a", 1}, {"b", 2}}}};
+  doc["nodes"]["slow"]["inputs"]["value"] = {{"from", "first.result"}};
+  EvaluationController controller(engine.registry(), 2);
+  controller.submit(request(doc, 1));
+  std::map<std::string, LiveNode> live;
+  for (const auto start = Clock::now(); seconds_since(start) < 10; std::this_thread::sleep_for(std::chrono::milliseconds(10))) {
+    live = controller.live();
+    if (live.count("slow") && live.at("slow").running) break;
+  }
+  ASSERT_TRUE(live.count("slow") && live.at("slow").running);
+  ASSERT_EQ(live.count("first"), 1u);
+  EXPECT_FALSE(live.at("first").running);
+  EXPECT_EQ(live.at("first").report.status, NodeStatus::ran);
+  EXPECT_EQ(live.count("twice"), 0u);  // not started
+  controller.cancel();
+  controller.wait_idle();
+  EXPECT_TRUE(controller.live().empty());  // the finished run's reports are the evaluation's
 }
 
 TEST_F(EvaluationControllerTest, ANewRequestCancelsTheRunningOne) {
