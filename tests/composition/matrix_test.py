@@ -551,6 +551,18 @@ def d_watch(feature, work):
                 f.write(text)
 
 
+def d_preview(feature, work):
+    """`--preview`: the partial images a node publishes go to the preview file
+    and nowhere else; the run's own files are the plain run's."""
+    out, preview = os.path.join(work, "preview-out"), os.path.join(work, "preview.png")
+    loom("run", feature.graph, "--out", out, "--no-cache", "-q", "--preview", preview, "--preview-every", "0",
+         env=feature_env(feature))
+    same_files(reference(feature, work), out)
+    publishes = feature.tiled  # PathTrace publishes its passes; no other row's node does
+    if publishes != os.path.exists(preview):
+        raise AssertionError(f"preview file {'missing' if publishes else 'written'}: {preview}")
+
+
 PY_RUN = '''
 import json, sys, loom
 graph, out, address, value = sys.argv[1:5]
@@ -585,7 +597,8 @@ DRIVERS = [("frames", d_frames), ("sweep iface", d_sweep_interface), ("sweep inn
            ("record", d_record), ("cache rerun", d_cache_rerun), ("submit local", d_submit_local),
            ("submit slurm", d_submit_slurm), ("mpi frames", d_mpi_frames), ("mpi tiles", d_mpi_tiles),
            ("mpi dealt", d_mpi_dealt),
-           ("mpi samples", d_mpi_samples), ("watch", d_watch), ("python", d_python), ("editor", d_editor)]
+           ("mpi samples", d_mpi_samples), ("watch", d_watch), ("preview", d_preview), ("python", d_python),
+           ("editor", d_editor)]
 
 
 # --- refusals: what cannot be combined is refused by `loom validate` -------------
