@@ -1,11 +1,13 @@
 """Running graphs: a Session is one `loom run` process kept alive (threads,
 memory cache, disk cache); run() returns Python values."""
 
+import atexit
 import collections
 import collections.abc
 import json
 import os
 import sys
+import weakref
 
 from . import _loom
 from ._errors import Error, NodeError
@@ -107,6 +109,7 @@ class Session:
     def __init__(self, threads=0, disk_cache=True, output_dir=".", allow_outside_output=False):
         cache = None if disk_cache is False or disk_cache is None else ("" if disk_cache is True else os.fspath(disk_cache))
         self._core = _loom.SessionCore(int(threads), cache, os.fspath(output_dir), bool(allow_outside_output))
+        _sessions.add(self)
 
     def run(self, graph, targets=None, frames=None, set=None, progress=None):
         """Runs ``graph`` and returns its outputs.
@@ -177,6 +180,18 @@ def _with_values(graph, values):
         node, _, input = key.rpartition(".")
         g[node][input] = value
     return g, sets
+
+
+# A run Ctrl-C interrupted ends its cancelled work on its own thread while
+# the KeyboardInterrupt reaches the caller; before the interpreter shuts down
+# (when no thread may take the GIL any more) every such run is waited for.
+_sessions = weakref.WeakSet()
+
+
+@atexit.register
+def _settle_sessions():
+    for session in list(_sessions):
+        session._core.settle()
 
 
 _default = None

@@ -4,7 +4,10 @@
 // for Ctrl-C (KeyboardInterrupt cancels the running nodes, as in the runner).
 #include "session.hpp"
 
+#include <atomic>
+#include <chrono>
 #include <condition_variable>
+#include <memory>
 #include <deque>
 #include <exception>
 #include <optional>
@@ -132,10 +135,44 @@ py::dict result_to_python(const Graph& prepared, const EvalResult& result) {
 
 }  // namespace
 
-py::dict SessionCore::run(const PreparedGraph& prepared_graph, const std::vector<std::string>& targets,
-                          std::optional<std::pair<int, int>> frames, const py::object& progress) {
-  const Graph& prepared = prepared_graph.graph;
+// One evaluation on a thread of its own, with what it reads. A run that
+// Ctrl-C interrupts is left to end its cancelled work here (a sparse
+// factorization cannot be asked to stop: 0.6-1.9 s in ARAP), so that the
+// KeyboardInterrupt reaches the caller at once; the session's next call
+// waits for it first.
+struct SessionCore::Running {
+  py::object graph;  // the PreparedGraph: its held values stay alive
   EvalOptions options;
+  std::atomic<bool> cancel{false};
+  QueueObserver observer;
+  EvalResult result;
+  std::exception_ptr failure;
+  ActiveRun active;
+  std::thread worker;
+  explicit Running(bool partials) : observer(partials) {}
+};
+
+void SessionCore::settle() {
+  if (!finishing) return;
+  {
+    py::gil_scoped_release release;  // its Python bodies may need the GIL to end
+    finishing->worker.join();
+  }
+  finishing.reset();  // with the GIL: it holds the graph's Python object
+}
+
+SessionCore::~SessionCore() {
+  if (finishing && PyGILState_Check()) settle();
+  else if (finishing) finishing->worker.join();
+}
+
+py::dict SessionCore::run(const py::object& prepared_object, const std::vector<std::string>& targets,
+                          std::optional<std::pair<int, int>> frames, const py::object& progress) {
+  settle();
+  auto run = std::make_shared<Running>(!progress.is_none());
+  run->graph = prepared_object;
+  const Graph& prepared = prepared_object.cast<const PreparedGraph&>().graph;
+  EvalOptions& options = run->options;
   for (const auto& t : targets) options.targets.push_back(parse_target(t));
   options.threads = threads;
   options.output_dir = std::filesystem::absolute(output_dir);
@@ -143,25 +180,20 @@ py::dict SessionCore::run(const PreparedGraph& prepared_graph, const std::vector
   if (frames) options.frames = FrameRange{frames->first, frames->second};
   else if (prepared.time) options.frames = FrameRange{prepared.time->start, prepared.time->end};
   if (disk) options.disk_cache = &*disk;
-  std::atomic<bool> cancel{false};
-  options.cancel = &cancel;
-  QueueObserver observer(!progress.is_none());
-  options.observer = &observer;
+  options.cancel = &run->cancel;
+  options.observer = &run->observer;
 
-  EvalResult result;
-  std::exception_ptr failure;
-  const ActiveRun active;
-  std::thread worker([&] {
+  run->worker = std::thread([this, run = run.get(), &prepared] {
     try {
-      result = session.evaluate(prepared, options);
+      run->result = session.evaluate(prepared, run->options);
     } catch (...) {
-      failure = std::current_exception();
+      run->failure = std::current_exception();
     }
-    std::lock_guard<std::mutex> lock(observer.mutex);
-    observer.done = true;
-    observer.wake.notify_all();
+    std::lock_guard<std::mutex> lock(run->observer.mutex);
+    run->observer.done = true;
+    run->observer.wake.notify_all();
   });
-  std::optional<py::error_already_set> interrupt;
+  QueueObserver& observer = run->observer;
   for (bool done = false; !done;) {
     std::deque<Event> events;
     {
@@ -176,28 +208,35 @@ py::dict SessionCore::run(const PreparedGraph& prepared_graph, const std::vector
         for (const Event& e : events)
           progress(e.kind, e.node, e.fraction, e.text, e.value ? partial_value(e.value) : py::none());
       if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-    } catch (py::error_already_set& e) {  // Ctrl-C, or the callback raised: cancel, then re-raise
-      cancel = true;
+    } catch (py::error_already_set&) {  // Ctrl-C, or the callback raised: cancel, and raise at once
+      run->cancel = true;
       interrupt_python_bodies();  // a body that never asks ctx.cancelled() stops too
-      if (!interrupt) interrupt.emplace(std::move(e));
+      finishing = std::move(run);
+      throw;
     }
   }
   {
     py::gil_scoped_release release;
-    worker.join();
+    run->worker.join();
   }
-  if (interrupt) throw std::move(*interrupt);
-  if (failure) std::rethrow_exception(failure);
-
-  return result_to_python(prepared, result);
+  if (run->failure) std::rethrow_exception(run->failure);
+  return result_to_python(prepared, run->result);
 }
 
 void bind_session(py::module_& m) {
   py::class_<SessionCore>(m, "SessionCore")
       .def(py::init<int, std::optional<std::string>, std::string, bool>())
       .def("run", &SessionCore::run)
-      .def("cache_entries", [](const SessionCore& s) { return s.session.cache_entries(); })
-      .def("clear_cache", [](SessionCore& s) { s.session.clear_cache(); });
+      .def("settle", &SessionCore::settle)
+      .def("cache_entries",
+           [](SessionCore& s) {
+             s.settle();
+             return s.session.cache_entries();
+           })
+      .def("clear_cache", [](SessionCore& s) {
+        s.settle();
+        s.session.clear_cache();
+      });
 }
 
 }  // namespace loom::python

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -25,11 +26,21 @@ struct SessionCore {
   // disk_cache: unset none, "" the default folder, else that folder.
   SessionCore(int threads, std::optional<std::string> disk_cache, std::string output_dir,
               bool allow_outside_output);
-  // Evaluates a validated graph: {"outputs": {node: [values]}, "nodes":
-  // {id: report}, "seconds", "frames", "cancelled"}. progress(kind, node,
-  // fraction, text) is called on this thread.
-  py::dict run(const PreparedGraph& prepared, const std::vector<std::string>& targets,
+  ~SessionCore();
+  SessionCore(const SessionCore&) = delete;
+  SessionCore& operator=(const SessionCore&) = delete;
+  // Evaluates a validated graph (a PreparedGraph): {"outputs": {node:
+  // [values]}, "nodes": {id: report}, "seconds", "frames", "cancelled"}.
+  // progress(kind, node, fraction, text) is called on this thread. Ctrl-C
+  // raises KeyboardInterrupt at once; the cancelled run ends on its own
+  // thread (settle() waits for it, as every later call does).
+  py::dict run(const py::object& prepared, const std::vector<std::string>& targets,
                std::optional<std::pair<int, int>> frames, const py::object& progress);
+  void settle();
+
+ private:
+  struct Running;
+  std::shared_ptr<Running> finishing;  // an interrupted run still ending
 };
 
 void bind_session(py::module_& m);

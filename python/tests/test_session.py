@@ -153,6 +153,24 @@ def test_keyboard_interrupt_cancels_a_long_node():
     assert session.run(g, "after.image").shape == (8, 8, 3)
 
 
+def test_keyboard_interrupt_does_not_wait_for_a_call_that_cannot_stop():
+    """Ctrl-C inside a call that cannot be interrupted (a factorization; here
+    a 3-s sleep in a body) reaches the caller at once; the cancelled run ends
+    on its own thread and the session's next run waits for it."""
+    g = loom.Graph()
+    g.add("py.loomtest_nodes.Block", id="block", seconds=3.0)
+    session = loom.Session(disk_cache=False)
+    threading.Timer(0.5, _thread.interrupt_main).start()
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        session.run(g, "block.slept")
+    assert time.monotonic() - start < 1.2  # the timer's 0.5 s and one 50-ms wake, not the call's 3 s
+    after = loom.Graph()
+    after.add("py.loomtest_nodes.Add", id="add", a=1.0, b=2.0)
+    assert session.run(after, "add.result") == 3.0
+    assert time.monotonic() - start > 2.9  # the cancelled run ended before the next one
+
+
 def test_gil_is_released_while_the_engine_works():
     g = loom.Graph()
     board = g.add("Checkerboard", size=[2048, 2048], cells=64)

@@ -41,6 +41,15 @@ def Wait(seconds, ctx):
     return time.monotonic() - start
 
 
+@loom.node(inputs={"seconds": loom.In("Float", 3.0, "how long the call lasts")}, outputs={"slept": "Float"})
+def Block(seconds):
+    """One long call that nothing can interrupt (as a sparse factorization):
+    a KeyboardInterrupt raised in this thread waits for it to return."""
+    start = time.monotonic()
+    time.sleep(seconds)
+    return time.monotonic() - start
+
+
 @loom.node(inputs={"message": loom.In("String", "boom")}, outputs={"value": "Float"})
 def Raise(message):
     """Raises ValueError(message)."""
