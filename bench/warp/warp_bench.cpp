@@ -4,12 +4,24 @@
 // Reports wall-clock and CPU medians: on a shared machine the wall clock also
 // measures the other users, CPU seconds / cores bounds what an idle machine gives.
 //
-//   build/bin/bench_warp [--quick]
+//   build/bin/bench_warp [--quick] [--cpu-hogs N] [--memory-hogs N]
+//
+// With hogs, N processes of its own load the machine while it measures (busy
+// loops, or copies between two 256-MB buffers, which fight for the caches
+// and memory bandwidth as builds do), so the ratio to OpenCV can be read under
+// a known load; they are stopped by PID at the end.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <csignal>
+#include <cstring>
 #include <ctime>
 #include <iostream>
 #include <random>
+#include <thread>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/shape/shape_transformer.hpp>
@@ -124,6 +136,41 @@ double map_step_error(const RowMap& f, int step) {
   return cv::norm(exact, coarse, cv::NORM_INF);
 }
 
+// Processes that load the machine while they live: busy loops, or copies
+// between two 256-MB buffers.
+class Hogs {
+ public:
+  Hogs(int cpu, int memory) {
+    for (int k = 0; k < cpu + memory; ++k) {
+      const pid_t pid = ::fork();
+      if (pid == 0) k < cpu ? spin() : copy();
+      if (pid > 0) pids_.push_back(pid);
+    }
+    if (!pids_.empty()) std::this_thread::sleep_for(std::chrono::seconds(3));  // the buffers touched, the load risen
+  }
+  ~Hogs() {
+    for (pid_t pid : pids_) ::kill(pid, SIGKILL);
+    for (pid_t pid : pids_) ::waitpid(pid, nullptr, 0);
+  }
+  Hogs(const Hogs&) = delete;
+  Hogs& operator=(const Hogs&) = delete;
+
+ private:
+  [[noreturn]] static void spin() {
+    for (volatile unsigned long n = 0;; n = n + 1) {
+    }
+  }
+  [[noreturn]] static void copy() {
+    const std::size_t bytes = std::size_t(256) << 20;
+    std::vector<char> a(bytes, 1), b(bytes, 2);
+    for (;;) {
+      std::memcpy(b.data(), a.data(), bytes);
+      std::memcpy(a.data(), b.data(), bytes);
+    }
+  }
+  std::vector<pid_t> pids_;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -132,8 +179,16 @@ int main(int argc, char** argv) {
                        "64 and 256 pairs, side by side with OpenCV's thin-plate-spline shape transformer; and "
                        "map_step time against map error.");
   bool quick = false;
-  cli.quick(quick, "64 pairs, 3 runs").threads();
+  int cpu_hogs = 0, memory_hogs = 0;
+  cli.quick(quick, "64 pairs, 3 runs")
+      .threads()
+      .option("--cpu-hogs", cpu_hogs, "processes of busy loops that load the machine while it measures")
+      .option("--memory-hogs", memory_hogs, "processes copying 256-MB buffers while it measures");
   cli.parse(argc, argv);
+  const Hogs hogs(std::max(0, cpu_hogs), std::max(0, memory_hogs));
+  std::cout << "load average " << loom::bench::load_average() << " (" << cpu_hogs << " busy-loop and " << memory_hogs
+            << " memory-copy processes of the benchmark's own)\n";
+  const bool loaded = cpu_hogs > 0 || memory_hogs > 0;
   const int runs = quick ? 3 : 7;
   const std::vector<int> counts = quick ? std::vector<int>{64} : std::vector<int>{16, 64, 256};
   const cv::Mat board = checkerboard(), smooth = smooth_image();
@@ -144,8 +199,9 @@ int main(int argc, char** argv) {
     std::replace(s.begin(), s.end(), '_', '-');
     return s;
   };
-  loom::bench::Csv csv("warp", {"series", "pairs", "seconds", "cpu_seconds", "mpx_per_s", "mpx_per_cpu_s",
-                                "speedup_vs_opencv_tps", "cpu_speedup_vs_opencv_tps"});
+  loom::bench::Csv csv(loaded ? "warp_loaded" : "warp",
+                       {"series", "pairs", "seconds", "cpu_seconds", "mpx_per_s", "mpx_per_cpu_s",
+                        "speedup_vs_opencv_tps", "cpu_speedup_vs_opencv_tps"});
   for (int n : counts) {
     Eigen::MatrixX2d P, Q;
     random_pairs(n, 7, P, Q);
@@ -168,6 +224,8 @@ int main(int argc, char** argv) {
   loom::bench::plot(csv, {"pairs", "mpx_per_s", "series", "1 Mpx warp: Mpx per second (wall clock)", true, true, ""});
   loom::bench::plot(csv, {"pairs", "mpx_per_cpu_s", "series", "1 Mpx warp: Mpx per CPU-second (all threads)", true, true,
                           "_cpu"});
+
+  if (loaded) return 0;  // the map_step sweep is measured on a quiet machine
 
   loom::bench::Csv sweep("warp_map_step", {"method", "map_step", "seconds", "cpu_seconds", "max_map_error_px"});
   Eigen::MatrixX2d P, Q;
