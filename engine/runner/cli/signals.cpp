@@ -17,11 +17,12 @@ namespace {
 constexpr int kInterrupted = 130;
 std::atomic<bool> g_cancel{false};
 std::atomic<int> g_signal{0};  // lock-free: set from the handler
-int g_grace_ms = kBriefGraceMs;  // 0: no grace timer
-// What a leave after the grace prints, made before any signal can arrive (a
-// handler may not allocate): for each stop signal, its last line.
+std::atomic<int> g_grace_ms{kBriefGraceMs};  // 0: no grace timer; read by the handler
+// What a leave after the grace prints, for each stop signal: written before
+// the handlers are installed (a handler may not allocate), into fixed
+// buffers, since --watch installs them again for every run.
 constexpr std::array<int, 4> kStopSignals{SIGINT, SIGTERM, SIGHUP, SIGPIPE};
-std::array<std::string, kStopSignals.size()> g_leave_lines;
+char g_leave_lines[kStopSignals.size()][512];
 
 void say(const char* text) {
   const ssize_t ignored = ::write(STDERR_FILENO, text, std::strlen(text));
@@ -59,14 +60,15 @@ extern "C" void leave_now(int) {
 
 extern "C" void on_alarm(int) {
   for (std::size_t i = 0; i < kStopSignals.size(); ++i)
-    if (kStopSignals[i] == g_signal.load()) say(g_leave_lines[i].c_str());
+    if (kStopSignals[i] == g_signal.load()) say(g_leave_lines[i]);
   leave_now(SIGALRM);
 }
 
 void start_grace_timer() {
+  const int ms = g_grace_ms.load();
   itimerval timer{};
-  timer.it_value.tv_sec = g_grace_ms / 1000;
-  timer.it_value.tv_usec = (g_grace_ms % 1000) * 1000;
+  timer.it_value.tv_sec = ms / 1000;
+  timer.it_value.tv_usec = (ms % 1000) * 1000;
   ::setitimer(ITIMER_REAL, &timer, nullptr);  // a system call, safe in a handler on Linux
 }
 
@@ -95,6 +97,19 @@ void handle(int signal, void (*handler)(int), int flags = 0) {
   ::sigaction(signal, &action, nullptr);
 }
 
+// The grace for `grace`, or LOOM_STOP_GRACE's when set.
+int grace_ms(Grace grace) {
+  const int ms = grace == Grace::brief ? kBriefGraceMs : grace == Grace::ranks ? kRanksGraceMs : 0;
+  const char* text = std::getenv("LOOM_STOP_GRACE");
+  if (!text || grace == Grace::none) return ms;
+  char* end = nullptr;
+  const double seconds = std::strtod(text, &end);
+  if (end != text && *end == '\0' && seconds >= 0.01 && seconds <= 3600) return static_cast<int>(seconds * 1000);
+  std::fprintf(stderr, "warning: LOOM_STOP_GRACE=%s is not a number of seconds from 0.01 to 3600: using %g\n", text,
+               ms / 1000.0);
+  return ms;
+}
+
 }  // namespace
 
 std::atomic<bool>& cancel_flag() { return g_cancel; }
@@ -102,25 +117,13 @@ std::atomic<bool>& cancel_flag() { return g_cancel; }
 std::string interrupted_message() { return message_for(g_signal.load()); }
 
 void stop_on_signals(Grace grace) {
-  g_grace_ms = grace == Grace::brief ? kBriefGraceMs : grace == Grace::ranks ? kRanksGraceMs : 0;
-  if (const char* text = std::getenv("LOOM_STOP_GRACE"); text && grace != Grace::none) {
-    char* end = nullptr;
-    const double seconds = std::strtod(text, &end);
-    if (end != text && *end == '\0' && seconds >= 0.01 && seconds <= 3600)
-      g_grace_ms = static_cast<int>(seconds * 1000);
-    else
-      std::fprintf(stderr, "warning: LOOM_STOP_GRACE=%s is not a number of seconds from 0.01 to 3600: using %g\n", text,
-                   g_grace_ms / 1000.0);
-  }
-  for (std::size_t i = 0; i < kStopSignals.size(); ++i) {
-    const double seconds = g_grace_ms / 1000.0;
-    char figure[32];
-    std::snprintf(figure, sizeof figure, "%g", seconds);
-    g_leave_lines[i] = std::string("loom: nodes still running ") + figure +
-                       " s after the signal (inside a call that cannot stop, such as a sparse factorization): "
-                       "leaving without them\n" +
-                       message_for(kStopSignals[i]) + "\n";
-  }
+  const int ms = grace_ms(grace);
+  for (std::size_t i = 0; i < kStopSignals.size(); ++i)
+    std::snprintf(g_leave_lines[i], sizeof g_leave_lines[i],
+                  "loom: nodes still running %g s after the signal (inside a call that cannot stop, such as a "
+                  "sparse factorization): leaving without them\n%s\n",
+                  ms / 1000.0, message_for(kStopSignals[i]).c_str());
+  g_grace_ms = ms;
   for (int s : kStopSignals) handle(s, on_stop_signal);
   handle(SIGALRM, on_alarm);
   handle(SIGXFSZ, SIG_IGN);
