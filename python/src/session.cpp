@@ -1,15 +1,16 @@
 // loom.Session: one `loom run` process kept alive. run() evaluates on a
 // thread of its own while the calling thread, without the GIL, waits for it:
 // it wakes every 50 ms to hand progress to the Python callback and to check
-// for Ctrl-C (KeyboardInterrupt cancels the running nodes, as in the runner).
+// for Ctrl-C (KeyboardInterrupt cancels the running nodes, as in the runner,
+// and is raised at once: see SessionCore::Running).
 #include "session.hpp"
 
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
-#include <memory>
 #include <deque>
 #include <exception>
+#include <memory>
 #include <optional>
 #include <thread>
 
