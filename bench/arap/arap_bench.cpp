@@ -99,7 +99,7 @@ Run loom_arap(const Mesh& m, int iterations, double tolerance = 0) {
   o.max_iterations = iterations;
   o.tolerance = tolerance;
   r.curve.seconds.push_back(since(t0));
-  const auto res = loom::arap::arap(sys, UV0, o, [&](int, double E) {
+  const auto res = loom::arap::arap(sys, UV0, o, [&](int, double E, const Eigen::MatrixX2d&) {
     r.curve.seconds.push_back(since(t0));
     r.curve.energy.push_back(E);
   });

@@ -7,6 +7,7 @@
 #include "loom/mesh.hpp"
 #include "loom/numerics/distortion.hpp"
 #include "loom/numerics/mesh_topology.hpp"
+#include "loom/partial_pacing.hpp"
 #include "loom/plugin.hpp"
 #include "similarity_map.hpp"
 #include "tutte_map.hpp"
@@ -97,18 +98,29 @@ struct ARAP {
                 .UV;
     }
 
-    const auto result = loom::arap::arap(*system, UV0, options, [&](int k, double) {
-      ctx.progress(k, options.max_iterations, "iterating");
-      ctx.check_cancelled();
-    });
+    // The map as the output gives it: fitted into the unit square, or as is.
+    const bool normalize = in.get<bool>("normalize");
+    const auto with_uv = [&](const Eigen::MatrixX2d& UV) {
+      loom::Mesh flat = mesh;
+      flat.UV = normalize ? loom::arap::fit_unit_square(UV, loom::numerics::referenced_vertices(mesh.F, n)) : UV;
+      return flat;
+    };
+    loom::PartialPacing pacing;  // for whoever watches: the map so far, as the iterations go
+    const auto result =
+        loom::arap::arap(*system, UV0, options, [&](int k, double, const Eigen::MatrixX2d& UV) {
+          ctx.progress(k, options.max_iterations, "iterating");
+          ctx.check_cancelled();
+          if (ctx.partial_wanted() && pacing.due()) {
+            pacing.published();
+            ctx.publish_partial("mesh", [&] { return with_uv(UV); }, {double(k), double(options.max_iterations),
+                                                                       "iterations", -1});
+          }
+        });
     if (!result.converged && options.max_iterations > 0)
       ctx.log("ARAP stopped at the iteration cap (" + std::to_string(options.max_iterations) +
               ") before the tolerance was met");
     ctx.check_cancelled();
-    loom::Mesh flat = mesh;
-    flat.UV = in.get<bool>("normalize")
-                  ? loom::arap::fit_unit_square(result.UV, loom::numerics::referenced_vertices(mesh.F, n))
-                  : result.UV;
+    loom::Mesh flat = with_uv(result.UV);
     out.set("distortion", loom::numerics::to_json(loom::numerics::distortion(mesh.V, mesh.F, flat.UV)));
     out.set("energy", result.energy);
     out.set("mesh", std::move(flat));

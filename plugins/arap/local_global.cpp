@@ -152,7 +152,7 @@ ArapSystem arap_system(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
 }
 
 ArapResult arap(const ArapSystem& sys, const Eigen::MatrixX2d& UV0, const ArapOptions& options,
-                const std::function<void(int, double)>& after_iteration) {
+                const std::function<void(int, double, const Eigen::MatrixX2d&)>& after_iteration) {
   const Eigen::MatrixX3i& F = sys.F;
   const Eigen::Index nf = F.rows();
   const int nfree = static_cast<int>(sys.free_vertex.size());
@@ -220,7 +220,7 @@ ArapResult arap(const ArapSystem& sys, const Eigen::MatrixX2d& UV0, const ArapOp
     u = std::move(next);
     out.energy.push_back(E_next);
     out.iterations = k;
-    if (after_iteration) after_iteration(k, E_next);
+    if (after_iteration) after_iteration(k, E_next, out.UV);
     const bool done = E - E_next <= options.tolerance * E;
     E = E_next;
     if (done) {

@@ -62,9 +62,10 @@ struct ArapResult {
 // E(u) = min_L ½ Σ_t Σ_i c_t^i ‖(u_t^i − u_t^{i+1}) − L_t d_t^i‖² (+ the hybrid
 // term), which never increases from one iteration to the next.
 //   UV0 #V by 2: the initial map; pinned vertices keep their rows.
-//   after_iteration(k, E_k) is called after each iteration (may throw to stop).
+//   after_iteration(k, E_k, u_k) is called after each iteration with its map
+//   (may throw to stop).
 ArapResult arap(const ArapSystem& system, const Eigen::MatrixX2d& UV0, const ArapOptions& options,
-                const std::function<void(int, double)>& after_iteration = {});
+                const std::function<void(int, double, const Eigen::MatrixX2d&)>& after_iteration = {});
 
 // The objective E(u) above that the local/global iterations minimize, with the
 // best L_t per triangle (one local step): cotangent-weighted and not

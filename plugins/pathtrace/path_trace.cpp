@@ -5,6 +5,7 @@
 
 #include "embree_scene.hpp"
 #include "integrator.hpp"
+#include "loom/partial_pacing.hpp"
 #include "loom/plugin.hpp"
 #include "loom/scene_warnings.hpp"
 
@@ -99,27 +100,23 @@ struct PathTrace {
 
   // Progress, cancellation before every sample, and for whoever watches
   // (Context::publish_partial) the image after each pass and, inside a long
-  // pass, at least kPartialSeconds apart, between batches of tiles: a viewer
-  // gets 10-12 updates a second however many samples a pass takes (a batch
-  // lands a few ms after the mark). The samples and their order per pixel
-  // are the same, so the final image does not change.
-  static constexpr double kPartialSeconds = 0.08;
-  static RenderHooks hooks(loom::Context& ctx, const RenderSettings& s,
-                           std::chrono::steady_clock::time_point& published) {
+  // pass, between batches of tiles as `pacing` says (a batch lands a few ms
+  // after the mark). The samples and their order per pixel are the same, so
+  // the final image does not change.
+  static RenderHooks hooks(loom::Context& ctx, const RenderSettings& s, loom::PartialPacing& pacing) {
     RenderHooks h;
     h.progress = [&ctx](double fraction) { ctx.progress(fraction, 1, "path tracing"); };
     h.check_cancelled = [&ctx] { ctx.check_cancelled(); };
-    const auto publish = [&ctx, &published, spp = s.spp](const Film& film, double taken) {
-      published = std::chrono::steady_clock::now();
+    const auto publish = [&ctx, &pacing, spp = s.spp](const Film& film, double taken) {
+      pacing.published();
       ctx.publish_partial("image", [&] { return loom::Image(mean_image(film), loom::Encoding::linear); },
                           {taken, double(spp), "spp", relative_error(film)});
     };
     h.after_pass = [&ctx, publish](const Film& film, double taken) {
       if (ctx.partial_wanted()) publish(film, taken);
     };
-    h.between_batches = [&ctx, &published, publish](const Film& film) {
-      const double since = std::chrono::duration<double>(std::chrono::steady_clock::now() - published).count();
-      if (ctx.partial_wanted() && since >= kPartialSeconds) publish(film, mean_samples(film));
+    h.between_batches = [&ctx, &pacing, publish](const Film& film) {
+      if (ctx.partial_wanted() && pacing.due()) publish(film, mean_samples(film));
     };
     return h;
   }
@@ -170,8 +167,8 @@ struct PathTrace {
         scene->camera ? *scene->camera : loom::framing_camera(*scene, double(s.width) / s.height);
 
     const auto start = std::chrono::steady_clock::now();
-    auto published = start;  // the last partial image
-    const RenderResult r = render(*scene, camera, *traced, s, hooks(ctx, s, published));
+    loom::PartialPacing pacing;
+    const RenderResult r = render(*scene, camera, *traced, s, hooks(ctx, s, pacing));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (r.nonfinite > 0)
       ctx.warn(std::to_string(r.nonfinite) + " samples were NaN or infinite and counted as black");

@@ -115,5 +115,36 @@ TEST(EditorProgressive, TheShippedCornellGraphOrbitsWithTheMouse) {
   h.screenshot("cornell-graph-orbited");
 }
 
+// ARAP publishes its map as it iterates: the viewer shows the mesh refining
+// (its UVs change from one shown map to the next) before the result comes.
+TEST(EditorProgressive, ArapsMapRefinesInTheViewer) {
+  Harness h(1600, 900);
+  h.app.open(write_graph({{"loom", 1},
+                          {"nodes",
+                           {{"hemi", {{"type", "HemisphereMesh"},
+                                      {"inputs", {{"rings", 60}, {"segments", 240}, {"noise", 0.1}}}}},
+                            {"arap", {{"type", "ARAP"},
+                                      {"inputs",
+                                       {{"mesh", {{"from", "hemi.mesh"}}},
+                                        {"init", "tutte"},
+                                        {"iterations", 400},
+                                        {"tolerance", 0}}}}}}}},
+                         "arap.json"));
+  h.frame(2);
+  h.click(h.app.canvas().node_header(h.app.state(), "arap"));
+  ASSERT_EQ(h.app.state().viewed, "arap");
+  std::vector<double> shown;  // iterations of the maps the viewer showed
+  for (const auto start = Clock::now(); since(start) < 30 && h.app.controller().busy();) {
+    h.frame();
+    const auto p = h.app.controller().partial("arap", "mesh");
+    if (p && (shown.empty() || shown.back() != p->done)) shown.push_back(p->done);
+    if (shown.size() == 3) h.screenshot("arap-refining");
+  }
+  ASSERT_GE(shown.size(), 2u) << "no map shown while ARAP iterated";
+  EXPECT_TRUE(std::is_sorted(shown.begin(), shown.end()));
+  std::printf("ARAP 14,400 vertices in the editor: %zu maps shown while iterating (iterations %.0f..%.0f)\n",
+              shown.size(), shown.front(), shown.back());
+}
+
 }  // namespace
 }  // namespace loom::editor::test

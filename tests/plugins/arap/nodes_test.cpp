@@ -1,6 +1,11 @@
 // The ASAP and ARAP nodes through the engine, on generated meshes.
+#include <mutex>
+#include <utility>
+#include <vector>
+
 #include <gtest/gtest.h>
 
+#include "loom/evaluator.hpp"
 #include "loom/mesh.hpp"
 #include "loom/testing.hpp"
 
@@ -43,6 +48,48 @@ TEST(ArapNodes, AsapThenArapFromGivenUVs) {
   EXPECT_LT(asap_report["angle_mean"].get<double>(), 1.1);  // nearly conformal
   EXPECT_LT(arap_report["arap_energy"].get<double>(), asap_report["arap_energy"].get<double>());
   EXPECT_EQ(engine.output<std::vector<double>>(doc, "asap.energy").size(), 1u);
+}
+
+// Whoever watches gets the map so far while ARAP iterates (at most every
+// 0.08 s; the editor's viewer shows it): each is the map an ARAP stopped at
+// that iteration gives, bit for bit, and the final result is the same with
+// and without a listener.
+struct MeshPartials : loom::Observer {
+  std::mutex mutex;
+  std::vector<std::pair<int, loom::Mesh>> maps;  // (iteration, mesh)
+  bool wants_partial(const std::string&) const override { return true; }
+  void node_partial(const std::string& id, const std::string& output, const loom::Value& value,
+                    const loom::PartialInfo& info) override {
+    std::lock_guard lock(mutex);
+    EXPECT_EQ(id + "." + output, "arap.mesh");
+    EXPECT_EQ(info.unit, "iterations");
+    maps.emplace_back(int(info.done), value.as<loom::Mesh>());
+  }
+};
+
+TEST(ArapNodes, WatchedIterationsPublishTheMapSoFar) {
+  loom::testing::Engine engine;
+  // A noisy hemisphere: its iterations go on lowering the energy for long.
+  auto doc = graph({{"init", "tutte"}, {"iterations", 400}, {"tolerance", 0}});
+  doc["nodes"]["hemi"]["inputs"] = {{"rings", 60}, {"segments", 240}, {"noise", 0.1}};  // 166 iterations, 0.8 s
+  loom::EvalOptions o;
+  o.targets = {loom::parse_target("arap.mesh")};
+  MeshPartials partials;
+  o.observer = &partials;
+  const loom::EvalResult watched = engine.session().evaluate(engine.load(doc), o);
+  ASSERT_TRUE(watched.ok()) << watched.nodes.at("arap").error;
+  ASSERT_GE(partials.maps.size(), 2u) << "166 iterations of 14,400 vertices last over 0.16 s";
+  const auto& maps = partials.maps;
+  for (const auto* partial : {&maps.front(), &maps[maps.size() / 2], &maps.back()}) {
+    const auto& [k, mesh] = *partial;
+    auto stopped = doc;
+    stopped["nodes"]["arap"]["inputs"]["iterations"] = k;
+    const auto& reference = engine.output<loom::Mesh>(stopped, "arap.mesh");
+    ASSERT_EQ(mesh.UV.rows(), reference.UV.rows());
+    EXPECT_TRUE(mesh.UV == reference.UV) << "iteration " << k;
+  }
+  const auto& unwatched = engine.output<loom::Mesh>(doc, "arap.mesh");
+  EXPECT_TRUE(watched.outputs.at("arap.mesh").at(0).as<loom::Mesh>().UV == unwatched.UV);
 }
 
 TEST(ArapNodes, ActionableErrors) {
