@@ -106,16 +106,15 @@ struct ARAP {
       return flat;
     };
     loom::PartialPacing pacing;  // for whoever watches: the map so far, as the iterations go
-    const auto result =
-        loom::arap::arap(*system, UV0, options, [&](int k, double, const Eigen::MatrixX2d& UV) {
-          ctx.progress(k, options.max_iterations, "iterating");
-          ctx.check_cancelled();
-          if (ctx.partial_wanted() && pacing.due()) {
-            pacing.published();
-            ctx.publish_partial("mesh", [&] { return with_uv(UV); }, {double(k), double(options.max_iterations),
-                                                                       "iterations", -1});
-          }
-        });
+    const auto result = loom::arap::arap(*system, UV0, options, [&](int k, double, const Eigen::MatrixX2d& UV) {
+      ctx.progress(k, options.max_iterations, "iterating");
+      ctx.check_cancelled();
+      if (ctx.partial_wanted() && pacing.due()) {
+        pacing.published();
+        ctx.publish_partial("mesh", [&] { return with_uv(UV); },
+                            {double(k), double(options.max_iterations), "iterations", -1});
+      }
+    });
     if (!result.converged && options.max_iterations > 0)
       ctx.log("ARAP stopped at the iteration cap (" + std::to_string(options.max_iterations) +
               ") before the tolerance was met");

@@ -119,17 +119,15 @@ TEST(EditorProgressive, TheShippedCornellGraphOrbitsWithTheMouse) {
 // (its UVs change from one shown map to the next) before the result comes.
 TEST(EditorProgressive, ArapsMapRefinesInTheViewer) {
   Harness h(1600, 900);
-  h.app.open(write_graph({{"loom", 1},
-                          {"nodes",
-                           {{"hemi", {{"type", "HemisphereMesh"},
-                                      {"inputs", {{"rings", 60}, {"segments", 240}, {"noise", 0.1}}}}},
-                            {"arap", {{"type", "ARAP"},
-                                      {"inputs",
-                                       {{"mesh", {{"from", "hemi.mesh"}}},
-                                        {"init", "tutte"},
-                                        {"iterations", 400},
-                                        {"tolerance", 0}}}}}}}},
-                         "arap.json"));
+  h.app.open(write_graph(
+      {{"loom", 1},
+       {"nodes",
+        {{"hemi", {{"type", "HemisphereMesh"}, {"inputs", {{"rings", 60}, {"segments", 240}, {"noise", 0.1}}}}},
+         {"arap",
+          {{"type", "ARAP"},
+           {"inputs",
+            {{"mesh", {{"from", "hemi.mesh"}}}, {"init", "tutte"}, {"iterations", 400}, {"tolerance", 0}}}}}}}},
+      "arap.json"));
   h.frame(2);
   h.click(h.app.canvas().node_header(h.app.state(), "arap"));
   ASSERT_EQ(h.app.state().viewed, "arap");
