@@ -116,7 +116,7 @@ TEST(EditorProgressive, TheShippedCornellGraphOrbitsWithTheMouse) {
 }
 
 // ARAP publishes its map as it iterates: the viewer shows the mesh refining
-// (its UVs change from one shown map to the next) before the result comes.
+// (maps of rising iterations, "refining: k/400 iterations") before the result comes.
 TEST(EditorProgressive, ArapsMapRefinesInTheViewer) {
   Harness h(1600, 900);
   h.app.open(write_graph(
