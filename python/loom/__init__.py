@@ -17,7 +17,8 @@ from ._graph import Graph, Node, Output, load
 from ._session import Event, Result, Session
 from ._python_nodes import In, Out, node, node_path
 from ._docs import nodes
+from ._display import set_view
 
 __all__ = ["Error", "GraphError", "InputError", "NodeError", "Context", "Value", "Image", "Mesh", "PointSet",
            "Polylines", "Graph", "Node", "Output", "load", "Event", "Result", "Session", "In", "Out", "node",
-           "node_path", "nodes"]
+           "node_path", "nodes", "set_view"]

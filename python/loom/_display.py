@@ -1,10 +1,49 @@
-"""Pictures for Jupyter: PNG bytes of an image (tone-mapped when linear) and a
-small rendered preview of a mesh (through the engine's own Render node)."""
+"""Pictures for Jupyter: PNG bytes of an image (tone-mapped when linear, or
+through an OpenColorIO view: set_view) and a small rendered preview of a mesh
+(through the engine's own Render node)."""
 
 import struct
 import zlib
 
 import numpy as np
+
+
+_view = None  # how linear images are shown: None (Reinhard, then sRGB), or a DisplayView view
+
+
+def set_view(view):
+    """How Jupyter shows linear images. None (the default): values above 1
+    tone-mapped by Reinhard, x / (1 + x), then the sRGB curve. A view name:
+    the OpenColorIO view the DisplayView node applies ("Standard", "ACES 1.0 -
+    SDR Video", "Raw" in Loom's config; $OCIO's views when set), run by the
+    engine, as a graph would. Raises loom.Error for a view the config does
+    not have (the colour plugin is needed, with OpenColorIO)."""
+    global _view
+    if view is not None:
+        from ._docs import describe, did_you_mean
+        from ._errors import Error
+        try:
+            choices = next(i["choices"] for i in describe("DisplayView")["inputs"] if i["name"] == "view")
+        except Error as e:
+            raise Error(f"set_view: the DisplayView node is not available ({e})") from None
+        if view not in choices:
+            raise Error(f"set_view: no view {view!r}; the display's views are {', '.join(choices)}"
+                        + did_you_mean(view, choices))
+    _view = view
+
+
+def image_display(pixels, encoding):
+    """8-bit pixels of an image as Jupyter shows it: through the view set by
+    set_view() when the image is linear RGB(A), else to_display()."""
+    a = np.asarray(pixels, dtype=np.float32)
+    if _view is None or encoding != "linear" or a.ndim != 3 or a.shape[2] not in (3, 4):
+        return to_display(a, encoding)
+    from ._graph import Graph
+    from ._session import default_session
+    from ._values import Image
+    g = Graph()
+    view = g.add("DisplayView", image=Image(a, "linear"), view=_view)
+    return to_display(np.asarray(default_session().run(g, view.image)), "srgb")
 
 
 def srgb_encode(linear):

@@ -26,7 +26,7 @@ class Image(np.ndarray):
     def _repr_png_(self):
         if self.ndim not in (2, 3) or self.size == 0:
             return None
-        return _display.png_bytes(_display.to_display(np.asarray(self), self.encoding))
+        return _display.png_bytes(_display.image_display(np.asarray(self), self.encoding))
 
 
 class Mesh:

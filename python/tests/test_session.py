@@ -239,6 +239,39 @@ def test_image_repr_png_is_tone_mapped():
     assert raw[1:4] == bytes([188, 188, 188])
 
 
+def png_pixels(png):
+    """The first row's first pixel of one of _display.png_bytes's PNGs (RGB, filter 0)."""
+    import zlib
+    raw = zlib.decompressobj().decompress(png[png.index(b"IDAT") + 4:])
+    return list(raw[1:4])
+
+
+def test_jupyter_shows_linear_images_through_a_view_when_asked():
+    """Issue 40: loom.set_view(VIEW) shows linear images through the config's
+    view, as the DisplayView node gives it; None is the default tone map."""
+    try:
+        views = next(i["choices"] for i in loom.nodes["DisplayView"].declaration["inputs"] if i["name"] == "view")
+    except (loom.Error, KeyError, AttributeError):
+        pytest.skip("plugin color (OpenColorIO) not built")
+    assert "ACES 1.0 - SDR Video" in views
+    grey = loom.Image(np.full((1, 2, 3), [0.18, 0.18, 0.18], dtype=np.float32), "linear")
+    bright = loom.Image(np.full((1, 2, 3), [4.0, 4.0, 4.0], dtype=np.float32), "linear")
+    g = loom.Graph()
+    node = g.add("DisplayView", image=grey, view="ACES 1.0 - SDR Video")
+    by_node = np.asarray(loom.Session(disk_cache=False).run(g, node.image))[0, 0]
+    try:
+        loom.set_view("ACES 1.0 - SDR Video")
+        aces = png_pixels(grey._repr_png_())
+        assert aces == [int(np.clip(v, 0, 1) * 255 + 0.5) for v in by_node]
+        assert aces != [118, 118, 118]  # the sRGB curve's 0.18, which the filmic curve darkens
+        assert png_pixels(bright._repr_png_())[0] < 255  # tone-mapped, not clipped
+        with pytest.raises(loom.Error, match="did you mean"):
+            loom.set_view("Standrad")
+    finally:
+        loom.set_view(None)
+    assert png_pixels(grey._repr_png_()) == [118, 118, 118]  # sRGB(0.18) = 0.4614 -> 118
+
+
 def test_mesh_preview_is_rendered():
     try:
         loom.nodes.Render
