@@ -2,41 +2,9 @@
 
 #include <iostream>
 
+#include "loom/call_node.hpp"
+
 namespace loom::runner {
-
-namespace {
-
-// What SaveImage's body reads: the partial image, the preview's path, and
-// every other input at its default.
-class PreviewHost final : public NodeHost {
- public:
-  PreviewHost(const NodeSpec& spec, Value image, const std::filesystem::path& file)
-      : spec_(spec), image_(std::move(image)), path_(Value::make<std::string>(file.string())) {}
-  Value fetch_input(int index) override {
-    const InputSpec& in = spec_.inputs[static_cast<std::size_t>(index)];
-    if (in.name == "image") return image_;
-    if (in.name == "path") return path_;
-    return Value(in.type, in.type->from_json(in.default_value));
-  }
-  bool input_set(int) const override { return true; }
-  void report_progress(double, std::string_view) override {}
-  void report(bool warning, std::string text) override {
-    if (warning) std::cerr << "warning: preview: " << text << "\n";
-  }
-  bool cancelled() const override { return false; }
-  std::shared_ptr<void> scratch(std::uint64_t, const std::function<std::shared_ptr<void>()>& make) override {
-    return make();
-  }
-  std::shared_ptr<void> sequence_state(const std::function<std::shared_ptr<void>()>& make) override {
-    return make();
-  }
-
- private:
-  const NodeSpec& spec_;
-  Value image_, path_;
-};
-
-}  // namespace
 
 const NodeType* save_image_type(LoadedGraph& loaded) {
   try {
@@ -66,14 +34,16 @@ void PreviewWriter::node_partial(const std::string& id, const std::string&, cons
   if (value.type()->name != "Image") return;
   std::lock_guard lock(mutex_);  // one write at a time, also from nodes running side by side
   if (failed_ || (written_ > 0 && Clock::now() - last_ < every_)) return;
-  PreviewHost host(save_.spec, value, file_);
-  Inputs in(save_.spec, host);
-  Outputs out(save_.spec);
-  const std::string node = "preview of " + id;
-  const std::filesystem::path here = file_.parent_path();
-  Context ctx(host, node, 0, here, here);
+  NodeCall call;  // SaveImage of the partial image to the preview's path, every other input at its default
+  call.values.emplace("image", value);
+  call.literals["path"] = file_.string();
+  call.id = "preview of " + id;
+  call.dir = file_.parent_path();
+  call.report = [](bool warning, const std::string& text) {
+    if (warning) std::cerr << "warning: preview: " << text << "\n";
+  };
   try {
-    save_.run(in, out, ctx);
+    call_node(save_, call);
   } catch (const std::exception& e) {  // the render goes on: only its preview stops
     failed_ = true;
     next_.node_message(id, true, std::string("--preview stopped: ") + e.what());
