@@ -9,6 +9,7 @@
 #include <imgui_internal.h>  // PushItemFlag(ImGuiItemFlags_NoTabStop)
 
 #include "loom/atomic_file.hpp"
+#include "loom/call_node.hpp"
 #include "loom/mesh.hpp"
 #include "value_views.hpp"
 
@@ -41,6 +42,7 @@ EditorApp::EditorApp(EditorOptions options)
       message_ += std::string(e.what()) + "\n";
     }
   }
+  offer_views();
   controller_ = std::make_unique<EvaluationController>(registry_, options_.threads);
   watcher_ = std::make_unique<PluginWatcher>(*loader_);
   if (options_.config_dir.empty()) {
@@ -52,6 +54,24 @@ EditorApp::EditorApp(EditorOptions options)
 }
 
 EditorApp::~EditorApp() = default;
+
+// The viewer shows linear images through the colour plugin's views when it
+// is there: the DisplayView node's body, run on the shown image (call_node),
+// so the viewer and a graph's DisplayView give the same pixels.
+void EditorApp::offer_views() {
+  const NodeType* type = registry_.find("DisplayView");
+  const InputSpec* view = type ? type->spec.find_input("view") : nullptr;
+  if (!view) return;
+  image_viewer_.set_views(view->choices, [this](const Image& image, const std::string& name) {
+    const NodeType* now = registry_.find("DisplayView");  // looked up again: a hot reload may replace it
+    if (!now) throw Error("the DisplayView node (plugin color) is not loaded");
+    NodeCall call;
+    call.values.emplace("image", Value::make<Image>(image));
+    call.literals["view"] = name;
+    call.id = "viewer";
+    return call_node(*now, call).at(0).as<Image>();
+  });
+}
 
 void EditorApp::open(const fs::path& file) {
   doc_.load(file);

@@ -101,6 +101,7 @@ class EditorApp {
   const ImageView& image_view() const { return image_view_; }
   const MeshViewer& mesh_viewer() const { return mesh_viewer_; }
   const ImageViewer& image_viewer() const { return image_viewer_; }
+  ImageViewer& image_viewer() { return image_viewer_; }
   // The document revision whose result (or newest pass) the viewer drew last frame.
   std::uint64_t shown_revision() const { return shown_revision_; }
   EvaluationController& controller() { return *controller_; }
@@ -126,6 +127,7 @@ class EditorApp {
   void menu_bar(Window& window);
   void shortcuts();
   void hot_reload();
+  void offer_views();
   void viewer();
   void unsaved_prompt();
   void conflict_prompt();

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <GL/gl.h>
+#include <opencv2/core.hpp>
 
 namespace loom::editor {
 
@@ -12,9 +13,46 @@ ImageViewer::~ImageViewer() {
   if (texture_) glDeleteTextures(1, &texture_);
 }
 
+void ImageViewer::set_views(std::vector<std::string> views, ViewTransform apply) {
+  views_ = std::move(views);
+  apply_view_ = std::move(apply);
+  if (std::find(views_.begin(), views_.end(), view_) == views_.end()) view_.clear();
+}
+
+void ImageViewer::choose_view(const std::string& view) {
+  if (view.empty() || std::find(views_.begin(), views_.end(), view) != views_.end()) view_ = view;
+}
+
+bool ImageViewer::shows_through_view(const Image& image) const {
+  return !view_.empty() && apply_view_ && image.encoding == Encoding::linear &&
+         (image.channels() == 3 || image.channels() == 4);
+}
+
+// The image through the chosen view, its exposure applied first (scene
+// light scaled, as a camera's exposure does); alpha is left as it is.
+Image ImageViewer::through_view(const Image& image) {
+  const double gain = std::exp2(double(exposure_));
+  cv::Mat exposed;
+  cv::multiply(image.pixels, cv::Scalar(gain, gain, gain, 1.0), exposed);
+  return apply_view_(Image(exposed, Encoding::linear), view_);
+}
+
 void ImageViewer::upload(const Image& image) {
-  const int w = image.width(), h = image.height(), c = image.channels();
-  const bool linear = image.encoding == Encoding::linear;
+  // Through a view: its display-encoded result is shown as it is.
+  Image viewed;
+  bool view = shows_through_view(image);
+  if (view) {
+    try {
+      viewed = through_view(image);
+      view_error_.clear();
+    } catch (const std::exception& e) {
+      view_error_ = e.what();
+      view = false;
+    }
+  }
+  const Image& shown = view ? viewed : image;
+  const int w = shown.width(), h = shown.height(), c = shown.channels();
+  const bool linear = shown.encoding == Encoding::linear;
   const float gain = std::exp2(exposure_);
   // Which channels are on: a single one is shown as gray.
   int only = -1, on = 0;
@@ -30,7 +68,7 @@ void ImageViewer::upload(const Image& image) {
     return std::uint8_t(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f);
   };
   for (int y = 0; y < h; ++y) {
-    const float* row = image.pixels.ptr<float>(y);
+    const float* row = shown.pixels.ptr<float>(y);
     for (int x = 0; x < w; ++x) {
       const float* px = row + std::size_t(x) * c;
       std::uint8_t* out = &rgba[(std::size_t(y) * w + x) * 4];
@@ -69,6 +107,20 @@ void ImageViewer::toolbar(const Image& image) {
     ImGui::SameLine();
     ImGui::SetNextItemWidth(120);
     ImGui::SliderFloat("exposure", &exposure_, -8, 8, "%+.1f EV");
+  }
+  if (linear && (c == 3 || c == 4) && !views_.empty()) {
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(190);
+    if (ImGui::BeginCombo("view", view_.empty() ? "sRGB curve" : view_.c_str())) {
+      if (ImGui::Selectable("sRGB curve", view_.empty())) view_.clear();
+      for (const std::string& v : views_)
+        if (ImGui::Selectable(v.c_str(), v == view_)) view_ = v;
+      ImGui::EndCombo();
+    }
+    if (!view_error_.empty()) {
+      ImGui::SameLine();
+      ImGui::TextDisabled("view failed: %s", view_error_.c_str());
+    }
   }
   ImGui::SameLine();
   if (ImGui::SmallButton("fit")) fit_ = true;
@@ -130,11 +182,12 @@ ImageView ImageViewer::draw(const Image& image, const void* identity, bool navig
   }
   toolbar(image);
   const bool same_channels = std::equal(channels_, channels_ + 4, uploaded_channels_);
-  if (identity != uploaded_ || exposure_ != uploaded_exposure_ || !same_channels) {
+  if (identity != uploaded_ || exposure_ != uploaded_exposure_ || !same_channels || view_ != uploaded_view_) {
     upload(image);
     ++uploads_;
     uploaded_ = identity;
     uploaded_exposure_ = exposure_;
+    uploaded_view_ = view_;
     std::copy(channels_, channels_ + 4, uploaded_channels_);
   }
   if (image.width() != width_ || image.height() != height_) {

@@ -5,6 +5,10 @@
 // the image-to-screen mapping through ImageView.
 #pragma once
 
+#include <functional>
+#include <string>
+#include <vector>
+
 #include <cstdint>
 
 #include <imgui.h>
@@ -42,9 +46,21 @@ class ImageViewer {
   void fit() { fit_ = true; }
   int uploads() const { return uploads_; }  // textures made so far (tests)
 
+  // A display's views (the colour plugin's DisplayView): a linear RGB(A)
+  // image may be shown through one of them, its exposure applied first,
+  // instead of through the sRGB curve. `apply` returns the display-encoded
+  // image (it may throw: the viewer then says why and uses the curve).
+  using ViewTransform = std::function<Image(const Image& scene_linear, const std::string& view)>;
+  void set_views(std::vector<std::string> views, ViewTransform apply);
+  const std::vector<std::string>& views() const { return views_; }
+  // "" (the sRGB curve) or one of views(), as the "view" menu sets it.
+  void choose_view(const std::string& view);
+
  private:
   void toolbar(const Image& image);
   void upload(const Image& image);
+  bool shows_through_view(const Image& image) const;
+  Image through_view(const Image& image);
   ImageView place(ImVec2 origin, ImVec2 size, bool navigate);
   void inspect(const Image& image, const ImageView& view, bool navigate) const;
   int uploads_ = 0;
@@ -54,6 +70,9 @@ class ImageViewer {
   bool uploaded_channels_[4] = {true, true, true, true};
   int width_ = 0, height_ = 0;
   float exposure_ = 0;
+  std::vector<std::string> views_;
+  ViewTransform apply_view_;
+  std::string view_, uploaded_view_, view_error_;
   bool channels_[4] = {true, true, true, true};
   float zoom_ = 1;
   ImVec2 pan_{0, 0};

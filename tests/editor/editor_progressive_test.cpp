@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "loom/call_node.hpp"
 #include "loom/image.hpp"
 #include "ui_harness.hpp"
 
@@ -142,6 +143,49 @@ TEST(EditorProgressive, ArapsMapRefinesInTheViewer) {
   EXPECT_TRUE(std::is_sorted(shown.begin(), shown.end()));
   std::printf("ARAP 14,400 vertices in the editor: %zu maps shown while iterating (iterations %.0f..%.0f)\n",
               shown.size(), shown.front(), shown.back());
+}
+
+// The viewer shows a linear image through a view of the colour config when
+// asked (the "view" menu): the pixels on screen are the DisplayView node's
+// for that image, and the sRGB curve's again when the menu says so.
+TEST(EditorViewer, ALinearImageIsShownThroughTheChosenView) {
+  Harness h(1600, 900);
+  if (h.app.image_viewer().views().empty()) GTEST_SKIP() << "plugin color (OpenColorIO) not built";
+  h.app.open(write_graph(
+      {{"loom", 1},
+       {"nodes",
+        {{"board", {{"type", "Checkerboard"}, {"inputs", {{"size", {64, 64}}, {"cells", 1}, {"color_a", {0.6, 0.5, 0.4, 1}}}}}},
+         {"linear", {{"type", "ColorConvert"}, {"inputs", {{"image", {{"from", "board.image"}}}, {"to", "lin_rec709"}}}}}}}},
+      "view.json"));
+  h.frame(2);
+  h.click(h.app.canvas().node_header(h.app.state(), "linear"));
+  ASSERT_GT(until_shown(h), 0);
+  const Value shown = h.app.state().viewed_output(0);
+  ASSERT_TRUE(shown && shown.is<Image>());
+  const ImVec2 centre = h.app.image_view().to_screen(32, 32);
+  const auto screen = [&](const std::string& name) {
+    h.frame(3);
+    const Rgba8Image frame = h.screenshot(name);
+    const std::uint8_t* p = frame.at(int(centre.x), int(centre.y));
+    return std::vector<int>{p[0], p[1], p[2]};
+  };
+  const auto bytes = [](const cv::Vec3f& v) {
+    std::vector<int> out;
+    for (int k = 0; k < 3; ++k) out.push_back(int(std::clamp(v[k], 0.0f, 1.0f) * 255.0f + 0.5f));
+    return out;
+  };
+  const cv::Vec3f linear = shown.as<Image>().pixels.at<cv::Vec3f>(32, 32);
+  EXPECT_EQ(screen("viewer-srgb-curve"), bytes({linear_to_srgb(linear[0]), linear_to_srgb(linear[1]), linear_to_srgb(linear[2])}));
+
+  h.app.image_viewer().choose_view("ACES 1.0 - SDR Video");
+  NodeCall call;
+  call.values.emplace("image", shown);
+  call.literals["view"] = "ACES 1.0 - SDR Video";
+  const Image by_node = call_node(*h.app.registry().find("DisplayView"), call).at(0).as<Image>();
+  const std::vector<int> aces = screen("viewer-aces-view");
+  EXPECT_EQ(aces, bytes(by_node.pixels.at<cv::Vec3f>(32, 32)));
+  h.app.image_viewer().choose_view("");
+  EXPECT_NE(screen("viewer-srgb-curve"), aces);  // the filmic curve darkens mid-grey where the sRGB curve does not
 }
 
 }  // namespace
