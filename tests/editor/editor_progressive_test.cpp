@@ -154,8 +154,10 @@ TEST(EditorViewer, ALinearImageIsShownThroughTheChosenView) {
   h.app.open(write_graph(
       {{"loom", 1},
        {"nodes",
-        {{"board", {{"type", "Checkerboard"}, {"inputs", {{"size", {64, 64}}, {"cells", 1}, {"color_a", {0.6, 0.5, 0.4, 1}}}}}},
-         {"linear", {{"type", "ColorConvert"}, {"inputs", {{"image", {{"from", "board.image"}}}, {"to", "lin_rec709"}}}}}}}},
+        {{"board",
+          {{"type", "Checkerboard"}, {"inputs", {{"size", {64, 64}}, {"cells", 1}, {"color_a", {0.6, 0.5, 0.4, 1}}}}}},
+         {"linear",
+          {{"type", "ColorConvert"}, {"inputs", {{"image", {{"from", "board.image"}}}, {"to", "lin_rec709"}}}}}}}},
       "view.json"));
   h.frame(2);
   h.click(h.app.canvas().node_header(h.app.state(), "linear"));
@@ -175,7 +177,8 @@ TEST(EditorViewer, ALinearImageIsShownThroughTheChosenView) {
     return out;
   };
   const cv::Vec3f linear = shown.as<Image>().pixels.at<cv::Vec3f>(32, 32);
-  EXPECT_EQ(screen("viewer-srgb-curve"), bytes({linear_to_srgb(linear[0]), linear_to_srgb(linear[1]), linear_to_srgb(linear[2])}));
+  const cv::Vec3f curve(linear_to_srgb(linear[0]), linear_to_srgb(linear[1]), linear_to_srgb(linear[2]));
+  EXPECT_EQ(screen("viewer-srgb-curve"), bytes(curve));
 
   h.app.image_viewer().choose_view("ACES 1.0 - SDR Video");
   NodeCall call;
