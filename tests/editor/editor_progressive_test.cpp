@@ -1,8 +1,10 @@
 // Issue 41 in the window (1600x900 under Xvfb): a PathTrace of the Cornell
 // box refines on screen pass by pass; an edit upstream (the camera) cancels it
 // and the first pass of the new render is on screen fast; a drag on the image
-// orbits the camera as one undo step. Prints the figures docs/editor.md
-// reports: edit -> first new pixels on screen, and updates per second.
+// orbits the camera as one undo step; ARAP's map refines; and what the viewer
+// shows of a linear image through a view of the colour config (issue 40).
+// Prints the figures docs/editor.md reports: edit -> first new pixels on
+// screen, and updates per second.
 #include <algorithm>
 #include <cstdio>
 #include <vector>
