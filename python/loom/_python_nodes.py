@@ -123,6 +123,12 @@ def node(inputs=None, outputs=None, name=None, doc=None, sink=False, time_depend
                  "source_file": _source_file(fn)}
         description = doc or inspect.getdoc(fn) or ""
         declaration = (ins, outs, flags, description, version)
+        # A run Ctrl-C interrupted may still be ending its cancelled work (it
+        # counts as running, and reads the node types): wait for it, as a
+        # session's next call does, so that redeclaring a node right after
+        # Ctrl-C (a notebook cell run again) is not refused.
+        from . import _session
+        _session._settle_sessions()
         _loom.declare_node(full, module, fn, description, ins, outs, flags, _source_hash(fn, declaration),
                            "ctx" in params)
         _docs.forget()

@@ -170,6 +170,28 @@ def test_keyboard_interrupt_does_not_wait_for_a_call_that_cannot_stop():
     assert time.monotonic() - start > 2.9  # the cancelled run ended before the next one
 
 
+def test_a_node_is_declared_right_after_a_keyboard_interrupt():
+    """Redeclaring a node after Ctrl-C (a notebook cell run again) while the
+    cancelled run still ends its call that cannot stop waits for it, as the
+    session's next call does, instead of being refused as "while a
+    Session.run is in progress"."""
+    g = loom.Graph()
+    g.add("py.loomtest_nodes.Block", id="block", seconds=3.0)
+    session = loom.Session(disk_cache=False)
+    threading.Timer(0.5, _thread.interrupt_main).start()
+    with pytest.raises(KeyboardInterrupt):
+        session.run(g, "block.slept")
+    namespace = {"loom": loom}
+    exec("""
+@loom.node(inputs={"x": loom.In("Float", 1.0)}, outputs={"y": "Float"}, name="AfterInterrupt")
+def after_interrupt(x):
+    return x + 1
+""", namespace)
+    after = loom.Graph()
+    n = after.add("py.AfterInterrupt", x=2.0)
+    assert session.run(after, n.y) == 3.0
+
+
 def test_gil_is_released_while_the_engine_works():
     g = loom.Graph()
     board = g.add("Checkerboard", size=[2048, 2048], cells=64)
