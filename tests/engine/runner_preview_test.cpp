@@ -51,5 +51,33 @@ TEST(RunnerPreview, APathTraceIsPreviewedWhileItRunsAndSigintEndsItWithinHalfASe
   EXPECT_FALSE(fs::exists(out / "final.png"));  // the sink never saw a partial image
 }
 
+// SaveImage writes the preview through a host of the runner's own, whose
+// inputs other than the image and the path are their defaults: each must
+// live while SaveImage's body reads it (it once read "tiled" from a value
+// already freed, which ThreadSanitizer and AddressSanitizer report; a
+// sanitized runner then exits 66 or aborts instead of 0).
+TEST(RunnerPreview, APreviewedRunThatEndsWritesThePreviewAndTheResult) {
+  const auto dir = test::temp_dir();
+  const auto g = test::write_graph(
+      dir, {{"loom", 1},
+            {"nodes",
+             {{"box", {{"type", "CornellBox"}}},
+              {"pt", {{"type", "PathTrace"},
+                      {"inputs", {{"scene", test::from("box.scene")}, {"size", {64, 48}}, {"spp", 8}}}}},
+              {"save", {{"type", "SaveImage"}, {"inputs", {{"image", test::from("pt.image")}, {"path", "final.png"}}}}}}}});
+  const fs::path preview = dir / "preview.png", out = dir / "out";
+  std::string printed;
+  EXPECT_EQ(test::run_loom("run " + g.string() + " --no-cache -q --out " + out.string() + " --preview " +
+                               preview.string() + " --preview-every 0",
+                           &printed),
+            0)
+      << printed;
+  const cv::Mat shown = cv::imread(preview.string(), cv::IMREAD_COLOR);
+  ASSERT_FALSE(shown.empty()) << printed;
+  EXPECT_EQ(shown.cols, 64);
+  EXPECT_EQ(shown.rows, 48);
+  EXPECT_TRUE(fs::exists(out / "final.png")) << printed;
+}
+
 }  // namespace
 }  // namespace loom
