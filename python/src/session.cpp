@@ -11,6 +11,7 @@
 #include <deque>
 #include <exception>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -150,21 +151,27 @@ struct SessionCore::Running {
   std::exception_ptr failure;
   ActiveRun active;
   std::thread worker;
+  std::mutex joining;  // two Python threads may settle one session at once
   explicit Running(bool partials) : observer(partials) {}
+  void join() {
+    std::lock_guard<std::mutex> lock(joining);
+    if (worker.joinable()) worker.join();
+  }
 };
 
 void SessionCore::settle() {
-  if (!finishing) return;
+  const std::shared_ptr<Running> run = finishing;
+  if (!run) return;
   {
     py::gil_scoped_release release;  // its Python bodies may need the GIL to end
-    finishing->worker.join();
+    run->join();
   }
-  finishing.reset();  // with the GIL: it holds the graph's Python object
+  if (finishing == run) finishing.reset();  // with the GIL: it holds the graph's Python object
 }
 
 SessionCore::~SessionCore() {
   if (finishing && PyGILState_Check()) settle();
-  else if (finishing) finishing->worker.join();
+  else if (finishing) finishing->join();
 }
 
 py::dict SessionCore::run(const py::object& prepared_object, const std::vector<std::string>& targets,
@@ -218,7 +225,7 @@ py::dict SessionCore::run(const py::object& prepared_object, const std::vector<s
   }
   {
     py::gil_scoped_release release;
-    run->worker.join();
+    run->join();
   }
   if (run->failure) std::rethrow_exception(run->failure);
   return result_to_python(prepared, run->result);

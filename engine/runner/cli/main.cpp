@@ -128,9 +128,11 @@ int cmd_run(const RunSettings& s) {
     loom::Session session(registry);
     result = loom::runner::evaluate_on_ranks(session, graph, registry, *options);
   } catch (const std::exception& e) {
+    loom::runner::nodes_returned();
     std::cerr << "error: " << e.what() << "\n";
     return kInvalid;
   }
+  loom::runner::nodes_returned();
   observer.stop();
   if (disk && !s.cache.no_trim && disk->bytes_written() > 0) disk->trim();  // a run that stored nothing scans nothing
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

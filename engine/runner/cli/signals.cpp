@@ -116,6 +116,11 @@ std::atomic<bool>& cancel_flag() { return g_cancel; }
 
 std::string interrupted_message() { return message_for(g_signal.load()); }
 
+void nodes_returned() {
+  itimerval off{};
+  ::setitimer(ITIMER_REAL, &off, nullptr);
+}
+
 void stop_on_signals(Grace grace) {
   const int ms = grace_ms(grace);
   for (std::size_t i = 0; i < kStopSignals.size(); ++i)

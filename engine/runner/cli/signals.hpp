@@ -35,6 +35,10 @@ std::atomic<bool>& cancel_flag();
 // (a second signal still leaves at once). The handlers do not restart
 // interrupted calls, so a wait for children wakes up to pass the signal on.
 void stop_on_signals(Grace grace);
+// The nodes have returned: a grace timer a signal armed is stopped, so that
+// the run's own ending (its last line, the cache trim) is not cut short by it.
+// A later signal arms it again.
+void nodes_returned();
 
 // "error: interrupted by SIGTERM: ...", the last line of a cancelled run.
 std::string interrupted_message();

@@ -238,6 +238,7 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
                    plan.points[i].values.dump().c_str(), points.back()["status"].get<std::string>().c_str(),
                    points.back()["source"].get<std::string>().c_str(), points.back()["run_seconds"].get<double>());
   }
+  nodes_returned();
   if (cancel_flag()) {
     std::cerr << interrupted_message() << "\nthe sweep's tables were not written: --sweep-collect writes them "
                                          "from the points done\n";
