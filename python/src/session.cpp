@@ -170,8 +170,11 @@ void SessionCore::settle() {
 }
 
 SessionCore::~SessionCore() {
-  if (finishing && PyGILState_Check()) settle();
-  else if (finishing) finishing->join();
+  if (!finishing) return;
+  if (PyGILState_Check())
+    settle();
+  else
+    finishing->join();
 }
 
 py::dict SessionCore::run(const py::object& prepared_object, const std::vector<std::string>& targets,
