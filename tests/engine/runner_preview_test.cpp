@@ -13,15 +13,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST(RunnerPreview, APathTraceIsPreviewedWhileItRunsAndSigintEndsItWithinHalfASecond) {
-  const auto dir = test::temp_dir();
-  const auto g = test::write_graph(
+// The Cornell box path traced at width x height and `spp` into final.png.
+fs::path cornell_trace_graph(const fs::path& dir, int width, int height, int spp) {
+  return test::write_graph(
       dir, {{"loom", 1},
             {"nodes",
              {{"box", {{"type", "CornellBox"}}},
               {"pt", {{"type", "PathTrace"},
-                      {"inputs", {{"scene", test::from("box.scene")}, {"size", {640, 480}}, {"spp", 4096}}}}},
+                      {"inputs", {{"scene", test::from("box.scene")}, {"size", {width, height}}, {"spp", spp}}}}},
               {"save", {{"type", "SaveImage"}, {"inputs", {{"image", test::from("pt.image")}, {"path", "final.png"}}}}}}}});
+}
+
+TEST(RunnerPreview, APathTraceIsPreviewedWhileItRunsAndSigintEndsItWithinHalfASecond) {
+  const auto dir = test::temp_dir();
+  const auto g = cornell_trace_graph(dir, 640, 480, 4096);
   const fs::path preview = dir / "preview.png", out = dir / "out";
   // Started in the background; once the preview file exists (the first
   // passes are done and the render is well under way), SIGINT, timed.
@@ -51,20 +56,14 @@ TEST(RunnerPreview, APathTraceIsPreviewedWhileItRunsAndSigintEndsItWithinHalfASe
   EXPECT_FALSE(fs::exists(out / "final.png"));  // the sink never saw a partial image
 }
 
-// SaveImage writes the preview through a host of the runner's own, whose
-// inputs other than the image and the path are their defaults: each must
-// live while SaveImage's body reads it (it once read "tiled" from a value
-// already freed, which ThreadSanitizer and AddressSanitizer report; a
-// sanitized runner then exits 66 or aborts instead of 0).
+// SaveImage writes the preview through call_node (loom/call_node.hpp), its
+// inputs other than the image and the path at their defaults: each must live
+// while SaveImage's body reads it (it once read "tiled" from a value already
+// freed, which ThreadSanitizer and AddressSanitizer report; a sanitized
+// runner then exits 66 or aborts instead of 0).
 TEST(RunnerPreview, APreviewedRunThatEndsWritesThePreviewAndTheResult) {
   const auto dir = test::temp_dir();
-  const auto g = test::write_graph(
-      dir, {{"loom", 1},
-            {"nodes",
-             {{"box", {{"type", "CornellBox"}}},
-              {"pt", {{"type", "PathTrace"},
-                      {"inputs", {{"scene", test::from("box.scene")}, {"size", {64, 48}}, {"spp", 8}}}}},
-              {"save", {{"type", "SaveImage"}, {"inputs", {{"image", test::from("pt.image")}, {"path", "final.png"}}}}}}}});
+  const auto g = cornell_trace_graph(dir, 64, 48, 8);
   const fs::path preview = dir / "preview.png", out = dir / "out";
   std::string printed;
   EXPECT_EQ(test::run_loom("run " + g.string() + " --no-cache -q --out " + out.string() + " --preview " +
