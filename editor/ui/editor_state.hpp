@@ -33,8 +33,9 @@ struct EditorState {
   // finished there, else the newest evaluation's (a flat node's, or a group
   // instance's summary).
   const NodeReport* report(const std::string& id) const {
-    if (auto it = live.find(engine_id(id)); it != live.end() && !it->second.running) return &it->second.report;
-    return eval ? eval->report(engine_id(id)) : nullptr;
+    const std::string path = engine_id(id);
+    if (auto it = live.find(path); it != live.end() && !it->second.running) return &it->second.report;
+    return eval ? eval->report(path) : nullptr;
   }
   // What the node is doing in the running evaluation, or null when it is
   // not running; a group node runs while one of its inner nodes does.
