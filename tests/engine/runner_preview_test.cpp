@@ -16,12 +16,14 @@ namespace fs = std::filesystem;
 // The Cornell box path traced at width x height and `spp` into final.png.
 fs::path cornell_trace_graph(const fs::path& dir, int width, int height, int spp) {
   return test::write_graph(
-      dir, {{"loom", 1},
-            {"nodes",
-             {{"box", {{"type", "CornellBox"}}},
-              {"pt", {{"type", "PathTrace"},
-                      {"inputs", {{"scene", test::from("box.scene")}, {"size", {width, height}}, {"spp", spp}}}}},
-              {"save", {{"type", "SaveImage"}, {"inputs", {{"image", test::from("pt.image")}, {"path", "final.png"}}}}}}}});
+      dir,
+      {{"loom", 1},
+       {"nodes",
+        {{"box", {{"type", "CornellBox"}}},
+         {"pt",
+          {{"type", "PathTrace"},
+           {"inputs", {{"scene", test::from("box.scene")}, {"size", {width, height}}, {"spp", spp}}}}},
+         {"save", {{"type", "SaveImage"}, {"inputs", {{"image", test::from("pt.image")}, {"path", "final.png"}}}}}}}});
 }
 
 TEST(RunnerPreview, APathTraceIsPreviewedWhileItRunsAndSigintEndsItWithinHalfASecond) {
