@@ -514,6 +514,20 @@ def wait_for(predicate, seconds, what):
     raise AssertionError(f"timed out waiting for {what}")
 
 
+def written_now(folder):
+    """The whole files in `folder` while a watching run writes there: its
+    staging files (".loomtmp-...", renamed into place or removed at any
+    moment) are not outputs yet. The final comparison (same_files) still sees
+    any staging file left behind."""
+    files = {}
+    for f in output_files(folder):
+        if os.path.basename(f).startswith(".loomtmp-"):
+            continue
+        with open(os.path.join(folder, f), "rb") as stream:
+            files[f] = stream.read()
+    return files
+
+
 def d_watch(feature, work):
     if not feature.edits:
         raise NotApplicable("no file to edit in this row (the graph file's edit is the plain row's)")
@@ -526,7 +540,7 @@ def d_watch(feature, work):
         wait_for(runs, 60, "the first run")
         time.sleep(0.5)
         for kind, path, edit in feature.edits:
-            before = {f: open(os.path.join(out, f), "rb").read() for f in output_files(out)}
+            before = written_now(out)
             if callable(edit):
                 with open(path) as f:
                     d = json.load(f)
@@ -538,8 +552,7 @@ def d_watch(feature, work):
                 f.write(text)
 
             def changed():
-                now = {f: open(os.path.join(out, f), "rb").read() for f in output_files(out)}
-                return now != before
+                return written_now(out) != before
             wait_for(changed, 30, f"a run after the {kind} changed")
             time.sleep(0.5)
         same_files(reference(feature, work, fresh=True), out)
