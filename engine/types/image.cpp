@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <cstring>
 #include <sstream>
+#include <string>
+#include <utility>
 
 #include <opencv2/core.hpp>
 
@@ -19,6 +21,11 @@ float linear_to_srgb(float c) {
 
 Image with_encoding(const Image& image, Encoding target) {
   if (image.encoding == target) return image;
+  if (!image.space.empty())
+    throw Error("an image in colour space " + image.space + " cannot be " +
+                (target == Encoding::srgb ? "sRGB-encoded" : "decoded to linear") +
+                " by the sRGB curve alone: convert it first (ColorConvert to the linear or sRGB space, or "
+                "DisplayView)");
   Image out(image.pixels.clone(), target);
   const int ch = out.channels();
   const int color = (ch == 2 || ch == 4) ? ch - 1 : ch;  // alpha is never encoded
@@ -57,19 +64,24 @@ void require_finite(const Image& image, const char* what) {
 
 void TypeTraits<Image>::check(const Image& v) { require_finite(v, "the image"); }
 
+std::string describe_space(const Image& image) {
+  const char* encoding = image.encoding == Encoding::srgb ? "sRGB" : "linear";
+  return image.space.empty() ? encoding : std::string(encoding) + " " + image.space;
+}
+
 std::string TypeTraits<Image>::summary(const Image& image) {
   std::ostringstream s;
-  s << "Image " << image.width() << "x" << image.height() << "x" << image.channels() << " "
-    << (image.encoding == Encoding::srgb ? "sRGB" : "linear");
+  s << "Image " << image.width() << "x" << image.height() << "x" << image.channels() << " " << describe_space(image);
   return s.str();
 }
 
-// Rows, columns, channels, encoding, then the float pixels row by row.
+// Rows, columns, channels, encoding, colour space, then the float pixels row by row.
 void TypeTraits<Image>::write(const Image& image, ByteWriter& w) {
   w.pod<std::int32_t>(image.height());
   w.pod<std::int32_t>(image.width());
   w.pod<std::int32_t>(image.channels());
   w.pod<std::int32_t>(image.encoding == Encoding::srgb ? 1 : 0);
+  w.str(image.space);
   const std::size_t row = sizeof(float) * static_cast<std::size_t>(image.width() * image.channels());
   for (int y = 0; y < image.height(); ++y) w.bytes(image.pixels.ptr<float>(y), row);
 }
@@ -77,11 +89,13 @@ void TypeTraits<Image>::write(const Image& image, ByteWriter& w) {
 Image TypeTraits<Image>::read(ByteReader& r) {
   const auto rows = r.pod<std::int32_t>(), cols = r.pod<std::int32_t>(), ch = r.pod<std::int32_t>();
   const auto enc = r.pod<std::int32_t>();
+  std::string space = r.str();
   if (rows < 0 || cols < 0 || ch < 1 || ch > 4 || (enc != 0 && enc != 1) ||
       static_cast<std::uint64_t>(rows) * static_cast<std::uint64_t>(cols) * static_cast<std::uint64_t>(ch) >
           r.remaining() / sizeof(float))
     throw Error("stored image has impossible dimensions");
-  Image image(cv::Mat(rows, cols, CV_MAKETYPE(CV_32F, ch)), enc ? Encoding::srgb : Encoding::linear);
+  Image image(cv::Mat(rows, cols, CV_MAKETYPE(CV_32F, ch)), enc ? Encoding::srgb : Encoding::linear,
+              std::move(space));
   const std::size_t row = sizeof(float) * static_cast<std::size_t>(cols * ch);
   for (int y = 0; y < rows; ++y) r.bytes(image.pixels.ptr<float>(y), row);
   return image;

@@ -28,7 +28,7 @@ struct DrawShapes {
     if (in.has("image")) {
       const Image& image = in.get<Image>("image");
       if (image.empty()) throw Error("image is empty: link a non-empty image, or unlink it for a blank canvas");
-      canvas = Image(image.pixels.clone(), image.encoding);
+      canvas = image.like(image.pixels.clone());
     } else {
       const Vec2i& size = in.get<Vec2i>("size");
       const Eigen::Vector4d& bg = in.get<Color>("background").rgba;

@@ -58,7 +58,7 @@ struct Posterize {
       });
       ctx.progress(end, result.rows, "rows");
     }
-    out.set("image", loom::Image(result, image.encoding));
+    out.set("image", image.like(result));
   }
 };
 LOOM_NODE(Posterize);

@@ -94,6 +94,9 @@ struct PoissonBlend {
                   std::to_string(target.channels()) + ": convert one so they match");
     loom::require_finite(source, "source");
     loom::require_finite(target, "target");
+    if (source.space != target.space)
+      throw Error("source is " + loom::describe_space(source) + ", target " + loom::describe_space(target) +
+                  ": ColorConvert one so they are in the same colour space");
     if (source.encoding != target.encoding) {
       ctx.warn("source and target have different encodings: the source is converted to the "
                "target's");
@@ -130,7 +133,7 @@ struct PoissonBlend {
     }
     cv::Mat image = target.pixels.clone();
     f.copyTo(image(region.rect), region.unknown);
-    out.set("image", Image(image, target.encoding));
+    out.set("image", target.like(image));
   }
 };
 LOOM_NODE(PoissonBlend);

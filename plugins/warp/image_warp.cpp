@@ -66,7 +66,7 @@ struct ImageWarp {
       cv::Mat unwritten = ~splat.written;
       unwritten.convertTo(holes, CV_32F, 1.0 / 255);
     }
-    out.set("image", Image(warped, image.encoding));
+    out.set("image", image.like(warped));
     out.set("holes", Image(holes, Encoding::linear));
   }
 };

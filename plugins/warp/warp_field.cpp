@@ -76,15 +76,9 @@ struct WarpField {
     });
     const cv::Mat colors = displacement_colors(d);
 
-    cv::Mat overlay;
-    Encoding encoding = Encoding::linear;
-    if (has_image) {
-      const Image& image = in.get<Image>("image");
-      overlay = image.pixels.clone();
-      encoding = image.encoding;
-    } else {
-      overlay = colors.clone();
-    }
+    // Arrows drawn over the image given, in its encoding and colour space, or over the colours.
+    Image overlay_of = has_image ? in.get<Image>("image") : Image(colors, Encoding::linear);
+    cv::Mat overlay = overlay_of.pixels.clone();
     cv::Mat coverage = cv::Mat::zeros(size, CV_8U);
     const PointPairs& pairs = in.get<PointPairs>("pairs");
     const int width = std::max(1, static_cast<int>(std::lround(in.get<double>("arrow_width"))));
@@ -122,7 +116,7 @@ struct WarpField {
     }
     out.set("displacement", Image(d, Encoding::linear));
     out.set("color", Image(colors, Encoding::linear));
-    out.set("overlay", Image(overlay, encoding));
+    out.set("overlay", overlay_of.like(overlay));
   }
 };
 LOOM_NODE(WarpField);

@@ -60,15 +60,17 @@ TEST(Serialize, BuiltinTypesRoundTrip) {
   EXPECT_EQ(back.q, pp.q);
 }
 
-TEST(Serialize, ImageRoundTripKeepsPixelsChannelsAndEncoding) {
+TEST(Serialize, ImageRoundTripKeepsPixelsChannelsEncodingAndColourSpace) {
   for (int ch = 1; ch <= 4; ++ch) {
-    Image image(cv::Mat(7, 5, CV_MAKETYPE(CV_32F, ch)), ch % 2 ? Encoding::srgb : Encoding::linear);
+    Image image(cv::Mat(7, 5, CV_MAKETYPE(CV_32F, ch)), ch % 2 ? Encoding::srgb : Encoding::linear,
+                ch == 3 ? "ACEScg" : "");
     cv::randu(image.pixels, -1.0, 2.0);
     const Image back = round_trip(image);
     EXPECT_EQ(back.width(), 5);
     EXPECT_EQ(back.height(), 7);
     EXPECT_EQ(back.channels(), ch);
     EXPECT_EQ(back.encoding, image.encoding);
+    EXPECT_EQ(back.space, image.space);
     EXPECT_EQ(cv::norm(back.pixels, image.pixels, cv::NORM_INF), 0.0);
     EXPECT_EQ(type_of<Image>().bytes(&image), 7u * 5u * static_cast<unsigned>(ch) * sizeof(float));
   }

@@ -105,7 +105,7 @@ class Split final : public PixelSplit {
     // between polls (see exchange_all).
     exchange_all(requests);
     for (auto& [o, pixels] : images)
-      outputs[o] = Value::make<Image>(Image(std::move(pixels), outputs[o].as<Image>().encoding));
+      outputs[o] = Value::make<Image>(outputs[o].as<Image>().like(std::move(pixels)));
     kept_.clear();
     if (rank_ != 0) return;
     std::fprintf(stderr,
