@@ -67,7 +67,7 @@ void EditorApp::offer_views() {
     if (!now) throw Error("the DisplayView node (plugin color) is not loaded");
     NodeCall call;
     call.values.emplace("image", Value::make<Image>(image));
-    call.literals["view"] = name;
+    if (!name.empty()) call.literals["view"] = name;  // empty: the display's default view
     call.id = "viewer";
     return call_node(*now, call).at(0).as<Image>();
   });

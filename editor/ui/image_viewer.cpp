@@ -23,8 +23,11 @@ void ImageViewer::choose_view(const std::string& view) {
   if (view.empty() || std::find(views_.begin(), views_.end(), view) != views_.end()) view_ = view;
 }
 
+// An image in a named colour space (ACEScg) goes through the display's
+// default view even when the sRGB curve is chosen: the curve alone would show
+// its values as if they were Rec.709's.
 bool ImageViewer::shows_through_view(const Image& image) const {
-  return !view_.empty() && apply_view_ && image.encoding == Encoding::linear &&
+  return (!view_.empty() || !image.space.empty()) && apply_view_ && image.encoding == Encoding::linear &&
          (image.channels() == 3 || image.channels() == 4);
 }
 
@@ -34,7 +37,7 @@ Image ImageViewer::through_view(const Image& image) {
   const double gain = std::exp2(double(exposure_));
   cv::Mat exposed;
   cv::multiply(image.pixels, cv::Scalar(gain, gain, gain, 1.0), exposed);
-  return apply_view_(Image(exposed, Encoding::linear), view_);
+  return apply_view_(image.like(exposed), view_);
 }
 
 void ImageViewer::upload(const Image& image) {
@@ -111,8 +114,11 @@ void ImageViewer::toolbar(const Image& image) {
   if (linear && (c == 3 || c == 4) && !views_.empty()) {
     ImGui::SameLine();
     ImGui::SetNextItemWidth(190);
-    if (ImGui::BeginCombo("view", view_.empty() ? "sRGB curve" : view_.c_str())) {
-      if (ImGui::Selectable("sRGB curve", view_.empty())) view_.clear();
+    // An image naming its space is never shown through the curve alone: the
+    // first choice is then the display's default view.
+    const char* first = image.space.empty() ? "sRGB curve" : "default view";
+    if (ImGui::BeginCombo("view", view_.empty() ? first : view_.c_str())) {
+      if (ImGui::Selectable(first, view_.empty())) view_.clear();
       for (const std::string& v : views_)
         if (ImGui::Selectable(v.c_str(), v == view_)) view_ = v;
       ImGui::EndCombo();
@@ -125,7 +131,7 @@ void ImageViewer::toolbar(const Image& image) {
   ImGui::SameLine();
   if (ImGui::SmallButton("fit")) fit_ = true;
   ImGui::SameLine();
-  ImGui::TextDisabled("%dx%dx%d %s", image.width(), image.height(), c, linear ? "linear" : "sRGB");
+  ImGui::TextDisabled("%dx%dx%d %s", image.width(), image.height(), c, describe_space(image).c_str());
 }
 
 // The image's place in the region at `origin`: fitted, or zoomed by the

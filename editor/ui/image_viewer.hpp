@@ -49,8 +49,10 @@ class ImageViewer {
   // A display's views (the colour plugin's DisplayView): a linear RGB(A)
   // image may be shown through one of them, its exposure applied first,
   // instead of through the sRGB curve. `apply` returns the display-encoded
-  // image (it may throw: the viewer then says why and uses the curve).
-  using ViewTransform = std::function<Image(const Image& scene_linear, const std::string& view)>;
+  // image (it may throw: the viewer then says why and uses the curve). An
+  // image in a named colour space is shown through a view even with the curve
+  // chosen: `view` is then "", the display's default view.
+  using ViewTransform = std::function<Image(const Image& linear, const std::string& view)>;
   void set_views(std::vector<std::string> views, ViewTransform apply);
   const std::vector<std::string>& views() const { return views_; }
   // "" (the sRGB curve) or one of views(), as the "view" menu sets it.

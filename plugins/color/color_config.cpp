@@ -83,8 +83,12 @@ std::vector<std::string> from_choices() {
   return names;
 }
 
-std::string source_space(const std::string& from, Encoding tag, const OCIO::ConstConfigRcPtr& c) {
-  return from == kTagged ? space_of(tag, c) : from;
+std::string source_space(const std::string& from, const Image& image, const OCIO::ConstConfigRcPtr& c) {
+  return from == kTagged ? image_space(image, c) : from;
+}
+
+std::string image_space(const Image& image, const OCIO::ConstConfigRcPtr& c) {
+  return image.space.empty() ? space_of(image.encoding, c) : image.space;
 }
 
 std::string space_of(Encoding encoding, const OCIO::ConstConfigRcPtr& c) {
@@ -106,10 +110,16 @@ Encoding encoding_of(const std::string& name, const OCIO::ConstConfigRcPtr& c) {
               ") is neither linear nor display-encoded, the two kinds a Loom image is tagged with");
 }
 
-Image apply(const OCIO::ConstProcessorRcPtr& processor, const Image& image, Encoding tag) {
+Image described_as(const std::string& name, const OCIO::ConstConfigRcPtr& c) {
+  const Encoding tag = encoding_of(name, c);
+  const std::string canonical = c->getColorSpace(name.c_str())->getName();  // a role or alias resolved
+  return Image(cv::Mat(), tag, canonical == space_of(tag, c) ? std::string() : canonical);
+}
+
+Image apply(const OCIO::ConstProcessorRcPtr& processor, const Image& image, const Image& as) {
   if (image.channels() < 3)
     throw Error("ColorConvert needs an RGB or RGBA image, not " + std::to_string(image.channels()) + " channel(s)");
-  Image out(image.pixels.clone(), tag);
+  Image out = as.like(image.pixels.clone());
   OCIO::PackedImageDesc desc(out.pixels.ptr<float>(), out.width(), out.height(), out.channels(), OCIO::BIT_DEPTH_F32,
                              sizeof(float), sizeof(float) * out.channels(),
                              static_cast<std::ptrdiff_t>(out.pixels.step[0]));

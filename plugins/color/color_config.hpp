@@ -34,13 +34,14 @@ struct Choices {
   std::string problem;  // empty when the config loaded
 };
 const Choices& choices();
-// A node's `from` input: kTagged (the space the image's tag names, space_of)
-// then the config's spaces.
+// A node's `from` input: kTagged (the space the image names, or its
+// encoding's: image_space) then the config's spaces.
 constexpr const char* kTagged = "image";
 std::vector<std::string> from_choices();
-// The space a `from` input names: itself, or for kTagged the one the image's
-// tag names (space_of).
-std::string source_space(const std::string& from, Encoding tag, const OCIO::ConstConfigRcPtr& c);
+// The space a `from` input names: itself, or for kTagged the image's.
+std::string source_space(const std::string& from, const Image& image, const OCIO::ConstConfigRcPtr& c);
+// The space an image's values are in: the one it names, or its encoding's.
+std::string image_space(const Image& image, const OCIO::ConstConfigRcPtr& c);
 
 // What a Loom image tagged `encoding` is in the config: Loom's two encodings
 // are lin_rec709 and srgb in Loom's config and the scene_linear and
@@ -51,8 +52,14 @@ std::string space_of(Encoding encoding, const OCIO::ConstConfigRcPtr& c);
 // for any other (log, data) space, which a Loom image cannot be tagged with.
 Encoding encoding_of(const std::string& space, const OCIO::ConstConfigRcPtr& c);
 
-// The processor applied to the colour channels (alpha passes through); 1- and
-// 2-channel images are refused.
-Image apply(const OCIO::ConstProcessorRcPtr& processor, const Image& image, Encoding tag);
+// What an image in colour space `name` carries: its encoding (encoding_of)
+// and the space's name, left empty where the encoding stands for it (so one
+// image has one description).
+Image described_as(const std::string& name, const OCIO::ConstConfigRcPtr& c);
+
+// The processor applied to the colour channels (alpha passes through), the
+// result described as `as` is (its pixels unused); 1- and 2-channel images
+// are refused.
+Image apply(const OCIO::ConstProcessorRcPtr& processor, const Image& image, const Image& as);
 
 }  // namespace loom::color

@@ -17,19 +17,21 @@ struct DisplayView {
                "display-encoded (tagged sRGB), so SaveImage writes its values to PNG or JPEG unchanged." +
                (c.problem.empty() ? "" : " Not usable now: " + c.problem))
         .input<loom::Image>("image", "an RGB or RGBA image")
-        .enum_input("from", kTagged, from_choices(), "the image's colour space; 'image': the one its tag says")
+        .enum_input("from", kTagged, from_choices(), "the image's colour space; 'image': the one the image names, else its tag's")
         .enum_input("view", c.default_view, c.views, "a view of the display '" + c.display + "'")
         .output<loom::Image>("image", "the image as the display shows it (display-encoded)");
   }
   static void run(loom::Inputs& in, loom::Outputs& out, loom::Context&) {
     const OCIO::ConstConfigRcPtr c = config();
     const auto& image = in.get<loom::Image>("image");
-    const std::string from = source_space(in.get<std::string>("from"), image.encoding, c);
+    const std::string from = source_space(in.get<std::string>("from"), image, c);
     const std::string& view = in.get<std::string>("view");
     try {
       const OCIO::ConstProcessorRcPtr p =
           c->getProcessor(from.c_str(), choices().display.c_str(), view.c_str(), OCIO::TRANSFORM_DIR_FORWARD);
-      out.set("image", apply(p->getOptimizedProcessor(OCIO::OPTIMIZATION_LOSSLESS), image, loom::Encoding::srgb));
+      // What an sRGB monitor shows: the values of Loom's sRGB-encoded images.
+      const loom::Image as(cv::Mat(), loom::Encoding::srgb);
+      out.set("image", apply(p->getOptimizedProcessor(OCIO::OPTIMIZATION_LOSSLESS), image, as));
     } catch (const OCIO::Exception& e) {
       throw loom::Error("OpenColorIO cannot show " + from + " in view " + view + ": " + e.what());
     }

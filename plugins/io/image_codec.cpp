@@ -108,7 +108,8 @@ cv::Mat file_pixels(const Image& image, const std::string& ext, Depth depth) {
 Image read_image(const fs::path& path, Decode decode, std::uint64_t max_pixels, const std::string& layer) {
   require_input_file(path, "image");
   require_pixels_within(path, max_pixels);
-  cv::Mat m = image_files().read(path, layer, max_pixels).pixels;
+  ImageLayer file = image_files().read(path, layer, max_pixels);
+  cv::Mat m = std::move(file.pixels);
   const bool linear_file = m.depth() == CV_32F;
   const double scale = m.depth() == CV_8U ? 1.0 / 255.0 : m.depth() == CV_16U ? 1.0 / 65535.0 : 1.0;
   m.convertTo(m, CV_MAKETYPE(CV_32F, m.channels()), scale);
@@ -116,11 +117,15 @@ Image read_image(const fs::path& path, Decode decode, std::uint64_t max_pixels, 
   // Nodes take finite values only, so say which file, rather than let the
   // engine's output check name nothing but "image".
   if (linear_file) {
-    Image image(m, Encoding::linear);
+    Image image(m, Encoding::linear, file.color_space);
     require_finite(image, ("image " + path.string()).c_str());
     return image;
   }
-  Image image(m, Encoding::srgb);
+  if (decode == Decode::linear && !file.color_space.empty())
+    throw Error("cannot decode image " + path.string() + " to linear: its header names colour space " +
+                file.color_space + ", which the sRGB curve alone does not decode (read it with decode keep, "
+                "then ColorConvert it)");
+  Image image(m, Encoding::srgb, file.color_space);
   return decode == Decode::linear ? with_encoding(image, Encoding::linear) : image;
 }
 
@@ -136,7 +141,7 @@ void write_image(const Image& image, const fs::path& path, Depth depth, const Me
   const auto band_pixels = [&](int band) {
     if (cancelled && cancelled()) throw Cancelled();
     const int first = band * kBand, end = std::min(image.height(), first + kBand);
-    return file_pixels(Image(image.pixels.rowRange(first, end), image.encoding), ext, depth);
+    return file_pixels(image.like(image.pixels.rowRange(first, end)), ext, depth);
   };
   const cv::Mat top = band_pixels(0);  // its type is the file's
   cv::Mat m(image.height(), image.width(), top.type());
@@ -145,7 +150,7 @@ void write_image(const Image& image, const fs::path& path, Depth depth, const Me
     band_pixels(band).copyTo(m.rowRange(band * kBand, std::min(image.height(), (band + 1) * kBand)));
   });
   static const std::vector<std::vector<std::string>> names = {{"Y"}, {}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
-  ImageLayer layer{"", m, names[static_cast<std::size_t>(m.channels() - 1)]};
+  ImageLayer layer{"", m, names[static_cast<std::size_t>(m.channels() - 1)], image.space};
   WriteOptions options;
   options.half = depth == Depth::f16;
   options.tiled = tiled;
@@ -162,7 +167,7 @@ void write_layers(const std::vector<NamedImage>& layers, const fs::path& path, b
     if (l.image.empty()) throw Error("layer \"" + l.name + "\" is empty: nothing to save");
     require_finite(l.image, ("layer \"" + l.name + "\"").c_str());
     const cv::Mat m = with_encoding(l.image, Encoding::linear).pixels;
-    files.push_back(ImageLayer{l.name, m, channel_names(m.channels(), l.channels)});
+    files.push_back(ImageLayer{l.name, m, channel_names(m.channels(), l.channels), l.image.space});
   }
   WriteOptions options;
   options.half = half;

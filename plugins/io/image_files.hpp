@@ -28,7 +28,16 @@ struct ImageLayer {
   std::string name;
   cv::Mat pixels;  // CV_8U, CV_16U or CV_32F, 1-4 channels
   std::vector<std::string> channels;
+  // The OpenColorIO colour space the image names, "" for its encoding's own:
+  // written into the header as color_space_attribute(name), read from it.
+  std::string color_space;
 };
+
+// The header attribute naming a layer's OpenColorIO colour space, written
+// where the image names one ("loom:colorspace", "loom:colorspace.albedo").
+inline std::string color_space_attribute(const std::string& layer) {
+  return layer.empty() ? "loom:colorspace" : "loom:colorspace." + layer;
+}
 
 struct WriteOptions {
   bool half = false;   // EXR: 16-bit half floats instead of 32-bit floats
@@ -50,7 +59,7 @@ struct ImageFiles {
   // Writes every layer (all of one size) into one file, by its extension.
   void (*write)(const std::vector<ImageLayer>& layers, const std::filesystem::path& path, const WriteOptions& options);
 };
-constexpr int kImageFilesVersion = 2;
+constexpr int kImageFilesVersion = 3;
 
 // The library, opened on first use from beside libloom_types (lib/); throws
 // loom::Error saying which file is missing or why it cannot be loaded.

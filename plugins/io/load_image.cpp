@@ -11,7 +11,9 @@ struct LoadImage {
     s.describe("Reads PNG, JPEG, TIFF, BMP, EXR or HDR through OpenImageIO. 8/16-bit files are sRGB-encoded: "
                "`linear` decodes them (for rendering), `keep` keeps the encoded values (for image editing, "
                "as OpenCV and the course do). A layered or multi-part EXR gives one layer, named by `layer`; "
-               "a file whose channels are not gray, gray+alpha, RGB, RGBA, XYZ or one channel is refused.")
+               "a file whose channels are not gray, gray+alpha, RGB, RGBA, XYZ or one channel is refused. The "
+               "colour space a Loom file's header names (loom:colorspace, as SaveImage writes it) goes with "
+               "the image, so ColorConvert and DisplayView start from it.")
         .input<std::string>("path", "the image file, relative to the graph file")
         .input_file()
         .enum_input("decode", loom::io::Decode::linear,

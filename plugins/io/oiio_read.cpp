@@ -175,6 +175,7 @@ ImageLayer read(const std::filesystem::path& path, const std::string& layer, std
   ImageLayer out;
   out.name = layer;
   out.channels = s.names;
+  out.color_space = spec.get_string_attribute(color_space_attribute(layer));
   out.pixels.create(spec.height, spec.width, CV_MAKETYPE(cv_depth(type), static_cast<int>(s.indices.size())));
   std::vector<int> pairs;
   for (std::size_t k = 0; k < s.indices.size(); ++k) {

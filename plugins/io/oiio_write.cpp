@@ -44,6 +44,12 @@ OIIO::ImageSpec base_spec(const cv::Mat& pixels, int channels, const std::string
   return spec;
 }
 
+// The colour space each layer names, in the header of the part holding it.
+void name_color_spaces(OIIO::ImageSpec& spec, const ImageLayer* first, const ImageLayer* end) {
+  for (const ImageLayer* l = first; l != end; ++l)
+    if (!l->color_space.empty()) spec.attribute(color_space_attribute(l->name), l->color_space);
+}
+
 // All layers side by side in one buffer of float or the layers' own type.
 cv::Mat interleaved(const std::vector<ImageLayer>& layers) {
   std::vector<cv::Mat> planes;
@@ -108,6 +114,7 @@ void write(const std::vector<ImageLayer>& layers, const std::filesystem::path& p
       for (int c = 0; c < l.pixels.channels(); ++c)
         spec.channelnames[static_cast<std::size_t>(c)] = channel_name(l.name, l.channels[static_cast<std::size_t>(c)]);
       spec.attribute("name", l.name);  // the OpenEXR part's name
+      name_color_spaces(spec, &l, &l + 1);
       specs.push_back(std::move(spec));
     }
   } else {
@@ -117,6 +124,7 @@ void write(const std::vector<ImageLayer>& layers, const std::filesystem::path& p
     std::size_t c = 0;
     for (const ImageLayer& l : layers)
       for (const auto& name : l.channels) spec.channelnames[c++] = channel_name(l.name, name);
+    name_color_spaces(spec, layers.data(), layers.data() + layers.size());
     specs.push_back(std::move(spec));
   }
   if (specs.size() > 1 && !out->supports("multiimage"))

@@ -12,7 +12,10 @@ struct SaveImage {
                "half), through OpenImageIO. Converts by the image's tag, so nothing is encoded twice; writes a "
                "temporary file and renames it, so no half-written file is ever seen. A 2-channel image "
                "(gray+alpha) is written as RGBA; HDR and JPEG drop alpha. The header names the node, its seed "
-               "and the frame (`loom info FILE` prints them; BMP and HDR have no place for them).")
+               "and the frame (`loom info FILE` prints them; BMP and HDR have no place for them), and the image's "
+               "colour space when it names one (ColorConvert's ACEScg: loom:colorspace). 8/16-bit files hold "
+               "sRGB-encoded values: a linear image in a named space is refused for them (DisplayView or "
+               "ColorConvert it first), as the sRGB curve alone would misread it.")
         .set_sink()
         .input<loom::Image>("image", "the image to write")
         .input<std::string>("path", "the file to write, relative to the output folder; {frame:04} in it becomes the "

@@ -32,17 +32,23 @@ def set_view(view):
     _view = view
 
 
-def image_display(pixels, encoding):
-    """8-bit pixels of an image as Jupyter shows it: through the view set by
-    set_view() when the image is linear RGB(A), else to_display()."""
+def image_display(pixels, encoding, space=""):
+    """8-bit pixels of an image as Jupyter shows it: a linear RGB(A) image
+    through the view set by set_view(), or, when it names its colour space
+    (ACEScg), through that view or the display's default one (Reinhard and
+    the sRGB curve would read its values as Rec.709's); else to_display()."""
     a = np.asarray(pixels, dtype=np.float32)
-    if _view is None or encoding != "linear" or a.ndim != 3 or a.shape[2] not in (3, 4):
+    viewable = encoding == "linear" and a.ndim == 3 and a.shape[2] in (3, 4)
+    if not viewable or (_view is None and not space):
         return to_display(a, encoding)
     from ._graph import Graph
     from ._session import default_session
     from ._values import Image
     g = Graph()
-    view = g.add("DisplayView", image=Image(a, "linear"), view=_view)
+    inputs = {"image": Image(a, "linear", space)}
+    if _view is not None:
+        inputs["view"] = _view
+    view = g.add("DisplayView", **inputs)
     return to_display(np.asarray(default_session().run(g, view.image)), "srgb")
 
 

@@ -7,26 +7,31 @@ from . import _display
 
 class Image(np.ndarray):
     """Pixels as an H×W×C float32 NumPy array (C = 1-4: gray, gray+alpha, RGB,
-    RGBA; origin top-left) with its colour ``encoding``: "linear" or "srgb".
+    RGBA; origin top-left) with its colour ``encoding``: "linear" or "srgb",
+    and ``space``: the OpenColorIO colour space's name when it is not the
+    encoding's own ("ACEScg" after a ColorConvert), else "".
 
     Images a run returns are read-only views of the engine's pixels (no copy),
     kept alive by the array. Any float32 array may be given to an Image
-    input; wrap it as ``loom.Image(array, "srgb")`` to say it is encoded."""
+    input; wrap it as ``loom.Image(array, "srgb")`` to say it is encoded, or
+    ``loom.Image(array, "linear", "ACEScg")`` to name its space."""
 
-    def __new__(cls, array, encoding="linear"):
+    def __new__(cls, array, encoding="linear", space=""):
         if encoding not in ("linear", "srgb"):
             raise ValueError(f'encoding must be "linear" or "srgb", got {encoding!r}')
         obj = np.asarray(array).view(cls)
         obj.encoding = encoding
+        obj.space = str(space)
         return obj
 
     def __array_finalize__(self, obj):
         self.encoding = getattr(obj, "encoding", "linear")
+        self.space = getattr(obj, "space", "")
 
     def _repr_png_(self):
         if self.ndim not in (2, 3) or self.size == 0:
             return None
-        return _display.png_bytes(_display.image_display(np.asarray(self), self.encoding))
+        return _display.png_bytes(_display.image_display(np.asarray(self), self.encoding, self.space))
 
 
 class Mesh:

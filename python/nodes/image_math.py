@@ -14,7 +14,7 @@ def Gamma(image, gamma):
     out = np.array(image, dtype=np.float32)
     color = out[:, :, :3] if out.shape[2] >= 3 else out[:, :, :1]
     color[...] = np.power(np.maximum(color, 0), 1.0 / gamma)
-    return loom.Image(out, image.encoding)
+    return loom.Image(out, image.encoding, image.space)
 
 
 @loom.node(inputs={"image": loom.In("Image", doc="the image")},

@@ -49,7 +49,7 @@ py::object image_to_python(const Value& v) {
               {py::ssize_t(p.step[0]), py::ssize_t(sizeof(float) * c), py::ssize_t(sizeof(float))},
               p.ptr<float>(), base);
   a.attr("flags").attr("writeable") = false;
-  return values_module().attr("Image")(a, image.encoding == Encoding::srgb ? "srgb" : "linear");
+  return values_module().attr("Image")(a, image.encoding == Encoding::srgb ? "srgb" : "linear", image.space);
 }
 
 std::string type_name_of(const py::handle& o) { return py::str(py::type::of(o).attr("__name__")); }
@@ -82,6 +82,7 @@ Value image_from_python(const py::handle& object) {
     if (e != "linear" && e != "srgb") throw Error("image: encoding must be \"linear\" or \"srgb\", got \"" + e + "\"");
     image.encoding = e == "srgb" ? Encoding::srgb : Encoding::linear;
   }
+  if (py::hasattr(object, "space")) image.space = py::str(object.attr("space"));
   // One pass, in parallel bands of rows: each band copied, then checked while
   // it is in the cache.
   const std::size_t row_bytes = sizeof(float) * std::size_t(w * c);
@@ -89,7 +90,7 @@ Value image_from_python(const py::handle& object) {
   tbb::parallel_for(tbb::blocked_range<int>(0, int(h), 32), [&](const tbb::blocked_range<int>& rows) {
     std::memcpy(image.pixels.ptr(rows.begin()), source + row_bytes * std::size_t(rows.begin()),
                 row_bytes * rows.size());
-    require_finite(Image(image.pixels.rowRange(rows.begin(), rows.end()), image.encoding), "image");
+    require_finite(image.like(image.pixels.rowRange(rows.begin(), rows.end())), "image");
   });
   return Value::make(std::move(image));
 }

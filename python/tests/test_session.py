@@ -294,6 +294,38 @@ def test_jupyter_shows_linear_images_through_a_view_when_asked():
     assert png_pixels(grey._repr_png_()) == [118, 118, 118]  # sRGB(0.18) = 0.4614 -> 118
 
 
+def test_an_image_names_its_colour_space_both_ways():
+    """Issue 40: an image in ACEScg says so in Python (.space), a named image
+    given to an input is converted from its space, and Jupyter shows it
+    through the display's default view, not the sRGB curve on AP1 values.
+    Reference: the published Rec.709-to-AP1 matrix (ACES TB-2014-004)."""
+    try:
+        loom.nodes["ColorConvert"].declaration
+    except (loom.Error, KeyError, AttributeError):
+        pytest.skip("plugin color (OpenColorIO) not built")
+    rec709_to_ap1 = np.array([[0.6130974, 0.3395231, 0.0473795],
+                              [0.0701937, 0.9163539, 0.0134524],
+                              [0.0206156, 0.1095698, 0.8698146]])
+    ap1 = np.array([0.5, 0.1, 0.1])
+    rec709 = np.linalg.solve(rec709_to_ap1, ap1)
+    session = loom.Session(disk_cache=False)
+    g = loom.Graph()
+    given = loom.Image(np.full((1, 2, 3), ap1, dtype=np.float32), "linear", "ACEScg")
+    back = g.add("ColorConvert", image=given, to="lin_rec709")
+    out = session.run(g, back.image)
+    assert out.space == ""
+    assert np.allclose(np.asarray(out)[0, 0], rec709, atol=1e-5)
+    g = loom.Graph()
+    cg = g.add("ColorConvert", image=loom.Image(np.full((1, 2, 3), rec709, dtype=np.float32)), to="ACEScg")
+    named = session.run(g, cg.image)
+    assert named.space == "ACEScg" and named.encoding == "linear"
+    assert np.allclose(np.asarray(named)[0, 0], ap1, atol=1e-5)
+    x = np.clip(rec709, 0, 1)
+    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)  # IEC 61966-2-1
+    shown = png_pixels(named._repr_png_())
+    assert all(abs(s - int(v * 255 + 0.5)) <= 1 for s, v in zip(shown, srgb)), (shown, srgb)
+
+
 def test_mesh_preview_is_rendered():
     try:
         loom.nodes.Render

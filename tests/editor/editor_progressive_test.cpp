@@ -193,5 +193,37 @@ TEST(EditorViewer, ALinearImageIsShownThroughTheChosenView) {
   EXPECT_NE(screen("viewer-srgb-curve"), aces);  // the filmic curve darkens mid-grey where the sRGB curve does not
 }
 
+// An image that names its colour space (ACEScg) is shown through the
+// display's default view even with the sRGB curve chosen: on screen, the
+// sRGB colour it was converted from, not the curve applied to AP1 values.
+TEST(EditorViewer, AnImageInANamedSpaceIsShownAsItsColours) {
+  Harness h(1600, 900);
+  if (h.app.image_viewer().views().empty()) GTEST_SKIP() << "plugin color (OpenColorIO) not built";
+  const cv::Vec3f srgb(0.6f, 0.3f, 0.1f);  // Checkerboard's colours are sRGB-encoded
+  h.app.open(write_graph(
+      {{"loom", 1},
+       {"nodes",
+        {{"board",
+          {{"type", "Checkerboard"},
+           {"inputs", {{"size", {64, 64}}, {"cells", 1}, {"color_a", {srgb[0], srgb[1], srgb[2], 1}}}}}},
+         {"cg", {{"type", "ColorConvert"}, {"inputs", {{"image", {{"from", "board.image"}}}, {"to", "ACEScg"}}}}}}}},
+      "named.json"));
+  h.frame(2);
+  h.click(h.app.canvas().node_header(h.app.state(), "cg"));
+  ASSERT_GT(until_shown(h), 0);
+  const Value shown = h.app.state().viewed_output(0);
+  ASSERT_TRUE(shown && shown.is<Image>());
+  EXPECT_EQ(shown.as<Image>().space, "ACEScg");
+  const cv::Vec3f ap1 = shown.as<Image>().pixels.at<cv::Vec3f>(32, 32);
+  const cv::Vec3f linear(srgb_to_linear(srgb[0]), srgb_to_linear(srgb[1]), srgb_to_linear(srgb[2]));
+  ASSERT_GT(cv::norm(ap1 - linear), 0.05);  // AP1 values differ from the Rec.709 ones
+  h.frame(3);
+  const ImVec2 centre = h.app.image_view().to_screen(32, 32);
+  const Rgba8Image frame = h.screenshot("viewer-named-space");
+  const std::uint8_t* p = frame.at(int(centre.x), int(centre.y));
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(p[k], srgb[k] * 255.0f + 0.5f, 1.0) << "channel " << k;
+}
+
 }  // namespace
 }  // namespace loom::editor::test

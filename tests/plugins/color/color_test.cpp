@@ -175,6 +175,101 @@ TEST(ColorConvert, RefusesSpacesALoomImageCannotBeTaggedWith) {
   EXPECT_NE(run.error("convert").find("\"ACEScct\" (encoding 'log')"), std::string::npos) << run.error("convert");
 }
 
+// `nodes` (a JSON object of nodes) after a LoadImage "load" of `file`; the run's `output`.
+Image run_after_load(testing::Engine& e, const fs::path& file, const json& nodes, const std::string& output) {
+  testing::GraphBuilder g;
+  g.node("load", "LoadImage").set("path", file.string());
+  json doc = g.document();
+  doc["nodes"].update(nodes);
+  const testing::Run run = e.run(doc, {output});
+  EXPECT_TRUE(run.ok()) << run.errors();
+  return run.ok() ? run.output<Image>(output) : Image();
+}
+
+// A converted image names its space, and the next node starts from it: two
+// conversions in a row equal ocioconvert's one, and converting back to
+// lin_rec709 leaves the image unnamed again (one description per image).
+TEST(ColorConvert, TheConvertedImageCarriesItsSpaceToTheNextNode) {
+  const fs::path dir = test::temp_dir();
+  std::string out;
+  const fs::path in = test_exr(dir, &out);
+  if (in.empty()) GTEST_SKIP() << "oiiotool (openimageio-tools) is not installed: " << out;
+  const fs::path reference = dir / "aces.exr";
+  if (!run_ocio_tool("ocioconvert " + in.string() + " lin_rec709 " + reference.string() + " ACES2065-1", &out))
+    GTEST_SKIP() << "ocioconvert (opencolorio-tools) is not installed";
+  testing::Engine e;
+  const json to_acescg = {{"type", "ColorConvert"}, {"inputs", {{"image", {{"from", "load.image"}}}, {"to", "ACEScg"}}}};
+  const Image acescg = run_after_load(e, in, {{"cg", to_acescg}}, "cg.image");
+  EXPECT_EQ(acescg.space, "ACEScg");
+  EXPECT_EQ(acescg.encoding, Encoding::linear);
+  const Image aces = run_after_load(
+      e, in,
+      {{"cg", to_acescg},
+       {"ap0", {{"type", "ColorConvert"}, {"inputs", {{"image", {{"from", "cg.image"}}}, {"to", "ACES2065-1"}}}}}},
+      "ap0.image");
+  ASSERT_FALSE(aces.empty());
+  EXPECT_EQ(aces.space, "ACES2065-1");
+  EXPECT_LT(relative_difference(aces.pixels, load(e, reference).pixels), 1e-4);
+  const Image back = run_after_load(
+      e, in,
+      {{"cg", to_acescg},
+       {"back", {{"type", "ColorConvert"}, {"inputs", {{"image", {{"from", "cg.image"}}}, {"to", "lin_rec709"}}}}}},
+      "back.image");
+  EXPECT_EQ(back.space, "");
+  EXPECT_LT(relative_difference(back.pixels, load(e, in).pixels), 1e-5);
+  // DisplayView starts from the named space too: ocioconvert --view from ACEScg.
+  const fs::path shown = dir / "shown.exr";
+  ASSERT_TRUE(run_ocio_tool("ocioconvert " + in.string() + " lin_rec709 " + (dir / "cg.exr").string() + " ACEScg", &out));
+  ASSERT_TRUE(run_ocio_tool("ocioconvert --view " + (dir / "cg.exr").string() + " ACEScg " + shown.string() +
+                                " sRGB 'ACES 1.0 - SDR Video'",
+                            &out));
+  const Image view = run_after_load(
+      e, in,
+      {{"cg", to_acescg},
+       {"view",
+        {{"type", "DisplayView"}, {"inputs", {{"image", {{"from", "cg.image"}}}, {"view", "ACES 1.0 - SDR Video"}}}}}},
+      "view.image");
+  EXPECT_EQ(view.encoding, Encoding::srgb);
+  EXPECT_EQ(view.space, "");
+  EXPECT_LT(relative_difference(view.pixels, load(e, shown).pixels), 1e-4);
+}
+
+// SaveImage writes the name into an EXR's header (oiiotool reads it there),
+// LoadImage reads it back; an 8-bit file, which holds sRGB-encoded values,
+// refuses the image rather than put ACEScg values through the sRGB curve.
+TEST(ColorConvert, ANamedSpaceGoesThroughAnExrAndIsRefusedForAPng) {
+  const fs::path dir = test::temp_dir();
+  std::string out;
+  const fs::path in = test_exr(dir, &out);
+  if (in.empty()) GTEST_SKIP() << "oiiotool (openimageio-tools) is not installed: " << out;
+  std::ofstream(dir / "g.json") << R"({"loom": 1, "nodes": {
+    "load": {"type": "LoadImage", "inputs": {"path": ")" + in.string() + R"("}},
+    "cg": {"type": "ColorConvert", "inputs": {"image": {"from": "load.image"}, "to": "ACEScg"}},
+    "exr": {"type": "SaveImage", "inputs": {"image": {"from": "cg.image"}, "path": "cg.exr", "depth": "float"}},
+    "layers": {"type": "SaveLayers", "inputs": {"image": {"from": "load.image"}, "albedo": {"from": "cg.image"},
+                                                "path": "layers.exr"}},
+    "png": {"type": "SaveImage", "inputs": {"image": {"from": "cg.image"}, "path": "cg.png"}}}})";
+  const int rc = test::run_loom("run " + (dir / "g.json").string() + " --out " + (dir / "out").string(), &out);
+  EXPECT_EQ(rc, 1) << out;  // the PNG fails, the EXRs are written
+  EXPECT_NE(out.find("colour space ACEScg cannot be sRGB-encoded"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir / "out" / "cg.png"));
+  std::string info;
+  ASSERT_EQ(test::run_shell("oiiotool --info -v " + (dir / "out" / "cg.exr").string(), &info), 0) << info;
+  EXPECT_NE(info.find("loom:colorspace: \"ACEScg\""), std::string::npos) << info;
+  ASSERT_EQ(test::run_shell("oiiotool --info -v " + (dir / "out" / "layers.exr").string(), &info), 0) << info;
+  EXPECT_NE(info.find("loom:colorspace.albedo: \"ACEScg\""), std::string::npos) << info;
+  EXPECT_EQ(info.find("loom:colorspace.image"), std::string::npos) << info;  // lin_rec709: unnamed
+  testing::Engine e;
+  EXPECT_EQ(load(e, dir / "out" / "cg.exr").space, "ACEScg");
+  testing::GraphBuilder g;
+  g.node("albedo", "LoadImage").set("path", (dir / "out" / "layers.exr").string()).set("layer", "albedo");
+  g.node("image", "LoadImage").set("path", (dir / "out" / "layers.exr").string()).set("layer", "image");
+  const testing::Run run = e.run(g, {"albedo.image", "image.image"});
+  ASSERT_TRUE(run.ok()) << run.errors();
+  EXPECT_EQ(run.output<Image>("albedo.image").space, "ACEScg");
+  EXPECT_EQ(run.output<Image>("image.image").space, "");
+}
+
 // $OCIO replaces Loom's config: its spaces become the choices, its
 // scene_linear role the default; a config that cannot be read fails the
 // colour nodes with the file and the reason, and nothing else.
