@@ -94,8 +94,7 @@ Image TypeTraits<Image>::read(ByteReader& r) {
       static_cast<std::uint64_t>(rows) * static_cast<std::uint64_t>(cols) * static_cast<std::uint64_t>(ch) >
           r.remaining() / sizeof(float))
     throw Error("stored image has impossible dimensions");
-  Image image(cv::Mat(rows, cols, CV_MAKETYPE(CV_32F, ch)), enc ? Encoding::srgb : Encoding::linear,
-              std::move(space));
+  Image image(cv::Mat(rows, cols, CV_MAKETYPE(CV_32F, ch)), enc ? Encoding::srgb : Encoding::linear, std::move(space));
   const std::size_t row = sizeof(float) * static_cast<std::size_t>(cols * ch);
   for (int y = 0; y < rows; ++y) r.bytes(image.pixels.ptr<float>(y), row);
   return image;

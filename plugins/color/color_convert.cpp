@@ -22,7 +22,8 @@ struct ColorConvert {
                "(log, data) are refused." +
                (c.problem.empty() ? "" : " Not usable now: " + c.problem))
         .input<loom::Image>("image", "an RGB or RGBA image")
-        .enum_input("from", kTagged, from_choices(), "the image's colour space; 'image': the one the image names, else its tag's")
+        .enum_input("from", kTagged, from_choices(),
+                    "the image's colour space; 'image': the one the image names, else its tag's")
         .enum_input("to", c.linear_space, c.spaces, "the colour space to convert to")
         .output<loom::Image>("image", "the converted image");
   }

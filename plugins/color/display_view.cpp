@@ -17,7 +17,8 @@ struct DisplayView {
                "display-encoded (tagged sRGB), so SaveImage writes its values to PNG or JPEG unchanged." +
                (c.problem.empty() ? "" : " Not usable now: " + c.problem))
         .input<loom::Image>("image", "an RGB or RGBA image")
-        .enum_input("from", kTagged, from_choices(), "the image's colour space; 'image': the one the image names, else its tag's")
+        .enum_input("from", kTagged, from_choices(),
+                    "the image's colour space; 'image': the one the image names, else its tag's")
         .enum_input("view", c.default_view, c.views, "a view of the display '" + c.display + "'")
         .output<loom::Image>("image", "the image as the display shows it (display-encoded)");
   }

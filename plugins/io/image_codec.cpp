@@ -123,7 +123,8 @@ Image read_image(const fs::path& path, Decode decode, std::uint64_t max_pixels, 
   }
   if (decode == Decode::linear && !file.color_space.empty())
     throw Error("cannot decode image " + path.string() + " to linear: its header names colour space " +
-                file.color_space + ", which the sRGB curve alone does not decode (read it with decode keep, "
+                file.color_space +
+                ", which the sRGB curve alone does not decode (read it with decode keep, "
                 "then ColorConvert it)");
   Image image(m, Encoding::srgb, file.color_space);
   return decode == Decode::linear ? with_encoding(image, Encoding::linear) : image;

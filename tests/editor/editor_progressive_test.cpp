@@ -221,8 +221,7 @@ TEST(EditorViewer, AnImageInANamedSpaceIsShownAsItsColours) {
   const ImVec2 centre = h.app.image_view().to_screen(32, 32);
   const Rgba8Image frame = h.screenshot("viewer-named-space");
   const std::uint8_t* p = frame.at(int(centre.x), int(centre.y));
-  for (int k = 0; k < 3; ++k)
-    EXPECT_NEAR(p[k], srgb[k] * 255.0f + 0.5f, 1.0) << "channel " << k;
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(p[k], srgb[k] * 255.0f + 0.5f, 1.0) << "channel " << k;
 }
 
 }  // namespace

@@ -104,8 +104,7 @@ class Split final : public PixelSplit {
     // the exchange progresses only while MPI is polled, but yielding the core
     // between polls (see exchange_all).
     exchange_all(requests);
-    for (auto& [o, pixels] : images)
-      outputs[o] = Value::make<Image>(outputs[o].as<Image>().like(std::move(pixels)));
+    for (auto& [o, pixels] : images) outputs[o] = Value::make<Image>(outputs[o].as<Image>().like(std::move(pixels)));
     kept_.clear();
     if (rank_ != 0) return;
     std::fprintf(stderr,

@@ -198,7 +198,8 @@ TEST(ColorConvert, TheConvertedImageCarriesItsSpaceToTheNextNode) {
   if (!run_ocio_tool("ocioconvert " + in.string() + " lin_rec709 " + reference.string() + " ACES2065-1", &out))
     GTEST_SKIP() << "ocioconvert (opencolorio-tools) is not installed";
   testing::Engine e;
-  const json to_acescg = {{"type", "ColorConvert"}, {"inputs", {{"image", {{"from", "load.image"}}}, {"to", "ACEScg"}}}};
+  const json to_acescg = {{"type", "ColorConvert"},
+                          {"inputs", {{"image", {{"from", "load.image"}}}, {"to", "ACEScg"}}}};
   const Image acescg = run_after_load(e, in, {{"cg", to_acescg}}, "cg.image");
   EXPECT_EQ(acescg.space, "ACEScg");
   EXPECT_EQ(acescg.encoding, Encoding::linear);
@@ -219,10 +220,11 @@ TEST(ColorConvert, TheConvertedImageCarriesItsSpaceToTheNextNode) {
   EXPECT_LT(relative_difference(back.pixels, load(e, in).pixels), 1e-5);
   // DisplayView starts from the named space too: ocioconvert --view from ACEScg.
   const fs::path shown = dir / "shown.exr";
-  ASSERT_TRUE(run_ocio_tool("ocioconvert " + in.string() + " lin_rec709 " + (dir / "cg.exr").string() + " ACEScg", &out));
-  ASSERT_TRUE(run_ocio_tool("ocioconvert --view " + (dir / "cg.exr").string() + " ACEScg " + shown.string() +
-                                " sRGB 'ACES 1.0 - SDR Video'",
-                            &out));
+  ASSERT_TRUE(
+      run_ocio_tool("ocioconvert " + in.string() + " lin_rec709 " + (dir / "cg.exr").string() + " ACEScg", &out));
+  ASSERT_TRUE(run_ocio_tool(
+      "ocioconvert --view " + (dir / "cg.exr").string() + " ACEScg " + shown.string() + " sRGB 'ACES 1.0 - SDR Video'",
+      &out));
   const Image view = run_after_load(
       e, in,
       {{"cg", to_acescg},
@@ -243,7 +245,8 @@ TEST(ColorConvert, ANamedSpaceGoesThroughAnExrAndIsRefusedForAPng) {
   const fs::path in = test_exr(dir, &out);
   if (in.empty()) GTEST_SKIP() << "oiiotool (openimageio-tools) is not installed: " << out;
   std::ofstream(dir / "g.json") << R"({"loom": 1, "nodes": {
-    "load": {"type": "LoadImage", "inputs": {"path": ")" + in.string() + R"("}},
+    "load": {"type": "LoadImage", "inputs": {"path": ")" +
+                                       in.string() + R"("}},
     "cg": {"type": "ColorConvert", "inputs": {"image": {"from": "load.image"}, "to": "ACEScg"}},
     "exr": {"type": "SaveImage", "inputs": {"image": {"from": "cg.image"}, "path": "cg.exr", "depth": "float"}},
     "layers": {"type": "SaveLayers", "inputs": {"image": {"from": "load.image"}, "albedo": {"from": "cg.image"},
