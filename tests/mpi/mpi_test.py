@@ -450,6 +450,26 @@ class DealtTest(MpiCase):
         for i, v in enumerate((1, 2, 3, 5, 8, 13, 21)):
             self.assertEqual(read(os.path.join(one, f"points/{i:04}/v.txt")), f"{v:.6f}\n")
 
+    def test_more_frames_and_points_than_16_a_rank_are_dealt_in_runs(self):
+        """100 frames and 50 points over 2 ranks: 32 parts of 3-4 frames, of 1-2 points."""
+        g = write_graph(self.dir, {
+            "f": {"type": "FrameNumber"},
+            "w": {"type": "WriteText", "inputs": {"value": {"from": "f.value"}, "path": "f_{frame:03}.txt"}}},
+            (1, 100))
+        one, many = os.path.join(self.dir, "one"), os.path.join(self.dir, "many")
+        loom("run", g, "--out", one, "--no-cache")
+        p = mpi_loom(2, "run", g, "--out", many, "--no-cache", "--mpi-deal", "dynamic")
+        names = [f"f_{f:03}.txt" for f in range(1, 101)]
+        self.assertSameFiles(one, many, names)
+        self.assertEqual(files_under(many), names)
+        self.assertEqual(sum(dealt_counts(p.stderr, "100 frames", 2)[0]), 100)
+        sweep = ["--frames", "7", "--sweep", "f.value=0:49:50", "--no-cache"]
+        loom("run", g, "--out", one + "-sweep", *sweep)
+        p = mpi_loom(2, "run", g, "--out", many + "-sweep", *sweep, "--mpi-deal", "dynamic")
+        self.assertSameFiles(one + "-sweep", many + "-sweep", [f"points/{i:04}/f_007.txt" for i in range(50)])
+        self.assertEqual(sum(dealt_counts(p.stderr, "50 sweep points", 2)[0]), 50)
+        self.assertEqual(read(os.path.join(many + "-sweep", "points/0049/f_007.txt")), f"{7 + 49:.6f}\n")
+
     def test_over_tcp_a_rank_waits_for_its_next_frame_milliseconds_not_rank_0s_frame(self):
         """Over TCP Open MPI answers an ask only while rank 0 is inside MPI
         (osc pt2pt, forced here on one machine): without rank 0 answering

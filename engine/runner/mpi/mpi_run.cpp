@@ -160,9 +160,9 @@ EvalResult evaluate_answering(Dealer& dealer, const std::function<EvalResult()>&
 }
 
 // Calls `evaluate` on this rank's frames of `range`: the r-th of `size`
-// contiguous blocks, or, with --mpi-deal dynamic, one frame at a time as the
-// rank asks for the next (a slower rank takes fewer; rank 0 answers the asks
-// while it evaluates, the Dealer it is given).
+// contiguous blocks, or, with --mpi-deal dynamic, a part at a time (a frame,
+// or a run of them: Dealer) as the rank asks for the next (a slower rank
+// takes fewer; rank 0 answers the asks while it evaluates, the Dealer it is given).
 // Rank 0 then prints each rank's time in its frames (report_balance) and,
 // dealt, how many each took.
 void for_my_frames(MpiWorld& world, FrameRange range, const std::function<void(FrameRange, Dealer*)>& evaluate) {
@@ -175,10 +175,8 @@ void for_my_frames(MpiWorld& world, FrameRange range, const std::function<void(F
     if (first <= last) evaluate({first, last}, nullptr);
   } else {
     dealer = world.dealer(frames);
-    for (long f; (f = dealer->next()) >= 0;) {
-      const int frame = range.first + int(f);
-      evaluate({frame, frame}, world.rank() == 0 ? dealer.get() : nullptr);
-    }
+    for (Dealer::Part p; !(p = dealer->next()).empty();)
+      evaluate({range.first + int(p.begin), range.first + int(p.end) - 1}, world.rank() == 0 ? dealer.get() : nullptr);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (dealer) dealer->report(std::to_string(frames) + " frames");
@@ -354,9 +352,12 @@ int run_sweep_on_ranks(const SweepRequest& request, const RunSettings& settings)
   SweepRequest mine = request;
   std::unique_ptr<Dealer> dealer;
   PointDealing dealing;
-  if (mpi_settings().deal == "dynamic") {  // one point at a time, as this rank asks
+  if (mpi_settings().deal == "dynamic") {  // a part at a time, as this rank asks
     dealer = world->dealer(long(*count));
-    dealing.next = [&] { return dealer->next(); };
+    dealing.next = [&, part = Dealer::Part{}]() mutable {  // the points of this rank's parts, one at a time
+      if (part.empty()) part = dealer->next();
+      return part.empty() ? -1L : part.begin++;
+    };
     dealing.evaluate = [&](const std::function<EvalResult()>& evaluate) {
       return world->rank() == 0 ? evaluate_answering(*dealer, evaluate) : evaluate();
     };

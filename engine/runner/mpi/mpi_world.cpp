@@ -43,14 +43,14 @@ void barrier() {
   wait_for(request);
 }
 
-// Parts per rank when tiles are dealt as ranks ask: a rank that runs out
-// waits for at most one part of a slower rank, 1/16 of its share.
-constexpr int kDealtPartsPerRank = 16;
+// The most parts per rank a Dealer cuts its items into (mpi_world.hpp).
+constexpr long kDealtPartsPerRank = 16;
 
 class CounterDealer final : public Dealer {
  public:
-  CounterDealer(long count, int rank, int size) : count_(count), rank_(rank), size_(size) {
-    // The next item to deal, on rank 0; items 0..size-1 are every rank's first.
+  CounterDealer(long count, int rank, int size)
+      : count_(count), parts_(std::min(count, kDealtPartsPerRank * size)), rank_(rank), size_(size) {
+    // The next part to deal, on rank 0; parts 0..size-1 are every rank's first.
     MPI_Win_allocate(rank_ == 0 ? sizeof(long) : 0, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &next_, &window_);
     if (rank_ == 0) *next_ = size_;
     MPI_Barrier(MPI_COMM_WORLD);
@@ -60,23 +60,25 @@ class CounterDealer final : public Dealer {
     MPI_Win_free(&window_);
   }
 
-  long next() override {
-    long item = -1;
-    if (taken_ == 0) {
-      item = rank_;
+  Part next() override {
+    long part = -1;
+    if (!asked_) {
+      part = rank_;
+      asked_ = true;
     } else if (!done_) {
       const long one = 1;
       const auto asked = std::chrono::steady_clock::now();
       MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window_);
-      MPI_Fetch_and_op(&one, &item, MPI_LONG, 0, 0, MPI_SUM, window_);
+      MPI_Fetch_and_op(&one, &part, MPI_LONG, 0, 0, MPI_SUM, window_);
       MPI_Win_unlock(0, window_);
-      longest_wait_ =
-          std::max(longest_wait_, std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count());
+      const std::chrono::duration<double> waited = std::chrono::steady_clock::now() - asked;
+      longest_wait_ = std::max(longest_wait_, waited.count());
     }
-    done_ = done_ || item >= count_;
-    if (done_) return -1;
-    ++taken_;
-    return item;
+    done_ = done_ || part >= parts_;
+    if (done_) return {};
+    const Part items{count_ * part / parts_, count_ * (part + 1) / parts_};
+    taken_ += items.end - items.begin;
+    return items;
   }
 
   void answer() override {
@@ -102,10 +104,10 @@ class CounterDealer final : public Dealer {
   }
 
  private:
-  long count_;
+  long count_, parts_;
   int rank_, size_;
   long taken_ = 0;  // items this rank took
-  bool done_ = false;
+  bool asked_ = false, done_ = false;
   double longest_wait_ = 0;  // seconds, the longest of this rank's asks
   long* next_ = nullptr;
   MPI_Win window_ = MPI_WIN_NULL;
@@ -116,9 +118,9 @@ class Split final : public PixelSplit {
   Split(std::string node, int tile, int rank, int size, bool by_samples, Gather gather, bool dealt)
       : node_(std::move(node)), tile_(tile), rank_(rank), size_(size), by_samples_(by_samples), gather_(gather),
         parts_(dealt ? size * kDealtPartsPerRank : size), part_(rank) {
-    if (dealt) {
+    if (dealt) {  // the dealer's items are the parts (16 a rank: one item a part)
       dealer_ = std::make_unique<CounterDealer>(parts_, rank_, size_);
-      part_ = int(dealer_->next());  // this rank's own first part
+      part_ = int(dealer_->next().begin);  // this rank's own first part
     }
   }
 
@@ -188,9 +190,9 @@ class Split final : public PixelSplit {
       ++kept;
     }
     mine_.push_back(part_);
-    const long next = dealer_->next();
-    if (next < 0) return false;
-    part_ = int(next);
+    const Dealer::Part next = dealer_->next();
+    if (next.empty()) return false;
+    part_ = int(next.begin);
     return true;
   }
 
