@@ -1,7 +1,8 @@
 // `loom run` over MPI ranks: what each rank evaluates (mpi_run.hpp).
 //
 // Frames (several frames, or --mpi-split frames): rank r evaluates the r-th
-// of `size` contiguous blocks of the range. The stages are the engine's
+// of `size` contiguous blocks of the range, or with --mpi-deal dynamic the
+// runs of frames a Dealer hands it as it asks (for_my_frames). The stages are the engine's
 // (GraphView::stages): the simulations the targets read are stepped first, in
 // order, by rank 0, every state stored in the persistent cache; the ranks then
 // read each state of their frames from it (docs/architecture.md, "One run over

@@ -20,7 +20,7 @@ enum class Gather { to_rank_0, to_every_rank };
 // cut into at most 16 parts per rank, each a run of consecutive items (one
 // item each when there are no more): a rank that runs out waits for at most
 // one part of a slower rank, 1/16 of its share, and an ask costs something
-// only every 1/16 of a share (dealing 480 frames of 3 ms one at a time took
+// only every 1/16 of a share (dealing 480 frames of 1-3 ms one at a time took
 // 2.5 ms a frame more than blocks). Rank r's first part is part r, then each
 // next() takes the next part from a counter on rank 0 (MPI_Fetch_and_op on
 // a window; rank 0 need not be waiting for the ask: shared memory and
