@@ -116,8 +116,14 @@ class CounterDealer final : public Dealer {
 class Split final : public PixelSplit {
  public:
   Split(std::string node, int tile, int rank, int size, bool by_samples, Gather gather, bool dealt)
-      : node_(std::move(node)), tile_(tile), rank_(rank), size_(size), by_samples_(by_samples), gather_(gather),
-        parts_(dealt ? size * kDealtPartsPerRank : size), part_(rank) {
+      : node_(std::move(node)),
+        tile_(tile),
+        rank_(rank),
+        size_(size),
+        by_samples_(by_samples),
+        gather_(gather),
+        parts_(dealt ? size * kDealtPartsPerRank : size),
+        part_(rank) {
     if (dealt) {  // the dealer's items are the parts (16 a rank: one item a part)
       dealer_ = std::make_unique<CounterDealer>(parts_, rank_, size_);
       part_ = int(dealer_->next().begin);  // this rank's own first part

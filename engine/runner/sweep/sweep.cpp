@@ -223,8 +223,10 @@ std::vector<json> run_points(const SweepRequest& r, const RunSettings& s, Plan& 
     // Cancelled: stop at once. Reading the remaining points' files and writing
     // the tables took seconds for a large sweep (4.2 s at 300,000 points).
     if (cancel_flag()) break;
-    if (!plan.selected[i] || r.collect) points.push_back(read_point(s.out_dir, i, plan.points[i]));
-    else run(i);
+    if (!plan.selected[i] || r.collect)
+      points.push_back(read_point(s.out_dir, i, plan.points[i]));
+    else
+      run(i);
   }
   return points;
 }
