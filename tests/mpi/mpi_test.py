@@ -475,6 +475,10 @@ class DealtTest(MpiCase):
         (osc pt2pt, forced here on one machine): without rank 0 answering
         while it evaluates, ranks 1 and 2 waited 6.9 s, until rank 0 had done
         all its own frames of 1.5 s, and took one frame each of 7."""
+        info = subprocess.run(["ompi_info"], capture_output=True, text=True).stdout if shutil.which("ompi_info") else ""
+        if "MCA osc: pt2pt" not in info:
+            self.skipTest("this Open MPI has no osc pt2pt component (Open MPI 5 removed it): "
+                          "nothing forces TCP's windows on one machine")
         g = sleepy_frames_graph(self.dir, 1500, frames=7)
         tcp = ["--oversubscribe", "--bind-to", "none", "--mca", "btl", "self,tcp", "--mca", "btl_tcp_if_include", "lo",
                "--mca", "oob_tcp_if_include", "lo", "--mca", "osc", "pt2pt"]
