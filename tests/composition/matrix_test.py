@@ -502,8 +502,9 @@ def d_mpi_tiles_dealt(feature, work):
 
 
 def d_mpi_frames_dealt(feature, work):
-    """Frames handed out one at a time as ranks ask: each a session.evaluate of
-    its own, simulations' states and sequence sinks as for blocks."""
+    """Frames handed out as ranks ask (one at a time, or runs of them past 16
+    a rank): each part a session.evaluate of its own, simulations' states and
+    sequence sinks as for blocks."""
     mpi_cell(feature, work, "frames", "--mpi-deal", "dynamic")
 
 
