@@ -13,6 +13,11 @@ configurations alternated so that the machine's load spoils them alike:
   - uneven: 3 ranks, rank 2 held to half speed, tiles dealt statically and
     dynamically: PathTrace's time on the slowest rank over what the ranks'
     measured speeds would need if the work were shared in proportion;
+  - uneven-frames, uneven-points: the same for 48 frames of a twisting warp
+    (graphs/time-twist-sequence.json at 768x768, --threads 1), and for a
+    sweep of 48 points of its first frame, blocks / round-robin against dealt as ranks
+    ask: the slowest rank's time in its frames (points) over the ideal, and
+    the command's wall time;
   - startup: mpiexec's start-up, 4 ranks of a one-node graph against one `loom run`.
 Writes mpi.csv and mpi.png to --out (else $LOOM_BENCH_OUT, else bench/results).
 Usage: mpi_bench.py LOOM SOURCE_DIR [--quick] [--repeats N] [--only MEASURE,...] [--out DIR]."""
@@ -36,7 +41,7 @@ parser.add_argument("source", help=argparse.SUPPRESS)
 parser.add_argument("--quick", action="store_true", help="smaller image and fewer samples, one repeat")
 parser.add_argument("--repeats", type=int, help="timings per measure, the median kept (default 3)")
 parser.add_argument("--out", help="results folder (default: $LOOM_BENCH_OUT, else bench/results)")
-parser.add_argument("--only", default="distribution,gather,imbalance,uneven,startup",
+parser.add_argument("--only", default="distribution,gather,imbalance,uneven,uneven-frames,uneven-points,startup",
                     help="measures to take, comma-separated (default: all)")
 ARGS = parser.parse_args()
 LOOM, SOURCE, QUICK = ARGS.loom, ARGS.source, ARGS.quick
@@ -230,6 +235,52 @@ def measure_uneven(tmp, box, out, rows):
                      "seconds": median, "detail": details[ratios.index(median)] if median in ratios else ""})
 
 
+def against_even_sharing_of(err, what, count, deal):
+    """As against_even_sharing, for frames or sweep points: rank r's seconds
+    in its items (rank 0's "mpi: frames computed in ..." line), and its share:
+    static, frames in contiguous blocks (count * r // 3 ...), points
+    round-robin; dealt, the items it took."""
+    seconds = [float(x) for x in re.search(rf"mpi: {what} computed .*ranks 0\.\.2: ([0-9. ]+) s", err)
+               .group(1).split()]
+    if deal == "dynamic":
+        m = re.search(rf"mpi: {count} {what} dealt as ranks asked: (\d+), (\d+), (\d+)", err)
+        taken = [int(c) for c in m.groups()]
+    elif what == "frames":
+        taken = [count * (r + 1) // 3 - count * r // 3 for r in range(3)]
+    else:
+        taken = [len(range(r, count, 3)) for r in range(3)]
+    shares = [c / count for c in taken]
+    ideal = 1 / sum(w / t for w, t in zip(shares, seconds) if w > 0)
+    return max(seconds) / ideal, seconds, taken
+
+
+def measure_uneven_items(tmp, out, rows, what):
+    """48 frames, or 48 sweep points of frame 1 (the checkerboard's cells
+    swept), of the twisting warp at 768x768 (0.2-0.3 s a frame with its PNG
+    on a free core), 3 ranks of 1 thread, rank 2 at half speed, static
+    against dealt, alternated."""
+    count = 48
+    twist = [os.path.join(SOURCE, "graphs", "time-twist-sequence.json"), "--out", out, "--set",
+             "board.size=[768,768]", "--target", "frames"]
+    items = ["--frames", f"1-{count}"] if what == "frames" else \
+        ["--frames", "1", "--sweep", f"board.cells=2:{count + 1}:{count}"]
+    results = {deal: ([], [], []) for deal in ("static", "dynamic")}
+    for _ in range(REPEATS):
+        for deal, (ratios, walls, details) in results.items():
+            err, wall = half_speed_run(command(3, 1, *twist, *items, "--mpi-deal", deal))
+            ratio, seconds, taken = against_even_sharing_of(err, what, count, deal)
+            ratios.append(ratio)
+            walls.append(wall)
+            details.append(f"{what} on ranks 0..2 " + " ".join(f"{t:.1f}" for t in seconds) + " s, taken " +
+                           " ".join(map(str, taken)) + f", command {wall:.1f} s")
+    for deal, (ratios, walls, details) in results.items():
+        median = statistics.median(ratios)
+        rows.append({"measure": f"3 ranks, rank 2 at half speed, {deal} {what}: slowest / even sharing",
+                     "seconds": median, "detail": details[ratios.index(median)] if median in ratios else ""})
+        rows.append({"measure": f"3 ranks, rank 2 at half speed, {deal} {what}: command wall",
+                     "seconds": statistics.median(walls), "detail": "seconds"})
+
+
 def measure_startup(tmp, out, rows):
     tiny = write(tmp, "tiny.json", {"v": {"type": "Math", "inputs": {"a": 1, "b": 2, "op": "add"}}})
     times, _ = alternate({"loom run": command(0, 1, tiny, "--out", out, "--target", "v.result"),
@@ -261,6 +312,10 @@ def main():
         measure_imbalance(tmp, box, out, rows)
     if "uneven" in ONLY:
         measure_uneven(tmp, box, out, rows)
+    if "uneven-frames" in ONLY:
+        measure_uneven_items(tmp, out, rows, "frames")
+    if "uneven-points" in ONLY:
+        measure_uneven_items(tmp, out, rows, "sweep points")
     if "startup" in ONLY:
         measure_startup(tmp, out, rows)
 

@@ -497,8 +497,15 @@ def d_mpi_tiles(feature, work):
     mpi_cell(feature, work, "tiles")
 
 
-def d_mpi_dealt(feature, work):
+def d_mpi_tiles_dealt(feature, work):
     mpi_cell(feature, work, "tiles", "--mpi-deal", "dynamic")
+
+
+def d_mpi_frames_dealt(feature, work):
+    """Frames handed out as ranks ask (one at a time, or runs of them past 16
+    a rank): each part a session.evaluate of its own, simulations' states and
+    sequence sinks as for blocks."""
+    mpi_cell(feature, work, "frames", "--mpi-deal", "dynamic")
 
 
 def d_mpi_samples(feature, work):
@@ -609,7 +616,7 @@ def d_editor(feature, work):
 DRIVERS = [("frames", d_frames), ("sweep iface", d_sweep_interface), ("sweep inner", d_sweep_inner),
            ("record", d_record), ("cache rerun", d_cache_rerun), ("submit local", d_submit_local),
            ("submit slurm", d_submit_slurm), ("mpi frames", d_mpi_frames), ("mpi tiles", d_mpi_tiles),
-           ("mpi dealt", d_mpi_dealt),
+           ("mpi tiles dealt", d_mpi_tiles_dealt), ("mpi frames dealt", d_mpi_frames_dealt),
            ("mpi samples", d_mpi_samples), ("watch", d_watch), ("preview", d_preview), ("python", d_python),
            ("editor", d_editor)]
 

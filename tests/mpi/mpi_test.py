@@ -264,8 +264,8 @@ def sleepy_frames_graph(folder, ms, frames=4):
         (1, frames))
 
 
-def rank_pids(launcher_pid, timeout=30):
-    """The `loom` ranks started by this mpiexec, by rank."""
+def rank_pids(launcher_pid, timeout=30, count=2):
+    """The `loom` ranks started by this mpiexec, by rank (once `count` are seen)."""
     deadline = time.time() + timeout
     while time.time() < deadline:
         ranks = {}
@@ -283,7 +283,7 @@ def rank_pids(launcher_pid, timeout=30):
             rank = [e for e in env if e.startswith(b"OMPI_COMM_WORLD_RANK=")]
             if rank and parent_chain_has(pid, launcher_pid):
                 ranks[int(rank[0].split(b"=")[1])] = pid
-        if len(ranks) >= 2:
+        if len(ranks) >= count:
             return ranks
         time.sleep(0.05)
     raise TimeoutError("the ranks did not start")
@@ -321,24 +321,32 @@ def leftovers(folder):
 class FailureTest(MpiCase):
     """A rank that dies or fails ends every rank within seconds, non-zero."""
 
-    def test_a_node_failing_on_one_rank_ends_every_rank(self):
+    def check_a_node_failing_on_one_rank(self, deal, failing, second):
+        """Rank 1's first frame `failing` cannot make its folder; rank 0's
+        second frame, `second`, would be written at 6 s."""
         g = sleepy_frames_graph(self.dir, 3000)
         out = os.path.join(self.dir, "out")
         os.makedirs(out)
-        open(os.path.join(out, "d_3"), "w").close()  # frame 3 (rank 1's first) cannot make its folder
-        p = mpi_loom(2, "run", g, "--out", out, "--no-cache", check=False)
+        open(os.path.join(out, f"d_{failing}"), "w").close()
+        p = mpi_loom(2, "run", g, "--out", out, "--no-cache", "--mpi-deal", deal, check=False)
         self.assertNotEqual(p.returncode, 0, p.stderr)
         self.assertIn("rank 1: a node failed: ending every rank", p.stderr)
-        # Rank 1 failed at 3 s; rank 0 would have written frame 2 at 6 s: it was ended before.
-        self.assertFalse(os.path.exists(os.path.join(out, "d_2", "f.txt")), p.stderr)
-        self.assertFalse(os.path.exists(os.path.join(out, "d_4", "f.txt")))  # rank 1 never reached frame 4
+        # Rank 1 failed at 3 s; rank 0 would have written its second frame at 6 s: it was ended before.
+        self.assertFalse(os.path.exists(os.path.join(out, f"d_{second}", "f.txt")), p.stderr)
+        self.assertFalse(os.path.exists(os.path.join(out, "d_4", "f.txt")))  # nobody reached frame 4
         self.assertEqual(leftovers(out), [])
 
-    def start_slow_run(self):
+    def test_a_node_failing_on_one_rank_ends_every_rank(self):
+        self.check_a_node_failing_on_one_rank("static", failing=3, second=2)  # blocks 1-2 and 3-4
+
+    def test_a_node_failing_on_one_rank_ends_every_rank_dealt(self):
+        self.check_a_node_failing_on_one_rank("dynamic", failing=2, second=3)  # firsts 1 and 2, then asked
+
+    def start_slow_run(self, deal="static"):
         """2 ranks at their first frame of 10 s each: (mpiexec, the ranks' pids, --out)."""
         g = sleepy_frames_graph(self.dir, 10000)
         out = os.path.join(self.dir, "out")
-        proc = subprocess.Popen(mpi_command(2, "run", g, "--out", out, "--no-cache"), env=MPI_ENV,
+        proc = subprocess.Popen(mpi_command(2, "run", g, "--out", out, "--no-cache", "--mpi-deal", deal), env=MPI_ENV,
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         ranks = rank_pids(proc.pid)
         for pid in ranks.values():
@@ -347,7 +355,13 @@ class FailureTest(MpiCase):
         return proc, ranks, out
 
     def test_a_killed_rank_ends_every_rank(self):
-        proc, ranks, out = self.start_slow_run()
+        self.check_a_killed_rank("static")
+
+    def test_a_killed_rank_ends_every_rank_dealt(self):
+        self.check_a_killed_rank("dynamic")  # rank 0 evaluating on a thread, answering on the other
+
+    def check_a_killed_rank(self, deal):
+        proc, ranks, out = self.start_slow_run(deal)
         os.kill(ranks[1], signal.SIGKILL)
         killed = time.time()
         _, err = proc.communicate(timeout=60)
@@ -357,13 +371,153 @@ class FailureTest(MpiCase):
         self.assertEqual(leftovers(out), [])
 
     def test_sigterm_ends_every_rank_with_130(self):
-        proc, ranks, out = self.start_slow_run()
+        self.check_sigterm("static")
+
+    def test_sigterm_ends_every_rank_with_130_dealt(self):
+        self.check_sigterm("dynamic")
+
+    def check_sigterm(self, deal):
+        proc, ranks, out = self.start_slow_run(deal)
         for pid in ranks.values():  # as Slurm's scancel does: every process of the step
             os.kill(pid, signal.SIGTERM)
         _, err = proc.communicate(timeout=60)
         self.assertEqual(proc.returncode, 130, err)
         self.assertFalse(os.path.exists(os.path.join(out, "d_1", "f.txt")))
         self.assertEqual(leftovers(out), [])
+
+
+def dealt_counts(err, what, ranks):
+    """How many items each rank took, from rank 0's line "mpi: WHAT dealt as
+    ranks asked: 10, 9, 5 to ranks 0..2 (the longest wait ...: 0.001 s)", and the longest wait."""
+    m = re.search(rf"mpi: {what} dealt as ranks asked: ([0-9, ]+) to ranks 0\.\.{ranks - 1} "
+                  r"\(the longest wait for an answer: ([0-9.]+) s\)", err)
+    if not m:
+        raise AssertionError(f"no dealing reported for {what}:\n{err}")
+    return [int(c) for c in m.group(1).split(", ")], float(m.group(2))
+
+
+def busy_loop(core):
+    """A process spinning on `core`, stopped by PID by the caller."""
+    return subprocess.Popen(["taskset", "-c", str(core), sys.executable, "-c", "while True: pass"])
+
+
+class DealtTest(MpiCase):
+    """--mpi-deal dynamic: frames and sweep points handed out as ranks ask write
+    what one process writes, and a slower rank takes fewer."""
+
+    def test_frames_and_the_video_dealt_as_ranks_ask_equal_one_process(self):
+        g = os.path.join(SOURCE, "graphs", "time-twist-sequence.json")
+        one = os.path.join(self.dir, "one")
+        loom("run", g, "--out", one, "--frames", "1-8", "--no-cache")
+        names = [f"frames/twist_{f:04}.png" for f in range(1, 9)] + ["twist.mp4"]
+        for ranks in (2, 3):
+            many = os.path.join(self.dir, f"many{ranks}")
+            p = mpi_loom(ranks, "run", g, "--out", many, "--frames", "1-8", "--no-cache", "--mpi-deal", "dynamic")
+            self.assertSameFiles(one, many, names)
+            self.assertEqual(files_under(many), sorted(names))  # the run's own cache folder is gone
+            counts, _ = dealt_counts(p.stderr, "8 frames", ranks)
+            self.assertEqual(sum(counts), 8, p.stderr)
+
+    def test_a_simulation_dealt_equals_one_process_and_the_exact_integral(self):
+        g = integrate_graph(self.dir)
+        one = os.path.join(self.dir, "one")
+        loom("run", g, "--out", one, "--no-cache")
+        many = os.path.join(self.dir, "many")
+        p = mpi_loom(3, "run", g, "--out", many, "--cache", os.path.join(self.dir, "cache"), "--mpi-deal", "dynamic")
+        self.assertSameFiles(one, many, [f"x_{f:02}.txt" for f in range(1, 10)])
+        self.assertEqual(sum(dealt_counts(p.stderr, "9 frames", 3)[0]), 9)
+        for f in range(1, 10):  # x(f) = v (f - 1) / fps
+            self.assertEqual(read(os.path.join(many, f"x_{f:02}.txt")), f"{(f - 1) * 1.0:.6f}\n")
+
+    def test_sweep_points_dealt_as_ranks_ask_equal_one_process(self):
+        g = write_graph(self.dir, {
+            "s": {"type": "Sleep", "inputs": {"value": 0, "ms": 100}},
+            "w": {"type": "WriteText", "inputs": {"value": {"from": "s.value"}, "path": "v.txt"}}})
+        sweep = ["--sweep", "s.value=1,2,3,5,8,13,21", "--record", "s.value", "--no-cache"]
+        one = os.path.join(self.dir, "one")
+        loom("run", g, "--out", one, *sweep)
+        # What does not depend on timing: each point's values, status and records.
+        table = lambda d: [{k: p[k] for k in ("index", "values", "status", "records")}
+                           for p in json.loads(read(os.path.join(d, "sweep.json")))["points"]]
+        rows = lambda d: [line.split(",")[:3] for line in read(os.path.join(d, "sweep.csv")).splitlines()]
+        for ranks in (2, 3):
+            many = os.path.join(self.dir, f"many{ranks}")
+            p = mpi_loom(ranks, "run", g, "--out", many, *sweep, "--mpi-deal", "dynamic")
+            self.assertSameFiles(one, many, [f"points/{i:04}/v.txt" for i in range(7)])
+            self.assertEqual(rows(one), rows(many))
+            self.assertEqual(table(one), table(many))
+            self.assertEqual(sum(dealt_counts(p.stderr, "7 sweep points", ranks)[0]), 7)
+        for i, v in enumerate((1, 2, 3, 5, 8, 13, 21)):
+            self.assertEqual(read(os.path.join(one, f"points/{i:04}/v.txt")), f"{v:.6f}\n")
+
+    def test_more_frames_and_points_than_16_a_rank_are_dealt_in_runs(self):
+        """100 frames and 50 points over 2 ranks: 32 parts of 3-4 frames, of 1-2 points."""
+        g = write_graph(self.dir, {
+            "f": {"type": "FrameNumber"},
+            "w": {"type": "WriteText", "inputs": {"value": {"from": "f.value"}, "path": "f_{frame:03}.txt"}}},
+            (1, 100))
+        one, many = os.path.join(self.dir, "one"), os.path.join(self.dir, "many")
+        loom("run", g, "--out", one, "--no-cache")
+        p = mpi_loom(2, "run", g, "--out", many, "--no-cache", "--mpi-deal", "dynamic")
+        names = [f"f_{f:03}.txt" for f in range(1, 101)]
+        self.assertSameFiles(one, many, names)
+        self.assertEqual(files_under(many), names)
+        self.assertEqual(sum(dealt_counts(p.stderr, "100 frames", 2)[0]), 100)
+        sweep = ["--frames", "7", "--sweep", "f.value=0:49:50", "--no-cache"]
+        loom("run", g, "--out", one + "-sweep", *sweep)
+        p = mpi_loom(2, "run", g, "--out", many + "-sweep", *sweep, "--mpi-deal", "dynamic")
+        self.assertSameFiles(one + "-sweep", many + "-sweep", [f"points/{i:04}/f_007.txt" for i in range(50)])
+        self.assertEqual(sum(dealt_counts(p.stderr, "50 sweep points", 2)[0]), 50)
+        self.assertEqual(read(os.path.join(many + "-sweep", "points/0049/f_007.txt")), f"{7 + 49:.6f}\n")
+
+    def test_over_tcp_a_rank_waits_for_its_next_frame_milliseconds_not_rank_0s_frame(self):
+        """Over TCP Open MPI answers an ask only while rank 0 is inside MPI
+        (osc pt2pt, forced here on one machine): without rank 0 answering
+        while it evaluates, ranks 1 and 2 waited 6.9 s, until rank 0 had done
+        all its own frames of 1.5 s, and took one frame each of 7."""
+        info = subprocess.run(["ompi_info"], capture_output=True, text=True).stdout if shutil.which("ompi_info") else ""
+        if "MCA osc: pt2pt" not in info:
+            self.skipTest("this Open MPI has no osc pt2pt component (Open MPI 5 removed it): "
+                          "nothing forces TCP's windows on one machine")
+        g = sleepy_frames_graph(self.dir, 1500, frames=7)
+        tcp = ["--oversubscribe", "--bind-to", "none", "--mca", "btl", "self,tcp", "--mca", "btl_tcp_if_include", "lo",
+               "--mca", "oob_tcp_if_include", "lo", "--mca", "osc", "pt2pt"]
+        p = subprocess.run([MPIEXEC, "-n", "3", *tcp, LOOM, "run", g, "--out", os.path.join(self.dir, "out"),
+                            "--no-cache", "--mpi-deal", "dynamic"], capture_output=True, text=True, timeout=240,
+                           env=MPI_ENV)
+        self.assertEqual(p.returncode, 0, p.stderr)
+        counts, longest = dealt_counts(p.stderr, "7 frames", 3)
+        self.assertEqual(sum(counts), 7, p.stderr)
+        self.assertLess(longest, 0.75, p.stderr)  # half a frame; 0.005 s measured
+        self.assertLessEqual(max(counts), 3, p.stderr)  # 3 waves of 3, 2, 2 frames
+
+    def test_a_rank_slowed_from_outside_takes_fewer_frames(self):
+        """3 ranks; ranks 0 and 1 share one core, rank 2 shares another with
+        three busy processes: it runs at about half their speed (a quarter of
+        a core against a half) and should take about half as many frames."""
+        cores = sorted(os.sched_getaffinity(0))
+        if not shutil.which("taskset") or len(cores) < 2:
+            self.skipTest("needs taskset (util-linux) and 2 cores")
+        g = os.path.join(SOURCE, "graphs", "time-twist-sequence.json")
+        busy = [busy_loop(cores[1]) for _ in range(3)]
+        try:
+            proc = subprocess.Popen(mpi_command(3, "run", g, "--out", os.path.join(self.dir, "out"), "--no-cache",
+                                                "--frames", "1-24", "--set", "board.size=[768,768]", "--threads", 1,
+                                                "--target", "frames", "--mpi-deal", "dynamic"),
+                                    env=MPI_ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            ranks = rank_pids(proc.pid, count=3)
+            for rank, core in ((0, cores[0]), (1, cores[0]), (2, cores[1])):
+                subprocess.run(["taskset", "-a", "-p", "-c", str(core), str(ranks[rank])], check=True,
+                               capture_output=True)
+            _, err = proc.communicate(timeout=240)
+        finally:
+            for b in busy:
+                b.kill()
+                b.wait()
+        self.assertEqual(proc.returncode, 0, err)
+        counts, _ = dealt_counts(err, "24 frames", 3)
+        self.assertEqual(sum(counts), 24, err)
+        self.assertLess(counts[2], min(counts[0], counts[1]), err)
 
 
 if __name__ == "__main__":

@@ -53,8 +53,9 @@ void add_mpi_options(CLI::App* run) {
       ->capture_default_str()
       ->check(CLI::Range(1, 16384));
   run->add_option("--mpi-deal", s.deal,
-                  "under mpirun/srun, tiles: static (rank r takes the tiles t mod N = r) or dynamic (16 parts "
-                  "a rank, each rank taking the next as it finishes one: for ranks of uneven speed)")
+                  "under mpirun/srun: static (rank r takes the r-th block of frames, every N-th sweep point "
+                  "from r, the tiles t mod N = r) or dynamic (frames, points or tiles in at most 16 parts a "
+                  "rank, each rank taking the next part as it finishes one: for ranks of uneven speed)")
       ->capture_default_str()
       ->check(CLI::IsMember({"static", "dynamic"}));
 }

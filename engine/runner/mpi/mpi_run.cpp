@@ -1,7 +1,8 @@
 // `loom run` over MPI ranks: what each rank evaluates (mpi_run.hpp).
 //
 // Frames (several frames, or --mpi-split frames): rank r evaluates the r-th
-// of `size` contiguous blocks of the range. The stages are the engine's
+// of `size` contiguous blocks of the range, or with --mpi-deal dynamic the
+// runs of frames a Dealer hands it as it asks (for_my_frames). The stages are the engine's
 // (GraphView::stages): the simulations the targets read are stepped first, in
 // order, by rank 0, every state stored in the persistent cache; the ranks then
 // read each state of their frames from it (docs/architecture.md, "One run over
@@ -17,9 +18,12 @@
 // cache keeps them all; rank 0 then evaluates the targets, finding them there.
 #include "mpi/mpi_run.hpp"
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <future>
 #include <iostream>
 #include <limits>
 #include <optional>
@@ -122,6 +126,64 @@ DiskCache::Options storing_everything(const EvalOptions& options) {
   return o;
 }
 
+// How evenly the ranks shared some work (a split node's tiles or sample
+// passes, frames, sweep points): each rank's time in it (a split node's
+// gather excluded), the slowest over the mean.
+void report_balance(const MpiWorld& world, const std::string& what, const std::vector<double>& seconds) {
+  if (world.rank() != 0) return;
+  double sum = 0, slowest = 0;
+  for (double s : seconds) {
+    sum += s;
+    slowest = std::max(slowest, s);
+  }
+  const double mean = sum / double(seconds.size());
+  std::string each;
+  for (double s : seconds) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%s%.3f", each.empty() ? "" : " ", s);
+    each += text;
+  }
+  std::fprintf(stderr,
+               "mpi: %s computed in %.3f s on the slowest of %zu ranks, %.3f s on average "
+               "(imbalance %.3f; ranks 0..%zu: %s s)\n",
+               what.c_str(), slowest, seconds.size(), mean, mean > 0 ? slowest / mean : 1.0, seconds.size() - 1,
+               each.c_str());
+}
+
+// `evaluate` run on a thread of its own while this one lets MPI answer the
+// other ranks' asks for work (Dealer::answer, every millisecond): over TCP
+// a rank asking would otherwise wait until rank 0 next enters MPI, after its
+// frame. Nothing in a frame's evaluation calls MPI (its nodes are not split).
+EvalResult evaluate_answering(Dealer& dealer, const std::function<EvalResult()>& evaluate) {
+  std::future<EvalResult> result = std::async(std::launch::async, evaluate);
+  while (result.wait_for(std::chrono::milliseconds(1)) != std::future_status::ready) dealer.answer();
+  return result.get();
+}
+
+// Calls `evaluate` on this rank's frames of `range`: the r-th of `size`
+// contiguous blocks, or, with --mpi-deal dynamic, a part at a time (a frame,
+// or a run of them: Dealer) as the rank asks for the next (a slower rank
+// takes fewer; rank 0 answers the asks while it evaluates, the Dealer it is given).
+// Rank 0 then prints each rank's time in its frames (report_balance) and,
+// dealt, how many each took.
+void for_my_frames(MpiWorld& world, FrameRange range, const std::function<void(FrameRange, Dealer*)>& evaluate) {
+  const auto start = std::chrono::steady_clock::now();
+  const long frames = long(range.last) - range.first + 1;
+  std::unique_ptr<Dealer> dealer;
+  if (mpi_settings().deal != "dynamic") {
+    const int first = range.first + int(frames * world.rank() / world.size());
+    const int last = range.first + int(frames * (world.rank() + 1) / world.size()) - 1;
+    if (first <= last) evaluate({first, last}, nullptr);
+  } else {
+    dealer = world.dealer(frames);
+    for (Dealer::Part p; !(p = dealer->next()).empty();)
+      evaluate({range.first + int(p.begin), range.first + int(p.end) - 1}, world.rank() == 0 ? dealer.get() : nullptr);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (dealer) dealer->report(std::to_string(frames) + " frames");
+  report_balance(world, "frames", world.gather_all(seconds));
+}
+
 EvalResult evaluate_frames(MpiWorld& world, Session& session, const GraphView& view, const EvalOptions& options,
                            FrameRange range) {
   const Graph& graph = view.graph();
@@ -142,12 +204,13 @@ EvalResult evaluate_frames(MpiWorld& world, Session& session, const GraphView& v
     store.emplace(storing_everything(options));
   }
   EvalResult result;
-  auto evaluate = [&](std::vector<Target> targets, FrameRange frames) {
+  auto evaluate = [&](std::vector<Target> targets, FrameRange frames, Dealer* answering = nullptr) {
     EvalOptions o = options;
     o.targets = std::move(targets);
     o.frames = frames;
     if (store) o.disk_cache = &*store;
-    const EvalResult r = session.evaluate(graph, o);
+    const EvalResult r = answering ? evaluate_answering(*answering, [&] { return session.evaluate(graph, o); })
+                                   : session.evaluate(graph, o);
     end_every_rank_unless_ok(world, graph, r);
     merge(result, r, !options.targets.empty());  // what the run asked for, as one process prints it
   };
@@ -155,10 +218,9 @@ EvalResult evaluate_frames(MpiWorld& world, Session& session, const GraphView& v
     if (world.rank() == 0) evaluate(simulations, range);
     world.barrier();
   }
-  const long frames = long(range.last) - range.first + 1;
-  const int first = range.first + int(frames * world.rank() / world.size());
-  const int last = range.first + int(frames * (world.rank() + 1) / world.size()) - 1;
-  if (first <= last && !work.empty()) evaluate(work, {first, last});
+  if (!work.empty()) {
+    for_my_frames(world, range, [&](FrameRange frames, Dealer* answering) { evaluate(work, frames, answering); });
+  }
   world.barrier();
   if (world.rank() == 0 && !sequence.empty()) evaluate(sequence, range);
   if (world.rank() == 0 && targets_over_frames) {
@@ -176,29 +238,6 @@ EvalResult evaluate_frames(MpiWorld& world, Session& session, const GraphView& v
     g_own_store.reset();
   }
   return result;
-}
-
-// How evenly the static split shared a node's work: each rank's time in the
-// node's body (the gather excluded), the slowest over the mean.
-void report_balance(const MpiWorld& world, const std::string& node, bool by_samples,
-                    const std::vector<double>& seconds) {
-  if (world.rank() != 0) return;
-  double sum = 0, slowest = 0;
-  for (double s : seconds) {
-    sum += s;
-    slowest = std::max(slowest, s);
-  }
-  const double mean = sum / double(seconds.size());
-  std::string each;
-  for (double s : seconds) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%s%.3f", each.empty() ? "" : " ", s);
-    each += text;
-  }
-  std::fprintf(stderr, "mpi: %s: %s computed in %.3f s on the slowest of %zu ranks, %.3f s on average "
-               "(imbalance %.3f; ranks 0..%zu: %s s)\n",
-               node.c_str(), by_samples ? "sample passes" : "tiles", slowest, seconds.size(), mean,
-               mean > 0 ? slowest / mean : 1.0, seconds.size() - 1, each.c_str());
 }
 
 // Where a split node's images are gathered: on every rank when a node split
@@ -248,7 +287,8 @@ EvalResult evaluate_tiles(MpiWorld& world, Session& session, const GraphView& vi
     if (world.max_over_ranks(kept) == 1) o.disk_cache = nullptr;
     const EvalResult r = session.evaluate(graph, o);
     end_every_rank_unless_ok(world, graph, r);
-    report_balance(world, id, by_samples, world.gather_all(r.nodes.at(id).seconds));
+    const std::string what = id + (by_samples ? ": sample passes" : ": tiles");
+    report_balance(world, what, world.gather_all(r.nodes.at(id).seconds));
     merge(parts, r, false);
   }
   if (split_so_far.empty() && world.rank() == 0)
@@ -311,10 +351,31 @@ int run_sweep_on_ranks(const SweepRequest& request, const RunSettings& settings)
   const auto count = check_sweep(request, settings, *loaded);
   if (!count) return kInvalid;
   SweepRequest mine = request;
-  for (std::size_t i = std::size_t(world->rank()); i < *count; i += std::size_t(world->size()))
-    mine.only += (mine.only.empty() ? "" : ",") + std::to_string(i);
-  int code = mine.only.empty() ? kOk : run_sweep(mine, settings);
+  std::unique_ptr<Dealer> dealer;
+  PointDealing dealing;
+  if (mpi_settings().deal == "dynamic") {  // a part at a time, as this rank asks
+    dealer = world->dealer(long(*count));
+    dealing.next = [&, part = Dealer::Part{}]() mutable {  // the points of this rank's parts, one at a time
+      if (part.empty()) part = dealer->next();
+      return part.empty() ? -1L : part.begin++;
+    };
+    dealing.evaluate = [&](const std::function<EvalResult()>& evaluate) {
+      return world->rank() == 0 ? evaluate_answering(*dealer, evaluate) : evaluate();
+    };
+    mine.dealt = &dealing;
+  } else {  // round-robin
+    for (std::size_t i = std::size_t(world->rank()); i < *count; i += std::size_t(world->size()))
+      mine.only += (mine.only.empty() ? "" : ",") + std::to_string(i);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  int code = mine.only.empty() && !mine.dealt ? kOk : run_sweep(mine, settings);
   if (code == kInterrupted) world->abort(kInterrupted);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (dealer) {
+    dealer->report(std::to_string(*count) + " sweep points");
+    dealer.reset();
+  }
+  report_balance(*world, "sweep points", world->gather_all(seconds));
   code = world->max_over_ranks(code);  // every rank's points are written
   if (world->rank() == 0) {
     SweepRequest tables = request;

@@ -1,8 +1,10 @@
 // `loom run` over MPI ranks, when mpirun or srun starts it: frames and sweep
-// points dealt to the ranks, or one image split into interleaved tiles of
-// its pixel-independent nodes, gathered on rank 0 (on every rank when a
-// node split later reads them); rank 0 runs the sinks that need the whole (docs/farm.md, docs/architecture.md). A plain `loom
-// run` opens no MPI library: these calls then do what one process does.
+// points dealt to the ranks (in blocks, or as they ask: --mpi-deal dynamic),
+// or one image split into interleaved tiles of its pixel-independent nodes,
+// gathered on rank 0 (on every rank when a node split later reads them);
+// rank 0 runs the sinks that need the whole (docs/farm.md,
+// docs/architecture.md). A plain `loom run` opens no MPI library: these calls
+// then do what one process does.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -31,7 +33,8 @@ int mpi_rank();  // 0 in a plain run
 EvalResult evaluate_on_ranks(Session& session, const Graph& graph, const Registry& registry,
                              const EvalOptions& options);
 
-// run_sweep, or the points dealt to the ranks and the tables written by rank 0.
+// run_sweep, or the points dealt to the ranks (round-robin, or as they ask)
+// and the tables written by rank 0.
 int run_sweep_on_ranks(const SweepRequest& request, const RunSettings& settings);
 
 }  // namespace loom::runner

@@ -8,7 +8,7 @@ namespace loom::runner {
 struct MpiSettings {
   std::string split = "auto";  // auto, frames, tiles, samples
   int tile = 32;               // tile edge in pixels (PixelRegion::tile)
-  std::string deal = "static";  // static, dynamic: how tiles are dealt to ranks
+  std::string deal = "static";  // static, dynamic: how frames, points, tiles are dealt
 };
 MpiSettings& mpi_settings();
 

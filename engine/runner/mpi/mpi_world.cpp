@@ -4,9 +4,9 @@
 #include <mpi.h>
 #include <sched.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <algorithm>
 #include <thread>
 
 #include "loom/image.hpp"
@@ -43,25 +43,91 @@ void barrier() {
   wait_for(request);
 }
 
-// Parts per rank when they are dealt as ranks ask: a rank that runs out
-// waits for at most one part of a slower rank, 1/16 of its share.
-constexpr int kDealtPartsPerRank = 16;
+// The most parts per rank a Dealer cuts its items into (mpi_world.hpp).
+constexpr long kDealtPartsPerRank = 16;
 
-class Split final : public PixelSplit {
+class CounterDealer final : public Dealer {
  public:
-  Split(std::string node, int tile, int rank, int size, bool by_samples, Gather gather, bool dealt)
-      : node_(std::move(node)), tile_(tile), rank_(rank), size_(size), by_samples_(by_samples), gather_(gather),
-        parts_(dealt ? size * kDealtPartsPerRank : size), part_(rank), dealt_(dealt) {
-    if (!dealt_) return;
-    // The next part to deal, a counter on rank 0 that every rank takes from
-    // without rank 0's help (MPI_Fetch_and_op on a window); parts 0..size-1
-    // are every rank's first.
+  CounterDealer(long count, int rank, int size)
+      : count_(count), parts_(std::min(count, kDealtPartsPerRank * size)), rank_(rank), size_(size) {
+    // The next part to deal, on rank 0; parts 0..size-1 are every rank's first.
     MPI_Win_allocate(rank_ == 0 ? sizeof(long) : 0, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &next_, &window_);
     if (rank_ == 0) *next_ = size_;
     MPI_Barrier(MPI_COMM_WORLD);
   }
-  ~Split() override {
-    if (dealt_) MPI_Win_free(&window_);
+  ~CounterDealer() override {
+    barrier();  // MPI_Win_free would poll while a slower rank works
+    MPI_Win_free(&window_);
+  }
+
+  Part next() override {
+    long part = -1;
+    if (!asked_) {
+      part = rank_;
+      asked_ = true;
+    } else if (!done_) {
+      const long one = 1;
+      const auto asked = std::chrono::steady_clock::now();
+      MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window_);
+      MPI_Fetch_and_op(&one, &part, MPI_LONG, 0, 0, MPI_SUM, window_);
+      MPI_Win_unlock(0, window_);
+      const std::chrono::duration<double> waited = std::chrono::steady_clock::now() - asked;
+      longest_wait_ = std::max(longest_wait_, waited.count());
+    }
+    done_ = done_ || part >= parts_;
+    if (done_) return {};
+    const Part items{count_ * part / parts_, count_ * (part + 1) / parts_};
+    taken_ += items.end - items.begin;
+    return items;
+  }
+
+  void answer() override {
+    int flag = 0;  // any call into MPI progresses the window's traffic
+    MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+  }
+
+  void report(const std::string& what) override {
+    const double mine[2] = {double(taken_), longest_wait_};
+    std::vector<double> all(2 * std::size_t(size_), 0);
+    MPI_Request request;
+    MPI_Igather(mine, 2, MPI_DOUBLE, all.data(), 2, MPI_DOUBLE, 0, MPI_COMM_WORLD, &request);
+    wait_for(request);
+    if (rank_ != 0) return;
+    std::string counts;
+    double longest = 0;
+    for (int r = 0; r < size_; ++r) {
+      counts += (counts.empty() ? "" : ", ") + std::to_string(long(all[2 * std::size_t(r)]));
+      longest = std::max(longest, all[2 * std::size_t(r) + 1]);
+    }
+    std::fprintf(stderr, "mpi: %s dealt as ranks asked: %s to ranks 0..%d (the longest wait for an answer: %.3f s)\n",
+                 what.c_str(), counts.c_str(), size_ - 1, longest);
+  }
+
+ private:
+  long count_, parts_;
+  int rank_, size_;
+  long taken_ = 0;  // items this rank took
+  bool asked_ = false, done_ = false;
+  double longest_wait_ = 0;  // seconds, the longest of this rank's asks
+  long* next_ = nullptr;
+  MPI_Win window_ = MPI_WIN_NULL;
+};
+
+class Split final : public PixelSplit {
+ public:
+  Split(std::string node, int tile, int rank, int size, bool by_samples, Gather gather, bool dealt)
+      : node_(std::move(node)),
+        tile_(tile),
+        rank_(rank),
+        size_(size),
+        by_samples_(by_samples),
+        gather_(gather),
+        parts_(dealt ? size * kDealtPartsPerRank : size),
+        part_(rank) {
+    if (dealt) {  // the dealer's items are the parts (16 a rank: one item a part)
+      dealer_ = std::make_unique<CounterDealer>(parts_, rank_, size_);
+      part_ = int(dealer_->next().begin);  // this rank's own first part
+    }
   }
 
   PixelRegion region(const std::string& node) const override {
@@ -84,7 +150,7 @@ class Split final : public PixelSplit {
   // 0, or every rank), all the messages in flight at once; a receiving
   // rank's image becomes the whole, the others keep their parts.
   void combine(const std::string& node, const NodeSpec& spec, std::vector<Value>& outputs) const override {
-    if (dealt_ && keep_and_take_next(spec, outputs)) return;
+    if (dealer_ && keep_and_take_next(spec, outputs)) return;
     using Clock = std::chrono::steady_clock;
     const auto arrived = Clock::now();
     barrier();  // so that the time below is the exchange's, not the wait for the slowest rank
@@ -97,7 +163,7 @@ class Split final : public PixelSplit {
       if (spec.outputs[o].type != &type_of<Image>()) continue;
       const cv::Mat& part = outputs[o].as<Image>().pixels;
       megabytes += double(part.total() * part.elemSize()) / 1e6;
-      images.emplace_back(o, dealt_ ? kept_[kept++] : receives(rank_) ? writable_pixels(outputs[o]) : part);
+      images.emplace_back(o, dealer_ ? kept_[kept++] : receives(rank_) ? writable_pixels(outputs[o]) : part);
       exchange(images.back().second, owner, requests);
     }
     // Every rank is here already (the barrier): polled without sleeping, since
@@ -106,6 +172,7 @@ class Split final : public PixelSplit {
     exchange_all(requests);
     for (auto& [o, pixels] : images) outputs[o] = Value::make<Image>(outputs[o].as<Image>().like(std::move(pixels)));
     kept_.clear();
+    if (dealer_) dealer_->report(node + ": " + std::to_string(parts_) + " parts");
     if (rank_ != 0) return;
     std::fprintf(stderr,
                  "mpi: %s: %.1f MB of images gathered from %d ranks to %s in %.3f s (rank 0 waited %.3f s "
@@ -113,7 +180,6 @@ class Split final : public PixelSplit {
                  node.c_str(), megabytes, size_, gather_ == Gather::to_every_rank ? "every rank" : "rank 0",
                  std::chrono::duration<double>(Clock::now() - start).count(),
                  std::chrono::duration<double>(start - arrived).count());
-    if (dealt_) report_dealing(node, owner);
   }
 
  private:
@@ -129,34 +195,22 @@ class Split final : public PixelSplit {
       ++kept;
     }
     mine_.push_back(part_);
-    long one = 1, next = 0;
-    MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window_);
-    MPI_Fetch_and_op(&one, &next, MPI_LONG, 0, 0, MPI_SUM, window_);
-    MPI_Win_unlock(0, window_);
-    if (next >= parts_) return false;
-    part_ = int(next);
+    const Dealer::Part next = dealer_->next();
+    if (next.empty()) return false;
+    part_ = int(next.begin);
     return true;
   }
 
   // The rank that computed each part: every rank's own, or as dealt.
   std::vector<int> owners() const {
     std::vector<int> owner(std::size_t(parts_), -1);
-    if (!dealt_) {
+    if (!dealer_) {
       for (int p = 0; p < parts_; ++p) owner[std::size_t(p)] = p;
       return owner;
     }
     for (int p : mine_) owner[std::size_t(p)] = rank_;
     MPI_Allreduce(MPI_IN_PLACE, owner.data(), parts_, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
     return owner;
-  }
-
-  void report_dealing(const std::string& node, const std::vector<int>& owner) const {
-    std::vector<int> count(std::size_t(size_), 0);
-    for (int q : owner) ++count[std::size_t(q)];
-    std::string counts;
-    for (int c : count) counts += (counts.empty() ? "" : ", ") + std::to_string(c);
-    std::fprintf(stderr, "mpi: %s: %d parts dealt as ranks asked: %s to ranks 0..%d\n", node.c_str(), parts_,
-                 counts.c_str(), size_ - 1);
   }
 
   // Posts the tiles of this rank's parts of `image` to every rank that
@@ -188,12 +242,10 @@ class Split final : public PixelSplit {
   Gather gather_;
   int parts_;
   // Dealt: the state of the dealing, changed by combine() (const in PixelSplit).
-  mutable int part_;                  // the part the node computes now
-  bool dealt_;
-  mutable std::vector<int> mine_;     // the parts this rank computed
+  mutable int part_;                   // the part the node computes now
+  std::unique_ptr<Dealer> dealer_;     // dealt: hands out the parts
+  mutable std::vector<int> mine_;      // the parts this rank computed
   mutable std::vector<cv::Mat> kept_;  // their tiles, one image per Image output
-  long* next_ = nullptr;              // rank 0: the next part to deal
-  MPI_Win window_ = MPI_WIN_NULL;
 };
 
 class World final : public MpiWorld {
@@ -226,6 +278,7 @@ class World final : public MpiWorld {
     MPI_Abort(MPI_COMM_WORLD, exit_code);
     std::_Exit(exit_code);  // MPI_Abort does not return; this says so to the compiler
   }
+  std::unique_ptr<Dealer> dealer(long count) override { return std::make_unique<CounterDealer>(count, rank_, size_); }
   std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples, Gather gather,
                                     bool dealt) override {
     return std::make_unique<Split>(node, tile, rank_, size_, by_samples, gather, dealt);

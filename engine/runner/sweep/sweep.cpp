@@ -143,7 +143,8 @@ json run_point(const SweepRequest& r, const RunSettings& s, const Plan& plan, st
   else if (graph.time) options.frames = FrameRange{graph.time->start, graph.time->end};
   fs::create_directories(options.output_dir);
   const auto start = std::chrono::steady_clock::now();
-  EvalResult result = session.evaluate(graph, options);
+  const auto evaluate = [&] { return session.evaluate(graph, options); };
+  EvalResult result = r.dealt ? r.dealt->evaluate(evaluate) : evaluate();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   json nodes = json::object();
   double compute = 0;
@@ -193,6 +194,43 @@ json read_point(const fs::path& out, std::size_t i, const SweepPoint& p) {
   return point;
 }
 
+// The points run, and the others' read from their files (for the tables):
+// the selected points in order, or those `r.dealt` hands out (marked
+// selected as they come).
+std::vector<json> run_points(const SweepRequest& r, const RunSettings& s, Plan& plan, Session& session,
+                             const LoadedGraph& g, DiskCache* disk, json& profiles) {
+  std::vector<json> points;
+  const std::size_t selected =
+      r.collect ? 0 : static_cast<std::size_t>(std::count(plan.selected.begin(), plan.selected.end(), true));
+  std::size_t done = 0;
+  auto run = [&](std::size_t i) {
+    plan.selected[i] = true;
+    points.push_back(run_point(r, s, plan, i, session, g, disk, profiles));
+    print_failures(points.back(), i);
+    if (s.quiet) return;
+    // Points are numbered from 0 everywhere (points/0003, --sweep-points 3,
+    // `loom jobs status`); the bracket counts this run's progress.
+    const std::string of = r.dealt ? "" : "/" + std::to_string(selected);
+    std::fprintf(stderr, "[%zu%s] point %zu (%s): %s, %s, in %.3f s\n", ++done, of.c_str(), i,
+                 plan.points[i].values.dump().c_str(), points.back()["status"].get<std::string>().c_str(),
+                 points.back()["source"].get<std::string>().c_str(), points.back()["run_seconds"].get<double>());
+  };
+  if (r.dealt && !r.collect) {
+    for (long i; !cancel_flag() && (i = r.dealt->next()) >= 0;) run(std::size_t(i));
+    return points;
+  }
+  for (std::size_t i = 0; i < plan.points.size(); ++i) {
+    // Cancelled: stop at once. Reading the remaining points' files and writing
+    // the tables took seconds for a large sweep (4.2 s at 300,000 points).
+    if (cancel_flag()) break;
+    if (!plan.selected[i] || r.collect)
+      points.push_back(read_point(s.out_dir, i, plan.points[i]));
+    else
+      run(i);
+  }
+  return points;
+}
+
 }  // namespace
 
 std::optional<std::size_t> check_sweep(const SweepRequest& r, const RunSettings& s, const LoadedGraph& g) {
@@ -215,29 +253,9 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
   if (!s.cache.disabled) disk.emplace(s.cache.options());
   stop_on_signals(mpi_world() ? Grace::ranks : Grace::brief);
   Session session(*g->registry);
-  std::vector<json> points;
   json profiles = json::object();
   const auto start = std::chrono::steady_clock::now();
-  const std::size_t selected =
-      r.collect ? 0 : static_cast<std::size_t>(std::count(plan.selected.begin(), plan.selected.end(), true));
-  std::size_t done = 0;
-  for (std::size_t i = 0; i < plan.points.size(); ++i) {
-    // Cancelled: stop at once. Reading the remaining points' files and writing
-    // the tables took seconds for a large sweep (4.2 s at 300,000 points).
-    if (cancel_flag()) break;
-    if (!plan.selected[i] || r.collect) {
-      points.push_back(read_point(s.out_dir, i, plan.points[i]));
-      continue;
-    }
-    points.push_back(run_point(r, s, plan, i, session, *g, disk ? &*disk : nullptr, profiles));
-    print_failures(points.back(), i);
-    if (!s.quiet)
-      // Points are numbered from 0 everywhere (points/0003, --sweep-points 3,
-      // `loom jobs status`); the bracket counts this run's progress.
-      std::fprintf(stderr, "[%zu/%zu] point %zu (%s): %s, %s, in %.3f s\n", ++done, selected, i,
-                   plan.points[i].values.dump().c_str(), points.back()["status"].get<std::string>().c_str(),
-                   points.back()["source"].get<std::string>().c_str(), points.back()["run_seconds"].get<double>());
-  }
+  const std::vector<json> points = run_points(r, s, plan, session, *g, disk ? &*disk : nullptr, profiles);
   nodes_returned();
   if (cancel_flag()) {
     std::cerr << interrupted_message() << "\nthe sweep's tables were not written: --sweep-collect writes them "
@@ -254,15 +272,15 @@ int run_sweep(const SweepRequest& r, const RunSettings& s) {
       exit = kNodeFailed;
     }
   }
-  if (r.only.empty() || r.collect) {
+  if ((r.only.empty() && !r.dealt) || r.collect) {
     if (!write_sweep_tables(s.out_dir, plan.axes, points, r.plots, s.quiet)) exit = kNodeFailed;
   }
   if (cancel_flag()) {  // while the tables were written
     std::cerr << interrupted_message() << "\n";
     return kInterrupted;
   }
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (plan.selected[i] && points[i]["status"] != "ok") exit = kNodeFailed;
+  for (const json& point : points)
+    if (plan.selected[point["index"].get<std::size_t>()] && point["status"] != "ok") exit = kNodeFailed;
   return exit;
 }
 

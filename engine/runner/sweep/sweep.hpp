@@ -7,14 +7,24 @@
 // and with --plot X:Y a PNG drawn by gnuplot. See docs/farm.md.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "cli/run_settings.hpp"
+#include "loom/evaluator.hpp"
 
 namespace loom::runner {
+
+// Points handed out one at a time as the process asks for them (MPI ranks
+// with --mpi-deal dynamic, mpi_run.cpp) instead of --sweep-points.
+struct PointDealing {
+  std::function<long()> next;  // the next point to run, -1 when none is left
+  // Runs one point's evaluation (rank 0 lets MPI answer the other ranks meanwhile).
+  std::function<EvalResult(const std::function<EvalResult()>&)> evaluate;
+};
 
 struct SweepRequest {
   std::vector<std::string> axes;     // --sweep ID.INPUT=...
@@ -23,6 +33,7 @@ struct SweepRequest {
   std::vector<std::string> plots;    // --plot X:Y (column names of sweep.csv)
   std::string only;                  // --sweep-points I,J,...: run only these (a submitted task)
   bool collect = false;              // --sweep-collect: gather the points' files, run nothing
+  const PointDealing* dealt = nullptr;  // run the points it hands out (no tables), not `only`
   bool active() const { return !axes.empty(); }
 };
 
