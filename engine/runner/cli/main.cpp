@@ -15,6 +15,7 @@
 #include "loom/plugin_loader.hpp"
 #include "loom/suggest.hpp"
 #include "cli/command_names.hpp"
+#include "cli/huge_pages.hpp"
 #include "cli/new_plugin.hpp"
 #include "cli/node_reference.hpp"
 #include "cli/target_json.hpp"
@@ -378,6 +379,7 @@ static int loom_main(int argc, char** argv) {
 // The local dispatcher runs a task's `loom run` in a fork of itself, through
 // this same function (farm/child_process.hpp, start_loom).
 int main(int argc, char** argv) {
+  loom::runner::exec_with_huge_pages(argv);
   loom::runner::set_loom_main(&loom_main);
   return loom_main(argc, argv);
 }
