@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -208,11 +209,24 @@ int main(int argc, char** argv) {
                        "on the course meshes and hemispheres of 20k and 100k faces: energy against time, "
                        "iterations to CGAL's energy, flips.");
   bool quick = false, large = false, generated_only = false;
+  std::string meshes_dir;
   cli.quick(quick, "the 20k-face hemisphere only")
       .flag("--large", large, "add the 1M-face hemisphere (Loom only)")
       .flag("--generated", generated_only, "only the generated hemispheres (not the course meshes)")
+      .option("--write-meshes", meshes_dir,
+              "write the generated hemispheres as OBJ files into this folder (hemisphere-20k.obj, ...) and stop: "
+              "bench_cold runs `loom run` on them")
       .threads();
   cli.parse(argc, argv);
+  if (!meshes_dir.empty()) {
+    for (const Mesh& m : {hemisphere(50, 200), hemisphere(112, 448)}) {
+      loom::Mesh out;
+      out.V = m.V;
+      out.F = m.F;
+      loom::io::write_mesh(out, std::filesystem::path(meshes_dir) / (m.name + ".obj"), "");
+    }
+    return 0;
+  }
   std::vector<Mesh> meshes;
   if (!quick && !generated_only)
     for (const char* name : {"Balls", "BunnyHead", "CatHead", "NefertitiFace", "Isis"}) {

@@ -184,6 +184,11 @@ Cli& Cli::option(const std::string& name, double& value, const std::string& help
   return *this;
 }
 
+Cli& Cli::option(const std::string& name, std::string& value, const std::string& help) {
+  impl_->app.add_option(name, value, help);
+  return *this;
+}
+
 Cli& Cli::results(const fs::path& dir, const std::string& what) {
   g_results = dir;
   g_what = what;

@@ -112,6 +112,7 @@ class Cli {
   Cli& flag(const std::string& name, bool& value, const std::string& help);
   Cli& option(const std::string& name, int& value, const std::string& help);
   Cli& option(const std::string& name, double& value, const std::string& help);
+  Cli& option(const std::string& name, std::string& value, const std::string& help);
   // Where results go without --out, for a program that writes elsewhere than
   // bench/results (`what` names them in --help: "The figures").
   Cli& results(const std::filesystem::path& dir, const std::string& what);

@@ -12,9 +12,11 @@
 #include <ctime>
 #include <cstdio>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/photo.hpp>
 
@@ -71,6 +73,18 @@ Errors compare(const cv::Mat& f, const cv::Mat& ref, const cv::Mat1b& unknown) {
   return e;
 }
 
+// The inputs of size N as 8-bit PNG files (lossless: the bench's images are 8-bit).
+void write_inputs(const std::string& dir, int N, const cv::Mat3b& source_rgb, const cv::Mat3b& target_rgb,
+                  const cv::Mat1b& mask) {
+  cv::Mat3b source_bgr, target_bgr;
+  cv::cvtColor(source_rgb, source_bgr, cv::COLOR_RGB2BGR);
+  cv::cvtColor(target_rgb, target_bgr, cv::COLOR_RGB2BGR);
+  const std::string n = std::to_string(N);
+  if (!cv::imwrite(dir + "/source-" + n + ".png", source_bgr) || !cv::imwrite(dir + "/target-" + n + ".png", target_bgr) ||
+      !cv::imwrite(dir + "/mask-" + n + ".png", mask))
+    throw std::runtime_error("cannot write the inputs into " + dir);
+}
+
 // Wall median (time_median) and mean process CPU seconds (all threads) per call.
 struct WallCpu {
   double wall = 0, cpu = 0;
@@ -91,10 +105,14 @@ int main(int argc, char** argv) {
                        "poisson.csv, poisson_drag.csv and a plot.");
   bool quick = false, disk = false;
   int only = 0;
+  std::string inputs_dir;
   std::vector<std::string> modes;
   cli.quick(quick, "one repeat, no 2048² exact solve")
       .option("--size", only, "only N×N regions: 256, 512, 1024 or 2048 (0: all)")
       .flag("--disk", disk, "the region is the disk inscribed in the N×N square (default: the square)")
+      .option("--write-inputs", inputs_dir,
+              "also write each size's source, target and mask as PNG files into this folder "
+              "(source-N.png, target-N.png, mask-N.png: bench_cold runs `loom run` and OpenCV on them)")
       .modes(modes,
              {{"first", "the first solve: multigrid, CHOLMOD and OpenCV, time against error"},
               {"drag", "the drag re-solve (sizes up to 1024)"}},
@@ -123,6 +141,7 @@ int main(int argc, char** argv) {
     else
       mask(cv::Rect(1, 1, N, N)).setTo(255);
     const cv::Point offset(31, 31);
+    if (!inputs_dir.empty()) write_inputs(inputs_dir, N, src8, dst8, mask);
     const BlendRegion region = place_region(mask, offset, target_size);
     const cv::Mat b = poisson_rhs(region, target, source, offset, Guidance::normal);
     const cv::Mat guess = source_on_rect(region, source, offset);
