@@ -65,6 +65,7 @@ def steps(quick):
         ("bench_mpm", ["limit", "nbody"] + q),
         ("bench_shading", ["limits"] + q),
         ("bench_pathtrace", ["cycles"] + q),
+        ("bench_cold", q),  # the same solvers as one `loom run` pays them (cold.md, after the table)
     ]
 
 
@@ -327,6 +328,9 @@ def collate(out):
                      f" | {r.target} | {(limit + ': ' + r.limit_basis) if r.limit_basis else ''}"
                      f" | {('**' + f'{r.fraction:.2f}' + '**') if r.fraction == r.fraction else ''} |")
     lines += stages(raw)
+    if (raw / "cold.md").exists():
+        lines += ["", "Cold and warm, the same solvers in one `loom run` (bench_cold):", "",
+                  (raw / "cold.md").read_text().rstrip()]
     runs = out / "runs.csv"
     if runs.exists():
         with open(runs) as f:

@@ -21,8 +21,9 @@ using V4 = Eigen::Array4f;
 // Vectors that start at zero without being written: calloc's memory, which
 // for pages fresh from the kernel (a cold process's) skips the fill. The
 // solve's parallel loops then touch each page first, where one thread used to
-// zero 100+ MB before them: 0.2 s of a 1024² blend's 0.46 s in one `loom run`
-// (docs/poisson.md). Reused memory is zeroed by calloc as before.
+// zero 100+ MB before them: a 1024² blend's node in one `loom run` took
+// 0.42-0.56 s before, 0.22-0.31 s after (docs/limits.md, "Cold and warm").
+// Reused memory is zeroed by calloc as before.
 template <class T>
 struct ZeroedAllocator {
   using value_type = T;
