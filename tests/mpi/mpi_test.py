@@ -79,6 +79,21 @@ class MpiCase(unittest.TestCase):
             self.assertTrue(filecmp.cmp(os.path.join(expected_dir, name), os.path.join(got_dir, name), shallow=False),
                             f"{name} differs from one process's")
 
+    def assertTwistFramesEqualOneProcess(self, all_ranks, *mpi_args):
+        """time-twist-sequence's frames 1-8 and its MP4 on each number of ranks
+        equal one process's, and the run leaves nothing else; the runs by ranks."""
+        g = os.path.join(SOURCE, "graphs", "time-twist-sequence.json")
+        one = os.path.join(self.dir, "one")
+        loom("run", g, "--out", one, "--frames", "1-8", "--no-cache")
+        names = [f"frames/twist_{f:04}.png" for f in range(1, 9)] + ["twist.mp4"]
+        runs = {}
+        for ranks in all_ranks:
+            many = os.path.join(self.dir, f"many{ranks}")
+            runs[ranks] = mpi_loom(ranks, "run", g, "--out", many, "--frames", "1-8", "--no-cache", *mpi_args)
+            self.assertSameFiles(one, many, names)
+            self.assertEqual(files_under(many), sorted(names))  # the run's own cache folder is gone
+        return runs
+
 
 def traced_graph(folder, size, spp=4, adaptive=0.0, posterize=True):
     """The Cornell box path traced, its AOVs and a posterized copy saved as EXR."""
@@ -217,15 +232,7 @@ class FrameTest(MpiCase):
         self.assertEqual(files_under(os.path.join(self.dir, "many")), [])  # the read-back store is gone
 
     def test_frames_and_the_video_assembled_on_rank_0_equal_one_process(self):
-        g = os.path.join(SOURCE, "graphs", "time-twist-sequence.json")
-        one = os.path.join(self.dir, "one")
-        loom("run", g, "--out", one, "--frames", "1-8", "--no-cache")
-        names = [f"frames/twist_{f:04}.png" for f in range(1, 9)] + ["twist.mp4"]
-        for ranks in (2, 4):
-            many = os.path.join(self.dir, f"many{ranks}")
-            mpi_loom(ranks, "run", g, "--out", many, "--frames", "1-8", "--no-cache")
-            self.assertSameFiles(one, many, names)
-            self.assertEqual(files_under(many), sorted(names))  # the run's own cache folder is gone
+        self.assertTwistFramesEqualOneProcess((2, 4))
 
     def test_a_simulation_over_ranks_equals_one_process_and_the_exact_integral(self):
         g = integrate_graph(self.dir)
@@ -406,15 +413,7 @@ class DealtTest(MpiCase):
     what one process writes, and a slower rank takes fewer."""
 
     def test_frames_and_the_video_dealt_as_ranks_ask_equal_one_process(self):
-        g = os.path.join(SOURCE, "graphs", "time-twist-sequence.json")
-        one = os.path.join(self.dir, "one")
-        loom("run", g, "--out", one, "--frames", "1-8", "--no-cache")
-        names = [f"frames/twist_{f:04}.png" for f in range(1, 9)] + ["twist.mp4"]
-        for ranks in (2, 3):
-            many = os.path.join(self.dir, f"many{ranks}")
-            p = mpi_loom(ranks, "run", g, "--out", many, "--frames", "1-8", "--no-cache", "--mpi-deal", "dynamic")
-            self.assertSameFiles(one, many, names)
-            self.assertEqual(files_under(many), sorted(names))  # the run's own cache folder is gone
+        for ranks, p in self.assertTwistFramesEqualOneProcess((2, 3), "--mpi-deal", "dynamic").items():
             counts, _ = dealt_counts(p.stderr, "8 frames", ranks)
             self.assertEqual(sum(counts), 8, p.stderr)
 
