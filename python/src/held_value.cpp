@@ -53,7 +53,7 @@ std::string content_key(const Value& value) {
   if (value.is<Image>()) {  // the pixels in place: no serialized copy of a 100 MB image
     const Image& image = value.as<Image>();
     const cv::Mat& p = image.pixels;
-    h.pod(p.rows).pod(p.cols).pod(p.channels()).pod(int(image.encoding)).str(image.space);
+    h.pod(p.rows).pod(p.cols).pod(p.channels()).pod(int(image.encoding)).pod(image.space.size()).str(image.space);
     // Bands of kBand rows hashed in parallel, their digests then in order:
     // the same key whatever the thread count.
     constexpr int kBand = 32;
