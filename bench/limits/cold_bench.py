@@ -17,12 +17,13 @@ hemisphere this measures, on the same inputs, medians of --runs:
 
 ARAP is run as a user runs it (its defaults: an ASAP start) and as the limits
 table's row runs it (a Tutte start). Writes cold.csv and cold.md (the table
-of docs/limits.md's "Cold and warm" section) to --out.
+of docs/limits.md's "Cold and warm" section) and cold.png to --out.
 """
 import argparse
 import csv
 import json
 import os
+import shutil
 import statistics
 import subprocess
 import sys
@@ -120,6 +121,33 @@ def bench_kernels(bin_dir, inputs, raw, quick):
     return pick("multigrid", 0.002), pick("opencv", 0)
 
 
+def plot(out, rows):
+    """Clustered bars per measure: the kernel's warm loop, the node warm, the
+    node cold, and the node cold on 4-KiB pages (cold.png)."""
+    if not shutil.which("gnuplot"):
+        print("gnuplot is not installed: no plot")
+        return
+    dat = out / "cold.dat"
+    value = lambda v: f"{v:.4f}" if isinstance(v, float) else "NaN"
+    dat.write_text("".join(f'"{r["measure"].split(",")[0]}{"" if "ARAP" not in r["measure"] else " (" + r["measure"].split(", ")[-1].split(" (")[0] + ")"}" '
+                           f'{value(r["kernel_warm_loop_s"])} {value(r["warm_node_s"])} {value(r["cold_node_s"])} '
+                           f'{value(r["cold_node_small_pages_s"])}\n' for r in rows))
+    script = f"""set terminal pngcairo size 1000,520 noenhanced
+set output '{out / "cold.png"}'
+set title "Seconds of the solver: warm loop, warm node, one loom run (medians)"
+set style data histograms
+set style histogram clustered gap 1
+set style fill solid 0.7
+set ylabel "seconds"
+set grid ytics
+set key top left
+plot '{dat}' using 2:xtic(1) title "kernel, the bench's warm loop", '' using 3 title "node, warm Session", \
+     '' using 4 title "node, one loom run", '' using 5 title "node, one loom run on 4-KiB pages (decision 29 off)"
+"""
+    subprocess.run(["gnuplot"], input=script, text=True, check=False)
+    dat.unlink()
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("loom", help="the loom program")
@@ -190,6 +218,7 @@ def main():
     lines.append(f"\nMedians of {args.runs}; load average {load_start:.2f} at the start, {load_end:.2f} at the end.")
     (out / "cold.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
+    plot(out, rows)
 
 
 if __name__ == "__main__":
