@@ -36,7 +36,9 @@ struct ZeroedAllocator {
   }
   void deallocate(T* p, std::size_t) { std::free(p); }
   template <class U>
-  void construct(U*) {}  // a default-constructed element keeps calloc's zeros
+  void construct(U* p) {  // default-initialized, not value-initialized: calloc's zeros stay unwritten
+    ::new (static_cast<void*>(p)) U;
+  }
   template <class U, class... Args>
   void construct(U* p, Args&&... args) {
     ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
