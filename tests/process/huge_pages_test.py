@@ -43,6 +43,10 @@ def main():
     if not shutil.which("strace"):
         print("skipped: strace is not installed")
         return 77
+    linked = subprocess.run(["ldd", LOOM], capture_output=True, text=True).stdout
+    if "libasan" in linked or "libtsan" in linked:
+        print("skipped: loom is built with a sanitizer, whose malloc replaces glibc's (the tunable then does nothing)")
+        return 77
     if "[madvise]" not in (THP.read_text() if THP.exists() else ""):
         print(f"skipped: transparent huge pages are not 'madvise' here ({THP}: "
               f"{THP.read_text().strip() if THP.exists() else 'absent'}), so loom does not ask for them")
