@@ -9,8 +9,8 @@
 //   first: only the first solve;  --size N: only N² regions
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -80,8 +80,8 @@ void write_inputs(const std::string& dir, int N, const cv::Mat3b& source_rgb, co
   cv::cvtColor(source_rgb, source_bgr, cv::COLOR_RGB2BGR);
   cv::cvtColor(target_rgb, target_bgr, cv::COLOR_RGB2BGR);
   const std::string n = std::to_string(N);
-  if (!cv::imwrite(dir + "/source-" + n + ".png", source_bgr) || !cv::imwrite(dir + "/target-" + n + ".png", target_bgr) ||
-      !cv::imwrite(dir + "/mask-" + n + ".png", mask))
+  if (!cv::imwrite(dir + "/source-" + n + ".png", source_bgr) ||
+      !cv::imwrite(dir + "/target-" + n + ".png", target_bgr) || !cv::imwrite(dir + "/mask-" + n + ".png", mask))
     throw std::runtime_error("cannot write the inputs into " + dir);
 }
 
