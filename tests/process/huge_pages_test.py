@@ -67,6 +67,13 @@ def main():
 
         execs, huge = traced(work, "glibc.malloc.arena_max=2")  # another tunable: kept, hugetlb added
         assert len(execs) == 2 and huge, execs
+
+        # A command that evaluates no graph starts once.
+        trace = work / "nodes.txt"
+        subprocess.run(["strace", "-f", "-e", "trace=execve", "-o", str(trace), LOOM, "nodes", "Math"],
+                       capture_output=True, check=True, timeout=60)
+        execs = [l for l in trace.read_text().splitlines() if "execve(" in l and "= 0" in l]
+        assert len(execs) == 1, execs
     print("ok: loom executes itself again with glibc.malloc.hugetlb=1 and glibc madvises MADV_HUGEPAGE; "
           "a user's GLIBC_TUNABLES are kept")
     return 0

@@ -10,6 +10,14 @@ namespace loom::runner {
 
 namespace {
 
+// The commands that evaluate graphs, and so allocate what a graph needs: a
+// run, and the local dispatcher of `submit` and `jobs resume`, whose tasks
+// are forks of it. The others (--help, nodes, validate, info...) start once.
+bool evaluates_graphs(char** argv) {
+  const std::string command = argv[0] && argv[1] ? argv[1] : "";
+  return command == "run" || command == "submit" || command == "jobs";
+}
+
 // THP's mode, as /sys/kernel/mm/transparent_hugepage/enabled marks it:
 // "always [madvise] never".
 bool huge_pages_on_request() {
@@ -30,7 +38,9 @@ bool huge_pages_on_request() {
 void exec_with_huge_pages(char** argv) {
   const char* set = std::getenv("GLIBC_TUNABLES");
   const std::string tunables = set ? set : "";
-  if (tunables.find("glibc.malloc.hugetlb") != std::string::npos || !huge_pages_on_request()) return;
+  if (!evaluates_graphs(argv) || tunables.find("glibc.malloc.hugetlb") != std::string::npos ||
+      !huge_pages_on_request())
+    return;
   const std::string with = tunables.empty() ? "glibc.malloc.hugetlb=1" : tunables + ":glibc.malloc.hugetlb=1";
   if (::setenv("GLIBC_TUNABLES", with.c_str(), 1) != 0) return;
   ::execv("/proc/self/exe", argv);
