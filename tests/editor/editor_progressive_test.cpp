@@ -147,25 +147,32 @@ TEST(EditorProgressive, ArapsMapRefinesInTheViewer) {
               shown.size(), shown.front(), shown.back());
 }
 
+// A 64² board of one sRGB colour converted to colour space `to`, opened and
+// viewed: the image the viewer shows (empty when nothing was shown).
+Value view_converted(Harness& h, const cv::Vec3f& srgb, const std::string& to, const std::string& file) {
+  h.app.open(write_graph(
+      {{"loom", 1},
+       {"nodes",
+        {{"board",
+          {{"type", "Checkerboard"},
+           {"inputs", {{"size", {64, 64}}, {"cells", 1}, {"color_a", {srgb[0], srgb[1], srgb[2], 1}}}}}},
+         {"convert", {{"type", "ColorConvert"}, {"inputs", {{"image", {{"from", "board.image"}}}, {"to", to}}}}}}}},
+      file));
+  h.frame(2);
+  h.click(h.app.canvas().node_header(h.app.state(), "convert"));
+  if (until_shown(h) <= 0) return {};
+  const Value shown = h.app.state().viewed_output(0);
+  return shown && shown.is<Image>() ? shown : Value();
+}
+
 // The viewer shows a linear image through a view of the colour config when
 // asked (the "view" menu): the pixels on screen are the DisplayView node's
 // for that image, and the sRGB curve's again when the menu says so.
 TEST(EditorViewer, ALinearImageIsShownThroughTheChosenView) {
   Harness h(1600, 900);
   if (h.app.image_viewer().views().empty()) GTEST_SKIP() << "plugin color (OpenColorIO) not built";
-  h.app.open(write_graph(
-      {{"loom", 1},
-       {"nodes",
-        {{"board",
-          {{"type", "Checkerboard"}, {"inputs", {{"size", {64, 64}}, {"cells", 1}, {"color_a", {0.6, 0.5, 0.4, 1}}}}}},
-         {"linear",
-          {{"type", "ColorConvert"}, {"inputs", {{"image", {{"from", "board.image"}}}, {"to", "lin_rec709"}}}}}}}},
-      "view.json"));
-  h.frame(2);
-  h.click(h.app.canvas().node_header(h.app.state(), "linear"));
-  ASSERT_GT(until_shown(h), 0);
-  const Value shown = h.app.state().viewed_output(0);
-  ASSERT_TRUE(shown && shown.is<Image>());
+  const Value shown = view_converted(h, {0.6f, 0.5f, 0.4f}, "lin_rec709", "view.json");
+  ASSERT_TRUE(shown);
   const ImVec2 centre = h.app.image_view().to_screen(32, 32);
   const auto screen = [&](const std::string& name) {
     h.frame(3);
@@ -200,19 +207,8 @@ TEST(EditorViewer, AnImageInANamedSpaceIsShownAsItsColours) {
   Harness h(1600, 900);
   if (h.app.image_viewer().views().empty()) GTEST_SKIP() << "plugin color (OpenColorIO) not built";
   const cv::Vec3f srgb(0.6f, 0.3f, 0.1f);  // Checkerboard's colours are sRGB-encoded
-  h.app.open(write_graph(
-      {{"loom", 1},
-       {"nodes",
-        {{"board",
-          {{"type", "Checkerboard"},
-           {"inputs", {{"size", {64, 64}}, {"cells", 1}, {"color_a", {srgb[0], srgb[1], srgb[2], 1}}}}}},
-         {"cg", {{"type", "ColorConvert"}, {"inputs", {{"image", {{"from", "board.image"}}}, {"to", "ACEScg"}}}}}}}},
-      "named.json"));
-  h.frame(2);
-  h.click(h.app.canvas().node_header(h.app.state(), "cg"));
-  ASSERT_GT(until_shown(h), 0);
-  const Value shown = h.app.state().viewed_output(0);
-  ASSERT_TRUE(shown && shown.is<Image>());
+  const Value shown = view_converted(h, srgb, "ACEScg", "named.json");
+  ASSERT_TRUE(shown);
   EXPECT_EQ(shown.as<Image>().space, "ACEScg");
   const cv::Vec3f ap1 = shown.as<Image>().pixels.at<cv::Vec3f>(32, 32);
   const cv::Vec3f linear(srgb_to_linear(srgb[0]), srgb_to_linear(srgb[1]), srgb_to_linear(srgb[2]));
