@@ -38,8 +38,7 @@ bool huge_pages_on_request() {
 void exec_with_huge_pages(char** argv) {
   const char* set = std::getenv("GLIBC_TUNABLES");
   const std::string tunables = set ? set : "";
-  if (!evaluates_graphs(argv) || tunables.find("glibc.malloc.hugetlb") != std::string::npos ||
-      !huge_pages_on_request())
+  if (!evaluates_graphs(argv) || tunables.find("glibc.malloc.hugetlb") != std::string::npos || !huge_pages_on_request())
     return;
   const std::string with = tunables.empty() ? "glibc.malloc.hugetlb=1" : tunables + ":glibc.malloc.hugetlb=1";
   if (::setenv("GLIBC_TUNABLES", with.c_str(), 1) != 0) return;
