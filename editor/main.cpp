@@ -3,9 +3,11 @@
 #include <cstring>
 #include <string>
 
+#include "loom/plugin_loader.hpp"
 #include "ui/editor_app.hpp"
 
 int main(int argc, char** argv) {
+  loom::start_blas_on_one_thread();
   using namespace loom::editor;
   EditorOptions options;
   std::string graph;

@@ -379,6 +379,7 @@ static int loom_main(int argc, char** argv) {
 // The local dispatcher runs a task's `loom run` in a fork of itself, through
 // this same function (farm/child_process.hpp, start_loom).
 int main(int argc, char** argv) {
+  loom::start_blas_on_one_thread();
   loom::runner::exec_with_huge_pages(argv);
   loom::runner::set_loom_main(&loom_main);
   return loom_main(argc, argv);
