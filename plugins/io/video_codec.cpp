@@ -7,7 +7,7 @@
 #include <unistd.h>
 #include <opencv2/imgproc.hpp>
 
-#include "video_encoder.hpp"
+#include "video_files.hpp"
 
 namespace loom::io {
 namespace fs = std::filesystem;
@@ -35,11 +35,12 @@ void VideoSequence::open(int width, int height) {
   const int fd = ::open(temp_->path().c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0666);
   if (fd < 0) throw Error("cannot write " + path_.string() + ": " + std::strerror(errno));
   ::close(fd);
-  const bool h264 = codec_ != VideoCodec::mpeg4 && VideoEncoder::available(VideoEncoder::Codec::h264);
+  const VideoFiles& ffmpeg = video_files();
+  const bool h264 = codec_ != VideoCodec::mpeg4 && ffmpeg.available(VideoEncoder::Codec::h264);
   if (codec_ == VideoCodec::h264 && !h264)
     throw Error("this FFmpeg cannot encode H.264 (libx264): use codec \"mp4v\" or \"auto\"");
-  encoder_ = std::make_unique<VideoEncoder>(
-      temp_->path(), h264 ? VideoEncoder::Codec::h264 : VideoEncoder::Codec::mpeg4, width, height, fps_);
+  encoder_ = ffmpeg.open(temp_->path(), h264 ? VideoEncoder::Codec::h264 : VideoEncoder::Codec::mpeg4, width, height,
+                         fps_);
   codec_name_ = h264 ? "avc1 (H.264)" : "mp4v (MPEG-4 Part 2)";
 }
 
@@ -107,7 +108,7 @@ void VideoSequence::verify() const {
   const int error = errno;
   ::close(fd);
   if (!synced) throw Error(fail + std::strerror(error));
-  const int count = count_video_frames(temp_->path());
+  const int count = video_files().count_frames(temp_->path());
   if (count != frames_)
     throw Error(fail + "the encoder's file holds " + std::to_string(count) + " of " + std::to_string(frames_) +
                 " frames (is the disk full, or a file size limit reached?)");

@@ -15,7 +15,7 @@ namespace loom::io {
 
 enum class VideoCodec { automatic, h264, mpeg4 };
 
-class VideoEncoder;  // video_encoder.cpp: FFmpeg's contexts
+class VideoEncoder;  // video_files.hpp: FFmpeg, from a library of its own
 
 // Writes to a staging file beside `path` (loom/temporary_file.hpp: removed
 // on every exit short of SIGKILL) and renames it over `path` in finish(),

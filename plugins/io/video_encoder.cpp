@@ -1,5 +1,5 @@
-#include "video_encoder.hpp"
-
+// lib/libloom_video_files.so: MP4 files through FFmpeg (libavcodec,
+// libavformat, libswscale; video_files.hpp says why a library of its own).
 #include <climits>
 #include <cmath>
 #include <mutex>
@@ -13,6 +13,7 @@ extern "C" {
 }
 
 #include "loom/error.hpp"
+#include "video_files.hpp"
 
 namespace loom::io {
 
@@ -49,9 +50,8 @@ void quiet_ffmpeg() {
   std::call_once(once, [] { av_log_set_level(AV_LOG_ERROR); });
 }
 
-}  // namespace
-
-struct VideoEncoder::State {
+// FFmpeg's contexts for one MP4 being written.
+struct State {
   AVFormatContext* format = nullptr;
   AVCodecContext* codec = nullptr;
   AVStream* stream = nullptr;
@@ -86,7 +86,15 @@ struct VideoEncoder::State {
   }
 };
 
-bool VideoEncoder::available(Codec codec) { return avcodec_find_encoder_by_name(encoder_name(codec)) != nullptr; }
+class FfmpegEncoder final : public VideoEncoder {
+ public:
+  FfmpegEncoder(const std::filesystem::path& file, Codec codec, int width, int height, double fps);
+  void write_rgb(const std::uint8_t* rgb) override;
+  void finish() override;
+
+ private:
+  State s_;
+};
 
 // Every choice is fixed here, for bytes that depend on the frames only:
 // - one encoder thread: libavcodec's libx264 wrapper defaults to
@@ -98,12 +106,11 @@ bool VideoEncoder::available(Codec codec) { return avcodec_find_encoder_by_name(
 //   bit-exact colour conversion (no CPU-dependent SIMD rounding);
 // - OpenCV's former settings otherwise: CRF 23 for H.264, twice fps*w*h bits
 //   per second, quantizer from 3 and a key frame every 12 frames for MPEG-4.
-VideoEncoder::VideoEncoder(const std::filesystem::path& file, Codec codec, int width, int height, double fps)
-    : s_(std::make_unique<State>()) {
+FfmpegEncoder::FfmpegEncoder(const std::filesystem::path& file, Codec codec, int width, int height, double fps) {
   quiet_ffmpeg();
   const AVCodec* encoder = avcodec_find_encoder_by_name(encoder_name(codec));
   if (!encoder) throw Error(std::string("this FFmpeg has no ") + encoder_name(codec) + " encoder");
-  State& s = *s_;
+  State& s = s_;
   s.width = width;
   s.height = height;
   check(avformat_alloc_output_context2(&s.format, nullptr, "mp4", file.c_str()), "set up an MP4 file");
@@ -150,10 +157,8 @@ VideoEncoder::VideoEncoder(const std::filesystem::path& file, Codec codec, int w
   if (!s.scale) throw Error("FFmpeg cannot convert RGB to YUV 4:2:0");
 }
 
-VideoEncoder::~VideoEncoder() = default;
-
-void VideoEncoder::write_rgb(const std::uint8_t* rgb) {
-  State& s = *s_;
+void FfmpegEncoder::write_rgb(const std::uint8_t* rgb) {
+  State& s = s_;
   check(av_frame_make_writable(s.frame), "reuse a frame");
   const std::uint8_t* source[1] = {rgb};
   const int stride[1] = {3 * s.width};
@@ -163,15 +168,22 @@ void VideoEncoder::write_rgb(const std::uint8_t* rgb) {
   s.drain();
 }
 
-void VideoEncoder::finish() {
-  State& s = *s_;
+void FfmpegEncoder::finish() {
+  State& s = s_;
   check(avcodec_send_frame(s.codec, nullptr), "finish encoding");
   s.drain();
   check(av_write_trailer(s.format), "write the MP4 index");
   check(avio_closep(&s.format->pb), "close the video file");
 }
 
-int count_video_frames(const std::filesystem::path& file) {
+bool available(VideoEncoder::Codec codec) { return avcodec_find_encoder_by_name(encoder_name(codec)) != nullptr; }
+
+std::unique_ptr<VideoEncoder> open(const std::filesystem::path& file, VideoEncoder::Codec codec, int width, int height,
+                                   double fps) {
+  return std::make_unique<FfmpegEncoder>(file, codec, width, height, fps);
+}
+
+int count_frames(const std::filesystem::path& file) {
   quiet_ffmpeg();
   AVFormatContext* format = nullptr;
   if (avformat_open_input(&format, file.c_str(), nullptr, nullptr) < 0) return 0;
@@ -187,4 +199,11 @@ int count_video_frames(const std::filesystem::path& file) {
   return count;
 }
 
+const VideoFiles kTable = {kVideoFilesVersion, &available, &open, &count_frames};
+
+}  // namespace
 }  // namespace loom::io
+
+extern "C" __attribute__((visibility("default"))) const loom::io::VideoFiles* loom_video_files() {
+  return &loom::io::kTable;
+}
