@@ -7,6 +7,8 @@ only), the seconds from `loom submit` to the last task's end for
     the 4 tasks each slot runs;
   - the 48 frames of graphs/time-twist-sequence.json in chunks of 1..48 frames
     over 2 slots, against one `loom run` of all 48 (medians of --repeats);
+  - on Slurm, 8 tasks of `true` (an array of a shell script) over 2 slots:
+    what Slurm itself costs a task, beside what Loom adds;
   - what one task pays by part (task_part rows: wall and CPU seconds of
     `loom --help`, `loom validate`, `loom run` without and with a cache, and
     `loom jobs task` against the `loom run` it runs; differences are parts).
@@ -85,6 +87,13 @@ def measure(to, cluster, work, rows):
     eight = empty_graph(work, 8)
     rows.append(("tasks8", to, 1, median(lambda: submit(to, eight, out, cluster, "--chunk", "1"))))
     print(f"{to}: 8 one-frame tasks: {rows[-1][3]:.2f} s", flush=True)
+    if cluster:
+        script = os.path.join(work, "true.sh")
+        with open(script, "w") as f:
+            f.write("#!/bin/sh\nexec true\n")
+        rows.append(("true8", to, 1, median(
+            lambda: timed(["sbatch", "--parsable", "--array=0-7", "-o", "/dev/null", script], cluster))))
+        print(f"{to}: 8 tasks of true: {rows[-1][3]:.2f} s", flush=True)
     chunks = [1, 12, 48] if QUICK else [1, 2, 4, 6, 12, 24, 48]
     for chunk in chunks:
         # The video is left out: its assemble task would read every frame back.
