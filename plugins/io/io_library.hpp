@@ -16,4 +16,12 @@ namespace loom::io {
 // as the process.
 const void* open_io_library(const std::string& file, const char* entry, int version, const std::string& purpose);
 
+// The table of `file`, opened at the first call (one that throws leaves it
+// unopened: the next call tries again).
+template <class Table>
+const Table& io_library(const std::string& file, const char* entry, int version, const std::string& purpose) {
+  static const auto* table = static_cast<const Table*>(open_io_library(file, entry, version, purpose));
+  return *table;
+}
+
 }  // namespace loom::io

@@ -4,11 +4,6 @@
 
 namespace loom::io {
 
-const VideoFiles& video_files() {
-  // A throwing initializer leaves it uninitialized: the next call tries again.
-  static const auto* table =
-      static_cast<const VideoFiles*>(open_io_library("libloom_video_files.so", "loom_video_files", kVideoFilesVersion, "write videos"));
-  return *table;
-}
+const VideoFiles& video_files() { return io_library<VideoFiles>("libloom_video_files.so", "loom_video_files", kVideoFilesVersion, "write videos"); }
 
 }  // namespace loom::io
