@@ -4,6 +4,9 @@
 
 namespace loom::io {
 
-const ImageFiles& image_files() { return io_library<ImageFiles>("libloom_image_files.so", "loom_image_files", kImageFilesVersion, "read or write image files"); }
+const ImageFiles& image_files() {
+  return io_library<ImageFiles>("libloom_image_files.so", "loom_image_files", kImageFilesVersion,
+                                "read or write image files");
+}
 
 }  // namespace loom::io

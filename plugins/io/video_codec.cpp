@@ -39,8 +39,8 @@ void VideoSequence::open(int width, int height) {
   const bool h264 = codec_ != VideoCodec::mpeg4 && ffmpeg.available(VideoEncoder::Codec::h264);
   if (codec_ == VideoCodec::h264 && !h264)
     throw Error("this FFmpeg cannot encode H.264 (libx264): use codec \"mp4v\" or \"auto\"");
-  encoder_ = ffmpeg.open(temp_->path(), h264 ? VideoEncoder::Codec::h264 : VideoEncoder::Codec::mpeg4, width, height,
-                         fps_);
+  encoder_ =
+      ffmpeg.open(temp_->path(), h264 ? VideoEncoder::Codec::h264 : VideoEncoder::Codec::mpeg4, width, height, fps_);
   codec_name_ = h264 ? "avc1 (H.264)" : "mp4v (MPEG-4 Part 2)";
 }
 
