@@ -4,7 +4,8 @@
 The limits table (docs/limits.md) times each solver in a warm loop of a
 benchmark program: the kernel alone, repeated in one process. A user runs
 one `loom run`. For Poisson 1024² (a disk), Tutte and ARAP on a 100k-face
-hemisphere this measures, on the same inputs, medians of --runs:
+hemisphere (the table's inputs), PathTrace on the Cornell box and MPM's 2D
+fluid (the table's scenes), this measures, medians of --runs:
 
   warm node  the node's seconds in a loom.Session that has run the graph
              before (its cache cleared between runs): a warm process;
@@ -49,15 +50,45 @@ def mesh_graph(inputs, solver):
         "save": {"type": "SaveMesh", "inputs": {"mesh": {"from": "solve.mesh"}, "path": "out.obj"}}}}
 
 
-# (what, the measured node, its declaration: None for PoissonBlend's graph)
+def pathtrace_graph(_inputs):
+    """The Cornell box with its blocks, 512², depth 8 (the limits table's
+    PathTrace rows), 16 samples per pixel."""
+    return {"loom": 1, "nodes": {
+        "box": {"type": "CornellBox", "inputs": {"contents": "blocks"}},
+        "trace": {"type": "PathTrace", "inputs": {"scene": {"from": "box.scene"}, "size": [512, 512], "spp": 16,
+                                                  "max_depth": 8}},
+        "save": {"type": "SaveImage", "inputs": {"image": {"from": "trace.image"}, "path": "trace.exr"}}}}
+
+
+def mpm_graph(_inputs):
+    """The limits table's 2D fluid: mpm88 scaled to 1M particles on 512², the
+    bench's substep of 2e-5 s; one frame of 10 substeps."""
+    return {"loom": 1, "time": {"start": 1, "end": 2, "fps": 5000}, "nodes": {
+        "water": {"type": "MPMEmitBox", "inputs": {
+            "dimension": 2, "min": [0.2, 0.2, 0], "max": [0.6, 0.6, 0], "material": "fluid", "E": 400.0,
+            "density": 1.0, "sampling": "random", "count": 1000000, "particle_volume": 0.16 / 1000000}},
+        "sim": {"type": "MPMStep", "inputs": {"state": {"from": "water.particles"}, "resolution": 512,
+                                             "gravity": [0, -9.8, 0], "walls": "separate", "wall_cells": 3,
+                                             "cfl": 1.0, "dt_max": 2e-5}},
+        "image": {"type": "MPMSplat", "inputs": {"state": {"from": "sim.state"}, "width": 256}},
+        "save": {"type": "SaveImage", "inputs": {"image": {"from": "image.image"}, "path": "mpm_{frame}.png"}}}}
+
+
+def mesh_measure(solver):
+    return lambda inputs: mesh_graph(inputs, solver)
+
+
+# (what, the measured node, its graph from the inputs' folder, whether OpenCV's seamlessClone is its peer)
 MEASURES = [
-    ("Poisson blend, 1024² disk, multigrid to 2e-3", "blend", None),
+    ("Poisson blend, 1024² disk, multigrid to 2e-3", "blend", poisson_graph, True),
     ("Tutte (uniform weights), hemisphere-99k", "solve",
-     {"type": "Parameterize", "inputs": {"mesh": {"from": "dome.mesh"}, "weights": "uniform"}}),
+     mesh_measure({"type": "Parameterize", "inputs": {"mesh": {"from": "dome.mesh"}, "weights": "uniform"}}), False),
     ("ARAP, hemisphere-99k, Tutte start (the limits table's)", "solve",
-     {"type": "ARAP", "inputs": {"mesh": {"from": "dome.mesh"}, "init": "tutte"}}),
+     mesh_measure({"type": "ARAP", "inputs": {"mesh": {"from": "dome.mesh"}, "init": "tutte"}}), False),
     ("ARAP, hemisphere-99k, defaults (ASAP start)", "solve",
-     {"type": "ARAP", "inputs": {"mesh": {"from": "dome.mesh"}}}),
+     mesh_measure({"type": "ARAP", "inputs": {"mesh": {"from": "dome.mesh"}}}), False),
+    ("PathTrace, Cornell box 512², depth 8, 16 spp", "trace", pathtrace_graph, False),
+    ("MPM 2D fluid, 1M particles, 512², 10 substeps", "sim", mpm_graph, False),
 ]
 
 
@@ -170,9 +201,9 @@ def main():
         raw.mkdir()
         load_start = os.getloadavg()[0]
         kernel, opencv_warm_loop = bench_kernels(Path(loom).parent, inputs, raw, args.quick)
-        for k, (name, node, solver) in enumerate(MEASURES):
+        for k, (name, node, make_graph, has_peer) in enumerate(MEASURES):
             graph = work / f"measure{k}.json"
-            graph.write_text(json.dumps(poisson_graph(inputs) if solver is None else mesh_graph(inputs, solver)))
+            graph.write_text(json.dumps(make_graph(inputs)))
             cold, small, walls, small_walls, warm = [], [], [], [], []
             for _ in range(args.runs):  # alternated, so that load falls on each
                 seconds, wall = cold_run(loom, graph, work)
@@ -187,7 +218,7 @@ def main():
                    "cold_node_small_pages_s": statistics.median(small),
                    "run_wall_small_pages_s": statistics.median(small_walls), "peer": "",
                    "peer_warm_loop_s": "", "peer_cold_s": "", "peer_warm_s": ""}
-            if solver is None:
+            if has_peer:
                 row["kernel_warm_loop_s"], row["peer_warm_loop_s"] = kernel, opencv_warm_loop
                 row["peer"] = "OpenCV seamlessClone"
                 row["peer_cold_s"], row["peer_warm_s"] = opencv_peer(peer, inputs, args.runs)
