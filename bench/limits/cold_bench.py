@@ -160,10 +160,12 @@ def plot(out, rows):
         return
     dat = out / "cold.dat"
     value = lambda v: f"{v:.4f}" if isinstance(v, float) else "NaN"
-    dat.write_text("".join(f'"{r["measure"].split(",")[0]}{"" if "ARAP" not in r["measure"] else " (" + r["measure"].split(", ")[-1].split(" (")[0] + ")"}" '
+    label = lambda m: m.split(",")[0].split(" (")[0] + ("" if "ARAP" not in m else
+                                                       " (" + m.split(", ")[-1].split(" (")[0] + ")")
+    dat.write_text("".join(f'"{label(r["measure"])}" '
                            f'{value(r["kernel_warm_loop_s"])} {value(r["warm_node_s"])} {value(r["cold_node_s"])} '
                            f'{value(r["cold_node_small_pages_s"])}\n' for r in rows))
-    script = f"""set terminal pngcairo size 1000,520 noenhanced
+    script = f"""set terminal pngcairo size 1100,520 noenhanced
 set output '{out / "cold.png"}'
 set title "Seconds of the solver: warm loop, warm node, one loom run (medians)"
 set style data histograms
