@@ -3,11 +3,11 @@
 #include <cstring>
 #include <string>
 
-#include "loom/plugin_loader.hpp"
+#include "loom/process_start.hpp"
 #include "ui/editor_app.hpp"
 
 int main(int argc, char** argv) {
-  loom::start_blas_on_one_thread();
+  loom::prepare_process(argv, /*evaluates_graphs=*/true);
   using namespace loom::editor;
   EditorOptions options;
   std::string graph;

@@ -20,8 +20,6 @@ namespace fs = std::filesystem;
 
 int engine_abi_version() { return LOOM_ABI_VERSION; }
 
-void start_blas_on_one_thread() { ::setenv("OPENBLAS_NUM_THREADS", "1", /*overwrite=*/0); }
-
 namespace {
 
 const std::string kPrefix = "libloom_";

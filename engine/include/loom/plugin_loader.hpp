@@ -20,15 +20,6 @@ namespace loom {
 
 LOOM_API int engine_abi_version();
 
-// For a program's main, while it has one thread and before it loads any
-// plugin: OpenBLAS, which plugins' libraries bring in (OpenCV, SuiteSparse),
-// then starts with one thread, as decision 16 wants, unless the user set
-// OPENBLAS_NUM_THREADS. OpenBLAS reads it once, as it is loaded; told later
-// (numerics::set_blas_threads), its pool has already started, and its thread
-// spins through its timeout while the rest of the libraries load: a third of
-// the processor time of `loom validate` on a graph with an image node.
-LOOM_API void start_blas_on_one_thread();
-
 class LOOM_API PluginLoadError : public Error {
  public:
   using Error::Error;

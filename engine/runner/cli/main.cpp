@@ -9,7 +9,6 @@
 
 #include "cli/command_names.hpp"
 #include "cli/group_listing.hpp"
-#include "cli/huge_pages.hpp"
 #include "cli/image_info.hpp"
 #include "cli/new_plugin.hpp"
 #include "cli/node_reference.hpp"
@@ -28,6 +27,7 @@
 #include "loom/graph.hpp"
 #include "loom/graph_view.hpp"
 #include "loom/plugin_loader.hpp"
+#include "loom/process_start.hpp"
 #include "loom/suggest.hpp"
 #include "mpi/mpi_run.hpp"
 #include "sweep/sweep.hpp"
@@ -376,11 +376,19 @@ static int loom_main(int argc, char** argv) {
   return kInvalid;
 }
 
+// The commands that evaluate graphs, and so allocate what a graph needs: a
+// run, and the local dispatcher of `submit` and `jobs resume`, whose tasks
+// are forks of it, run on huge pages (loom/process_start.hpp). The others
+// (--help, nodes, validate, info...) start once.
+static bool evaluates_graphs(char** argv) {
+  const std::string command = argv[0] && argv[1] ? argv[1] : "";
+  return command == "run" || command == "submit" || command == "jobs";
+}
+
 // The local dispatcher runs a task's `loom run` in a fork of itself, through
 // this same function (farm/child_process.hpp, start_loom).
 int main(int argc, char** argv) {
-  loom::start_blas_on_one_thread();
-  loom::runner::exec_with_huge_pages(argv);
+  loom::prepare_process(argv, evaluates_graphs(argv));
   loom::runner::set_loom_main(&loom_main);
   return loom_main(argc, argv);
 }
