@@ -8,9 +8,10 @@ namespace loom::pathtrace::bench {
 // Lambertian walls, one point light, depth 8, no roulette) records the rays
 // of a sample of paths (camera, bounce and shadow rays, in the order a path
 // casts them), then times, alternating, PathTrace's render and
-// rtcIntersect1 / rtcOccluded1 over the recorded rays in a tight loop, with
-// 1 and 2 threads. Writes pathtrace_rays.csv: both ray rates and PathTrace's
-// fraction of Embree's (the share of its time that is Embree's traversal).
+// rtcIntersect1 / rtcOccluded1 over the recorded rays in a tight loop, and
+// the same rays in 16-ray packets, with 1 and 2 threads. Writes
+// pathtrace_rays.csv: the ray rates and PathTrace's fraction of Embree's
+// (the share of its time that is Embree's traversal).
 void bench_ray_rate(bool quick);
 
 }  // namespace loom::pathtrace::bench

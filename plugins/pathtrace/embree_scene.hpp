@@ -84,7 +84,7 @@ class EmbreeScene {
   // Any shadow-casting surface between origin and origin + tmax * direction.
   bool occluded(const Vec3f& origin, const Vec3f& direction, float tmax) const;
   // A ray origin moved off the surface to the side `direction` leaves by.
-  // (Inline, like occluded_to: a Vec3f returned from another translation unit
+  // (Inline, like shadow_segment: a Vec3f returned from another translation unit
   // comes back through memory as three 4-byte stores that the caller's 8-byte
   // load cannot forward.)
   Vec3f offset(const SurfaceHit& hit, const Vec3f& direction) const {
@@ -107,11 +107,6 @@ class EmbreeScene {
     const float length2 = d.squaredNorm(), inv_length = inv_sqrt(length2);
     // The segment stops short of the light's surface by the same margin.
     return {origin, d * inv_length, length2 * inv_length - offset_distance(light_point)};
-  }
-  // Whether that segment is blocked.
-  bool occluded_to(const SurfaceHit& hit, const Vec3f& light_point) const {
-    const Segment s = shadow_segment(hit, light_point);
-    return s.tmax > 0 && occluded(s.origin, s.direction, s.tmax);
   }
 
   // Embree's own handle and ray masks, for measuring Embree alone on the

@@ -121,20 +121,23 @@ struct FramedBsdf {
   }
 };
 
-// The shadow ray of next-event estimation.
-bool occluded(const EmbreeScene& traced, const SurfaceHit& hit, const LightSample& ls) {
-  return std::isinf(ls.distance) ? traced.occluded(traced.offset(hit, ls.wi), ls.wi, kInf)
-                                 : traced.occluded_to(hit, ls.point);
-}
+// A shadow ray of next-event estimation not traced yet, and the light it
+// adds when nothing blocks it.
+struct PendingShadow {
+  EmbreeScene::Segment ray;
+  Vec3f L;
+  bool pending = false;
+};
 
 // Next-event estimation (pbrt-v4's SampleLd): one light sample, its shadow
 // ray, f Le w_light / p_light with w_light the power heuristic against the
 // BSDF's pdf (1 for delta lights or without MIS). `wo_side` cuts directions
 // through the geometric surface (normal maps, reflection only). β enters the
-// product first, as the path loop always multiplied.
+// product first, as the path loop always multiplied. A shadowed light's
+// contribution is left in `shadow` for the caller to trace.
 template <class Bsdf>
 void sample_direct(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, const Vec3f& beta,
-                   bool use_mis, PixelSampler& sampler, PathResult& r) {
+                   bool use_mis, PixelSampler& sampler, PathResult& r, PendingShadow& shadow) {
   const Vec2f u = c.lights.reads_point() ? sampler.uniform2(Decision::light) : Vec2f::Zero();
   // The environment map's pixel.
   const float ue = c.lights.samples_environment() ? sampler.uniform(Decision::environment_pixel) : 0.f;
@@ -142,9 +145,17 @@ void sample_direct(const PathContext& c, const SurfaceHit& hit, float wo_side, c
   if (!ls) return;
   const auto t = bsdf.direct(ls->wi);
   if (!t.nonzero || !(wo_side * ls->wi.dot(hit.ng) >= 0)) return;
-  if (ls->shadowed && (++r.shadow_rays, occluded(c.traced, hit, *ls))) return;
   const float w = ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf.pdf(t));
-  r.L += beta.cwiseProduct(t.factor).cwiseProduct(ls->radiance) * (t.scale * w / ls->pdf);
+  const Vec3f L = beta.cwiseProduct(t.factor).cwiseProduct(ls->radiance) * (t.scale * w / ls->pdf);
+  if (ls->shadowed) {
+    ++r.shadow_rays;
+    shadow.ray = std::isinf(ls->distance) ? EmbreeScene::Segment{c.traced.offset(hit, ls->wi), ls->wi, kInf}
+                                          : c.traced.shadow_segment(hit, ls->point);
+    shadow.L = L;
+    shadow.pending = shadow.ray.tmax > 0;  // else nothing lies between: unblocked
+    if (shadow.pending) return;
+  }
+  r.L += L;
 }
 
 // The light sampling strategy (RenderSettings::strategy) of every bounce.
@@ -153,12 +164,17 @@ struct Strategies {
 };
 
 // One bounce at a hit: direct light, then the BSDF-sampled direction the path
-// continues in. False when the path ends here.
+// continues in. False when the path ends here. The shadow ray is traced
+// after the direction is sampled, which does not depend on it: issued
+// first, that chain of dependent arithmetic (warp, frame, normalization)
+// runs while Embree's occlusion kernel starts, instead of after it returns.
 template <class Bsdf>
 bool scatter(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, Strategies use,
              PixelSampler& sampler, PathVertex& v, PathResult& r) {
-  if (use.nee && bsdf.nonspecular()) sample_direct(c, hit, wo_side, bsdf, v.beta, use.mis, sampler, r);
+  PendingShadow shadow;
+  if (use.nee && bsdf.nonspecular()) sample_direct(c, hit, wo_side, bsdf, v.beta, use.mis, sampler, r, shadow);
   const auto s = bsdf.sample(sampler);
+  if (shadow.pending && !c.traced.occluded(shadow.ray.origin, shadow.ray.direction, shadow.ray.tmax)) r.L += shadow.L;
   if (!s) return false;
   v.beta = v.beta.cwiseProduct(s->weight);
   v.prev_pdf = s->pdf;
