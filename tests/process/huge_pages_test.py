@@ -10,11 +10,12 @@ which evaluates graphs whatever its arguments, starts the same way.
 Usage: huge_pages_test.py LOOM [LOOM_EDITOR]. Exit 77 (skipped, saying why) without strace
 or where THP is not "madvise"."""
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+from strace_checks import unavailable
 
 LOOM = sys.argv[1]
 EDITOR = sys.argv[2] if len(sys.argv) > 2 else None
@@ -42,12 +43,9 @@ def traced(workdir, tunables):
 
 
 def main():
-    if not shutil.which("strace"):
-        print("skipped: strace is not installed")
-        return 77
-    linked = subprocess.run(["ldd", LOOM], capture_output=True, text=True).stdout
-    if "libasan" in linked or "libtsan" in linked:
-        print("skipped: loom is built with a sanitizer, whose malloc replaces glibc's (the tunable then does nothing)")
+    reason = unavailable(LOOM, "whose malloc replaces glibc's (the tunable then does nothing)")
+    if reason:
+        print(f"skipped: {reason}")
         return 77
     if "[madvise]" not in (THP.read_text() if THP.exists() else ""):
         print(f"skipped: transparent huge pages are not 'madvise' here ({THP}: "

@@ -13,11 +13,12 @@ Usage: start_up_test.py LOOM. Exit 77 (skipped, saying why) without strace or
 under a sanitizer."""
 import json
 import os
-import shutil
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+from strace_checks import unavailable
 
 LOOM = sys.argv[1]
 
@@ -45,12 +46,9 @@ def graph(work, name, nodes, frames=1):
 
 
 def main():
-    if not shutil.which("strace"):
-        print("skipped: strace is not installed")
-        return 77
-    linked = subprocess.run(["ldd", LOOM], capture_output=True, text=True).stdout
-    if "libasan" in linked or "libtsan" in linked:
-        print("skipped: loom is built with a sanitizer, whose runtime starts threads of its own")
+    reason = unavailable(LOOM, "whose runtime starts threads of its own")
+    if reason:
+        print(f"skipped: {reason}")
         return 77
     with tempfile.TemporaryDirectory(prefix="loom-start-up-") as tmp:
         work = Path(tmp)
