@@ -79,6 +79,11 @@ class MpiCase(unittest.TestCase):
             self.assertTrue(filecmp.cmp(os.path.join(expected_dir, name), os.path.join(got_dir, name), shallow=False),
                             f"{name} differs from one process's")
 
+    def assertNoSanitizerReport(self, err):
+        """A run that must fail exits non-zero whether or not a sanitizer
+        (scripts/tsan's build) reported something: the report is read here."""
+        self.assertNotRegex(err, r"(WARNING|ERROR): \w+Sanitizer:")
+
     def assertTwistFramesEqualOneProcess(self, all_ranks, *mpi_args):
         """time-twist-sequence's frames 1-8 and its MP4 on each number of ranks
         equal one process's, and the run leaves nothing else; the runs by ranks."""
@@ -337,6 +342,7 @@ class FailureTest(MpiCase):
         open(os.path.join(out, f"d_{failing}"), "w").close()
         p = mpi_loom(2, "run", g, "--out", out, "--no-cache", "--mpi-deal", deal, check=False)
         self.assertNotEqual(p.returncode, 0, p.stderr)
+        self.assertNoSanitizerReport(p.stderr)
         self.assertIn("rank 1: a node failed: ending every rank", p.stderr)
         # Rank 1 failed at 3 s; rank 0 would have written its second frame at 6 s: it was ended before.
         self.assertFalse(os.path.exists(os.path.join(out, f"d_{second}", "f.txt")), p.stderr)
@@ -373,6 +379,7 @@ class FailureTest(MpiCase):
         killed = time.time()
         _, err = proc.communicate(timeout=60)
         self.assertNotEqual(proc.returncode, 0, err)
+        self.assertNoSanitizerReport(err)
         self.assertLess(time.time() - killed, 8.0, err)  # 2.2 s measured at load 13
         self.assertFalse(os.path.exists(os.path.join(out, "d_1", "f.txt")))  # rank 0's first frame: 10 s
         self.assertEqual(leftovers(out), [])
