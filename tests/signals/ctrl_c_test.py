@@ -190,7 +190,12 @@ class CtrlCTest(unittest.TestCase):
         self.interrupt("ARAP 90k vertices", run, cpu=1.0)
 
     # Cloth by Newton's method at 300 x 300 vertices: Hessian assembly,
-    # factorization and line search per iteration.
+    # factorization and line search per iteration. The assembly and the line
+    # search check; CHOLMOD's analysis and factorization of the 270,000
+    # unknowns cannot be interrupted, and a signal that lands in them waits
+    # for them: 0.03-0.62 s from SIGINT to exit over ten runs (2026-11-29,
+    # after start-up got 0.2 CPU-s cheaper and the 0.8 CPU-s mark moved
+    # towards the end of the first assembly), hence the bound of 1 s.
     def test_cloth_newton(self):
         run = self.run_graph({
             "grid": {"type": "MassSpringGrid", "inputs": {"vertices": [300, 300]}},
@@ -200,7 +205,7 @@ class CtrlCTest(unittest.TestCase):
             "--frames", "2", time={"start": 1, "end": 2, "fps": 30})
         # Not after="grid": a node's "done" line is printed only when it ran
         # for 0.3 s or more, and the grid is quicker on a quiet machine.
-        self.interrupt("ClothStep newton 300x300", run, cpu=0.8)
+        self.interrupt("ClothStep newton 300x300", run, cpu=0.5, quiet_bound=1.0)
 
     # Parameterize at 2M vertices: weights, assembly, factorization, solve.
     # Not after="h": the hemisphere takes under 0.3 s on huge pages
