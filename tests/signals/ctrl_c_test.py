@@ -193,9 +193,9 @@ class CtrlCTest(unittest.TestCase):
     # factorization and line search per iteration. The assembly and the line
     # search check; CHOLMOD's analysis and factorization of the 270,000
     # unknowns cannot be interrupted, and a signal that lands in them waits
-    # for them: 0.03-0.62 s from SIGINT to exit over ten runs (2026-11-29,
-    # after start-up got 0.2 CPU-s cheaper and the 0.8 CPU-s mark moved
-    # towards the end of the first assembly), hence the bound of 1 s.
+    # for them: 0.03-0.62 s from SIGINT to exit over ten runs (2026-11-29;
+    # start-up had just got 0.2 CPU-s cheaper, which likely moved the former
+    # 0.8 CPU-s mark towards the end of the first assembly), hence 1 s.
     def test_cloth_newton(self):
         run = self.run_graph({
             "grid": {"type": "MassSpringGrid", "inputs": {"vertices": [300, 300]}},
