@@ -83,6 +83,9 @@ cholmod_dense view_dense(const Eigen::MatrixXd& B) {
 // runs on the calling thread, unless the user set OPENBLAS_NUM_THREADS.
 // Looked up at run time in the loaded OpenBLAS (a plugin's libraries may be
 // out of the global scope): another BLAS has no such call and is left alone.
+// `loom` and `loom-editor` set the variable before anything loads
+// (loom/process_start.hpp), so OpenBLAS starts no pool there and this finds
+// it set; it is for the other hosts (Python, tests, benchmarks).
 void blas_on_calling_thread() {
   static std::once_flag once;
   std::call_once(once, [] {
