@@ -42,6 +42,7 @@ void exec_with_huge_pages(char** argv) {
 
 void prepare_process(char** argv, bool evaluates_graphs) {
   ::setenv("OPENBLAS_NUM_THREADS", "1", /*overwrite=*/0);
+  ::setenv("OMP_THREAD_LIMIT", "1", /*overwrite=*/0);
   if (evaluates_graphs) exec_with_huge_pages(argv);
 }
 

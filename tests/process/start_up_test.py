@@ -7,7 +7,11 @@ decisions 16 and 22), seen from outside by strace:
   by `loom` before any plugin loads), and a user's own OPENBLAS_NUM_THREADS=2
   is obeyed (OpenBLAS's pool then starts a thread: the test can fail);
 - it opens no FFmpeg library (libavformat), which only SaveVideo needs;
-- a `loom run` that writes an MP4 opens it and writes every frame.
+- a `loom run` that writes an MP4 opens it and writes every frame;
+- a Newton cloth step on one thread (`--threads 1`) starts no thread: CHOLMOD's
+  OpenMP loops, whose team size was fixed when it was compiled, are bounded by
+  OMP_THREAD_LIMIT=1 (set by `loom`), and a user's own OMP_THREAD_LIMIT=4 is
+  obeyed (CHOLMOD's team then starts: the test can fail).
 
 Usage: start_up_test.py LOOM. Exit 77 (skipped, saying why) without strace or
 under a sanitizer."""
@@ -23,12 +27,12 @@ from strace_checks import unavailable
 LOOM = sys.argv[1]
 
 
-def traced(work, args, blas_threads=None):
-    """The threads `loom ARGS` starts and the shared libraries it opens."""
-    env = dict(os.environ)
-    env.pop("OPENBLAS_NUM_THREADS", None)
-    if blas_threads:
-        env["OPENBLAS_NUM_THREADS"] = blas_threads
+def traced(work, args, **user):
+    """The threads `loom ARGS` starts and the shared libraries it opens, with
+    the environment variables in `user` set and no other OpenBLAS or OpenMP
+    thread setting."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("OPENBLAS_", "OMP_"))}
+    env.update(user)
     trace = work / "trace.txt"
     run = subprocess.run(["strace", "-f", "-e", "trace=openat,clone,clone3", "-o", str(trace), LOOM, *args],
                          env=env, capture_output=True, text=True, timeout=120)
@@ -60,7 +64,7 @@ def main():
         assert not threads, f"loom validate started {len(threads)} thread(s): {threads[:2]}"
         assert not any("libavformat" in l for l in libraries), "loom validate of a PNG graph loaded FFmpeg"
 
-        threads, _ = traced(work, ["validate", png], blas_threads="2")
+        threads, _ = traced(work, ["validate", png], OPENBLAS_NUM_THREADS="2")
         assert threads, "with OPENBLAS_NUM_THREADS=2 OpenBLAS started no thread: the user's choice was not kept"
 
         mp4 = graph(work, "mp4.json", {"board": board, "video": {"type": "SaveVideo", "inputs": {
@@ -69,8 +73,23 @@ def main():
         assert any("libloom_video_files.so" in l for l in libraries), "SaveVideo did not open its library"
         assert any("libavformat" in l for l in libraries), "SaveVideo did not load FFmpeg"
         assert (work / "out" / "b.mp4").stat().st_size > 0, "no MP4 written"
+
+        # 60² vertices, two frames: from the second the cloth moves, and
+        # CHOLMOD's factorization runs loops large enough for its team.
+        cloth = graph(work, "cloth.json", {
+            "grid": {"type": "MassSpringGrid", "inputs": {"vertices": [60, 60]}},
+            "step": {"type": "ClothStep", "inputs": {"state": {"from": "grid.state"}, "solver": "newton",
+                                                     "iterations": 2}},
+            "save": {"type": "SaveMesh", "inputs": {"mesh": {"from": "step.mesh"}, "path": "c{frame}.obj"}}},
+            frames=2)
+        args = ["run", cloth, "--out", str(work / "cloth"), "--no-cache", "-q", "--threads", "1"]
+        threads, _ = traced(work, args)
+        assert not threads, f"a Newton cloth step on one thread started {len(threads)} thread(s): {threads[:2]}"
+        threads, _ = traced(work, args, OMP_THREAD_LIMIT="4")
+        assert threads, "with OMP_THREAD_LIMIT=4 CHOLMOD started no thread: the user's choice was not kept"
     print("ok: a PNG graph validates with no thread started and no FFmpeg loaded; "
-          "OPENBLAS_NUM_THREADS=2 is obeyed; SaveVideo loads FFmpeg when it writes")
+          "OPENBLAS_NUM_THREADS=2 is obeyed; SaveVideo loads FFmpeg when it writes; "
+          "a Newton cloth step starts no OpenMP thread, and OMP_THREAD_LIMIT=4 is obeyed")
     return 0
 
 
