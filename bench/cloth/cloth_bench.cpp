@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "bench_harness.hpp"
+#include "loom/process_start.hpp"
 #include "time_step.hpp"
 
 namespace {
@@ -132,8 +133,8 @@ void frame_study(int n, int runs) {
   // Newton keeps its symbolic analysis across calls (as the node does across
   // substeps): a timed Newton iteration is assembly, numeric factorization,
   // solve and line search.
-  loom::numerics::SparseCholesky newton_factor;
-  const StepResult reference = step(state, h, reference_settings(), nullptr, &newton_factor);
+  loom::cloth::NewtonWorkspace newton_workspace;
+  const StepResult reference = step(state, h, reference_settings(), nullptr, &newton_workspace);
   const Eigen::MatrixX3d& ref = reference.state.x;
   const double moved = (ref - state.x).norm();
   std::printf("%dx%d curtain, %g kg/m^2 (%.3g kg per vertex, h^2 k / m = %.3g): reference Newton %d iterations, "
@@ -151,7 +152,7 @@ void frame_study(int n, int runs) {
     // Long runs (a second or more each): one timed run is enough.
     const bool is_long = st.solver == Solver::newton ? iterations > 10 : iterations > 200;
     const WallCpu t =
-        time_wall_cpu([&] { x = step(state, h, st, &lg, &newton_factor).state.x; }, is_long ? 1 : runs);
+        time_wall_cpu([&] { x = step(state, h, st, &lg, &newton_workspace).state.x; }, is_long ? 1 : runs);
     const double err = (x - ref).norm();
     csv.row({method, static_cast<long long>(iterations), t.wall, t.cpu, err / moved, err / ref.norm(), load()});
     return Point{t.wall, t.cpu, err / moved};
@@ -210,14 +211,14 @@ void trajectory_study(int n, int frames) {
   };
   const LocalGlobalSolver lg(*system, h);
   auto run = [&](const StepSettings& st, int substeps, const LocalGlobalSolver* solver, double* seconds) {
-    loom::numerics::SparseCholesky newton_factor;
+    loom::cloth::NewtonWorkspace newton_workspace;
     ClothState s = rest_state(system);
     // A push out of its plane: it swings about the line through the corners.
     for (int i = 0; i < s.v.rows(); ++i)
       if (!system->fixed[i]) s.v(i, 2) = 1;
     const auto t0 = Clock::now();
     for (int f = 0; f < frames; ++f)
-      for (int k = 0; k < substeps; ++k) s = step(s, h / substeps, st, solver, &newton_factor).state;
+      for (int k = 0; k < substeps; ++k) s = step(s, h / substeps, st, solver, &newton_workspace).state;
     if (seconds) *seconds = seconds_since(t0) / frames;
     return s.x;
   };
@@ -259,9 +260,9 @@ void scaling_study(const std::vector<int>& sizes, int runs) {
     ClothState state = rest_state(system);
     const WallCpu t = time_wall_cpu([&] { step(state, h, windy(Solver::local_global, 10), lg.get()); }, runs);
     double newton = -1;
-    loom::numerics::SparseCholesky newton_factor;
+    loom::cloth::NewtonWorkspace newton_workspace;
     if (n <= 81)
-      newton = time_wall_cpu([&] { step(state, h, windy(Solver::newton, 1), nullptr, &newton_factor); }, 3).cpu;
+      newton = time_wall_cpu([&] { step(state, h, windy(Solver::newton, 1), nullptr, &newton_workspace); }, 3).cpu;
     csv.row({static_cast<long long>(n * n), static_cast<long long>(system->spring_count()), factor, t.wall, t.cpu,
              newton, (after - before) / 1024.0, load()});
   }
@@ -416,11 +417,11 @@ void accuracy_study(int n, int runs) {
       st.solve.after_iteration = [&] { stamps.push_back(seconds_since(t0)); };
       std::vector<std::vector<double>> all;
       SolveReport report;
-      loom::numerics::SparseCholesky newton_factor;
+      loom::cloth::NewtonWorkspace newton_workspace;
       for (int r = 0; r <= runs; ++r) {  // run 0 warms up (Newton's symbolic analysis)
         stamps.clear();
         t0 = Clock::now();
-        report = step(scenes[sc].state, h, st, scenes[sc].solver.get(), &newton_factor).report;
+        report = step(scenes[sc].state, h, st, scenes[sc].solver.get(), &newton_workspace).report;
         if (r > 0) all.push_back(stamps);
       }
       std::vector<double> median(stamps.size());
@@ -564,6 +565,11 @@ void start_study(int runs) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // As `loom` runs (loom/process_start.hpp): OpenBLAS and CHOLMOD's OpenMP on
+  // one thread, malloc in huge pages; this program links CHOLMOD, so libgomp
+  // reads its limit at start and the settings take effect in the re-executed
+  // process.
+  loom::prepare_process(argv, /*evaluates_graphs=*/true);
   loom::bench::Cli cli("bench_cloth",
                        "Newton against local/global (plain, Chebyshev) on pinned curtains, and the "
                        "assignment's cuboid drop; writes cloth_* CSV and plots.");

@@ -136,12 +136,12 @@ struct ClothStep {
                  " substeps or an implicit solver");
     }
     // Newton: one symbolic analysis per frame, shared by its substeps.
-    loom::numerics::SparseCholesky newton_factor;
+    loom::cloth::NewtonWorkspace newton_workspace;
     loom::cloth::StepResult result{*previous, {}};
     for (int k = 0; k < substeps; ++k) {
       ctx.progress(k, substeps, "substeps");
       ctx.check_cancelled();
-      result = loom::cloth::step(result.state, h, settings, lg.get(), &newton_factor);
+      result = loom::cloth::step(result.state, h, settings, lg.get(), &newton_workspace);
     }
     out.set("mesh", loom::cloth::state_mesh(result.state));
     out.set("residuals", result.report.residuals);

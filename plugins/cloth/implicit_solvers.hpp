@@ -8,9 +8,10 @@
 //   which makes every block, hence M + h² Σ H_s, positive definite. Each
 //   direction is a CHOLMOD solve, then a backtracking (Armijo) line search on
 //   E. The Hessian's pattern never changes (contact blocks fall on the
-//   diagonal blocks every vertex has), so a caller that passes the same
-//   `factor` for every step pays the symbolic analysis (ordering, supernodes)
-//   once; each iteration is then assembly and a numeric refactorization.
+//   diagonal blocks every free vertex has), so a caller that passes the same
+//   NewtonWorkspace for every step builds the pattern and pays the symbolic
+//   analysis (ordering, supernodes) once; each iteration is then a refill of
+//   the values and a numeric refactorization.
 // LocalGlobalSolver: Liu, Bargteil, O'Brien, Kavan 2013. Local step (eq. 12):
 //   d_s = l_s r_s/‖r_s‖ per spring; global step (eq. 10/14):
 //   (M + h² L) x = h² J d + M y, M + h² L factored once per (springs, k, h,
@@ -86,12 +87,47 @@ struct SolveReport {
   bool converged = false;
 };
 
-// `factor`: a workspace kept across calls for one system (nullptr: a fresh
-// one, analysed on the first iteration).
+// Newton's matrix M + h² Σ_s H_s (+ h² the penalty's blocks) over the free
+// unknowns (3 per free vertex, in vertex order), and what Newton keeps across
+// the calls for one system: the matrix's storage and the factor's symbolic
+// analysis. The pattern (every spring's four 3×3 blocks and every free
+// vertex's diagonal block) depends only on the springs and the fixed set; it
+// is built at the first assembly, and every later one refills the values in
+// place, adding the same terms in the same order as a sum of triplets would
+// (mass, springs in order, penalty), so the matrix is the same bit for bit.
+// A workspace serves one system: give another system a fresh one.
+class NewtonWorkspace {
+ public:
+  // Builds the pattern for s unless it is built for the same springs and fixed set.
+  void prepare(const SpringSystem& s);
+  // Unknown row (the first of 3) of each vertex, −1 if fixed; after prepare.
+  const std::vector<int>& rows() const { return row_; }
+  int unknowns() const { return static_cast<int>(matrix_.rows()); }
+  // Assembles the matrix at x (after prepare); calls options.check between
+  // chunks of springs and options.penalty for the contact blocks.
+  const loom::numerics::SparseMatrix& hessian(const SpringSystem& s, const Eigen::MatrixX3d& x, double h,
+                                              const SolveOptions& options);
+  loom::numerics::SparseCholesky& factor() { return factor_; }
+
+ private:
+  // Adds scale·b to the 3×3 block whose (0, 0) entry is values[at], in a
+  // column block of `stride` entries per column.
+  void add_block(int at, int stride, const Eigen::Matrix3d& b, double scale);
+  Eigen::MatrixX2i springs_;  // the system the pattern is for
+  Eigen::VectorXi fixed_;
+  loom::numerics::SparseMatrix matrix_;
+  std::vector<int> row_;
+  std::vector<int> stride_;       // per free vertex: entries in each of its three columns
+  std::vector<int> diagonal_at_;  // per free vertex: its diagonal block's (0, 0) entry
+  std::vector<int> spring_at_;    // per spring and (p, q): the block (p's rows, q's columns), −1: none
+  loom::numerics::SparseCholesky factor_;
+};
+
+// `workspace`: kept across calls for one system (nullptr: a fresh one, built
+// and analysed on the first iteration).
 Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, double h,
                               Eigen::MatrixX3d x0, const SolveOptions& options,
-                              SolveReport* report = nullptr,
-                              loom::numerics::SparseCholesky* factor = nullptr);
+                              SolveReport* report = nullptr, NewtonWorkspace* workspace = nullptr);
 
 class LocalGlobalSolver {
  public:

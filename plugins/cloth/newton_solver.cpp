@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/SparseCore>
@@ -7,29 +8,85 @@
 #include "loom/numerics/sparse_assembly.hpp"
 
 namespace loom::cloth {
-namespace {
 
-// Unknown row (3 per free vertex) of each vertex, −1 if fixed.
-std::vector<int> dof_rows(const SpringSystem& s) {
-  std::vector<int> row(s.vertices(), -1);
-  int next = 0;
-  for (int i = 0; i < s.vertices(); ++i)
-    if (!s.fixed[i]) row[i] = 3 * next++;
-  return row;
+void NewtonWorkspace::prepare(const SpringSystem& s) {
+  const auto same = [](const auto& a, const auto& b) { return a.rows() == b.rows() && a == b; };
+  if (same(springs_, s.springs) && same(fixed_, s.fixed) && !row_.empty()) return;
+  springs_ = s.springs;
+  fixed_ = s.fixed;
+  const int n = s.vertices();
+  row_.assign(n, -1);
+  int unknowns = 0;
+  for (int i = 0; i < n; ++i)
+    if (!s.fixed[i]) row_[i] = 3 * unknowns++;
+  // Column block of each free vertex: the free vertices it shares a spring
+  // with, and itself, in row order; each of its three columns holds their
+  // three rows each.
+  std::vector<std::vector<int>> coupled(n);
+  for (int i = 0; i < n; ++i)
+    if (row_[i] >= 0) coupled[i].push_back(i);
+  for (Eigen::Index k = 0; k < s.springs.rows(); ++k) {
+    const int a = s.springs(k, 0), b = s.springs(k, 1);
+    if (row_[a] >= 0 && row_[b] >= 0 && a != b) coupled[a].push_back(b), coupled[b].push_back(a);
+  }
+  std::size_t entries = 0;
+  for (auto& c : coupled) {
+    std::sort(c.begin(), c.end());
+    c.erase(std::unique(c.begin(), c.end()), c.end());
+    entries += 9 * c.size();
+  }
+  matrix_ = loom::numerics::SparseMatrix(3 * unknowns, 3 * unknowns);
+  matrix_.resizeNonZeros(static_cast<Eigen::Index>(entries));
+  int* outer = matrix_.outerIndexPtr();
+  int* inner = matrix_.innerIndexPtr();
+  stride_.assign(n, 0);
+  int at = 0;
+  for (int v = 0; v < n; ++v) {
+    if (row_[v] < 0) continue;
+    stride_[v] = 3 * static_cast<int>(coupled[v].size());
+    for (int j = 0; j < 3; ++j) {
+      outer[row_[v] + j] = at;
+      for (int u : coupled[v])
+        for (int i = 0; i < 3; ++i) inner[at++] = row_[u] + i;
+    }
+  }
+  outer[3 * unknowns] = at;
+  // The entry (row of u, column of v), both free and coupled.
+  auto block_at = [&](int u, int v) {
+    const auto& c = coupled[v];
+    return outer[row_[v]] + 3 * static_cast<int>(std::lower_bound(c.begin(), c.end(), u) - c.begin());
+  };
+  diagonal_at_.assign(n, -1);
+  for (int v = 0; v < n; ++v)
+    if (row_[v] >= 0) diagonal_at_[v] = block_at(v, v);
+  spring_at_.assign(4 * static_cast<size_t>(s.spring_count()), -1);
+  for (Eigen::Index k = 0; k < s.springs.rows(); ++k)
+    for (int p = 0; p < 2; ++p)
+      for (int q = 0; q < 2; ++q) {
+        const int a = s.springs(k, p), b = s.springs(k, q);
+        if (row_[a] >= 0 && row_[b] >= 0) spring_at_[4 * k + 2 * p + q] = block_at(a, b);
+      }
 }
 
-// M + h² Σ_s H_s over the free unknowns (both triangles).
-loom::numerics::SparseMatrix hessian(const SpringSystem& s, const std::vector<int>& row, int dofs,
-                                     const Eigen::MatrixX3d& x, double h, const SolveOptions& options) {
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(static_cast<size_t>(dofs) + 36 * static_cast<size_t>(s.spring_count()));
+void NewtonWorkspace::add_block(int at, int stride, const Eigen::Matrix3d& b, double scale) {
+  double* value = matrix_.valuePtr() + at;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) value[j * stride + i] += scale * b(i, j);
+}
+
+// Each entry is the sum of its terms in the order a sum of triplets adds
+// them: mass, springs in order (blocks (0,0), (0,1), (1,0), (1,1)), penalty.
+// The values start at −0, which adds to any first term exactly.
+const loom::numerics::SparseMatrix& NewtonWorkspace::hessian(const SpringSystem& s, const Eigen::MatrixX3d& x,
+                                                             double h, const SolveOptions& options) {
+  std::fill_n(matrix_.valuePtr(), matrix_.nonZeros(), -0.0);
   for (int i = 0; i < s.vertices(); ++i)
-    if (row[i] >= 0)
-      for (int c = 0; c < 3; ++c) t.emplace_back(row[i] + c, row[i] + c, s.mass[i]);
+    if (row_[i] >= 0)
+      for (int c = 0; c < 3; ++c) matrix_.valuePtr()[diagonal_at_[i] + c * stride_[i] + c] += s.mass[i];
   for (Eigen::Index k = 0; k < s.springs.rows(); ++k) {
     if (options.check && k % 32768 == 0) options.check();
     const int a = s.springs(k, 0), b = s.springs(k, 1);
-    if (row[a] < 0 && row[b] < 0) continue;
+    if (row_[a] < 0 && row_[b] < 0) continue;
     const Eigen::Vector3d r = (x.row(a) - x.row(b)).transpose();
     const double len = r.norm();
     Eigen::Matrix3d block;
@@ -44,24 +101,20 @@ loom::numerics::SparseMatrix hessian(const SpringSystem& s, const std::vector<in
     }
     block *= h * h * s.stiffness[k];
     for (int p = 0; p < 2; ++p)
-      for (int q = 0; q < 2; ++q) {
-        const int rp = row[s.springs(k, p)], rq = row[s.springs(k, q)];
-        if (rp < 0 || rq < 0) continue;
-        const double sign = p == q ? 1 : -1;
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) t.emplace_back(rp + i, rq + j, sign * block(i, j));
-      }
+      for (int q = 0; q < 2; ++q)
+        if (const int at = spring_at_[4 * k + 2 * p + q]; at >= 0)
+          add_block(at, stride_[s.springs(k, q)], block, p == q ? 1 : -1);
   }
   if (options.penalty) {
     std::vector<std::pair<int, Eigen::Matrix3d>> blocks;
     options.penalty(x, nullptr, &blocks);
     for (const auto& [v, block] : blocks)
-      if (row[v] >= 0)
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) t.emplace_back(row[v] + i, row[v] + j, h * h * block(i, j));
+      if (row_[v] >= 0) add_block(diagonal_at_[v], stride_[v], block, h * h);
   }
-  return loom::numerics::sparse_from_triplets(dofs, dofs, t, options.check);
+  return matrix_;
 }
+
+namespace {
 
 Eigen::VectorXd gather(const Eigen::MatrixX3d& g, const std::vector<int>& row, int dofs) {
   Eigen::VectorXd out(dofs);
@@ -93,9 +146,12 @@ Eigen::MatrixX3d gradient(const SpringSystem& s, const Eigen::MatrixX3d& x, cons
 
 Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, double h,
                               Eigen::MatrixX3d x, const SolveOptions& options, SolveReport* report,
-                              loom::numerics::SparseCholesky* factor) {
-  const std::vector<int> row = dof_rows(s);
-  const int dofs = 3 * (s.vertices() - s.fixed_count());
+                              NewtonWorkspace* workspace) {
+  NewtonWorkspace fresh;
+  NewtonWorkspace& ws = workspace ? *workspace : fresh;
+  ws.prepare(s);
+  const std::vector<int>& row = ws.rows();
+  const int dofs = ws.unknowns();
   SolveReport local;
   SolveReport& rep = report ? *report : local;
   rep = {};
@@ -103,8 +159,7 @@ Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, 
     rep.converged = true;
     return x;
   }
-  loom::numerics::SparseCholesky fresh;
-  loom::numerics::SparseCholesky& cholesky = factor ? *factor : fresh;
+  loom::numerics::SparseCholesky& cholesky = ws.factor();
   double energy = potential(s, x, y, h, options);
   Eigen::VectorXd g = gather(gradient(s, x, y, h, options), row, dofs);
   const double g0 = g.norm();
@@ -113,7 +168,7 @@ Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, 
     return x;
   }
   for (int it = 0; it < options.iterations; ++it) {
-    cholesky.refactor(hessian(s, row, dofs, x, h, options), options.check);
+    cholesky.refactor(ws.hessian(s, x, h, options), options.check);
     if (options.check) options.check();
     const Eigen::VectorXd p = -cholesky.solve(g);
     // Backtracking line search on E (Armijo, c = 1e-4): H is positive

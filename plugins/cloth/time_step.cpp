@@ -247,7 +247,7 @@ Eigen::MatrixX3d local_global_start(const SpringSystem& s, const Eigen::MatrixX3
 }  // namespace
 
 StepResult step(const ClothState& state, double h, const StepSettings& settings,
-                const LocalGlobalSolver* lg, loom::numerics::SparseCholesky* newton_factor) {
+                const LocalGlobalSolver* lg, NewtonWorkspace* newton_workspace) {
   const SpringSystem& s = *state.system;
   StepResult result;
   result.state.system = state.system;
@@ -292,13 +292,13 @@ StepResult step(const ClothState& state, double h, const StepSettings& settings,
     else if (settings.ground || !settings.spheres.empty())
       options.project = [&](Eigen::MatrixX3d& iterate) { resolve_collisions(s, state.x, iterate, settings); };
     if (settings.solver == Solver::newton) {
-      x = newton_solve(s, y, h, y, options, &result.report, newton_factor);
+      x = newton_solve(s, y, h, y, options, &result.report, newton_workspace);
       // Friction: a second solve from there with the normal forces and
       // normals of the frictionless solution held fixed (one lagging pass).
       friction = options.penalty ? friction_contacts(s, settings, x) : std::vector<FrictionContact>();
       if (!friction.empty()) {
         SolveReport first = std::move(result.report);
-        x = newton_solve(s, y, h, x, options, &result.report, newton_factor);
+        x = newton_solve(s, y, h, x, options, &result.report, newton_workspace);
         result.report.iterations += first.iterations;
         first.residuals.insert(first.residuals.end(), result.report.residuals.begin(), result.report.residuals.end());
         result.report.residuals = std::move(first.residuals);

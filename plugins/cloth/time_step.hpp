@@ -97,12 +97,12 @@ struct StepResult {
 
 // Advances by h. `lg` is the local/global solver factored for this system and
 // h (required for Solver::local_global, see cached_solver in the node).
-// `newton_factor`: Newton's factorization workspace, kept across the steps of
-// one system so its symbolic analysis is done once (nullptr: per step).
+// `newton_workspace`: Newton's Hessian and factorization, kept across the steps of
+// one system so its pattern and symbolic analysis are made once (nullptr: per step).
 // Throws loom::Error if explicit integration diverges (non-finite positions).
 StepResult step(const ClothState& state, double h, const StepSettings& settings,
                 const LocalGlobalSolver* lg,
-                loom::numerics::SparseCholesky* newton_factor = nullptr);
+                NewtonWorkspace* newton_workspace = nullptr);
 
 // The weight w of local/global's contact constraints (Projective Dynamics):
 // 0.1 × the stiffest spring's k (measured on the drape, docs/cloth.md: a
