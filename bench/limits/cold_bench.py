@@ -4,8 +4,8 @@
 The limits table (docs/limits.md) times each solver in a warm loop of a
 benchmark program: the kernel alone, repeated in one process. A user runs
 one `loom run`. For Poisson 1024² (a disk), Tutte and ARAP on a 100k-face
-hemisphere (the table's inputs), PathTrace on the Cornell box and MPM's 2D
-fluid (the table's scenes), this measures, medians of --runs:
+hemisphere (the table's inputs), PathTrace on the Cornell box, MPM's 2D
+fluid and Render's frame (the table's scenes), this measures, medians of --runs:
 
   warm node  the node's seconds in a loom.Session that has run the graph
              before (its cache cleared between runs): a warm process;
@@ -74,6 +74,31 @@ def mpm_graph(_inputs):
         "save": {"type": "SaveImage", "inputs": {"image": {"from": "image.image"}, "path": "mpm_{frame}.png"}}}}
 
 
+def render_graph(_inputs):
+    """The limits table's Render frame (bench_shading's target): a sphere of
+    about 100k triangles over an 8 m floor, one shadowed sun, 1080p, 4× MSAA,
+    a 2048² shadow map with 5×5 PCF; the image alone."""
+    return {"loom": 1, "nodes": {
+        "floor_mesh": {"type": "GridMesh", "inputs": {"size": [8, 8], "resolution": [1, 1],
+                                                      "rotate_degrees": [-90, 0, 0]}},
+        "gray": {"type": "Material", "inputs": {"base_color": [0.8, 0.8, 0.8], "specular": 0}},
+        "floor": {"type": "Object", "inputs": {"mesh": {"from": "floor_mesh.mesh"}, "material": {"from": "gray.material"}}},
+        "ball_mesh": {"type": "UVSphere", "inputs": {"radius": 1, "rings": 158, "segments": 316}},
+        "red": {"type": "Material", "inputs": {"base_color": [0.8, 0.4, 0.3], "specular": 0.5}},
+        "ball": {"type": "Object", "inputs": {"mesh": {"from": "ball_mesh.mesh"}, "material": {"from": "red.material"},
+                                              "translate": [0, 1.2, 0]}},
+        "sun": {"type": "Light", "inputs": {"kind": "directional", "direction": [-0.5, -1, -0.4], "intensity": 3}},
+        "camera": {"type": "Camera", "inputs": {"eye": [0, 3, 6], "target": [0, 0.8, 0], "fov_degrees": 45.84}},
+        "sky": {"type": "Environment", "inputs": {"color": [0.1, 0.1, 0.1]}},
+        "scene": {"type": "MergeScenes", "inputs": {"a": {"from": "floor.scene"}, "b": {"from": "ball.scene"},
+                                                    "c": {"from": "sun.scene"}, "d": {"from": "camera.scene"},
+                                                    "e": {"from": "sky.scene"}}},
+        "render": {"type": "Render", "inputs": {"scene": {"from": "scene.scene"}, "width": 1920, "height": 1080,
+                                                "samples": 4, "shadows": "pcf", "pcf_size": 5,
+                                                "shadow_resolution": 2048, "extra_images": False}},
+        "save": {"type": "SaveImage", "inputs": {"image": {"from": "render.image"}, "path": "render.exr"}}}}
+
+
 def mesh_measure(solver):
     return lambda inputs: mesh_graph(inputs, solver)
 
@@ -89,6 +114,7 @@ MEASURES = [
      mesh_measure({"type": "ARAP", "inputs": {"mesh": {"from": "dome.mesh"}}}), False),
     ("PathTrace, Cornell box 512², depth 8, 16 spp", "trace", pathtrace_graph, False),
     ("MPM 2D fluid, 1M particles, 512², 10 substeps", "sim", mpm_graph, False),
+    ("Render 1080p, 100k triangles, 2048² map, 5×5 PCF, 4× MSAA", "render", render_graph, False),
 ]
 
 
@@ -187,6 +213,7 @@ def main():
     p.add_argument("--peer", help="poisson_opencv_peer (default: beside loom)")
     p.add_argument("--runs", type=int, default=5, help="runs of each (medians; default 5)")
     p.add_argument("--quick", action="store_true", help="one run of each")
+    p.add_argument("--only", help="only the measures whose name contains this text (e.g. Render)")
     p.add_argument("--out", help="folder for cold.csv and cold.md (default: $LOOM_BENCH_OUT, else bench/results)")
     args = p.parse_args()
     if args.quick:
@@ -204,6 +231,8 @@ def main():
         load_start = os.getloadavg()[0]
         kernel, opencv_warm_loop = bench_kernels(Path(loom).parent, inputs, raw, args.quick)
         for k, (name, node, make_graph, has_peer) in enumerate(MEASURES):
+            if args.only and args.only not in name:
+                continue
             graph = work / f"measure{k}.json"
             graph.write_text(json.dumps(make_graph(inputs)))
             cold, small, walls, small_walls, warm = [], [], [], [], []
