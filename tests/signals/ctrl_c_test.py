@@ -189,23 +189,26 @@ class CtrlCTest(unittest.TestCase):
             "s": {"type": "SaveMesh", "inputs": {"mesh": {"from": "a.mesh"}, "path": "a.obj"}}}, grace=None)
         self.interrupt("ARAP 90k vertices", run, cpu=1.0)
 
-    # Cloth by Newton's method at 300 x 300 vertices: Hessian assembly,
+    # Cloth by Newton's method at 150 x 150 vertices: Hessian assembly,
     # factorization and line search per iteration. The assembly and the line
-    # search check; CHOLMOD's analysis and factorization of the 270,000
-    # unknowns cannot be interrupted, and a signal that lands in them waits
-    # for them: 0.03-0.62 s from SIGINT to exit over ten runs (2026-11-29;
-    # start-up had just got 0.2 CPU-s cheaper, which likely moved the former
-    # 0.8 CPU-s mark towards the end of the first assembly), hence 1 s.
+    # search check; CHOLMOD's analysis and factorization cannot be
+    # interrupted, and a signal that lands in them waits for them. Since the
+    # assembly became a refill in place (2026-11-29) it is a small part of an
+    # iteration, so at 300 x 300 (270,000 unknowns) the signal mostly landed
+    # in a factorization and waited up to 1.8 s (load 5, over a bound of 1.76
+    # s); at 67,500 unknowns SIGINT to exit took 0.08-1.27 s over six runs at
+    # load 5.5 (bounds 1.84-2.16 s there, 1 s on a quiet machine, where the
+    # analysis and a factorization take about half as long).
     def test_cloth_newton(self):
         run = self.run_graph({
-            "grid": {"type": "MassSpringGrid", "inputs": {"vertices": [300, 300]}},
+            "grid": {"type": "MassSpringGrid", "inputs": {"vertices": [150, 150]}},
             "step": {"type": "ClothStep", "inputs": {"state": {"from": "grid.state"}, "solver": "newton",
                                                      "iterations": 1000, "substeps": 10}},
             "s": {"type": "SaveMesh", "inputs": {"mesh": {"from": "step.mesh"}, "path": "c{frame:04}.obj"}}},
             "--frames", "2", time={"start": 1, "end": 2, "fps": 30})
         # Not after="grid": a node's "done" line is printed only when it ran
         # for 0.3 s or more, and the grid is quicker on a quiet machine.
-        self.interrupt("ClothStep newton 300x300", run, cpu=0.5, quiet_bound=1.0)
+        self.interrupt("ClothStep newton 150x150", run, cpu=0.5, quiet_bound=1.0)
 
     # Parameterize at 2M vertices: weights, assembly, factorization, solve.
     # Not after="h": the hemisphere takes under 0.3 s on huge pages
