@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <map>
 #include <string>
 
@@ -25,6 +26,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double process_cpu_seconds() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 
 // Blinn-Phong exponent from the perceptual roughness: alpha = roughness²,
@@ -554,6 +560,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   GlContext::Current current(s.context);
   const GlApi& gl = s.gl();
   auto t = Clock::now();
+  double c = process_cpu_seconds();
 
   const auto check_cancelled = [&options] {
     if (options.check_cancelled) options.check_cancelled();
@@ -568,15 +575,19 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   set_draw_state(gl);
   gl.check("uploading the scene");
   time.upload = since(t);
+  time.upload_cpu = process_cpu_seconds() - c;
 
   t = Clock::now();
+  c = process_cpu_seconds();
   ShadowMaps shadows(gl);
   render_shadow_maps(gl, {*s.depth, *s.depth_only, *s.depth_tess, *s.sphere_depth}, gpu, scene, box, options, shadows);
   gl.Finish();
   check_cancelled();
   time.shadows = since(t);
+  time.shadows_cpu = process_cpu_seconds() - c;
 
   t = Clock::now();
+  c = process_cpu_seconds();
   const State::EnvironmentMap* env = s.environment_map(scene.environment);
   if (env) gl.BindTextureUnit(unit_environment, env->texture);
   const State::Frame frame{scene,
@@ -603,8 +614,10 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   gl.Finish();
   check_cancelled();
   time.draw = since(t);
+  time.draw_cpu = process_cpu_seconds() - c;
 
   t = Clock::now();
+  c = process_cpu_seconds();
   RenderImages images = s.read_back(fb);
   gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
   gl.BindVertexArray(0);
@@ -612,6 +625,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   s.gpu_cache->release_unused();
   for (GLuint u = 0; u < texture_units_used; ++u) gl.BindTextureUnit(u, 0);
   time.readback = since(t);
+  time.readback_cpu = process_cpu_seconds() - c;
   return images;
 }
 
