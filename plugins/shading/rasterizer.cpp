@@ -11,6 +11,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "closed_surface.hpp"
 #include "gl_context.hpp"
 #include "gl_program.hpp"
 #include "gpu_scene.hpp"
@@ -497,7 +498,14 @@ void Rasterizer::State::draw_object(const Frame& f, const GpuObject& o) {
     p.set("u_tess_level", static_cast<double>(options.tessellation));
     draw_patches(gl, o.count, options.tessellation);
   } else {
+    // A closed mesh's hidden side is skipped before llvmpipe sets it up (closed_surface.hpp).
+    const GLenum hidden = hidden_side(o.closed, o.bounds, o.source->transform, f.view, f.camera.near_plane);
+    if (hidden) {
+      gl.Enable(GL_CULL_FACE);
+      gl.CullFace(hidden);
+    }
     draw_triangles(gl, o.count, options.check_cancelled);
+    gl.Disable(GL_CULL_FACE);
   }
 }
 
