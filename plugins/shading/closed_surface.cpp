@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include <tbb/parallel_sort.h>
+
 #include "gl_api.hpp"
 #include "loom/numerics/mesh_topology.hpp"
 
@@ -47,15 +49,16 @@ int closed_orientation(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
     const int a = rep[F(f, 0)], b = rep[F(f, 1)], c = rep[F(f, 2)];
     if (a == b || b == c || c == a) continue;
     W.row(m++) << a, b, c;
+    // The undirected edge, then which way this face runs it (indices < 2^31).
     for (auto [u, v] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
-      edges.push_back(std::uint64_t(unsigned(u)) << 32 | unsigned(v));
+      edges.push_back(std::uint64_t(std::min(u, v)) << 32 | std::uint64_t(std::max(u, v)) << 1 | (u > v));
   }
   if (m == 0) return 0;
-  // Closed and consistently oriented: every directed edge once, and its reverse once.
-  std::sort(edges.begin(), edges.end());
-  if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return 0;
-  for (std::uint64_t e : edges)
-    if (!std::binary_search(edges.begin(), edges.end(), e << 32 | e >> 32)) return 0;
+  // Closed and consistently oriented: each edge exactly twice, once each way.
+  tbb::parallel_sort(edges.begin(), edges.end());
+  for (std::size_t i = 0; i < edges.size(); i += 2)
+    if (i + 1 == edges.size() || edges[i] >> 1 != edges[i + 1] >> 1 || (edges[i] & 1) || !(edges[i + 1] & 1))
+      return 0;
   // Signed volume of each part (divergence theorem: sum of det(a, b, c) / 6),
   // about the bounds' center for precision.
   int parts = 0;
