@@ -2,7 +2,7 @@
 // a closed, consistently oriented surface, every ray that meets it meets a
 // front face first (it enters the solid), so the back faces are always
 // hidden behind front faces of the same mesh: the depth test would discard
-// them, but llvmpipe would still set up and rasterize them (at 4x MSAA half
+// them, but llvmpipe would still set up, rasterize and shade them (0.42 of
 // the target frame's main pass, docs/shading.md). A clipping near plane
 // breaks the argument (it opens the solid), so the mesh must lie beyond it.
 #pragma once
