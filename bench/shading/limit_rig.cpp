@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "loom/error.hpp"
@@ -116,20 +117,22 @@ LimitRig::LimitRig(const RenderFrame& f) : render_(f) {
   // n x n cells of two triangles: 2 n² close to the frame's triangle count.
   const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(f.triangles / 2.0))));
   grid_columns_ = n + 1;
-  std::vector<GLuint> indices;
+  std::vector<GLuint> indices, half_culled;
   indices.reserve(6 * std::size_t(n) * n);
+  half_culled.reserve(indices.capacity());
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
       const GLuint a = GLuint(y * grid_columns_ + x), b = a + 1, c = a + GLuint(grid_columns_), d = c + 1;
       indices.insert(indices.end(), {a, b, d, a, d, c});
+      half_culled.insert(half_culled.end(), {a, b, d, a, c, d});
     }
   grid_indices_ = static_cast<GLsizei>(indices.size());
   gl.CreateVertexArrays(1, &empty_vao_);
   gl.CreateVertexArrays(1, &grid_vao_);
-  gl.CreateBuffers(1, &grid_buffer_);
-  gl.NamedBufferData(grid_buffer_, static_cast<GLsizeiptr>(indices.size() * sizeof(GLuint)), indices.data(),
-                     GL_STATIC_DRAW);
-  gl.VertexArrayElementBuffer(grid_vao_, grid_buffer_);
+  for (auto [buffer, data] : {std::pair{&grid_buffer_, &indices}, std::pair{&grid_half_culled_buffer_, &half_culled}}) {
+    gl.CreateBuffers(1, buffer);
+    gl.NamedBufferData(*buffer, static_cast<GLsizeiptr>(data->size() * sizeof(GLuint)), data->data(), GL_STATIC_DRAW);
+  }
   gl.check("setting up the limit runs");
 }
 
@@ -144,6 +147,7 @@ LimitRig::~LimitRig() {
     gl.DeleteTextures(1, &f->depth_texture);
   }
   gl.DeleteBuffers(1, &grid_buffer_);
+  gl.DeleteBuffers(1, &grid_half_culled_buffer_);
   gl.DeleteVertexArrays(1, &grid_vao_);
   gl.DeleteVertexArrays(1, &empty_vao_);
 }
@@ -196,17 +200,25 @@ void LimitRig::quads(Target t, Shading s, int quads) {
       t, program(false, s), t == Target::shadow_map, [&] { gl.DrawArrays(GL_TRIANGLES, 0, 3); }, quads);
 }
 
-void LimitRig::grid(Target t, Shading s) {
+void LimitRig::grid(Target t, Shading s, bool half_culled) {
   GlContext::Current current(context_);
   const GlApi& gl = context_.gl();
   GlProgram& p = program(true, s);
+  gl.VertexArrayElementBuffer(grid_vao_, half_culled ? grid_half_culled_buffer_ : grid_buffer_);
   gl.BindVertexArray(grid_vao_);
   p.use();
   p.set("u_columns", grid_columns_);
   const long long side = t == Target::shadow_map ? render_.shadow_resolution : 0;
   p.set("u_viewport", side ? Eigen::Vector2d(side, side) : Eigen::Vector2d(render_.width, render_.height));
   frame(
-      t, p, true, [&] { gl.DrawElements(GL_TRIANGLES, grid_indices_, GL_UNSIGNED_INT, nullptr); }, 1);
+      t, p, true,
+      [&] {
+        gl.CullFace(GL_BACK);
+        if (half_culled) gl.Enable(GL_CULL_FACE);
+        gl.DrawElements(GL_TRIANGLES, grid_indices_, GL_UNSIGNED_INT, nullptr);
+        gl.Disable(GL_CULL_FACE);
+      },
+      1);
 }
 
 }  // namespace loom::shading

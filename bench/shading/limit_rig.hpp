@@ -38,8 +38,11 @@ class LimitRig {
   // last (depth test GL_LESS for the shadow map, off for the image), glFinish.
   void quads(Target t, Shading s, int quads);
   // One frame: clear, the grid of small triangles once (depth test on, as
-  // Render's), glFinish.
-  void grid(Target t, Shading s);
+  // Render's), glFinish. half_culled: every other triangle wound the other
+  // way and culled, as Render culls the hidden half of a closed mesh (the
+  // target's sphere): the same triangles through the vertex stage, half of
+  // them rasterized.
+  void grid(Target t, Shading s, bool half_culled = false);
   long long grid_triangles() const { return grid_indices_ / 3; }
   long long pixels(Target t) const;
 
@@ -52,7 +55,7 @@ class LimitRig {
   RenderFrame render_;
   Framebuffer image_, image_msaa_, shadow_map_;
   std::unique_ptr<GlProgram> programs_[2][3];  // [grid][shading]; the grid has no PCF
-  GLuint empty_vao_ = 0, grid_vao_ = 0, grid_buffer_ = 0;
+  GLuint empty_vao_ = 0, grid_vao_ = 0, grid_buffer_ = 0, grid_half_culled_buffer_ = 0;
   int grid_columns_ = 0;
   GLsizei grid_indices_ = 0;
 };

@@ -64,7 +64,7 @@ void llvmpipe_limits(bool quick, const RenderFrame& render) {
   // Render's frame and the limit runs alternate round by round; the quad runs
   // draw `q` quads per frame so that clear and flush weigh little in the rate.
   const int q = 16, runs = quick ? 3 : 7;
-  std::vector<double> shadow_s, draw_s, readback_s, upload_s;
+  std::vector<double> shadow_s, draw_s, readback_s, upload_s, shadow_cpu, draw_cpu, readback_cpu;
   const auto t = loom::bench::time_alternating(
       runs, {[&] {
                RenderTimings r;
@@ -73,11 +73,15 @@ void llvmpipe_limits(bool quick, const RenderFrame& render) {
                draw_s.push_back(r.draw);
                readback_s.push_back(r.readback);
                upload_s.push_back(r.upload);
+               shadow_cpu.push_back(r.shadows_cpu);
+               draw_cpu.push_back(r.draw_cpu);
+               readback_cpu.push_back(r.readback_cpu);
              },
              [&] { rig.quads(T::image, S::constant, q); }, [&] { rig.quads(T::image_msaa, S::constant, q); },
              [&] { rig.quads(T::shadow_map, S::depth_only, q); }, [&] { rig.quads(T::image_msaa, S::pcf, q); },
              [&] { rig.grid(T::shadow_map, S::depth_only); }, [&] { rig.grid(T::image_msaa, S::constant); },
-             [&] { rig.quads(T::shadow_map, S::depth_only, 0); }, [&] { rig.quads(T::image_msaa, S::constant, 0); }});
+             [&] { rig.quads(T::shadow_map, S::depth_only, 0); }, [&] { rig.quads(T::image_msaa, S::constant, 0); },
+             [&] { rig.grid(T::image_msaa, S::constant, true); }});
   const double load = loom::bench::load_average();
   const double px = rig.pixels(T::image), texels = rig.pixels(T::shadow_map);
   const double fill1 = q * px / t[1].wall, fill4 = q * px / t[2].wall, depth = q * texels / t[3].wall,
@@ -93,9 +97,9 @@ void llvmpipe_limits(bool quick, const RenderFrame& render) {
   const std::string Q = " (" + std::to_string(q) + " full-screen quads)";
   row("Render frame (wall; passes below)", frame, t[0].cpu, 1 / frame, "frames/s", 0);
   row("Render upload", median(upload_s), 0, 0, "", 0);
-  row("Render shadow pass", shadow, 0, 0, "", 0);
-  row("Render main pass (clear, draw, shade)", draw, 0, 0, "", 0);
-  row("Render resolve + readback", median(readback_s), 0, 0, "", 0);
+  row("Render shadow pass", shadow, median(shadow_cpu), 0, "", 0);
+  row("Render main pass (clear, draw, shade)", draw, median(draw_cpu), 0, "", 0);
+  row("Render resolve + readback", median(readback_s), median(readback_cpu), 0, "", 0);
   row("fill 1080p 1x, constant colour, no depth test" + Q, t[1].wall, t[1].cpu, fill1 * 1e-6, "Mpixel/s", 0);
   row("fill 1080p 4x MSAA, constant colour, no depth test" + Q, t[2].wall, t[2].cpu, fill4 * 1e-6, "Mpixel/s", 0);
   row("depth-only fill 2048^2, GL_LESS" + Q, t[3].wall, t[3].cpu, depth * 1e-6, "Mtexel/s", 0);
@@ -103,6 +107,8 @@ void llvmpipe_limits(bool quick, const RenderFrame& render) {
   const std::string G = std::to_string(rig.grid_triangles()) + " 2-pixel triangles, clear included";
   row("setup: " + G + ", depth only 2048^2", t[5].wall, t[5].cpu, tris / t[5].wall * 1e-6, "Mtriangle/s", 0);
   row("setup: " + G + ", 1080p 4x MSAA", t[6].wall, t[6].cpu, tris / t[6].wall * 1e-6, "Mtriangle/s", 0);
+  row("setup: " + G + ", half of them culled, 1080p 4x MSAA", t[9].wall, t[9].cpu, tris / t[9].wall * 1e-6,
+      "Mtriangle/s", 0);
   row("clear 2048^2 depth (frame of no draws)", t[7].wall, t[7].cpu, texels / t[7].wall * 1e-6, "Mtexel/s", 0);
   row("clear 1080p 4x MSAA colour + depth (frame of no draws)", t[8].wall, t[8].cpu, px / t[8].wall * 1e-6, "Mpixel/s",
       0);
@@ -113,6 +119,9 @@ void llvmpipe_limits(bool quick, const RenderFrame& render) {
   const double raw = px / fill4 + texels / depth;
   const double with_pcf = px / pcf4 + texels / depth;
   const double shadow_limit = t[5].wall + texels / depth, main_limit = t[6].wall + px / pcf4;
+  // Render culls the hidden half of a closed mesh (the sphere): its main
+  // pass rasterizes half the triangles it sends.
+  const double main_limit_culled = t[9].wall + px / pcf4;
   row("limit: raw fill (1080p 4x + 2048^2 depth) / Render frame", raw, 0, 0, "", raw / frame);
   row("limit: fill + PCF gathers / Render frame", with_pcf, 0, 0, "", with_pcf / frame);
   row("limit: + clears and triangles / Render frame", shadow_limit + main_limit, 0, 0, "",
@@ -122,6 +131,18 @@ void llvmpipe_limits(bool quick, const RenderFrame& render) {
   row("limit: shadow pass (triangles + depth fill) / Render shadow pass", shadow_limit, 0, 0, "",
       shadow_limit / shadow);
   row("limit: main pass (triangles + fill + PCF) / Render main pass", main_limit, 0, 0, "", main_limit / draw);
+  row("limit: main pass, half the triangles culled / Render main pass", main_limit_culled, 0, 0, "",
+      main_limit_culled / draw);
+  // The same fractions in CPU seconds (all threads): a loaded machine moves
+  // them much less than wall time, which also counts the waits for a core.
+  const double shadow_limit_cpu = t[5].cpu + t[3].cpu / q, main_limit_cpu = t[6].cpu + t[4].cpu / q,
+               main_limit_culled_cpu = t[9].cpu + t[4].cpu / q;
+  row("limit in CPU-s: shadow pass / Render shadow pass", shadow_limit_cpu, shadow_limit_cpu, 0, "",
+      shadow_limit_cpu / median(shadow_cpu));
+  row("limit in CPU-s: main pass / Render main pass", main_limit_cpu, main_limit_cpu, 0, "",
+      main_limit_cpu / median(draw_cpu));
+  row("limit in CPU-s: main pass, half the triangles culled / Render main pass", main_limit_culled_cpu,
+      main_limit_culled_cpu, 0, "", main_limit_culled_cpu / median(draw_cpu));
   csv.save();
 }
 

@@ -18,6 +18,7 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <utility>
 
 #include "bench_harness.hpp"
 #include "exact_shadows.hpp"
@@ -71,6 +72,12 @@ RenderOptions target_options() {
   return o;
 }
 
+double median_of(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t h = v.size() / 2;
+  return v.size() % 2 ? v[h] : (v[h - 1] + v[h]) / 2;
+}
+
 long long triangles_of(const Scene& s) {
   long long n = 0;
   for (const auto& ob : s.objects) n += ob.mesh->faces();
@@ -80,12 +87,13 @@ long long triangles_of(const Scene& s) {
 // only_target: context, first frame and the steady target row, nothing else.
 void speed(bool quick, bool only_target = false) {
   bench::Csv csv("shading_speed", {"case", "triangles", "width", "height", "seconds", "cpu_seconds", "upload_s", "shadow_s",
-                                   "draw_s", "readback_s", "load1"});
+                                   "draw_s", "readback_s", "shadow_cpu_s", "draw_cpu_s", "load1"});
   const auto t0 = Clock::now();
   const double c0 = loom::bench::process_cpu_seconds();
   Rasterizer r;
   const double create = since(t0);
-  csv.row({"context+programs", 0LL, 0LL, 0LL, create, loom::bench::process_cpu_seconds() - c0, 0.0, 0.0, 0.0, 0.0, loom::bench::load_average()});
+  csv.row({"context+programs", 0LL, 0LL, 0LL, create, loom::bench::process_cpu_seconds() - c0, 0.0, 0.0, 0.0, 0.0,
+           0.0, 0.0, loom::bench::load_average()});
   const RenderOptions o = target_options();
   const Scene target = speed_scene(100000);
   const long long tris = triangles_of(target);
@@ -94,20 +102,29 @@ void speed(bool quick, bool only_target = false) {
   const double c1 = loom::bench::process_cpu_seconds();
   r.render(target, o, &first);
   csv.row({"first frame", tris, 1920LL, 1080LL, since(t1), loom::bench::process_cpu_seconds() - c1, first.upload, first.shadows, first.draw,
-           first.readback, loom::bench::load_average()});
+           first.readback, first.shadows_cpu, first.draw_cpu, loom::bench::load_average()});
+  // Each column the median of its runs (the passes' too: one run's would move with the load).
   auto steady = [&](const Scene& s, const RenderOptions& opt, const char* label, int runs) {
-    RenderTimings t;
-    std::vector<double> cpu;
+    std::vector<double> cpu, upload, shadow, draw, readback, shadow_cpu, draw_cpu;
+    bool warm_up = true;  // time_median's first run, not timed
     const auto m = bench::time_median(
         [&] {
+          RenderTimings t;
           const double c = loom::bench::process_cpu_seconds();
           r.render(s, opt, &t);
+          if (std::exchange(warm_up, false)) return;
           cpu.push_back(loom::bench::process_cpu_seconds() - c);
+          upload.push_back(t.upload);
+          shadow.push_back(t.shadows);
+          draw.push_back(t.draw);
+          readback.push_back(t.readback);
+          shadow_cpu.push_back(t.shadows_cpu);
+          draw_cpu.push_back(t.draw_cpu);
         },
         runs);
-    std::sort(cpu.begin(), cpu.end());
     csv.row({label, triangles_of(s), static_cast<long long>(opt.width), static_cast<long long>(opt.height), m.median,
-             cpu[cpu.size() / 2], t.upload, t.shadows, t.draw, t.readback, loom::bench::load_average()});
+             median_of(cpu), median_of(upload), median_of(shadow), median_of(draw), median_of(readback),
+             median_of(shadow_cpu), median_of(draw_cpu), loom::bench::load_average()});
   };
   steady(target, o, "steady 1080p", 5);
   RenderOptions no_shadow = o;

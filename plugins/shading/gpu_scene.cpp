@@ -5,6 +5,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "closed_surface.hpp"
 #include "loom/numerics/tangent_frames.hpp"
 
 namespace loom::shading {
@@ -76,6 +77,8 @@ GpuCache::Geometry mesh_geometry(const GlApi& gl, const Mesh& m, const std::func
   gl.CreateVertexArrays(1, &g.vao);
   for (const Attribute& a : attributes) attribute(gl, g, a.location, a.components, a.values);
   elements(gl, g, m.F);
+  g.closed = closed_orientation(m.V, m.F);
+  for (Eigen::Index i = 0; i < m.V.rows(); ++i) g.bounds.extend(Eigen::Vector3d(m.V.row(i).transpose()));
   return g;
 }
 
@@ -187,6 +190,8 @@ GpuScene::GpuScene(const GlApi& gl, const Scene& scene, GpuCache& cache, const s
     if (g) {
       o.vao = g->vao;
       o.count = g->count;
+      o.closed = g->closed;
+      o.bounds = g->bounds;
     }
     objects_.push_back(o);
   }

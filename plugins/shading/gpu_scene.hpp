@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "gl_api.hpp"
 #include "loom/scene.hpp"
 
@@ -23,6 +25,8 @@ struct GpuObject {
   GLuint vao = 0;
   GLsizei count = 0;  // indices (mesh, lines) or points
   GLuint base_map = 0, normal_map = 0, displacement_map = 0;
+  int closed = 0;                // meshes: closed_orientation (+1 outward, -1 inward, 0 open)
+  Eigen::AlignedBox3d bounds;    // meshes: object-space bounds
 };
 
 class GpuCache {
@@ -36,6 +40,8 @@ class GpuCache {
     GLuint vao = 0;
     std::vector<GLuint> buffers;
     GLsizei count = 0;
+    int closed = 0;
+    Eigen::AlignedBox3d bounds;
   };
   // The geometry made from `owner`, made by `make` the first time.
   template <class Make>

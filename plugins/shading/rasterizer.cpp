@@ -3,13 +3,18 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <ctime>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "closed_surface.hpp"
 #include "gl_context.hpp"
 #include "gl_program.hpp"
 #include "gpu_scene.hpp"
@@ -25,6 +30,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double process_cpu_seconds() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 
 // Blinn-Phong exponent from the perceptual roughness: alpha = roughness²,
@@ -368,6 +378,27 @@ void check_options(const RenderOptions& options) {
   if (options.pcf_size < 1 || options.pcf_size > 15) throw Error("pcf_size must be in 1..15");
 }
 
+// The objects in the order they are drawn: meshes nearest first (by the
+// distance from the eye to their bounds' center), then points and lines in
+// the scene's order, so that fewer hidden fragments are shaded before the
+// nearer surface arrives (measured on the target frame, sphere before floor:
+// main pass 4 % and 15 % less CPU time in two sets of 6 alternating rounds,
+// loads 5-6). Only fragments at exactly equal depth can fall to another object.
+std::vector<const GpuObject*> nearest_first(const GpuScene& gpu, const Eigen::Vector3d& eye) {
+  std::vector<std::pair<double, const GpuObject*>> keyed;
+  for (const GpuObject& o : gpu.objects()) {
+    if (o.count == 0) continue;
+    double key = std::numeric_limits<double>::infinity();
+    if (o.kind == GpuObject::Kind::mesh && !o.bounds.isEmpty())
+      key = ((o.source->transform * o.bounds.center().homogeneous()).hnormalized() - eye).norm();
+    keyed.emplace_back(key, &o);
+  }
+  std::stable_sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<const GpuObject*> order;
+  for (const auto& [key, o] : keyed) order.push_back(o);
+  return order;
+}
+
 // The GL state every render starts from.
 void set_draw_state(const GlApi& gl) {
   gl.Enable(GL_DEPTH_TEST);
@@ -491,7 +522,14 @@ void Rasterizer::State::draw_object(const Frame& f, const GpuObject& o) {
     p.set("u_tess_level", static_cast<double>(options.tessellation));
     draw_patches(gl, o.count, options.tessellation);
   } else {
+    // A closed mesh's hidden side is skipped before llvmpipe sets it up (closed_surface.hpp).
+    const GLenum hidden = hidden_side(o.closed, o.bounds, o.source->transform, f.view, f.camera.near_plane);
+    if (hidden) {
+      gl.Enable(GL_CULL_FACE);
+      gl.CullFace(hidden);
+    }
     draw_triangles(gl, o.count, options.check_cancelled);
+    gl.Disable(GL_CULL_FACE);
   }
 }
 
@@ -554,6 +592,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   GlContext::Current current(s.context);
   const GlApi& gl = s.gl();
   auto t = Clock::now();
+  double c = process_cpu_seconds();
 
   const auto check_cancelled = [&options] {
     if (options.check_cancelled) options.check_cancelled();
@@ -568,15 +607,19 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   set_draw_state(gl);
   gl.check("uploading the scene");
   time.upload = since(t);
+  time.upload_cpu = process_cpu_seconds() - c;
 
   t = Clock::now();
+  c = process_cpu_seconds();
   ShadowMaps shadows(gl);
   render_shadow_maps(gl, {*s.depth, *s.depth_only, *s.depth_tess, *s.sphere_depth}, gpu, scene, box, options, shadows);
   gl.Finish();
   check_cancelled();
   time.shadows = since(t);
+  time.shadows_cpu = process_cpu_seconds() - c;
 
   t = Clock::now();
+  c = process_cpu_seconds();
   const State::EnvironmentMap* env = s.environment_map(scene.environment);
   if (env) gl.BindTextureUnit(unit_environment, env->texture);
   const State::Frame frame{scene,
@@ -595,16 +638,17 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
     gl.Enable(GL_POLYGON_OFFSET_FILL);
     gl.PolygonOffset(1, 1);
   }
-  for (const GpuObject& o : gpu.objects())
-    if (o.count > 0) s.draw_object(frame, o);
+  for (const GpuObject* o : nearest_first(gpu, camera.eye)) s.draw_object(frame, *o);
   gl.Disable(GL_POLYGON_OFFSET_FILL);
   if (options.wireframe) s.draw_wireframe(frame, gpu);
   gl.check("drawing the scene");
   gl.Finish();
   check_cancelled();
   time.draw = since(t);
+  time.draw_cpu = process_cpu_seconds() - c;
 
   t = Clock::now();
+  c = process_cpu_seconds();
   RenderImages images = s.read_back(fb);
   gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
   gl.BindVertexArray(0);
@@ -612,6 +656,7 @@ RenderImages Rasterizer::render(const Scene& scene, const RenderOptions& options
   s.gpu_cache->release_unused();
   for (GLuint u = 0; u < texture_units_used; ++u) gl.BindTextureUnit(u, 0);
   time.readback = since(t);
+  time.readback_cpu = process_cpu_seconds() - c;
   return images;
 }
 

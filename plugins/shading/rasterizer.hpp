@@ -48,6 +48,10 @@ struct RenderImages {
 
 struct RenderTimings {
   double upload = 0, shadows = 0, draw = 0, readback = 0;  // seconds
+  // The process's CPU seconds in each (all threads, llvmpipe's included: a
+  // benchmark's figure, less moved by the machine's load than wall time;
+  // other work in the same process counts too).
+  double upload_cpu = 0, shadows_cpu = 0, draw_cpu = 0, readback_cpu = 0;
 };
 
 class Rasterizer {
