@@ -359,7 +359,7 @@ RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, in
       PixelAccumulator& a = film.pixels[index];
       if (a.done || !c.settings.region.contains(x, y, W) || x % pass.stride != 0 || y % pass.stride != 0) continue;
       for (int sample = a.n; sample < pass.target; ++sample) {
-        if (!c.settings.region.takes_sample(sample)) continue;
+        if (!c.settings.region.takes_sample(index, sample)) continue;
         if (check_cancelled) check_cancelled();  // a sample's time at most: cancel lands fast
         PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(sample));
         const Vec2f j = sampler.camera_jitter();
@@ -453,15 +453,18 @@ void write_sums(const double* in, PixelAccumulator& a) {
 
 // Split by samples: each part traced its share of a pass; what the pass added
 // on every part is summed, so that every part holds the sums of every sample
-// so far (`total`, kSums per pixel) and decides convergence from them.
+// so far (`total`, kSums per pixel) and decides convergence from them. The
+// samples this part took go with it: the engine's measure of its speed.
 void sum_pass_over_parts(Film& film, std::vector<double>& total,
-                         const std::function<void(double*, std::size_t)>& sum_over_parts) {
+                         const std::function<void(double*, std::size_t, double)>& sum_over_parts) {
   std::vector<double> pass(total.size());
+  double taken = 0;
   for (std::size_t p = 0; p < film.pixels.size(); ++p) {
     read_sums(film.pixels[p], &pass[p * kSums]);
     for (std::size_t i = p * kSums; i < (p + 1) * kSums; ++i) pass[i] -= total[i];
+    taken += pass[p * kSums + kSums - 1];
   }
-  sum_over_parts(pass.data(), pass.size());
+  sum_over_parts(pass.data(), pass.size(), taken);
   for (std::size_t p = 0; p < film.pixels.size(); ++p) {
     for (std::size_t i = p * kSums; i < (p + 1) * kSums; ++i) total[i] += pass[i];
     write_sums(&total[p * kSums], film.pixels[p]);
@@ -525,9 +528,18 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
   // low resolution), then every pixel takes its own samples in order as always.
   if (s.progressive && !(s.adaptive_threshold > 0))
     for (int stride : {8, 4, 2}) run_pass({1, stride}, 1.0 / (stride * stride));
+  // Dealt by speed, a pass is traced in steps of at most spp/16 samples a
+  // pixel, each summed over the parts, so that the parts' speeds measured in
+  // one step deal the next: a one-pass render would otherwise be dealt
+  // evenly throughout. Convergence is still decided after whole passes only,
+  // so every pixel takes the samples one process takes.
+  const int step = s.region.dealt_by_speed() ? std::max(1, s.spp / 16) : s.spp;
   for (int taken = 0; taken < s.spp;) {
-    taken += next_pass(s, taken);
-    run_pass({taken, 1}, taken);
+    const int pass_end = taken + next_pass(s, taken);
+    while (taken < pass_end) {
+      taken = std::min(pass_end, taken + step);
+      run_pass({taken, 1}, taken);
+    }
     if (s.adaptive_threshold > 0 && taken < s.spp) mark_converged(film, s.adaptive_threshold);
   }
   RenderResult out;

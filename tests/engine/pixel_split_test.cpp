@@ -33,7 +33,7 @@ class DealingSplit final : public PixelSplit {
     --part_;                        // region() unchanged: gathered
     outputs[0] = Value::make<Image>(Image(kept_, outputs[0].as<Image>().encoding));
   }
-  void sum(double*, std::size_t) const override {}
+  void sum(double*, std::size_t, double) const override {}
 
   mutable int combines = 0;
 
