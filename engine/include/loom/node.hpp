@@ -445,8 +445,9 @@ class LOOM_API Context {
   // at the same points on every part. `work`: what this part did since its
   // last sum (a path tracer: the samples it took), from which the engine
   // measures each part's speed, to deal the next pass by it
-  // (region().dealt_by_speed()) and to report. Does nothing in a run that is
-  // not split.
+  // (region().dealt_by_speed()) and to report; `count` 0 reports only that
+  // (a step within a pass, so that the next step is dealt by it). Does
+  // nothing in a run that is not split.
   void sum_over_parts(double* values, std::size_t count, double work) { host_.sum_over_parts(values, count, work); }
 
   // Declares that the result depends on a file the node found by itself (a
