@@ -16,7 +16,8 @@ namespace loom::runner {
 // every rank calls passed() with every rank's figures for that pass, so
 // that every rank holds the very same table. The speed in one pass deals the
 // next: with a rank at half speed of three, a first even pass of 1/16 of the
-// work costs about 1 + (1/16)(2/3 − 0.4) / 0.4 = 1.04 times the ideal.
+// work alone costs (1/16)(2/3 − 0.4) / 0.4 = 4 % over the ideal (measured in
+// all: 1.19x, docs/farm.md, "A slow rank").
 class SampleDealing {
  public:
   SampleDealing(int ranks, bool by_speed);
