@@ -11,8 +11,9 @@ configurations alternated so that the machine's load spoils them alike:
   - imbalance: the static split's slowest rank's time in PathTrace over the
     mean, for tile edges 8..128 on 2 and 4 ranks;
   - uneven: 3 ranks, rank 2 held to half speed, tiles dealt statically and
-    dynamically: PathTrace's time on the slowest rank over what the ranks'
-    measured speeds would need if the work were shared in proportion;
+    dynamically, then sample passes (--mpi-split samples) the same:
+    PathTrace's time on the slowest rank over what the ranks' measured
+    speeds would need if the work were shared in proportion;
   - uneven-frames, uneven-points: the same for 48 frames of a twisting warp
     (graphs/time-twist-sequence.json at 768x768, --threads 1), and for a
     sweep of 48 points of its first frame, blocks / round-robin against dealt as ranks
@@ -221,18 +222,45 @@ def against_even_sharing(err, deal):
     return max(seconds) / ideal, seconds, shares
 
 
+def against_even_sharing_of_samples(err):
+    """As against_even_sharing, split by samples (rank 0's line "mpi: trace:
+    samples ... in P passes: n0, n1, n2 to ranks 0..2 (busy b0, b1, b2 s of T
+    s)"): rank r took a share w_r of the samples in b_r seconds of its own
+    work (its waits for the others at each pass's sum left out), so the ideal
+    is 1 / sum(w_r / b_r); every pass ends in a sum that waits for the
+    slowest rank, so every rank's time is T, from its first pass to the end
+    of its last sum (the sums' own cost included)."""
+    m = re.search(r"mpi: trace: samples .* in (\d+) pass(?:es)?: ([0-9, ]+) to ranks 0\.\.2 "
+                  r"\(busy ([0-9., ]+) s of ([0-9.]+) s\)", err)
+    taken = [int(c) for c in m.group(2).split(", ")]
+    busy = [float(b) for b in m.group(3).split(", ")]
+    shares = [c / sum(taken) for c in taken]
+    ideal = 1 / sum(w / t for w, t in zip(shares, busy) if w > 0)
+    return float(m.group(4)) / ideal, busy, shares, int(m.group(1))
+
+
 def measure_uneven(tmp, box, out, rows):
-    for deal in ("static", "dynamic"):
-        ratios, details = [], []
+    """Tiles (of 16 px), then sample passes (--mpi-split samples), static
+    against dealt, alternated."""
+    splits = {"tiles": ["--mpi-tile", 16], "samples": ["--mpi-split", "samples"]}
+    for split, args in splits.items():
+        results = {deal: ([], []) for deal in ("static", "dynamic")}
         for _ in range(REPEATS):
-            err, wall = half_speed_run(command(3, 1, box, "--out", out, "--mpi-tile", 16, "--mpi-deal", deal))
-            ratio, seconds, shares = against_even_sharing(err, deal)
-            ratios.append(ratio)
-            details.append("PathTrace on ranks 0..2 " + " ".join(f"{t:.1f}" for t in seconds) + " s, shares " +
-                           " ".join(f"{w:.2f}" for w in shares) + f", command {wall:.1f} s")
-        median = statistics.median(ratios)
-        rows.append({"measure": f"3 ranks, rank 2 at half speed, {deal} tiles: slowest / even sharing",
-                     "seconds": median, "detail": details[ratios.index(median)] if median in ratios else ""})
+            for deal, (ratios, details) in results.items():
+                err, wall = half_speed_run(command(3, 1, box, "--out", out, *args, "--mpi-deal", deal))
+                if split == "tiles":
+                    ratio, seconds, shares = against_even_sharing(err, deal)
+                    passes = ""
+                else:
+                    ratio, seconds, shares, count = against_even_sharing_of_samples(err)
+                    passes = f", {count} passes"
+                ratios.append(ratio)
+                details.append("PathTrace on ranks 0..2 " + " ".join(f"{t:.1f}" for t in seconds) + " s, shares " +
+                               " ".join(f"{w:.2f}" for w in shares) + f"{passes}, command {wall:.1f} s")
+        for deal, (ratios, details) in results.items():
+            median = statistics.median(ratios)
+            rows.append({"measure": f"3 ranks, rank 2 at half speed, {deal} {split}: slowest / even sharing",
+                         "seconds": median, "detail": details[ratios.index(median)] if median in ratios else ""})
 
 
 def against_even_sharing_of(err, what, count, deal):

@@ -49,8 +49,8 @@ PixelRegion Host::pixel_region() const {
   return split && s_.type->spec.pixel_independent ? split->region(s_.node->id) : PixelRegion{};
 }
 
-void Host::sum_over_parts(double* values, std::size_t count) {
-  if (pixel_region().by_samples) e_.options.pixel_split->sum(values, count);
+void Host::sum_over_parts(double* values, std::size_t count, double work) {
+  if (pixel_region().by_samples) e_.options.pixel_split->sum(values, count, work);
 }
 
 // Partials go to the observer and nowhere else: never into s_.outputs, the

@@ -25,7 +25,7 @@ class Host final : public NodeHost {
   std::shared_ptr<void> sequence_state(const std::function<std::shared_ptr<void>()>& make) override;
   void depends_on_file(const std::filesystem::path& path) override;
   PixelRegion pixel_region() const override;
-  void sum_over_parts(double* values, std::size_t count) override;
+  void sum_over_parts(double* values, std::size_t count, double work) override;
   bool partial_wanted() const override;
   void publish_partial(std::string_view output, Value value, const PartialInfo& info) override;
 

@@ -342,10 +342,13 @@ struct SharedRayCounts {
 
 // What one pass takes: every pixel that is not done is brought up to `target`
 // samples; with stride k only the pixels whose x and y are multiples of k
-// (the coarse first passes, one pixel in k², shown as blocks).
+// (the coarse first passes, one pixel in k², shown as blocks). A step of a
+// pass dealt by speed starts at sample `first`: every active pixel has taken
+// that many over all parts, though this part holds only its own.
 struct Pass {
   int target = 0;
   int stride = 1;
+  int first = 0;
 };
 
 RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, int tile, Pass pass,
@@ -358,8 +361,8 @@ RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, in
       const std::size_t index = std::size_t(y) * W + x;
       PixelAccumulator& a = film.pixels[index];
       if (a.done || !c.settings.region.contains(x, y, W) || x % pass.stride != 0 || y % pass.stride != 0) continue;
-      for (int sample = a.n; sample < pass.target; ++sample) {
-        if (!c.settings.region.takes_sample(sample)) continue;
+      for (int sample = std::max(a.n, pass.first); sample < pass.target; ++sample) {
+        if (!c.settings.region.takes_sample(index, sample)) continue;
         if (check_cancelled) check_cancelled();  // a sample's time at most: cancel lands fast
         PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(sample));
         const Vec2f j = sampler.camera_jitter();
@@ -451,17 +454,27 @@ void write_sums(const double* in, PixelAccumulator& a) {
   a.n = int(in[12]);
 }
 
+// Split by samples: the samples this part took since the last sum (`total`).
+double samples_since_sum(const Film& film, const std::vector<double>& total) {
+  double taken = 0;
+  for (std::size_t p = 0; p < film.pixels.size(); ++p) taken += film.pixels[p].n - total[p * kSums + kSums - 1];
+  return taken;
+}
+
 // Split by samples: each part traced its share of a pass; what the pass added
 // on every part is summed, so that every part holds the sums of every sample
-// so far (`total`, kSums per pixel) and decides convergence from them.
-void sum_pass_over_parts(Film& film, std::vector<double>& total,
-                         const std::function<void(double*, std::size_t)>& sum_over_parts) {
+// so far (`total`, kSums per pixel) and decides convergence from them. The
+// samples this part took in the pass, less those its steps reported
+// already, go with it: the engine's measure of its speed.
+void sum_pass_over_parts(Film& film, std::vector<double>& total, double reported,
+                         const std::function<void(double*, std::size_t, double)>& sum_over_parts) {
   std::vector<double> pass(total.size());
+  const double taken = samples_since_sum(film, total);
   for (std::size_t p = 0; p < film.pixels.size(); ++p) {
     read_sums(film.pixels[p], &pass[p * kSums]);
     for (std::size_t i = p * kSums; i < (p + 1) * kSums; ++i) pass[i] -= total[i];
   }
-  sum_over_parts(pass.data(), pass.size());
+  sum_over_parts(pass.data(), pass.size(), taken - reported);
   for (std::size_t p = 0; p < film.pixels.size(); ++p) {
     for (std::size_t i = p * kSums; i < (p + 1) * kSums; ++i) total[i] += pass[i];
     write_sums(&total[p * kSums], film.pixels[p]);
@@ -515,19 +528,43 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
   Film film(s.width, s.height);
   SharedRayCounts counts;
   std::vector<double> total(s.sum_over_parts ? film.pixels.size() * kSums : 0);  // split by samples: every part's sums
-  auto run_pass = [&](Pass pass, double spp_so_far) {
-    trace_pass(context, cam, film, pass, counts, hooks);
-    if (s.sum_over_parts) sum_pass_over_parts(film, total, s.sum_over_parts);
+  double reported = 0;  // dealt by speed: the samples of this pass that its steps reported
+  auto end_pass = [&](double spp_so_far) {
+    if (s.sum_over_parts) sum_pass_over_parts(film, total, reported, s.sum_over_parts);
+    reported = 0;
     if (hooks.after_pass) hooks.after_pass(film, spp_so_far);
   };
   // Progressive: first sample 0 of one pixel in 8², 4², 2² (coarse images in
   // a 64th, 16th and 4th of a pass's time, as Cycles' viewport starts at a
   // low resolution), then every pixel takes its own samples in order as always.
   if (s.progressive && !(s.adaptive_threshold > 0))
-    for (int stride : {8, 4, 2}) run_pass({1, stride}, 1.0 / (stride * stride));
+    for (int stride : {8, 4, 2}) {
+      trace_pass(context, cam, film, {1, stride, 0}, counts, hooks);
+      end_pass(1.0 / (stride * stride));
+    }
+  // Dealt by speed, a pass is traced in steps: the render's first of spp/16
+  // samples a pixel, evenly dealt, to measure the parts' speeds cheaply, the
+  // next of spp/4, each dealt by the speeds in the last (every step ends in
+  // a wait for the slowest part: on 3 ranks, one held to half speed by
+  // SIGSTOP, steps of spp/16 throughout cost 1.22x the ideal). After each
+  // step but a pass's last, this part reports the samples it took
+  // (sum_over_parts of nothing: the film is summed once, at the pass's end):
+  // a one-pass render would otherwise be dealt evenly throughout.
+  // Convergence is still decided after whole passes only, so every pixel
+  // takes the samples one process takes.
+  const bool by_speed = s.region.dealt_by_speed();
+  int step = by_speed ? std::max(1, s.spp / 16) : s.spp;
   for (int taken = 0; taken < s.spp;) {
-    taken += next_pass(s, taken);
-    run_pass({taken, 1}, taken);
+    const int pass_end = taken + next_pass(s, taken);
+    for (int first = taken; first < pass_end; first += step, step = by_speed ? std::max(1, s.spp / 4) : s.spp) {
+      trace_pass(context, cam, film, {std::min(pass_end, first + step), 1, first}, counts, hooks);
+      if (first + step >= pass_end) continue;
+      const double since = samples_since_sum(film, total);
+      s.sum_over_parts(nullptr, 0, since - reported);
+      reported = since;
+    }
+    taken = pass_end;
+    end_pass(taken);
     if (s.adaptive_threshold > 0 && taken < s.spp) mark_converged(film, s.adaptive_threshold);
   }
   RenderResult out;

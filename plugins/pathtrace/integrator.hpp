@@ -42,7 +42,7 @@ struct RenderSettings {
   // samples: the samples this part takes, its sums added to the other parts'
   // by sum_over_parts after each pass (Context::sum_over_parts).
   PixelRegion region;
-  std::function<void(double*, std::size_t)> sum_over_parts;
+  std::function<void(double*, std::size_t, double)> sum_over_parts;
   // Without adaptive sampling: coarse passes (sample 0 of one pixel in 64,
   // 16, 4), then passes of 1, 1, 2, 4, … samples per pixel, so that the image so far
   // can be shown after each (RenderHooks::after_pass); off: one pass of spp.

@@ -154,7 +154,9 @@ struct PathTrace {
     // watches one part (`--preview` on rank 0 only), so no passes there.
     s.progressive = ctx.partial_wanted() && !s.region.by_samples;
     if (s.region.by_samples)
-      s.sum_over_parts = [&ctx](double* values, std::size_t count) { ctx.sum_over_parts(values, count); };
+      s.sum_over_parts = [&ctx](double* values, std::size_t count, double samples) {
+        ctx.sum_over_parts(values, count, samples);
+      };
 
     bool built = false;
     const auto traced = ctx.scratch<EmbreeScene>(geometry_key(*scene, displacement_level), [&] {

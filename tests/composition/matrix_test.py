@@ -512,6 +512,11 @@ def d_mpi_samples(feature, work):
     mpi_cell(feature, work, "samples")
 
 
+def d_mpi_samples_dealt(feature, work):
+    """Sample passes in steps of spp/16, each dealt by the ranks' speed in the last."""
+    mpi_cell(feature, work, "samples", "--mpi-deal", "dynamic")
+
+
 def wait_for(predicate, seconds, what):
     end = time.monotonic() + seconds
     while time.monotonic() < end:
@@ -617,7 +622,7 @@ DRIVERS = [("frames", d_frames), ("sweep iface", d_sweep_interface), ("sweep inn
            ("record", d_record), ("cache rerun", d_cache_rerun), ("submit local", d_submit_local),
            ("submit slurm", d_submit_slurm), ("mpi frames", d_mpi_frames), ("mpi tiles", d_mpi_tiles),
            ("mpi tiles dealt", d_mpi_tiles_dealt), ("mpi frames dealt", d_mpi_frames_dealt),
-           ("mpi samples", d_mpi_samples), ("watch", d_watch), ("preview", d_preview), ("python", d_python),
+           ("mpi samples", d_mpi_samples), ("mpi samples dealt", d_mpi_samples_dealt), ("watch", d_watch), ("preview", d_preview), ("python", d_python),
            ("editor", d_editor)]
 
 

@@ -17,7 +17,7 @@ class DealingSplit final : public PixelSplit {
   DealingSplit(std::string node, int tile, int parts) : node_(std::move(node)), tile_(tile), parts_(parts) {}
 
   PixelRegion region(const std::string& node) const override {
-    return node == node_ ? PixelRegion{tile_, part_, parts_} : PixelRegion{};
+    return node == node_ ? PixelRegion{tile_, part_, parts_, false, nullptr} : PixelRegion{};
   }
   void combine(const std::string&, const NodeSpec&, std::vector<Value>& outputs) const override {
     ++combines;
@@ -33,7 +33,7 @@ class DealingSplit final : public PixelSplit {
     --part_;                        // region() unchanged: gathered
     outputs[0] = Value::make<Image>(Image(kept_, outputs[0].as<Image>().encoding));
   }
-  void sum(double*, std::size_t) const override {}
+  void sum(double*, std::size_t, double) const override {}
 
   mutable int combines = 0;
 

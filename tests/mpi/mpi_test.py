@@ -189,12 +189,20 @@ def image_difference(a, b):
 class SampleTest(MpiCase):
     """PathTrace's samples split over ranks: every pixel's mean within float rounding."""
 
-    def check_samples(self, ranks, size, spp, adaptive=0.0):
+    def check_samples(self, ranks, size, spp, adaptive=0.0, deal="static"):
         g = traced_graph(self.dir, size, spp=spp, adaptive=adaptive, posterize=False)
-        one, many = os.path.join(self.dir, "one"), os.path.join(self.dir, f"many{ranks}")
-        loom("run", g, "--out", one, "--no-cache")
-        p = mpi_loom(ranks, "run", g, "--out", many, "--no-cache", "--mpi-split", "samples")
+        one, many = os.path.join(self.dir, "one"), os.path.join(self.dir, f"many{ranks}{deal}")
+        if not os.path.exists(one):
+            loom("run", g, "--out", one, "--no-cache")
+        p = mpi_loom(ranks, "run", g, "--out", many, "--no-cache", "--mpi-split", "samples", "--mpi-deal", deal)
         self.assertIn(f"mpi: trace: sample passes computed", p.stderr)  # split by samples, not tiles
+        # Every sample taken once: the ranks' counts add up to the image's (a conservation law).
+        taken, passes = samples_taken(p.stderr, ranks, deal)
+        total = image_difference(os.path.join(one, "samples.exr"), os.path.join(one, "samples.exr"))["sum_a"]
+        self.assertEqual(sum(taken), total, p.stderr)
+        if deal == "dynamic" and not adaptive:  # one pass in steps: spp/16 samples a pixel, then spp/4
+            first, step = max(1, spp // 16), max(1, spp // 4)
+            self.assertEqual(passes, 1 + -(-(spp - first) // step), p.stderr)
         # The same samples were taken in every pixel (adaptive sampling decided alike)...
         self.assertTrue(filecmp.cmp(os.path.join(one, "samples.exr"), os.path.join(many, "samples.exr"),
                                     shallow=False))
@@ -212,6 +220,25 @@ class SampleTest(MpiCase):
     def test_adaptive_sampling_stops_the_same_pixels_as_one_process(self):
         counts = self.check_samples(4, [24, 20], 64, adaptive=0.3)
         self.assertLess(counts["min_a"], counts["max_a"])  # some pixels stopped early: adaptive at work
+
+    def test_samples_dealt_by_speed_equal_one_process(self):
+        for ranks in (2, 3):
+            counts = self.check_samples(ranks, [31, 17], 10, deal="dynamic")
+            self.assertEqual((counts["min_a"], counts["max_a"]), (10, 10))
+
+    def test_adaptive_sampling_dealt_by_speed_stops_the_same_pixels_as_one_process(self):
+        counts = self.check_samples(3, [24, 20], 64, adaptive=0.3, deal="dynamic")
+        self.assertLess(counts["min_a"], counts["max_a"])
+
+
+def samples_taken(err, ranks, deal):
+    """Each rank's samples and the passes, from rank 0's line "mpi: trace:
+    samples dealt by speed in 16 passes: 900, 1000, 500 to ranks 0..2 (busy ...)"."""
+    how = "dealt by speed" if deal == "dynamic" else "taken"
+    m = re.search(rf"mpi: trace: samples {how} in (\d+) pass(?:es)?: ([0-9, ]+) to ranks 0\.\.{ranks - 1} ", err)
+    if not m:
+        raise AssertionError(f"no samples reported:\n{err}")
+    return [int(c) for c in m.group(2).split(", ")], int(m.group(1))
 
 
 def integrate_graph(folder):
@@ -524,6 +551,34 @@ class DealtTest(MpiCase):
         counts, _ = dealt_counts(err, "24 frames", 3)
         self.assertEqual(sum(counts), 24, err)
         self.assertLess(counts[2], min(counts[0], counts[1]), err)
+
+    def test_a_rank_slowed_from_outside_takes_fewer_samples(self):
+        """As above, PathTrace split by samples and dealt by speed: after the
+        first of its steps, rank 2 should take about half the samples of each
+        of the others; static dealing gives every rank a third."""
+        cores = sorted(os.sched_getaffinity(0))
+        if not shutil.which("taskset") or len(cores) < 2:
+            self.skipTest("needs taskset (util-linux) and 2 cores")
+        size, spp = [128, 128], 32
+        g = traced_graph(self.dir, size, spp=spp, posterize=False)
+        busy = [busy_loop(cores[1]) for _ in range(3)]
+        try:
+            proc = subprocess.Popen(mpi_command(3, "run", g, "--out", os.path.join(self.dir, "out"), "--no-cache",
+                                                "--threads", 1, "--mpi-split", "samples", "--mpi-deal", "dynamic"),
+                                    env=MPI_ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            ranks = rank_pids(proc.pid, count=3)
+            for rank, core in ((0, cores[0]), (1, cores[0]), (2, cores[1])):
+                subprocess.run(["taskset", "-a", "-p", "-c", str(core), str(ranks[rank])], check=True,
+                               capture_output=True)
+            _, err = proc.communicate(timeout=240)
+        finally:
+            for b in busy:
+                b.kill()
+                b.wait()
+        self.assertEqual(proc.returncode, 0, err)
+        taken, passes = samples_taken(err, 3, "dynamic")
+        self.assertEqual((sum(taken), passes), (size[0] * size[1] * spp, 5), err)  # steps of 2, 8, 8, 8, 6
+        self.assertLess(taken[2], 0.8 * min(taken[0], taken[1]), err)
 
 
 if __name__ == "__main__":

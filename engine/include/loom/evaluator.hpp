@@ -96,8 +96,9 @@ class PixelSplit {
   virtual PixelRegion region(const std::string& node) const = 0;
   // `outputs` hold this process's part on entry and the whole on return.
   virtual void combine(const std::string& node, const NodeSpec& spec, std::vector<Value>& outputs) const = 0;
-  // Split by samples: `values` summed over the processes, on every process.
-  virtual void sum(double* values, std::size_t count) const = 0;
+  // Split by samples: `values` summed over the processes, on every process;
+  // `work` is this process's since its last sum (Context::sum_over_parts).
+  virtual void sum(double* values, std::size_t count, double work) const = 0;
 };
 
 struct EvalOptions {

@@ -116,17 +116,34 @@ using EnumChoices = std::vector<std::pair<E, std::string>>;
 // sums over the parts with Context::sum_over_parts after each pass, so that
 // every part ends with the whole image (and adaptive sampling decides from
 // every sample, as one process does).
+//
+// Split by samples and dealt by speed (`slots` set: loom run --mpi-deal
+// dynamic), sample s of pixel p goes instead to the part that owns slot
+// (s + spread(p)) % W of a table of W slots, each part owning a number of
+// slots in proportion to its speed in the last pass. spread() scatters the
+// pixels over the slots, so that a pass of one sample a pixel is shared as
+// well as one of many. The engine rewrites the table inside sum_over_parts,
+// the same on every part, and nowhere else: a copy of the region kept by the
+// node follows it without reading region() again, and no pass reads the
+// table while it changes.
 struct PixelRegion {
   int tile = 32;
   int part = 0, parts = 1;
   bool by_samples = false;
+  std::shared_ptr<const std::vector<int>> slots;  // dealt by speed: the part owning each slot
 
   bool whole() const { return parts <= 1; }
+  bool dealt_by_speed() const { return by_samples && slots != nullptr; }
   int tile_of(int x, int y, int width) const { return (y / tile) * ((width + tile - 1) / tile) + x / tile; }
   bool contains(int x, int y, int width) const {
     return whole() || by_samples || tile_of(x, y, width) % parts == part;
   }
-  bool takes_sample(std::int64_t sample) const { return whole() || !by_samples || sample % parts == part; }
+  bool takes_sample(std::size_t pixel, std::int64_t sample) const {
+    if (whole() || !by_samples) return true;
+    if (!slots) return sample % parts == part;
+    const std::uint64_t spread = (std::uint64_t(pixel) * 0x9E3779B97F4A7C15ull) >> 40;  // Fibonacci hashing
+    return (*slots)[std::size_t((std::uint64_t(sample) + spread) % slots->size())] == part;
+  }
 };
 
 // What an intermediate value of an output says about itself
@@ -283,9 +300,10 @@ class NodeHost {
   virtual std::shared_ptr<void> sequence_state(const std::function<std::shared_ptr<void>()>& make) = 0;
   virtual void depends_on_file(const std::filesystem::path& path) { (void)path; }
   virtual PixelRegion pixel_region() const { return {}; }
-  virtual void sum_over_parts(double* values, std::size_t count) {
+  virtual void sum_over_parts(double* values, std::size_t count, double work) {
     (void)values;
     (void)count;
+    (void)work;
   }
   virtual bool partial_wanted() const { return false; }
   virtual void publish_partial(std::string_view output, Value value, const PartialInfo& info) {
@@ -424,8 +442,13 @@ class LOOM_API Context {
   PixelRegion region() const { return host_.pixel_region(); }
   // Split by samples (region().by_samples): replaces `values` on every part
   // with their sum over the parts. Call it from the node's calling thread,
-  // at the same points on every part. Does nothing in a run that is not split.
-  void sum_over_parts(double* values, std::size_t count) { host_.sum_over_parts(values, count); }
+  // at the same points on every part. `work`: what this part did since its
+  // last sum (a path tracer: the samples it took), from which the engine
+  // measures each part's speed, to deal the next pass by it
+  // (region().dealt_by_speed()) and to report; `count` 0 reports only that
+  // (a step within a pass, so that the next step is dealt by it). Does
+  // nothing in a run that is not split.
+  void sum_over_parts(double* values, std::size_t count, double work) { host_.sum_over_parts(values, count, work); }
 
   // Declares that the result depends on a file the node found by itself (a
   // material library or texture named inside a scene file). Files given to

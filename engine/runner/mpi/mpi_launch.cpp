@@ -54,8 +54,10 @@ void add_mpi_options(CLI::App* run) {
       ->check(CLI::Range(1, 16384));
   run->add_option("--mpi-deal", s.deal,
                   "under mpirun/srun: static (rank r takes the r-th block of frames, every N-th sweep point "
-                  "from r, the tiles t mod N = r) or dynamic (frames, points or tiles in at most 16 parts a "
-                  "rank, each rank taking the next part as it finishes one: for ranks of uneven speed)")
+                  "from r, the tiles t mod N = r, the samples s mod N = r) or dynamic (frames, points or tiles "
+                  "in at most 16 parts a rank, each rank taking the next part as it finishes one; sample "
+                  "passes in steps of spp/16 samples a pixel, then spp/4, each shared in proportion to the "
+                  "ranks' speed in the last: for ranks of uneven speed)")
       ->capture_default_str()
       ->check(CLI::IsMember({"static", "dynamic"}));
 }

@@ -273,7 +273,7 @@ EvalResult evaluate_tiles(MpiWorld& world, Session& session, const GraphView& vi
     EvalOptions o = options;
     o.targets = split_so_far;
     const bool by_samples = mpi_settings().split == "samples" && spec.sample_passes;
-    const bool dealt = mpi_settings().deal == "dynamic" && !by_samples;
+    const bool dealt = mpi_settings().deal == "dynamic";
     const auto pixel_split = world.split(id, mpi_settings().tile, by_samples, gather[i], dealt);
     o.pixel_split = pixel_split.get();
     // A rank left with its part reads the cache but stores nothing: its part is not the result.
@@ -289,6 +289,7 @@ EvalResult evaluate_tiles(MpiWorld& world, Session& session, const GraphView& vi
     end_every_rank_unless_ok(world, graph, r);
     const std::string what = id + (by_samples ? ": sample passes" : ": tiles");
     report_balance(world, what, world.gather_all(r.nodes.at(id).seconds));
+    pixel_split->report();
     merge(parts, r, false);
   }
   if (split_so_far.empty() && world.rank() == 0)

@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <thread>
 
 #include "loom/image.hpp"
+#include "mpi/mpi_samples.hpp"
 #include "mpi/mpi_tiles.hpp"
 
 namespace loom::runner {
@@ -113,7 +115,9 @@ class CounterDealer final : public Dealer {
   MPI_Win window_ = MPI_WIN_NULL;
 };
 
-class Split final : public PixelSplit {
+class Split final : public RankSplit {
+  using Clock = std::chrono::steady_clock;
+
  public:
   Split(std::string node, int tile, int rank, int size, bool by_samples, Gather gather, bool dealt)
       : node_(std::move(node)),
@@ -122,26 +126,51 @@ class Split final : public PixelSplit {
         size_(size),
         by_samples_(by_samples),
         gather_(gather),
-        parts_(dealt ? size * kDealtPartsPerRank : size),
-        part_(rank) {
-    if (dealt) {  // the dealer's items are the parts (16 a rank: one item a part)
+        parts_(dealt && !by_samples ? size * kDealtPartsPerRank : size),
+        part_(rank),
+        samples_(size, by_samples && dealt) {
+    if (dealt && !by_samples) {  // the dealer's items are the parts (16 a rank: one item a part)
       dealer_ = std::make_unique<CounterDealer>(parts_, rank_, size_);
       part_ = int(dealer_->next().begin);  // this rank's own first part
     }
   }
 
+  // The node asks for its region as it starts: by samples, its first pass's time begins.
   PixelRegion region(const std::string& node) const override {
-    return node == node_ ? PixelRegion{tile_, part_, parts_, by_samples_} : PixelRegion{};
+    if (node != node_) return PixelRegion{};
+    if (by_samples_ && !started_) started_ = resumed_ = Clock::now();
+    return PixelRegion{tile_, part_, parts_, by_samples_, samples_.slots()};
   }
 
-  void sum(double* values, std::size_t count) const override {
+  // Every rank's samples and busy time in the pass travel beside the sums
+  // (an allgather of two doubles a rank), and every rank deals the next pass
+  // from them alike (SampleDealing).
+  void sum(double* values, std::size_t count, double work) const override {
+    const double busy = std::chrono::duration<double>(Clock::now() - resumed_.value_or(Clock::now())).count();
     barrier();  // the wait for the slowest rank, without polling; then the exchange, blocking
+    const double mine[2] = {work, busy};
+    std::vector<double> all(2 * std::size_t(size_));
+    MPI_Allgather(mine, 2, MPI_DOUBLE, all.data(), 2, MPI_DOUBLE, MPI_COMM_WORLD);
     constexpr std::size_t kChunk = std::size_t(1) << 28;  // MPI counts are ints
     for (std::size_t at = 0; at < count; at += kChunk) {
       const int n = int(std::min(kChunk, count - at));
       MPI_Reduce(rank_ == 0 ? MPI_IN_PLACE : values + at, values + at, n, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
       MPI_Bcast(values + at, n, MPI_DOUBLE, 0, MPI_COMM_WORLD);
     }
+    const std::size_t ranks = all.size() / 2;
+    std::vector<double> taken(ranks), seconds(ranks);
+    for (std::size_t r = 0; r < ranks; ++r) {
+      taken[r] = all[2 * r];
+      seconds[r] = all[2 * r + 1];
+    }
+    samples_.passed(taken, seconds);  // the node's passes are over until it calls again: the table may change
+    resumed_ = Clock::now();
+  }
+
+  void report() const override {
+    if (!by_samples_ || rank_ != 0 || !started_) return;
+    const double seconds = std::chrono::duration<double>(resumed_.value_or(*started_) - *started_).count();
+    std::fputs(samples_.report(node_, seconds).c_str(), stderr);
   }
 
   // Dealt: keeps the part's tiles and takes the next part, if any is left
@@ -151,7 +180,6 @@ class Split final : public PixelSplit {
   // rank's image becomes the whole, the others keep their parts.
   void combine(const std::string& node, const NodeSpec& spec, std::vector<Value>& outputs) const override {
     if (dealer_ && keep_and_take_next(spec, outputs)) return;
-    using Clock = std::chrono::steady_clock;
     const auto arrived = Clock::now();
     barrier();  // so that the time below is the exchange's, not the wait for the slowest rank
     const auto start = Clock::now();
@@ -246,6 +274,9 @@ class Split final : public PixelSplit {
   std::unique_ptr<Dealer> dealer_;     // dealt: hands out the parts
   mutable std::vector<int> mine_;      // the parts this rank computed
   mutable std::vector<cv::Mat> kept_;  // their tiles, one image per Image output
+  // By samples: who takes which sample, and when this rank's pass began.
+  mutable SampleDealing samples_;
+  mutable std::optional<Clock::time_point> started_, resumed_;
 };
 
 class World final : public MpiWorld {
@@ -279,8 +310,8 @@ class World final : public MpiWorld {
     std::_Exit(exit_code);  // MPI_Abort does not return; this says so to the compiler
   }
   std::unique_ptr<Dealer> dealer(long count) override { return std::make_unique<CounterDealer>(count, rank_, size_); }
-  std::unique_ptr<PixelSplit> split(const std::string& node, int tile, bool by_samples, Gather gather,
-                                    bool dealt) override {
+  std::unique_ptr<RankSplit> split(const std::string& node, int tile, bool by_samples, Gather gather,
+                                   bool dealt) override {
     return std::make_unique<Split>(node, tile, rank_, size_, by_samples, gather, dealt);
   }
 
