@@ -5,7 +5,6 @@
 
 #include "implicit_solvers.hpp"
 #include "incremental_potential.hpp"
-#include "loom/numerics/sparse_assembly.hpp"
 
 namespace loom::cloth {
 
