@@ -86,14 +86,14 @@ long long triangles_of(const Scene& s) {
 
 // only_target: context, first frame and the steady target row, nothing else.
 void speed(bool quick, bool only_target = false) {
-  bench::Csv csv("shading_speed", {"case", "triangles", "width", "height", "seconds", "cpu_seconds", "upload_s", "shadow_s",
-                                   "draw_s", "readback_s", "shadow_cpu_s", "draw_cpu_s", "load1"});
+  bench::Csv csv("shading_speed", {"case", "triangles", "width", "height", "seconds", "cpu_seconds", "upload_s",
+                                   "shadow_s", "draw_s", "readback_s", "shadow_cpu_s", "draw_cpu_s", "load1"});
   const auto t0 = Clock::now();
   const double c0 = loom::bench::process_cpu_seconds();
   Rasterizer r;
   const double create = since(t0);
-  csv.row({"context+programs", 0LL, 0LL, 0LL, create, loom::bench::process_cpu_seconds() - c0, 0.0, 0.0, 0.0, 0.0,
-           0.0, 0.0, loom::bench::load_average()});
+  csv.row({"context+programs", 0LL, 0LL, 0LL, create, loom::bench::process_cpu_seconds() - c0, 0.0, 0.0, 0.0, 0.0, 0.0,
+           0.0, loom::bench::load_average()});
   const RenderOptions o = target_options();
   const Scene target = speed_scene(100000);
   const long long tris = triangles_of(target);
@@ -101,8 +101,8 @@ void speed(bool quick, bool only_target = false) {
   const auto t1 = Clock::now();
   const double c1 = loom::bench::process_cpu_seconds();
   r.render(target, o, &first);
-  csv.row({"first frame", tris, 1920LL, 1080LL, since(t1), loom::bench::process_cpu_seconds() - c1, first.upload, first.shadows, first.draw,
-           first.readback, first.shadows_cpu, first.draw_cpu, loom::bench::load_average()});
+  csv.row({"first frame", tris, 1920LL, 1080LL, since(t1), loom::bench::process_cpu_seconds() - c1, first.upload,
+           first.shadows, first.draw, first.readback, first.shadows_cpu, first.draw_cpu, loom::bench::load_average()});
   // Each column the median of its runs (the passes' too: one run's would move with the load).
   auto steady = [&](const Scene& s, const RenderOptions& opt, const char* label, int runs) {
     std::vector<double> cpu, upload, shadow, draw, readback, shadow_cpu, draw_cpu;

@@ -125,9 +125,9 @@ class NewtonWorkspace {
 
 // `workspace`: kept across calls for one system (nullptr: a fresh one, built
 // and analysed on the first iteration).
-Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, double h,
-                              Eigen::MatrixX3d x0, const SolveOptions& options,
-                              SolveReport* report = nullptr, NewtonWorkspace* workspace = nullptr);
+Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, double h, Eigen::MatrixX3d x0,
+                              const SolveOptions& options, SolveReport* report = nullptr,
+                              NewtonWorkspace* workspace = nullptr);
 
 class LocalGlobalSolver {
  public:

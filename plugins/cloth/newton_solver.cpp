@@ -76,8 +76,8 @@ void NewtonWorkspace::add_block(int at, int stride, const Eigen::Matrix3d& b, do
 // Each entry is the sum of its terms in the order a sum of triplets adds
 // them: mass, springs in order (blocks (0,0), (0,1), (1,0), (1,1)), penalty.
 // The values start at −0, which adds to any first term exactly.
-const loom::numerics::SparseMatrix& NewtonWorkspace::hessian(const SpringSystem& s, const Eigen::MatrixX3d& x,
-                                                             double h, const SolveOptions& options) {
+const loom::numerics::SparseMatrix& NewtonWorkspace::hessian(const SpringSystem& s, const Eigen::MatrixX3d& x, double h,
+                                                             const SolveOptions& options) {
   std::fill_n(matrix_.valuePtr(), matrix_.nonZeros(), -0.0);
   for (int i = 0; i < s.vertices(); ++i)
     if (row_[i] >= 0)
@@ -143,9 +143,8 @@ Eigen::MatrixX3d gradient(const SpringSystem& s, const Eigen::MatrixX3d& x, cons
 
 }  // namespace
 
-Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, double h,
-                              Eigen::MatrixX3d x, const SolveOptions& options, SolveReport* report,
-                              NewtonWorkspace* workspace) {
+Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, double h, Eigen::MatrixX3d x,
+                              const SolveOptions& options, SolveReport* report, NewtonWorkspace* workspace) {
   NewtonWorkspace fresh;
   NewtonWorkspace& ws = workspace ? *workspace : fresh;
   ws.prepare(s);

@@ -246,8 +246,8 @@ Eigen::MatrixX3d local_global_start(const SpringSystem& s, const Eigen::MatrixX3
 
 }  // namespace
 
-StepResult step(const ClothState& state, double h, const StepSettings& settings,
-                const LocalGlobalSolver* lg, NewtonWorkspace* newton_workspace) {
+StepResult step(const ClothState& state, double h, const StepSettings& settings, const LocalGlobalSolver* lg,
+                NewtonWorkspace* newton_workspace) {
   const SpringSystem& s = *state.system;
   StepResult result;
   result.state.system = state.system;

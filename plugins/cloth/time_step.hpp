@@ -100,8 +100,7 @@ struct StepResult {
 // `newton_workspace`: Newton's Hessian and factorization, kept across the steps of
 // one system so its pattern and symbolic analysis are made once (nullptr: per step).
 // Throws loom::Error if explicit integration diverges (non-finite positions).
-StepResult step(const ClothState& state, double h, const StepSettings& settings,
-                const LocalGlobalSolver* lg,
+StepResult step(const ClothState& state, double h, const StepSettings& settings, const LocalGlobalSolver* lg,
                 NewtonWorkspace* newton_workspace = nullptr);
 
 // The weight w of local/global's contact constraints (Projective Dynamics):

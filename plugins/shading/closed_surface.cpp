@@ -57,8 +57,7 @@ int closed_orientation(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) {
   // Closed and consistently oriented: each edge exactly twice, once each way.
   tbb::parallel_sort(edges.begin(), edges.end());
   for (std::size_t i = 0; i < edges.size(); i += 2)
-    if (i + 1 == edges.size() || edges[i] >> 1 != edges[i + 1] >> 1 || (edges[i] & 1) || !(edges[i + 1] & 1))
-      return 0;
+    if (i + 1 == edges.size() || edges[i] >> 1 != edges[i + 1] >> 1 || (edges[i] & 1) || !(edges[i + 1] & 1)) return 0;
   // Signed volume of each part (divergence theorem: sum of det(a, b, c) / 6),
   // about the bounds' center for precision.
   int parts = 0;

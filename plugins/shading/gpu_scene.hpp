@@ -25,8 +25,8 @@ struct GpuObject {
   GLuint vao = 0;
   GLsizei count = 0;  // indices (mesh, lines) or points
   GLuint base_map = 0, normal_map = 0, displacement_map = 0;
-  int closed = 0;                // meshes: closed_orientation (+1 outward, -1 inward, 0 open)
-  Eigen::AlignedBox3d bounds;    // meshes: object-space bounds
+  int closed = 0;              // meshes: closed_orientation (+1 outward, -1 inward, 0 open)
+  Eigen::AlignedBox3d bounds;  // meshes: object-space bounds
 };
 
 class GpuCache {

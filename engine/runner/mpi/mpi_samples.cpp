@@ -54,9 +54,8 @@ void SampleDealing::deal() {
     dealt += int(quota);
     remainder.emplace_back(quota - int(quota), r);
   }
-  std::sort(remainder.begin(), remainder.end(), [](const auto& a, const auto& b) {
-    return a.first != b.first ? a.first > b.first : a.second < b.second;
-  });
+  std::sort(remainder.begin(), remainder.end(),
+            [](const auto& a, const auto& b) { return a.first != b.first ? a.first > b.first : a.second < b.second; });
   for (int i = 0; i < free - dealt; ++i) ++owned[std::size_t(remainder[std::size_t(i)].second)];
   auto slot = slots_->begin();
   for (int r = 0; r < ranks_; ++r) slot = std::fill_n(slot, owned[std::size_t(r)], r);

@@ -82,7 +82,7 @@ class MpiWorld {
   // (PixelRegion::slots) that sum() deals again in proportion to the ranks'
   // speed in the pass just summed (the first pass: even).
   virtual std::unique_ptr<RankSplit> split(const std::string& node, int tile, bool by_samples, Gather gather,
-                                            bool dealt) = 0;
+                                           bool dealt) = 0;
 };
 
 }  // namespace loom::runner

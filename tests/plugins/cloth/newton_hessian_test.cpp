@@ -7,8 +7,8 @@
 // so the second, refilled in place, must hold nothing of the first.
 #include <random>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include "implicit_solvers.hpp"
 #include "incremental_potential.hpp"
@@ -65,8 +65,8 @@ struct Penalty {
 };
 
 // ∇(E + h² P) over the free unknowns, in the workspace's row order.
-Eigen::VectorXd free_gradient(const SpringSystem& s, const Penalty& penalty, const std::vector<int>& row,
-                              int unknowns, const Eigen::MatrixX3d& x, const Eigen::MatrixX3d& y, double h) {
+Eigen::VectorXd free_gradient(const SpringSystem& s, const Penalty& penalty, const std::vector<int>& row, int unknowns,
+                              const Eigen::MatrixX3d& x, const Eigen::MatrixX3d& y, double h) {
   Eigen::MatrixX3d g = incremental_gradient(s, x, y, h);
   Eigen::MatrixX3d gp = Eigen::MatrixX3d::Zero(x.rows(), 3);
   penalty(x, &gp, nullptr);
@@ -107,7 +107,8 @@ TEST(NewtonHessian, IsTheJacobianOfTheGradientAndKeepsNothingOfTheLastAssembly) 
         plus(i, c) += step;
         minus(i, c) -= step;
         J.col(row[i] + c) = (free_gradient(s, penalty, row, unknowns, plus, y, h) -
-                             free_gradient(s, penalty, row, unknowns, minus, y, h)) / (2 * step);
+                             free_gradient(s, penalty, row, unknowns, minus, y, h)) /
+                            (2 * step);
       }
     EXPECT_LT((H - J).norm(), 1e-7 * J.norm()) << "assembly " << assembly;
     EXPECT_EQ((H - H.transpose()).norm(), 0.0);
