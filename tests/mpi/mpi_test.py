@@ -524,20 +524,18 @@ class DealtTest(MpiCase):
         self.assertLess(longest, 0.75, p.stderr)  # half a frame; 0.005 s measured
         self.assertLessEqual(max(counts), 3, p.stderr)  # 3 waves of 3, 2, 2 frames
 
-    def test_a_rank_slowed_from_outside_takes_fewer_frames(self):
-        """3 ranks; ranks 0 and 1 share one core, rank 2 shares another with
-        three busy processes: it runs at about half their speed (a quarter of
-        a core against a half) and should take about half as many frames."""
+    def run_with_rank_2_slowed(self, *args):
+        """`mpiexec -n 3 loom ARGS` with ranks 0 and 1 sharing one core and rank
+        2 sharing another with three busy processes: a quarter of a core
+        against a half. Returns (exit status, stderr); skips without taskset or
+        a second core."""
         cores = sorted(os.sched_getaffinity(0))
         if not shutil.which("taskset") or len(cores) < 2:
             self.skipTest("needs taskset (util-linux) and 2 cores")
-        g = os.path.join(SOURCE, "graphs", "time-twist-sequence.json")
         busy = [busy_loop(cores[1]) for _ in range(3)]
         try:
-            proc = subprocess.Popen(mpi_command(3, "run", g, "--out", os.path.join(self.dir, "out"), "--no-cache",
-                                                "--frames", "1-24", "--set", "board.size=[768,768]", "--threads", 1,
-                                                "--target", "frames", "--mpi-deal", "dynamic"),
-                                    env=MPI_ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            proc = subprocess.Popen(mpi_command(3, *args), env=MPI_ENV, stdout=subprocess.PIPE,
+                                    stderr=subprocess.PIPE, text=True)
             ranks = rank_pids(proc.pid, count=3)
             for rank, core in ((0, cores[0]), (1, cores[0]), (2, cores[1])):
                 subprocess.run(["taskset", "-a", "-p", "-c", str(core), str(ranks[rank])], check=True,
@@ -547,7 +545,16 @@ class DealtTest(MpiCase):
             for b in busy:
                 b.kill()
                 b.wait()
-        self.assertEqual(proc.returncode, 0, err)
+        return proc.returncode, err
+
+    def test_a_rank_slowed_from_outside_takes_fewer_frames(self):
+        """Rank 2 at about half the others' speed (run_with_rank_2_slowed)
+        should take about half as many frames."""
+        g = os.path.join(SOURCE, "graphs", "time-twist-sequence.json")
+        status, err = self.run_with_rank_2_slowed("run", g, "--out", os.path.join(self.dir, "out"), "--no-cache",
+                                                  "--frames", "1-24", "--set", "board.size=[768,768]", "--threads", 1,
+                                                  "--target", "frames", "--mpi-deal", "dynamic")
+        self.assertEqual(status, 0, err)
         counts, _ = dealt_counts(err, "24 frames", 3)
         self.assertEqual(sum(counts), 24, err)
         self.assertLess(counts[2], min(counts[0], counts[1]), err)
@@ -556,26 +563,11 @@ class DealtTest(MpiCase):
         """As above, PathTrace split by samples and dealt by speed: after the
         first of its steps, rank 2 should take about half the samples of each
         of the others; static dealing gives every rank a third."""
-        cores = sorted(os.sched_getaffinity(0))
-        if not shutil.which("taskset") or len(cores) < 2:
-            self.skipTest("needs taskset (util-linux) and 2 cores")
         size, spp = [128, 128], 32
         g = traced_graph(self.dir, size, spp=spp, posterize=False)
-        busy = [busy_loop(cores[1]) for _ in range(3)]
-        try:
-            proc = subprocess.Popen(mpi_command(3, "run", g, "--out", os.path.join(self.dir, "out"), "--no-cache",
-                                                "--threads", 1, "--mpi-split", "samples", "--mpi-deal", "dynamic"),
-                                    env=MPI_ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-            ranks = rank_pids(proc.pid, count=3)
-            for rank, core in ((0, cores[0]), (1, cores[0]), (2, cores[1])):
-                subprocess.run(["taskset", "-a", "-p", "-c", str(core), str(ranks[rank])], check=True,
-                               capture_output=True)
-            _, err = proc.communicate(timeout=240)
-        finally:
-            for b in busy:
-                b.kill()
-                b.wait()
-        self.assertEqual(proc.returncode, 0, err)
+        status, err = self.run_with_rank_2_slowed("run", g, "--out", os.path.join(self.dir, "out"), "--no-cache",
+                                                  "--threads", 1, "--mpi-split", "samples", "--mpi-deal", "dynamic")
+        self.assertEqual(status, 0, err)
         taken, passes = samples_taken(err, 3, "dynamic")
         self.assertEqual((sum(taken), passes), (size[0] * size[1] * spp, 5), err)  # steps of 2, 8, 8, 8, 6
         self.assertLess(taken[2], 0.8 * min(taken[0], taken[1]), err)
