@@ -53,6 +53,8 @@ void Host::sum_over_parts(double* values, std::size_t count, double work) {
   if (pixel_region().by_samples) e_.options.pixel_split->sum(values, count, work);
 }
 
+int Host::take_slot() { return pixel_region().dealt() ? e_.options.pixel_split->take_slot() : -1; }
+
 // Partials go to the observer and nowhere else: never into s_.outputs, the
 // cache or a downstream input, so a run with listeners ends bit-identical to
 // one without.

@@ -26,6 +26,7 @@ class Host final : public NodeHost {
   void depends_on_file(const std::filesystem::path& path) override;
   PixelRegion pixel_region() const override;
   void sum_over_parts(double* values, std::size_t count, double work) override;
+  int take_slot() override;
   bool partial_wanted() const override;
   void publish_partial(std::string_view output, Value value, const PartialInfo& info) override;
 

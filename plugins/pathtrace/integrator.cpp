@@ -342,14 +342,36 @@ struct SharedRayCounts {
 
 // What one pass takes: every pixel that is not done is brought up to `target`
 // samples; with stride k only the pixels whose x and y are multiples of k
-// (the coarse first passes, one pixel in k², shown as blocks). A step of a
-// pass dealt by speed starts at sample `first`: every active pixel has taken
-// that many over all parts, though this part holds only its own.
+// (the coarse first passes, one pixel in k², shown as blocks).
 struct Pass {
   int target = 0;
   int stride = 1;
-  int first = 0;
 };
+
+// Sample `sample` of pixel (x, y), added to its sums.
+void trace_sample(const PathContext& c, const CameraRays& cam, Film& film, int x, int y, int sample,
+                  RayCounts& counts) {
+  const int W = film.width, H = film.height;
+  const std::size_t index = std::size_t(y) * W + x;
+  PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(sample));
+  const Vec2f j = sampler.camera_jitter();
+  Vec3f origin, dir;
+  cam.ray(2 * (x + j.x()) / W - 1, 1 - 2 * (y + j.y()) / H, &origin, &dir);
+  const PathResult p = trace_path(c, origin, dir, sampler);
+  counts.rays += std::uint64_t(p.rays + p.shadow_rays);
+  counts.shadow_rays += std::uint64_t(p.shadow_rays);
+  PixelAccumulator& a = film.pixels[index];
+  ++a.n;
+  if (!p.L.allFinite()) {
+    ++counts.nonfinite;  // counted as a black sample: the mean stays finite
+    return;
+  }
+  a.add(p);
+}
+
+bool in_pass(const PixelAccumulator& a, int x, int y, Pass pass) {
+  return !a.done && x % pass.stride == 0 && y % pass.stride == 0;
+}
 
 RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, int tile, Pass pass,
                      const std::function<void()>& check_cancelled) {
@@ -358,25 +380,12 @@ RayCounts trace_tile(const PathContext& c, const CameraRays& cam, Film& film, in
   const int x0 = (tile % film.tiles_x) * Film::kTile, y0 = (tile / film.tiles_x) * Film::kTile;
   for (int y = y0; y < std::min(H, y0 + Film::kTile); ++y)
     for (int x = x0; x < std::min(W, x0 + Film::kTile); ++x) {
-      const std::size_t index = std::size_t(y) * W + x;
-      PixelAccumulator& a = film.pixels[index];
-      if (a.done || !c.settings.region.contains(x, y, W) || x % pass.stride != 0 || y % pass.stride != 0) continue;
-      for (int sample = std::max(a.n, pass.first); sample < pass.target; ++sample) {
-        if (!c.settings.region.takes_sample(index, sample)) continue;
+      const PixelAccumulator& a = film.pixels[std::size_t(y) * W + x];
+      if (!in_pass(a, x, y, pass) || !c.settings.region.contains(x, y, W)) continue;
+      for (int sample = a.n; sample < pass.target; ++sample) {
+        if (!c.settings.region.takes_sample(sample)) continue;
         if (check_cancelled) check_cancelled();  // a sample's time at most: cancel lands fast
-        PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(sample));
-        const Vec2f j = sampler.camera_jitter();
-        Vec3f origin, dir;
-        cam.ray(2 * (x + j.x()) / W - 1, 1 - 2 * (y + j.y()) / H, &origin, &dir);
-        const PathResult p = trace_path(c, origin, dir, sampler);
-        counts.rays += std::uint64_t(p.rays + p.shadow_rays);
-        counts.shadow_rays += std::uint64_t(p.shadow_rays);
-        ++a.n;
-        if (!p.L.allFinite()) {
-          ++counts.nonfinite;  // counted as a black sample: the mean stays finite
-          continue;
-        }
-        a.add(p);
+        trace_sample(c, cam, film, x, y, sample, counts);
       }
     }
   return counts;
@@ -403,6 +412,62 @@ void trace_pass(const PathContext& c, const CameraRays& cam, Film& film, Pass pa
       hooks.progress(std::min(1.0, done / total));
     }
     if (hooks.between_batches && last < film.tiles) hooks.between_batches(film);
+  }
+}
+
+// Dealt as parts ask (PixelRegion::dealt): the pixels grouped by
+// spread(p) % slots, so that a slot's samples are found without looking at
+// every pixel.
+std::vector<std::vector<std::uint32_t>> pixels_by_spread(const Film& film, const PixelRegion& region) {
+  std::vector<std::vector<std::uint32_t>> groups(std::size_t(region.slots));
+  for (std::size_t p = 0; p < film.pixels.size(); ++p)
+    groups[std::size_t(region.slot_of(p, 0))].push_back(std::uint32_t(p));
+  return groups;
+}
+
+// A pass dealt as parts ask: this part takes slots (Context::take_slot)
+// until none is left and traces, for each, the samples s of each active
+// pixel p with (s + spread(p)) % slots == slot, from the pixel's count when
+// the pass began (`first`, every part's samples) to the pass's target. For
+// each of the pass's first `slots` sample numbers s0, the pixels of one
+// spread group take s0, s0 + slots, ...: each pixel once per slot, so the
+// slot's pixels are traced in parallel.
+void trace_dealt_pass(const PathContext& c, const CameraRays& cam, Film& film, Pass pass,
+                      const std::vector<std::vector<std::uint32_t>>& groups, SharedRayCounts& counts,
+                      const RenderHooks& hooks) {
+  const int W = film.width, slots = c.settings.region.slots;
+  std::vector<int> first(film.pixels.size());
+  int lowest = pass.target;
+  double before = 0, in_this_pass = 0;  // samples, for progress
+  for (std::size_t p = 0; p < first.size(); ++p) {
+    first[p] = film.pixels[p].n;
+    before += first[p];
+    if (!in_pass(film.pixels[p], int(p % std::size_t(W)), int(p / std::size_t(W)), pass)) continue;
+    lowest = std::min(lowest, first[p]);
+    in_this_pass += std::max(0, pass.target - first[p]);
+  }
+  const double total = double(film.width) * film.height * c.settings.spp;
+  std::vector<std::pair<std::uint32_t, int>> work;  // a slot's pixels, each with its lowest sample
+  for (int slot; (slot = c.settings.take_slot()) >= 0;) {
+    work.clear();
+    for (int s0 = lowest; s0 < std::min(pass.target, lowest + slots); ++s0)
+      for (std::uint32_t p : groups[std::size_t(((slot - s0) % slots + slots) % slots)])
+        if (in_pass(film.pixels[p], int(p % std::uint32_t(W)), int(p / std::uint32_t(W)), pass))
+          work.emplace_back(p, s0 + (std::max(0, first[p] - s0) + slots - 1) / slots * slots);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, work.size(), 16), [&](const auto& range) {
+      RayCounts sum;
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        const auto [p, lowest_sample] = work[i];
+        for (int sample = lowest_sample; sample < pass.target; sample += slots) {
+          if (hooks.check_cancelled) hooks.check_cancelled();
+          trace_sample(c, cam, film, int(p % std::uint32_t(W)), int(p / std::uint32_t(W)), sample, sum);
+        }
+      }
+      counts += sum;
+    });
+    // The slots are taken in order over all parts: slot + 1 of them are dealt.
+    if (hooks.progress) hooks.progress(std::min(1.0, (before + in_this_pass * (slot + 1) / slots) / total));
+    if (hooks.between_batches) hooks.between_batches(film);
   }
 }
 
@@ -464,9 +529,8 @@ double samples_since_sum(const Film& film, const std::vector<double>& total) {
 // Split by samples: each part traced its share of a pass; what the pass added
 // on every part is summed, so that every part holds the sums of every sample
 // so far (`total`, kSums per pixel) and decides convergence from them. The
-// samples this part took in the pass, less those its steps reported
-// already, go with it: the engine's measure of its speed.
-void sum_pass_over_parts(Film& film, std::vector<double>& total, double reported,
+// samples this part took in the pass go with it, for the engine's report.
+void sum_pass_over_parts(Film& film, std::vector<double>& total,
                          const std::function<void(double*, std::size_t, double)>& sum_over_parts) {
   std::vector<double> pass(total.size());
   const double taken = samples_since_sum(film, total);
@@ -474,7 +538,7 @@ void sum_pass_over_parts(Film& film, std::vector<double>& total, double reported
     read_sums(film.pixels[p], &pass[p * kSums]);
     for (std::size_t i = p * kSums; i < (p + 1) * kSums; ++i) pass[i] -= total[i];
   }
-  sum_over_parts(pass.data(), pass.size(), taken - reported);
+  sum_over_parts(pass.data(), pass.size(), taken);
   for (std::size_t p = 0; p < film.pixels.size(); ++p) {
     for (std::size_t i = p * kSums; i < (p + 1) * kSums; ++i) total[i] += pass[i];
     write_sums(&total[p * kSums], film.pixels[p]);
@@ -528,42 +592,28 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
   Film film(s.width, s.height);
   SharedRayCounts counts;
   std::vector<double> total(s.sum_over_parts ? film.pixels.size() * kSums : 0);  // split by samples: every part's sums
-  double reported = 0;  // dealt by speed: the samples of this pass that its steps reported
   auto end_pass = [&](double spp_so_far) {
-    if (s.sum_over_parts) sum_pass_over_parts(film, total, reported, s.sum_over_parts);
-    reported = 0;
+    if (s.sum_over_parts) sum_pass_over_parts(film, total, s.sum_over_parts);
     if (hooks.after_pass) hooks.after_pass(film, spp_so_far);
   };
   // Progressive: first sample 0 of one pixel in 8², 4², 2² (coarse images in
   // a 64th, 16th and 4th of a pass's time, as Cycles' viewport starts at a
   // low resolution), then every pixel takes its own samples in order as always.
+  const auto groups = s.region.dealt() ? pixels_by_spread(film, s.region) : std::vector<std::vector<std::uint32_t>>{};
+  auto trace = [&](Pass pass) {
+    if (s.region.dealt()) trace_dealt_pass(context, cam, film, pass, groups, counts, hooks);
+    else trace_pass(context, cam, film, pass, counts, hooks);
+  };
   if (s.progressive && !(s.adaptive_threshold > 0))
     for (int stride : {8, 4, 2}) {
-      trace_pass(context, cam, film, {1, stride, 0}, counts, hooks);
+      trace({1, stride});
       end_pass(1.0 / (stride * stride));
     }
-  // Dealt by speed, a pass is traced in steps: the render's first of spp/16
-  // samples a pixel, evenly dealt, to measure the parts' speeds cheaply, the
-  // next of spp/4, each dealt by the speeds in the last (every step ends in
-  // a wait for the slowest part: on 3 ranks, one held to half speed by
-  // SIGSTOP, steps of spp/16 throughout cost 1.22x the ideal). After each
-  // step but a pass's last, this part reports the samples it took
-  // (sum_over_parts of nothing: the film is summed once, at the pass's end):
-  // a one-pass render would otherwise be dealt evenly throughout.
-  // Convergence is still decided after whole passes only, so every pixel
-  // takes the samples one process takes.
-  const bool by_speed = s.region.dealt_by_speed();
-  int step = by_speed ? std::max(1, s.spp / 16) : s.spp;
+  // Convergence is decided after whole passes only, on every part from the
+  // sums of every part, so every pixel takes the samples one process takes.
   for (int taken = 0; taken < s.spp;) {
-    const int pass_end = taken + next_pass(s, taken);
-    for (int first = taken; first < pass_end; first += step, step = by_speed ? std::max(1, s.spp / 4) : s.spp) {
-      trace_pass(context, cam, film, {std::min(pass_end, first + step), 1, first}, counts, hooks);
-      if (first + step >= pass_end) continue;
-      const double since = samples_since_sum(film, total);
-      s.sum_over_parts(nullptr, 0, since - reported);
-      reported = since;
-    }
-    taken = pass_end;
+    taken += next_pass(s, taken);
+    trace({taken, 1});
     end_pass(taken);
     if (s.adaptive_threshold > 0 && taken < s.spp) mark_converged(film, s.adaptive_threshold);
   }

@@ -43,6 +43,9 @@ struct RenderSettings {
   // by sum_over_parts after each pass (Context::sum_over_parts).
   PixelRegion region;
   std::function<void(double*, std::size_t, double)> sum_over_parts;
+  // Dealt as parts ask (region.dealt()): the next slot of the pass for this
+  // part, -1 once the pass is taken (Context::take_slot).
+  std::function<int()> take_slot;
   // Without adaptive sampling: coarse passes (sample 0 of one pixel in 64,
   // 16, 4), then passes of 1, 1, 2, 4, … samples per pixel, so that the image so far
   // can be shown after each (RenderHooks::after_pass); off: one pass of spp.

@@ -157,6 +157,7 @@ struct PathTrace {
       s.sum_over_parts = [&ctx](double* values, std::size_t count, double samples) {
         ctx.sum_over_parts(values, count, samples);
       };
+    if (s.region.dealt()) s.take_slot = [&ctx] { return ctx.take_slot(); };
 
     bool built = false;
     const auto traced = ctx.scratch<EmbreeScene>(geometry_key(*scene, displacement_level), [&] {

@@ -513,7 +513,7 @@ def d_mpi_samples(feature, work):
 
 
 def d_mpi_samples_dealt(feature, work):
-    """Sample passes in steps of spp/16, each dealt by the ranks' speed in the last."""
+    """Each sample pass cut into 256 slots that the ranks take as they ask."""
     mpi_cell(feature, work, "samples", "--mpi-deal", "dynamic")
 
 

@@ -17,7 +17,7 @@ class DealingSplit final : public PixelSplit {
   DealingSplit(std::string node, int tile, int parts) : node_(std::move(node)), tile_(tile), parts_(parts) {}
 
   PixelRegion region(const std::string& node) const override {
-    return node == node_ ? PixelRegion{tile_, part_, parts_, false, nullptr} : PixelRegion{};
+    return node == node_ ? PixelRegion{tile_, part_, parts_, false, 0} : PixelRegion{};
   }
   void combine(const std::string&, const NodeSpec&, std::vector<Value>& outputs) const override {
     ++combines;

@@ -1,75 +1,65 @@
-// SampleDealing (engine/runner/mpi/mpi_samples.hpp) and PixelRegion::takes_sample
-// with its table, without MPI: the table against Hamilton's apportionment
-// worked by hand, and every sample of a pass taken by exactly one rank, the
-// ranks' shares those of their slots.
+// SampleShares (engine/runner/mpi/mpi_samples.hpp) without MPI: the slots of
+// a pass dealt from a counter that is never reset, with ranks asking in any
+// order, each pass's slots taken exactly once.
 #include <gtest/gtest.h>
 
-#include <array>
+#include <random>
 #include <vector>
 
-#include "loom/node.hpp"
 #include "mpi/mpi_samples.hpp"
 
 namespace {
 
-std::vector<int> slots_per_rank(const std::vector<int>& table, int ranks) {
-  std::vector<int> owned(std::size_t(ranks), 0);
-  for (int r : table) ++owned[std::size_t(r)];
-  return owned;
+TEST(SampleShares, StaticHasNoSlots) { EXPECT_EQ(loom::runner::SampleShares(3, false).slots(), 0); }
+
+TEST(SampleShares, AtLeastSixteenSlotsARank) {
+  EXPECT_EQ(loom::runner::SampleShares(3, true).slots(), 256);
+  EXPECT_EQ(loom::runner::SampleShares(100, true).slots(), 1600);
 }
 
-TEST(SampleDealing, StaticHasNoTable) { EXPECT_EQ(loom::runner::SampleDealing(3, false).slots(), nullptr); }
-
-TEST(SampleDealing, FirstPassIsEven) {
-  const loom::runner::SampleDealing deal(3, true);
-  // 256 slots: one each, then 253 by equal quotas of 84.33: 84 each, and the one left to
-  // rank 0 (equal remainders go to the lower rank).
-  EXPECT_EQ(slots_per_rank(*deal.slots(), 3), (std::vector<int>{86, 85, 85}));
-}
-
-TEST(SampleDealing, SlotsFollowSpeedsByLargestRemainder) {
-  loom::runner::SampleDealing deal(3, true);
-  deal.passed({1000, 1000, 250}, {1, 1, 0.5});  // speeds 1000, 1000, 500 samples a second
-  // One slot each, then 253 x (2/5, 2/5, 1/5) = 101.2, 101.2, 50.6: 101, 101, 50 and the
-  // one left to the largest remainder (rank 2's 0.6).
-  const std::vector<int>& table = *deal.slots();
-  EXPECT_EQ(slots_per_rank(table, 3), (std::vector<int>{102, 102, 52}));
-  for (std::size_t i = 1; i < table.size(); ++i) EXPECT_LE(table[i - 1], table[i]);  // in runs, rank 0's first
-}
-
-TEST(SampleDealing, ARankThatTookNothingKeepsItsLastSpeedAndASlot) {
-  loom::runner::SampleDealing deal(3, true);
-  deal.passed({1000, 1000, 500}, {1, 1, 1});
-  deal.passed({0, 1000, 1000}, {0.1, 1, 2});  // rank 0 took nothing: its speed stays 1000
-  // Speeds 1000, 1000, 500 again: the same table.
-  EXPECT_EQ(slots_per_rank(*deal.slots(), 3), (std::vector<int>{102, 102, 52}));
-  deal.passed({0, 1e6, 1}, {1, 1, 1e6});  // rank 2 at a millionth of the others' speed
-  EXPECT_GE(slots_per_rank(*deal.slots(), 3)[2], 1);
-}
-
-TEST(PixelRegion, EverySampleOfAPassGoesToOneRankInProportionToItsSlots) {
-  loom::runner::SampleDealing deal(3, true);
-  deal.passed({1000, 1000, 250}, {1, 1, 0.5});
-  const std::vector<int> owned = slots_per_rank(*deal.slots(), 3);
-  constexpr std::size_t kPixels = 65536;
-  for (int samples : {1, 4, 64}) {  // passes of one sample a pixel are dealt as finely as long ones
-    std::array<double, 3> taken{};
-    for (std::size_t p = 0; p < kPixels; ++p)
-      for (int s = 100; s < 100 + samples; ++s) {
-        int takers = 0;
-        for (int r = 0; r < 3; ++r) {
-          const loom::PixelRegion region{32, r, 3, true, deal.slots()};
-          if (region.takes_sample(p, s)) {
-            ++takers;
-            ++taken[std::size_t(r)];
-          }
-        }
-        ASSERT_EQ(takers, 1) << "pixel " << p << " sample " << s;
+// Ranks ask a shared counter in a random order until each is told the pass
+// is taken; a rank may sit a pass out (it asks nothing). Every pass's slots
+// must each go to exactly one rank, and every rank that asks must be told
+// once that the pass is taken.
+TEST(SampleShares, EveryPassIsTakenOnceWhateverTheOrderOfAsks) {
+  constexpr int kRanks = 3;
+  std::vector<loom::runner::SampleShares> ranks(kRanks, loom::runner::SampleShares(kRanks, true));
+  const int slots = ranks[0].slots();
+  long counter = 0;  // rank 0's window
+  std::mt19937 random(7);
+  for (int pass = 0; pass < 6; ++pass) {
+    std::vector<int> taken_by(std::size_t(slots), -1);
+    std::vector<double> next(kRanks), none(kRanks, 0);
+    std::vector<bool> done(kRanks, false);
+    for (int r = 0; r < kRanks; ++r) next[std::size_t(r)] = double(ranks[std::size_t(r)].base());
+    if (pass == 3) done[1] = true;  // rank 1 asks nothing this pass
+    for (int left = kRanks - (pass == 3 ? 1 : 0); left > 0;) {
+      const int r = int(random() % kRanks);
+      if (done[std::size_t(r)]) continue;
+      const long fetched = counter++;
+      next[std::size_t(r)] = double(fetched + 1);
+      const int slot = ranks[std::size_t(r)].slot(fetched);
+      if (slot < 0) {
+        done[std::size_t(r)] = true;
+        --left;
+        continue;
       }
-    for (int r = 0; r < 3; ++r)
-      EXPECT_NEAR(taken[std::size_t(r)] / (double(kPixels) * samples), owned[std::size_t(r)] / 256.0, 0.01)
-          << samples << " samples a pixel, rank " << r;
+      ASSERT_EQ(taken_by[std::size_t(slot)], -1) << "pass " << pass << " slot " << slot << " taken twice";
+      taken_by[std::size_t(slot)] = r;
+    }
+    for (int s = 0; s < slots; ++s) EXPECT_GE(taken_by[std::size_t(s)], 0) << "pass " << pass << " slot " << s;
+    for (auto& rank : ranks) rank.passed(none, none, next);
+    for (auto& rank : ranks) EXPECT_EQ(rank.base(), counter);
   }
+}
+
+TEST(SampleShares, ReportsEachRanksSamplesAndBusyTime) {
+  loom::runner::SampleShares shares(2, true);
+  shares.passed({100, 50}, {1.0, 1.5}, {258, 258});
+  shares.passed({10, 5}, {0.5, 0.25}, {516, 516});
+  EXPECT_EQ(shares.report("trace", 2.5),
+            "mpi: trace: samples dealt as ranks asked in 2 passes: 110, 55 to ranks 0..1 (busy 1.500, 1.750 s of "
+            "2.500 s)\n");
 }
 
 }  // namespace

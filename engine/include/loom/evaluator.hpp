@@ -99,6 +99,10 @@ class PixelSplit {
   // Split by samples: `values` summed over the processes, on every process;
   // `work` is this process's since its last sum (Context::sum_over_parts).
   virtual void sum(double* values, std::size_t count, double work) const = 0;
+  // Split by samples and dealt as processes ask: the next slot of the pass
+  // for this process, or -1 when the pass's slots are all taken
+  // (Context::take_slot).
+  virtual int take_slot() const { return -1; }
 };
 
 struct EvalOptions {

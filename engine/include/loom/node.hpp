@@ -117,32 +117,33 @@ using EnumChoices = std::vector<std::pair<E, std::string>>;
 // every part ends with the whole image (and adaptive sampling decides from
 // every sample, as one process does).
 //
-// Split by samples and dealt by speed (`slots` set: loom run --mpi-deal
-// dynamic), sample s of pixel p goes instead to the part that owns slot
-// (s + spread(p)) % W of a table of W slots, each part owning a number of
-// slots in proportion to its speed in the last pass. spread() scatters the
-// pixels over the slots, so that a pass of one sample a pixel is shared as
-// well as one of many. The engine rewrites the table inside sum_over_parts,
-// the same on every part, and nowhere else: a copy of the region kept by the
-// node follows it without reading region() again, and no pass reads the
-// table while it changes.
+// Split by samples and dealt as parts ask (`slots` > 0: loom run --mpi-deal
+// dynamic), every pass is cut into `slots` shares: sample s of pixel p
+// belongs to slot (s + spread(p)) % slots. A part takes the slots of a pass
+// one at a time with Context::take_slot() until none is left, tracing each
+// slot's samples, then sums (Context::sum_over_parts). spread() scatters the
+// pixels over the slots, so that every slot is about 1/slots of the pass's
+// work, for a pass of one sample a pixel as for one of many, and a faster
+// part simply takes more slots.
 struct PixelRegion {
   int tile = 32;
   int part = 0, parts = 1;
   bool by_samples = false;
-  std::shared_ptr<const std::vector<int>> slots;  // dealt by speed: the part owning each slot
+  int slots = 0;  // dealt as parts ask: the slots in a pass
 
   bool whole() const { return parts <= 1; }
-  bool dealt_by_speed() const { return by_samples && slots != nullptr; }
+  bool dealt() const { return by_samples && slots > 0; }
   int tile_of(int x, int y, int width) const { return (y / tile) * ((width + tile - 1) / tile) + x / tile; }
   bool contains(int x, int y, int width) const {
     return whole() || by_samples || tile_of(x, y, width) % parts == part;
   }
-  bool takes_sample(std::size_t pixel, std::int64_t sample) const {
-    if (whole() || !by_samples) return true;
-    if (!slots) return sample % parts == part;
-    const std::uint64_t spread = (std::uint64_t(pixel) * 0x9E3779B97F4A7C15ull) >> 40;  // Fibonacci hashing
-    return (*slots)[std::size_t((std::uint64_t(sample) + spread) % slots->size())] == part;
+  // Split by samples and not dealt: sample s of every pixel goes to part s % parts.
+  bool takes_sample(std::int64_t sample) const { return whole() || !by_samples || sample % parts == part; }
+  static std::uint64_t spread(std::size_t pixel) {
+    return (std::uint64_t(pixel) * 0x9E3779B97F4A7C15ull) >> 40;  // Fibonacci hashing
+  }
+  int slot_of(std::size_t pixel, std::int64_t sample) const {
+    return int((std::uint64_t(sample) + spread(pixel)) % std::uint64_t(slots));
   }
 };
 
@@ -208,8 +209,9 @@ class LOOM_API NodeSpec {
   // recomputes them from the gathered images (a mean over the pixels).
   NodeSpec& set_pixel_independent(SummarizeFunction summarize = nullptr);
   // A pixel-independent node whose pixels are means of numbered samples (a
-  // path tracer) and that reads PixelRegion::takes_sample and calls
-  // Context::sum_over_parts after each pass of samples: the engine may split
+  // path tracer) that takes its samples by PixelRegion (takes_sample, or the
+  // slots of Context::take_slot) and calls Context::sum_over_parts after
+  // each pass of samples: the engine may split
   // it by samples instead of tiles (loom run --mpi-split samples).
   NodeSpec& set_sample_passes();
   // The node reads ctx.time(). Nodes that do not are evaluated once and shared
@@ -305,6 +307,7 @@ class NodeHost {
     (void)count;
     (void)work;
   }
+  virtual int take_slot() { return -1; }
   virtual bool partial_wanted() const { return false; }
   virtual void publish_partial(std::string_view output, Value value, const PartialInfo& info) {
     (void)output;
@@ -443,12 +446,13 @@ class LOOM_API Context {
   // Split by samples (region().by_samples): replaces `values` on every part
   // with their sum over the parts. Call it from the node's calling thread,
   // at the same points on every part. `work`: what this part did since its
-  // last sum (a path tracer: the samples it took), from which the engine
-  // measures each part's speed, to deal the next pass by it
-  // (region().dealt_by_speed()) and to report; `count` 0 reports only that
-  // (a step within a pass, so that the next step is dealt by it). Does
-  // nothing in a run that is not split.
+  // last sum (a path tracer: the samples it took), for the engine's report
+  // of what each part did. Does nothing in a run that is not split.
   void sum_over_parts(double* values, std::size_t count, double work) { host_.sum_over_parts(values, count, work); }
+  // Dealt as parts ask (region().dealt()): the next slot of this pass for
+  // this part to trace, or -1 when every slot of the pass is taken (then
+  // sum_over_parts ends the pass). Call it from the node's calling thread.
+  int take_slot() { return host_.take_slot(); }
 
   // Declares that the result depends on a file the node found by itself (a
   // material library or texture named inside a scene file). Files given to

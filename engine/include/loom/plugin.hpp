@@ -17,7 +17,7 @@
 // compatibility (a class layout, a virtual function, a signature).
 // (A test overrides it to build a plugin the loader must refuse.)
 #ifndef LOOM_ABI_VERSION
-#define LOOM_ABI_VERSION 7
+#define LOOM_ABI_VERSION 8
 #endif
 
 extern "C" {

@@ -55,9 +55,8 @@ void add_mpi_options(CLI::App* run) {
   run->add_option("--mpi-deal", s.deal,
                   "under mpirun/srun: static (rank r takes the r-th block of frames, every N-th sweep point "
                   "from r, the tiles t mod N = r, the samples s mod N = r) or dynamic (frames, points or tiles "
-                  "in at most 16 parts a rank, each rank taking the next part as it finishes one; sample "
-                  "passes in steps of spp/16 samples a pixel, then spp/4, each shared in proportion to the "
-                  "ranks' speed in the last: for ranks of uneven speed)")
+                  "in at most 16 parts a rank, sample passes in 256 slots, each rank taking the next as it "
+                  "finishes one: for ranks of uneven speed)")
       ->capture_default_str()
       ->check(CLI::IsMember({"static", "dynamic"}));
 }

@@ -286,10 +286,10 @@ EvalResult evaluate_tiles(MpiWorld& world, Session& session, const GraphView& vi
     // A rank that found the result would not compute its tiles while the others wait for them.
     if (world.max_over_ranks(kept) == 1) o.disk_cache = nullptr;
     const EvalResult r = session.evaluate(graph, o);
+    pixel_split->report();  // first: it ends rank 0's answering thread, before any other MPI call
     end_every_rank_unless_ok(world, graph, r);
     const std::string what = id + (by_samples ? ": sample passes" : ": tiles");
     report_balance(world, what, world.gather_all(r.nodes.at(id).seconds));
-    pixel_split->report();
     merge(parts, r, false);
   }
   if (split_so_far.empty() && world.rank() == 0)

@@ -1,42 +1,43 @@
 // A node split by samples over MPI ranks (--mpi-split samples), seen apart
-// from MPI: which rank takes which sample, and what each rank did.
+// from MPI: which slot of a pass a rank's ask stands for, and what each rank
+// did.
 #pragma once
 
-#include <memory>
 #include <string>
 #include <vector>
 
 namespace loom::runner {
 
-// Static: rank r takes the samples s % N == r. Dealt by speed (--mpi-deal
-// dynamic): a table of W slots (PixelRegion::slots), rank r owning a run of
-// slots in proportion to its speed, samples taken per busy second in the
-// last pass in which it took any, and at least one slot (its speed is then
-// measured again); every rank starts with an even share. After each pass,
-// every rank calls passed() with every rank's figures for that pass, so
-// that every rank holds the very same table. The speed in one pass deals the
-// next: with a rank at half speed of three, a first even pass of 1/16 of the
-// work alone costs (1/16)(2/3 − 0.4) / 0.4 = 4 % over the ideal (measured in
-// all: 1.19x, docs/farm.md, "A slow rank").
-class SampleDealing {
+// Static: rank r takes the samples s % N == r of every pixel. Dealt as ranks
+// ask (--mpi-deal dynamic): every pass is cut into slots()
+// (PixelRegion::slots) and each rank takes the next slot from a counter on
+// rank 0 as it finishes one, so a faster rank takes more slots. Numbers from
+// the counter are never reset: pass k's slots are the numbers base_k ..
+// base_k + slots() - 1, and every number past them tells the rank that asked
+// that the pass is taken (one such ask per rank and pass). After each pass
+// every rank calls passed() with every rank's figures, the counter's value
+// among them, so every rank holds the same base for the next pass.
+class SampleShares {
  public:
-  SampleDealing(int ranks, bool by_speed);
-  // Null when static.
-  std::shared_ptr<const std::vector<int>> slots() const { return slots_; }
+  SampleShares(int ranks, bool dealt);
+  int slots() const { return slots_; }  // 0: static
+  // The slot of the current pass that the counter's number `fetched` stands
+  // for, or -1 when it is past the pass's last slot.
+  int slot(long fetched) const;
+  // The counter's number that the current pass's slots start at.
+  long base() const { return base_; }
   // One pass summed over the ranks: rank r took taken[r] samples in busy[r]
-  // seconds of its own work (its wait for the others not counted).
-  void passed(const std::vector<double>& taken, const std::vector<double>& busy);
+  // seconds of its own work (its wait for the others not counted) and, dealt,
+  // next[r] is one past the last number it fetched (base() if none).
+  void passed(const std::vector<double>& taken, const std::vector<double>& busy, const std::vector<double>& next);
   // Rank 0's line after the node, `seconds` its time from its first pass to
   // the end of its last sum.
   std::string report(const std::string& node, double seconds) const;
 
  private:
-  void deal();
-
-  int ranks_;
-  std::shared_ptr<std::vector<int>> slots_;  // dealt by speed: the rank owning each slot
-  std::vector<double> speed_;                // samples per second, each rank's last measure
-  std::vector<double> taken_, busy_;         // each rank's totals over the passes so far
+  int ranks_, slots_;
+  long base_ = 0;
+  std::vector<double> taken_, busy_;  // each rank's totals over the passes so far
   int passes_ = 0;
 };
 

@@ -5,8 +5,10 @@
 #include <sched.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -48,19 +50,63 @@ void barrier() {
 // The most parts per rank a Dealer cuts its items into (mpi_world.hpp).
 constexpr long kDealtPartsPerRank = 16;
 
-class CounterDealer final : public Dealer {
+// A number on rank 0 that every rank takes the next value of (an MPI window:
+// rank 0 needs no thread to answer, its MPI library does, within the calls
+// rank 0 makes). Every rank makes and destroys it at once.
+class SharedCounter {
  public:
-  CounterDealer(long count, int rank, int size)
-      : count_(count), parts_(std::min(count, kDealtPartsPerRank * size)), rank_(rank), size_(size) {
-    // The next part to deal, on rank 0; parts 0..size-1 are every rank's first.
-    MPI_Win_allocate(rank_ == 0 ? sizeof(long) : 0, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &next_, &window_);
-    if (rank_ == 0) *next_ = size_;
+  explicit SharedCounter(long first) {
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+    // Open MPI 4.1's osc/rdma, its default between nodes, fails to make a
+    // window over TCP (MPI_ERR_WIN; open-mpi/ompi#9871): said, not a crash.
+    MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+    const int made =
+        MPI_Win_allocate(rank_ == 0 ? sizeof(long) : 0, sizeof(long), MPI_INFO_NULL, MPI_COMM_WORLD, &next_, &window_);
+    MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_ARE_FATAL);
+    if (made != MPI_SUCCESS) {
+      if (rank_ == 0)
+        std::fputs("loom: --mpi-deal dynamic needs an MPI window on rank 0 that every rank can reach, and MPI "
+                   "could not make one (Open MPI over TCP between nodes: run with OMPI_MCA_osc=sm,pt2pt set; "
+                   "docs/farm.md)\n",
+                   stderr);
+      MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    if (rank_ == 0) *next_ = first;
     MPI_Barrier(MPI_COMM_WORLD);
   }
-  ~CounterDealer() override {
+  ~SharedCounter() {
     barrier();  // MPI_Win_free would poll while a slower rank works
     MPI_Win_free(&window_);
   }
+  SharedCounter(const SharedCounter&) = delete;
+  SharedCounter& operator=(const SharedCounter&) = delete;
+
+  // The counter's value, which goes up by one.
+  long take() {
+    const long one = 1;
+    long value = -1;
+    const auto asked = std::chrono::steady_clock::now();
+    MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window_);
+    MPI_Fetch_and_op(&one, &value, MPI_LONG, 0, 0, MPI_SUM, window_);
+    MPI_Win_unlock(0, window_);
+    const std::chrono::duration<double> waited = std::chrono::steady_clock::now() - asked;
+    longest_wait_ = std::max(longest_wait_, waited.count());
+    return value;
+  }
+  double longest_wait() const { return longest_wait_; }  // seconds, the longest of this rank's takes
+
+ private:
+  int rank_ = 0;
+  long* next_ = nullptr;
+  MPI_Win window_ = MPI_WIN_NULL;
+  double longest_wait_ = 0;
+};
+
+// Parts 0..size-1 are every rank's first, taken without asking.
+class CounterDealer final : public Dealer {
+ public:
+  CounterDealer(long count, int rank, int size)
+      : count_(count), parts_(std::min(count, kDealtPartsPerRank * size)), rank_(rank), size_(size), next_(size) {}
 
   Part next() override {
     long part = -1;
@@ -68,13 +114,7 @@ class CounterDealer final : public Dealer {
       part = rank_;
       asked_ = true;
     } else if (!done_) {
-      const long one = 1;
-      const auto asked = std::chrono::steady_clock::now();
-      MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window_);
-      MPI_Fetch_and_op(&one, &part, MPI_LONG, 0, 0, MPI_SUM, window_);
-      MPI_Win_unlock(0, window_);
-      const std::chrono::duration<double> waited = std::chrono::steady_clock::now() - asked;
-      longest_wait_ = std::max(longest_wait_, waited.count());
+      part = next_.take();
     }
     done_ = done_ || part >= parts_;
     if (done_) return {};
@@ -89,7 +129,7 @@ class CounterDealer final : public Dealer {
   }
 
   void report(const std::string& what) override {
-    const double mine[2] = {double(taken_), longest_wait_};
+    const double mine[2] = {double(taken_), next_.longest_wait()};
     std::vector<double> all(2 * std::size_t(size_), 0);
     MPI_Request request;
     MPI_Igather(mine, 2, MPI_DOUBLE, all.data(), 2, MPI_DOUBLE, 0, MPI_COMM_WORLD, &request);
@@ -110,9 +150,7 @@ class CounterDealer final : public Dealer {
   int rank_, size_;
   long taken_ = 0;  // items this rank took
   bool asked_ = false, done_ = false;
-  double longest_wait_ = 0;  // seconds, the longest of this rank's asks
-  long* next_ = nullptr;
-  MPI_Win window_ = MPI_WIN_NULL;
+  SharedCounter next_;  // the next part to deal
 };
 
 class Split final : public RankSplit {
@@ -129,45 +167,65 @@ class Split final : public RankSplit {
         parts_(dealt && !by_samples ? size * kDealtPartsPerRank : size),
         part_(rank),
         samples_(size, by_samples && dealt) {
+    if (dealt && by_samples) slot_counter_ = std::make_unique<SharedCounter>(0);
     if (dealt && !by_samples) {  // the dealer's items are the parts (16 a rank: one item a part)
       dealer_ = std::make_unique<CounterDealer>(parts_, rank_, size_);
       part_ = int(dealer_->next().begin);  // this rank's own first part
     }
   }
 
+  ~Split() override { stop_answering(); }
+
   // The node asks for its region as it starts: by samples, its first pass's time begins.
   PixelRegion region(const std::string& node) const override {
     if (node != node_) return PixelRegion{};
+    if ((slot_counter_ || dealer_) && rank_ == 0 && !answering_.joinable()) start_answering();
     if (by_samples_ && !started_) started_ = resumed_ = Clock::now();
     return PixelRegion{tile_, part_, parts_, by_samples_, samples_.slots()};
   }
 
-  // Every rank's samples and busy time in the pass travel beside the sums
-  // (an allgather of two doubles a rank), and every rank deals the next pass
-  // from them alike (SampleDealing).
+  // Dealt by samples: the counter's next number, as a slot of this pass. One
+  // number past the pass's slots per rank and pass (then no more asks).
+  int take_slot() const override {
+    if (!slot_counter_ || pass_taken_) return -1;
+    const std::lock_guard lock(mpi_);
+    const long fetched = slot_counter_->take();
+    next_number_ = fetched + 1;
+    const int slot = samples_.slot(fetched);
+    pass_taken_ = slot < 0;
+    return slot;
+  }
+
+  // Every rank's samples, busy time and, dealt, the counter's number it got
+  // to travel beside the sums (an allgather of three doubles a rank), so that
+  // every rank starts the next pass's slots at the same number (SampleShares).
   void sum(double* values, std::size_t count, double work) const override {
     const double busy = std::chrono::duration<double>(Clock::now() - resumed_.value_or(Clock::now())).count();
+    const std::lock_guard lock(mpi_);
     barrier();  // the wait for the slowest rank, without polling; then the exchange, blocking
-    const double mine[2] = {work, busy};
-    std::vector<double> all(2 * std::size_t(size_));
-    MPI_Allgather(mine, 2, MPI_DOUBLE, all.data(), 2, MPI_DOUBLE, MPI_COMM_WORLD);
+    const double mine[3] = {work, busy, double(std::max(next_number_, samples_.base()))};
+    std::vector<double> all(3 * std::size_t(size_));
+    MPI_Allgather(mine, 3, MPI_DOUBLE, all.data(), 3, MPI_DOUBLE, MPI_COMM_WORLD);
     constexpr std::size_t kChunk = std::size_t(1) << 28;  // MPI counts are ints
     for (std::size_t at = 0; at < count; at += kChunk) {
       const int n = int(std::min(kChunk, count - at));
       MPI_Reduce(rank_ == 0 ? MPI_IN_PLACE : values + at, values + at, n, MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
       MPI_Bcast(values + at, n, MPI_DOUBLE, 0, MPI_COMM_WORLD);
     }
-    const std::size_t ranks = all.size() / 2;
-    std::vector<double> taken(ranks), seconds(ranks);
+    const std::size_t ranks = all.size() / 3;
+    std::vector<double> taken(ranks), seconds(ranks), next(ranks);
     for (std::size_t r = 0; r < ranks; ++r) {
-      taken[r] = all[2 * r];
-      seconds[r] = all[2 * r + 1];
+      taken[r] = all[3 * r];
+      seconds[r] = all[3 * r + 1];
+      next[r] = all[3 * r + 2];
     }
-    samples_.passed(taken, seconds);  // the node's passes are over until it calls again: the table may change
+    samples_.passed(taken, seconds, next);
+    pass_taken_ = false;
     resumed_ = Clock::now();
   }
 
   void report() const override {
+    stop_answering();
     if (!by_samples_ || rank_ != 0 || !started_) return;
     const double seconds = std::chrono::duration<double>(resumed_.value_or(*started_) - *started_).count();
     std::fputs(samples_.report(node_, seconds).c_str(), stderr);
@@ -179,6 +237,7 @@ class Split final : public RankSplit {
   // 0, or every rank), all the messages in flight at once; a receiving
   // rank's image becomes the whole, the others keep their parts.
   void combine(const std::string& node, const NodeSpec& spec, std::vector<Value>& outputs) const override {
+    const std::lock_guard lock(mpi_);
     if (dealer_ && keep_and_take_next(spec, outputs)) return;
     const auto arrived = Clock::now();
     barrier();  // so that the time below is the exchange's, not the wait for the slowest rank
@@ -212,6 +271,31 @@ class Split final : public RankSplit {
 
  private:
   bool receives(int rank) const { return gather_ == Gather::to_every_rank || rank == 0; }
+
+  // Rank 0, dealt: over TCP, Open MPI answers another rank's ask of the
+  // counter only inside one of rank 0's MPI calls, and rank 0 makes one a
+  // slot or a part (on three nodes, ranks 1 and 2 took 9 % and 11 % of the
+  // samples; of tiles, rank 0 worked 2.9 s and the others 0.7-0.8 s). A
+  // thread calls in every millisecond while the node runs, as rank 0 does
+  // for frames (docs/farm.md); MPI_THREAD_SERIALIZED: the split's calls on
+  // rank 0 hold mpi_.
+  void start_answering() const {
+    answering_on_ = true;
+    answering_ = std::thread([this] {
+      while (answering_on_) {
+        {
+          const std::lock_guard lock(mpi_);
+          int flag = 0;
+          MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+    });
+  }
+  void stop_answering() const {
+    answering_on_ = false;
+    if (answering_.joinable()) answering_.join();
+  }
 
   // Dealt: this part's tiles kept (the first part's images become the ones
   // kept), and the next part taken. False when none is left.
@@ -274,8 +358,15 @@ class Split final : public RankSplit {
   std::unique_ptr<Dealer> dealer_;     // dealt: hands out the parts
   mutable std::vector<int> mine_;      // the parts this rank computed
   mutable std::vector<cv::Mat> kept_;  // their tiles, one image per Image output
-  // By samples: who takes which sample, and when this rank's pass began.
-  mutable SampleDealing samples_;
+  // By samples: what the ranks took, and when this rank's pass began; dealt,
+  // the counter of slots, and whether this rank was told the pass is taken.
+  mutable SampleShares samples_;
+  std::unique_ptr<SharedCounter> slot_counter_;
+  mutable long next_number_ = 0;
+  mutable bool pass_taken_ = false;
+  mutable std::mutex mpi_;  // rank 0: held by each of the split's MPI calls while answering_ runs
+  mutable std::thread answering_;
+  mutable std::atomic<bool> answering_on_{false};
   mutable std::optional<Clock::time_point> started_, resumed_;
 };
 

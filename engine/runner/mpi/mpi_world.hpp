@@ -43,10 +43,11 @@ class Dealer {
   virtual void report(const std::string& what) = 0;
 };
 
-// A split node's PixelSplit over the ranks. Split by samples, report() (every
-// rank, after the node) has rank 0 print how many samples each rank took and
-// its time in them: "mpi: trace: samples dealt by speed in 16 passes: 1.1M,
-// 1.2M, 0.6M to ranks 0..2 (busy 5.1, 5.0, 5.2 s of 5.4 s)".
+// A split node's PixelSplit over the ranks. report() is called by every rank
+// right after the node's evaluation, before any other MPI call (it ends rank
+// 0's thread that answers the others' asks). Split by samples, it has rank 0 print how many samples each rank took and
+// its time in them: "mpi: trace: samples dealt as ranks asked in 16 passes:
+// 1.1M, 1.2M, 0.6M to ranks 0..2 (busy 5.1, 5.0, 5.2 s of 5.4 s)".
 class RankSplit : public PixelSplit {
  public:
   virtual void report() const = 0;
@@ -78,9 +79,8 @@ class MpiWorld {
   // samples: this rank takes the samples s % size == rank of every pixel and
   // sum() adds the node's sums over the ranks (reduced on rank 0, then
   // broadcast, so that every rank holds the very same doubles); by samples
-  // and `dealt`, the samples go instead by a table of slots
-  // (PixelRegion::slots) that sum() deals again in proportion to the ranks'
-  // speed in the pass just summed (the first pass: even).
+  // and `dealt`, every pass is cut into slots (PixelRegion::slots) that the
+  // ranks take as they ask (take_slot), a faster rank taking more.
   virtual std::unique_ptr<RankSplit> split(const std::string& node, int tile, bool by_samples, Gather gather,
                                            bool dealt) = 0;
 };
