@@ -601,8 +601,10 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
   // low resolution), then every pixel takes its own samples in order as always.
   const auto groups = s.region.dealt() ? pixels_by_spread(film, s.region) : std::vector<std::vector<std::uint32_t>>{};
   auto trace = [&](Pass pass) {
-    if (s.region.dealt()) trace_dealt_pass(context, cam, film, pass, groups, counts, hooks);
-    else trace_pass(context, cam, film, pass, counts, hooks);
+    if (s.region.dealt())
+      trace_dealt_pass(context, cam, film, pass, groups, counts, hooks);
+    else
+      trace_pass(context, cam, film, pass, counts, hooks);
   };
   if (s.progressive && !(s.adaptive_threshold > 0))
     for (int stride : {8, 4, 2}) {

@@ -23,7 +23,10 @@ std::string joined(const std::vector<double>& values, const char* format) {
 }  // namespace
 
 SampleShares::SampleShares(int ranks, bool dealt)
-    : ranks_(ranks), slots_(dealt ? slot_count(ranks) : 0), taken_(std::size_t(ranks), 0), busy_(std::size_t(ranks), 0) {}
+    : ranks_(ranks),
+      slots_(dealt ? slot_count(ranks) : 0),
+      taken_(std::size_t(ranks), 0),
+      busy_(std::size_t(ranks), 0) {}
 
 int SampleShares::slot(long fetched) const {
   const long slot = fetched - base_;
@@ -44,8 +47,8 @@ std::string SampleShares::report(const std::string& node, double seconds) const 
   char total[32];
   std::snprintf(total, sizeof total, "%.3f", seconds);
   return "mpi: " + node + ": samples " + (slots_ ? "dealt as ranks asked" : "taken") + " in " +
-         std::to_string(passes_) + (passes_ == 1 ? " pass: " : " passes: ") + joined(taken_, "%.0f") +
-         " to ranks 0.." + std::to_string(ranks_ - 1) + " (busy " + joined(busy_, "%.3f") + " s of " + total + " s)\n";
+         std::to_string(passes_) + (passes_ == 1 ? " pass: " : " passes: ") + joined(taken_, "%.0f") + " to ranks 0.." +
+         std::to_string(ranks_ - 1) + " (busy " + joined(busy_, "%.3f") + " s of " + total + " s)\n";
 }
 
 }  // namespace loom::runner
