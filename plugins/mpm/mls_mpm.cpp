@@ -53,7 +53,8 @@ Pair splat(double a) { return Pair{a, a}; }
 
 // x + o a for a stencil offset o ∈ {0, 1, 2}, given a2 = a + a (= 2a exactly). The
 // scalar code added a·0 = ±0 for o = 0: that changes only the sign of a zero, and
-// the sums these terms go into start at +0, which adding ±0 leaves at +0.
+// the sums these terms go into start at +0, which adding ±0 leaves at +0 (an
+// infinite a gave NaN there and ±∞ here: either way the step is reported diverged).
 Pair offset(Pair x, int o, Pair a, Pair a2) { return o == 0 ? x : o == 1 ? x + a : x + a2; }
 
 // P2G of one particle into its 3^D nodes (node = momentum, mass; `row` its lowest
