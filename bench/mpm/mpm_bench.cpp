@@ -86,7 +86,8 @@ template <int D>
 std::size_t bytes_per_particle() {
   using P = Particles<D>;
   return sizeof(typename P::Vec) * 2 + sizeof(typename P::Mat) * 2 + sizeof(double) * 5 +
-         sizeof(Material) + sizeof(Eigen::Vector3f) + 2 * sizeof(int);  // + binning workspace
+         sizeof(Material) + sizeof(Eigen::Vector3f) + 2 * sizeof(int)  // + binning workspace
+         + sizeof(typename P::Mat);                                      // + P2G's affine matrices
 }
 
 struct Scene {

@@ -5,8 +5,9 @@
 // Bytes are counted as STREAM counts them: each byte read or written once per
 // pass, no write-allocate, from what the solver's code touches:
 //   bin  x read; block_of written (and counted), then read to scatter; order written
-//   P2G  order, x, v, C, mass, volume, material read; the stress reads J, λ
-//        (fluid) or F, μ, λ (solids)
+//   P2G  the stress pass reads C, mass, volume, material and J, λ (fluid) or
+//        F, μ, λ (solids), and writes each particle's affine matrix; the
+//        scatter reads order, x, v, mass and the affine matrix
 //   G2P  x read and written; v, C written; fluid: J read and written; solids:
 //        F read and written; the sound speed reads material, μ, λ, mass,
 //        volume (and J for solids)
@@ -35,7 +36,7 @@ double particle_bytes(Material m) {
   const double index = sizeof(int), material = sizeof(Material);
   const bool fluid = m == Material::fluid;
   const double bin = vec + 3 * index;
-  const double p2g = index + 2 * vec + mat + 2 * real + material + (fluid ? 2 * real : mat + 2 * real);
+  const double p2g = index + 2 * vec + 3 * mat + 3 * real + material + (fluid ? 2 * real : mat + 2 * real);
   const double g2p = 3 * vec + mat + material + 4 * real + (fluid ? 2 * real : 2 * mat + real);
   return bin + p2g + g2p;
 }
@@ -66,10 +67,14 @@ class StreamingProxy {
     for_particles(n, [&](int p) { block_[p] = static_cast<int>(ps.x[p][0] * 512); });
     for_particles(n, [&](int p) { order_[p] = block_[p] + 1; });
     for_nodes([&](std::size_t i) { grid_[i].setZero(); });
-    sink_ += sum_particles(n, [&](int p) {  // P2G's reads
-      double s = order_[p] + ps.x[p].sum() + ps.v[p].sum() + ps.C[p].sum() + ps.mass[p] + ps.volume[p] +
-                 static_cast<double>(ps.material[p]) + ps.lambda[p];
-      return s + (fluid ? ps.J[p] : ps.F[p].sum() + ps.mu[p]);
+    affine_.resize(static_cast<std::size_t>(n));
+    for_particles(n, [&](int p) {  // P2G's stress pass
+      const double s = ps.mass[p] + ps.volume[p] + static_cast<double>(ps.material[p]) + ps.lambda[p] +
+                       (fluid ? ps.J[p] : ps.F[p].sum() + ps.mu[p]);
+      affine_[static_cast<std::size_t>(p)] = ps.C[p] * s;
+    });
+    sink_ += sum_particles(n, [&](int p) {  // P2G's scatter reads
+      return order_[p] + ps.x[p].sum() + ps.v[p].sum() + ps.mass[p] + affine_[static_cast<std::size_t>(p)].sum();
     });
     sink_ += sum_nodes([&](std::size_t i) { return grid_[i].sum(); });
     for_nodes([&](std::size_t i) {
@@ -127,6 +132,7 @@ class StreamingProxy {
   std::vector<Node> grid_;
   long with_mass_;
   std::vector<int> block_, order_;
+  std::vector<typename Particles<D>::Mat> affine_;
   double sink_ = 0;
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -36,6 +37,96 @@ struct Weights {
     }
   }
 };
+
+// Two doubles in one register (a GCC/Clang vector extension: SSE2 on x86-64, the
+// baseline Loom is built for). Each lane does the scalar code's IEEE operation on
+// one component, in the scalar code's order, so results are bit-identical to it.
+using Pair = double __attribute__((vector_size(16)));
+
+Pair load(const double* p) {
+  Pair r;
+  std::memcpy(&r, p, sizeof r);
+  return r;
+}
+void store(double* p, Pair v) { std::memcpy(p, &v, sizeof v); }
+Pair splat(double a) { return Pair{a, a}; }
+
+// x + o a for a stencil offset o ∈ {0, 1, 2}, given a2 = a + a (= 2a exactly). The
+// scalar code added a·0 = ±0 for o = 0: that changes only the sign of a zero, and
+// the sums these terms go into start at +0, which adding ±0 leaves at +0 (an
+// infinite a gave NaN there and ±∞ here: either way the step is reported diverged).
+Pair offset(Pair x, int o, Pair a, Pair a2) { return o == 0 ? x : o == 1 ? x + a : x + a2; }
+
+// P2G of one particle into its 3^D nodes (node = momentum, mass; `row` its lowest
+// node): node += w_i (q + A o) and w_i m, o ∈ {0,1,2}^D (see Solver::p2g).
+template <int D>
+void scatter(double* grid, long row, const long* stride, const Weights<D>& w,
+             const Eigen::Matrix<double, D, 1>& q, const Eigen::Matrix<double, D, D>& A, double m) {
+  Pair a[D][2], a2[D][2];
+  for (int c = 0; c < D; ++c) {
+    a[c][0] = Pair{A(0, c), A(1, c)};
+    a[c][1] = Pair{D == 3 ? A(D - 1, c) : 0.0, 0.0};  // 3D: row 2 and the mass lane's 0
+    a2[c][0] = a[c][0] + a[c][0];
+    a2[c][1] = a[c][1] + a[c][1];
+  }
+  // 3D: the second pair is (q_z, m), so that node (p_z, m) += w (q_z + ..., m + 0) in one.
+  const Pair q0{q[0], q[1]}, q1{D == 3 ? q[D - 1] : 0.0, m};
+#pragma GCC unroll 3
+  for (int i = 0; i < 3; ++i) {
+    const Pair qi0 = offset(q0, i, a[0][0], a2[0][0]), qi1 = offset(q1, i, a[0][1], a2[0][1]);
+#pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j) {
+      const double wij = w.w[0][i] * w.w[1][j];
+      const Pair qij0 = offset(qi0, j, a[1][0], a2[1][0]), qij1 = offset(qi1, j, a[1][1], a2[1][1]);
+      double* node = grid + (D + 1) * (row + i * stride[0] + j * stride[1]);
+      if constexpr (D == 2) {
+        store(node, load(node) + splat(wij) * qij0);
+        node[2] += wij * m;
+      } else {
+#pragma GCC unroll 3
+        for (int k = 0; k < 3; ++k, node += 4) {
+          const Pair wijk = splat(wij * w.w[2][k]);
+          store(node, load(node) + wijk * offset(qij0, k, a[2][0], a2[2][0]));
+          store(node + 2, load(node + 2) + wijk * offset(qij1, k, a[2][1], a2[2][1]));
+        }
+      }
+    }
+  }
+}
+
+// G2P's sums over the particle's 3^D nodes: v = Σ w_i v_i and Bo = Σ w_i v_i oᵀ.
+template <int D>
+void gather(const double* grid, long row, const long* stride, const Weights<D>& w,
+            Eigen::Matrix<double, D, 1>& v_out, Eigen::Matrix<double, D, D>& Bo_out) {
+  // 3D: pairs (x, y) and (z, mass); the mass lane's sums are not used.
+  constexpr int P = D == 3 ? 2 : 1;
+  Pair v[P] = {}, Bo[D][P] = {};
+  const auto add = [&](const double* node, double weight, const int (&o)[D]) {
+    Pair wv[P], wv2[P];
+    for (int l = 0; l < P; ++l) wv[l] = splat(weight) * load(node + 2 * l), wv2[l] = wv[l] + wv[l];
+    for (int l = 0; l < P; ++l) {
+      v[l] += wv[l];
+      for (int c = 0; c < D; ++c) Bo[c][l] = offset(Bo[c][l], o[c], wv[l], wv2[l]);
+    }
+  };
+#pragma GCC unroll 3
+  for (int i = 0; i < 3; ++i)
+#pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j) {
+      const double wij = w.w[0][i] * w.w[1][j];
+      const double* node = grid + (D + 1) * (row + i * stride[0] + j * stride[1]);
+      if constexpr (D == 2) {
+        add(node, wij, {i, j});
+      } else {
+#pragma GCC unroll 3
+        for (int k = 0; k < 3; ++k) add(node + 4 * k, wij * w.w[2][k], {i, j, k});
+      }
+    }
+  for (int r = 0; r < D; ++r) {
+    v_out[r] = v[r / 2][r % 2];
+    for (int c = 0; c < D; ++c) Bo_out(r, c) = Bo[c][r / 2][r % 2];
+  }
+}
 
 std::string shortest(double v) {
   std::ostringstream s;
@@ -166,50 +257,40 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t i = r.begin(); i < r.end(); ++i) grid_[i].setZero();
                     });
+  // The stress first, in a pass of its own over the particles in index order: it
+  // touches no node, so its iterations are independent and short, and the core
+  // overlaps one particle's chain of dependent operations (the SVD's) with the next.
+  // MLS-MPM's affine momentum: −Δt V⁰ 4/Δx² τ + m C  (Hu 2018, eq. 29).
   const double stress_scale = -dt * 4 * inv_dx_ * inv_dx_;
+  affine_.resize(static_cast<std::size_t>(ps.size()));  // allocates only when the count grows
+  tbb::parallel_for(tbb::blocked_range<int>(0, ps.size(), 1024), [&](const tbb::blocked_range<int>& r) {
+    long clamped = 0;
+    for (int p = r.begin(); p < r.end(); ++p) {
+      Mat tau;
+      clamped += kirchhoff_stress(ps, p, tau);
+      affine_[static_cast<std::size_t>(p)] = (stress_scale * ps.volume[p]) * tau + ps.mass[p] * ps.C[p];
+    }
+    if (clamped) clamped_ += clamped;
+  });
   for (const auto& blocks : colour_blocks_) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-      long clamped = 0;
       for (std::size_t k = r.begin(); k < r.end(); ++k) {
         const int b = blocks[k];
         for (int i = block_start_[b]; i < block_start_[b + 1]; ++i) {
           const int p = order_[i];
           const Weights<D> w(ps.x[p], inv_dx_);
-          Mat tau;
-          clamped += kirchhoff_stress(ps, p, tau);
           const double m = ps.mass[p];
-          // MLS-MPM momentum: m v + (−Δt V⁰ 4/Δx² τ + m C)(x_i − x_p)  (Hu 2018, eq. 29)
-          const Mat affine = (stress_scale * ps.volume[p]) * tau + m * ps.C[p];
+          const Mat& affine = affine_[static_cast<std::size_t>(p)];
           // Σ_i w_i (m v + affine (x_i − x_p)) with x_i − x_p = (o − fx) Δx, split as
           // q + A o: q = m v − affine fx Δx, A = affine Δx.
           const Vec q = m * ps.v[p] - affine * (w.fx * dx_);
           const Mat A = affine * dx_;
           long base = 0;
           for (int d = 0; d < D; ++d) base += w.base[d] * stride_[d];
-          for (int i = 0; i < 3; ++i) {
-            const Vec qi = q + A.col(0) * i;
-            for (int j = 0; j < 3; ++j) {
-              const double wij = w.w[0][i] * w.w[1][j];
-              const Vec qij = qi + A.col(1) * j;
-              const long row = base + i * stride_[0] + j * stride_[1];
-              if constexpr (D == 2) {
-                Node& node = grid_[static_cast<std::size_t>(row)];
-                node.template head<D>() += wij * qij;
-                node[D] += wij * m;
-              } else {
-                for (int k = 0; k < 3; ++k) {
-                  const double wijk = wij * w.w[2][k];
-                  Node& node = grid_[static_cast<std::size_t>(row + k)];
-                  node.template head<D>() += wijk * (qij + A.col(2) * k);
-                  node[D] += wijk * m;
-                }
-              }
-            }
-          }
+          scatter<D>(grid_.data()->data(), base, stride_.data(), w, q, A, m);
         }
       }
-      if (clamped) clamped_ += clamped;
     });
   }
 }
@@ -268,30 +349,11 @@ double Solver<D>::g2p(Particles<D>& ps, double dt) {
         for (int p = r.begin(); p < r.end(); ++p) {
           const Weights<D> w(ps.x[p], inv_dx_);
           // v = Σ w_i v_i and B = Σ w_i v_i (x_i − x_p)ᵀ = (Σ w_i v_i oᵀ − v fxᵀ) Δx.
-          Vec v = Vec::Zero();
-          Mat Bo = Mat::Zero();
+          Vec v;
+          Mat Bo;
           long base = 0;
           for (int d = 0; d < D; ++d) base += w.base[d] * stride_[d];
-          for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) {
-              const double wij = w.w[0][i] * w.w[1][j];
-              const long row = base + i * stride_[0] + j * stride_[1];
-              if constexpr (D == 2) {
-                const Vec wv = wij * grid_[static_cast<std::size_t>(row)].template head<D>();
-                v += wv;
-                Bo.col(0) += wv * i;
-                Bo.col(1) += wv * j;
-              } else {
-                for (int k = 0; k < 3; ++k) {
-                  const Vec wv =
-                      (wij * w.w[2][k]) * grid_[static_cast<std::size_t>(row + k)].template head<D>();
-                  v += wv;
-                  Bo.col(0) += wv * i;
-                  Bo.col(1) += wv * j;
-                  Bo.col(2) += wv * k;
-                }
-              }
-            }
+          gather<D>(grid_.data()->data(), base, stride_.data(), w, v, Bo);
           const Mat B = (Bo - v * w.fx.transpose()) * dx_;
           // APIC: C = 4/Δx² Σ w v_i (x_i − x_p)ᵀ for quadratic B-splines.
           const Mat C = (4 * inv_dx_ * inv_dx_) * B;

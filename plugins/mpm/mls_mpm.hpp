@@ -96,6 +96,7 @@ class Solver {
   double dx_, inv_dx_;
   Eigen::Matrix<long, D, 1> stride_;
   std::vector<Node> grid_;
+  std::vector<Mat> affine_;  // per particle, P2G's stress pass to its scatter
   // Binning workspace, kept across substeps (no allocation per substep).
   int blocks_per_axis_;
   std::vector<int> block_of_, block_start_, order_;
