@@ -26,6 +26,7 @@ class SampleShares {
   int slot(long fetched) const;
   // The counter's number that the current pass's slots start at.
   long base() const { return base_; }
+  int passes() const { return passes_; }  // summed so far
   // One pass summed over the ranks: rank r took taken[r] samples in busy[r]
   // seconds of its own work (its wait for the others not counted) and, dealt,
   // next[r] is one past the last number it fetched (base() if none).

@@ -226,7 +226,7 @@ class Split final : public RankSplit {
 
   void report() const override {
     stop_answering();
-    if (!by_samples_ || rank_ != 0 || !started_) return;
+    if (!by_samples_ || rank_ != 0 || samples_.passes() == 0) return;  // none summed: interrupted or failed
     const double seconds = std::chrono::duration<double>(resumed_.value_or(*started_) - *started_).count();
     std::fputs(samples_.report(node_, seconds).c_str(), stderr);
   }
