@@ -51,8 +51,10 @@ void barrier() {
 constexpr long kDealtPartsPerRank = 16;
 
 // A number on rank 0 that every rank takes the next value of (an MPI window:
-// rank 0 needs no thread to answer, its MPI library does, within the calls
-// rank 0 makes). Every rank makes and destroys it at once.
+// over shared memory or UCX it answers by itself; over TCP only within one
+// of rank 0's MPI calls, so rank 0 answers from a thread while dealt work
+// runs: Split::start_answering, and for frames evaluate_answering). Every rank
+// makes and destroys it at once.
 class SharedCounter {
  public:
   explicit SharedCounter(long first) {
