@@ -56,7 +56,7 @@ Images render(int spp, const PixelSplit* split) {
   return {r.outputs.at("pt.image").at(0).as<Image>().pixels, r.outputs.at("pt.samples").at(0).as<Image>().pixels};
 }
 
-TEST(PathTraceDealtSamples, TwoPartsTakeEverySampleOnceAndSumToOneProcesssImage) {
+TEST(PathTraceDealtSamples, TwoPartsTakeEverySampleOnceAndSumToOneProcessImage) {
   std::vector<int> first, second;  // one part every third slot, backwards; the other the rest
   for (int s = kSlots - 1; s >= 0; --s) (s % 3 == 0 ? first : second).push_back(s);
   std::reverse(second.begin() + 10, second.end());
