@@ -519,13 +519,6 @@ void write_sums(const double* in, PixelAccumulator& a) {
   a.n = int(in[12]);
 }
 
-// Split by samples: the samples this part took since the last sum (`total`).
-double samples_since_sum(const Film& film, const std::vector<double>& total) {
-  double taken = 0;
-  for (std::size_t p = 0; p < film.pixels.size(); ++p) taken += film.pixels[p].n - total[p * kSums + kSums - 1];
-  return taken;
-}
-
 // Split by samples: each part traced its share of a pass; what the pass added
 // on every part is summed, so that every part holds the sums of every sample
 // so far (`total`, kSums per pixel) and decides convergence from them. The
@@ -533,10 +526,11 @@ double samples_since_sum(const Film& film, const std::vector<double>& total) {
 void sum_pass_over_parts(Film& film, std::vector<double>& total,
                          const std::function<void(double*, std::size_t, double)>& sum_over_parts) {
   std::vector<double> pass(total.size());
-  const double taken = samples_since_sum(film, total);
+  double taken = 0;  // the pass's added counts, the last of each pixel's sums
   for (std::size_t p = 0; p < film.pixels.size(); ++p) {
     read_sums(film.pixels[p], &pass[p * kSums]);
     for (std::size_t i = p * kSums; i < (p + 1) * kSums; ++i) pass[i] -= total[i];
+    taken += pass[p * kSums + kSums - 1];
   }
   sum_over_parts(pass.data(), pass.size(), taken);
   for (std::size_t p = 0; p < film.pixels.size(); ++p) {
@@ -596,9 +590,6 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
     if (s.sum_over_parts) sum_pass_over_parts(film, total, s.sum_over_parts);
     if (hooks.after_pass) hooks.after_pass(film, spp_so_far);
   };
-  // Progressive: first sample 0 of one pixel in 8², 4², 2² (coarse images in
-  // a 64th, 16th and 4th of a pass's time, as Cycles' viewport starts at a
-  // low resolution), then every pixel takes its own samples in order as always.
   const auto groups = s.region.dealt() ? pixels_by_spread(film, s.region) : std::vector<std::vector<std::uint32_t>>{};
   auto trace = [&](Pass pass) {
     if (s.region.dealt())
@@ -606,6 +597,9 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
     else
       trace_pass(context, cam, film, pass, counts, hooks);
   };
+  // Progressive: first sample 0 of one pixel in 8², 4², 2² (coarse images in
+  // a 64th, 16th and 4th of a pass's time, as Cycles' viewport starts at a
+  // low resolution), then every pixel takes its own samples in order as always.
   if (s.progressive && !(s.adaptive_threshold > 0))
     for (int stride : {8, 4, 2}) {
       trace({1, stride});

@@ -41,6 +41,13 @@ void exchange_all(std::vector<MPI_Request>& requests) {
     sched_yield();
 }
 
+// Any call into MPI progresses a window's traffic: over TCP, rank 0 answers
+// the others' asks of a SharedCounter only inside one.
+void answer_asks() {
+  int flag = 0;
+  MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+}
+
 void barrier() {
   MPI_Request request;
   MPI_Ibarrier(MPI_COMM_WORLD, &request);
@@ -125,10 +132,7 @@ class CounterDealer final : public Dealer {
     return items;
   }
 
-  void answer() override {
-    int flag = 0;  // any call into MPI progresses the window's traffic
-    MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
-  }
+  void answer() override { answer_asks(); }
 
   void report(const std::string& what) override {
     const double mine[2] = {double(taken_), next_.longest_wait()};
@@ -287,8 +291,7 @@ class Split final : public RankSplit {
       while (answering_on_) {
         {
           const std::lock_guard lock(mpi_);
-          int flag = 0;
-          MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, MPI_STATUS_IGNORE);
+          answer_asks();
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       }

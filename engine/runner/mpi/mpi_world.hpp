@@ -45,9 +45,10 @@ class Dealer {
 
 // A split node's PixelSplit over the ranks. report() is called by every rank
 // right after the node's evaluation, before any other MPI call (it ends rank
-// 0's thread that answers the others' asks). Split by samples, it has rank 0 print how many samples each rank took and
-// its time in them: "mpi: trace: samples dealt as ranks asked in 16 passes:
-// 1.1M, 1.2M, 0.6M to ranks 0..2 (busy 5.1, 5.0, 5.2 s of 5.4 s)".
+// 0's thread that answers the others' asks). Split by samples, it has rank 0
+// print how many samples each rank took and its time in them: "mpi: trace:
+// samples dealt as ranks asked in 16 passes: 1.1M, 1.2M, 0.6M to ranks 0..2
+// (busy 5.1, 5.0, 5.2 s of 5.4 s)".
 class RankSplit : public PixelSplit {
  public:
   virtual void report() const = 0;
