@@ -112,6 +112,47 @@ Svd<D> svd_clamped(const Eigen::Matrix<double, D, D>& F, bool& clamped) {
   return f;
 }
 
+// Where the SVD's clamp would leave F alone (det F > 0 and every singular value
+// at least kMinSingularValue, so FᵀF − σ²I is positive definite: Sylvester's
+// leading minors), the rotation R of F's polar decomposition F = R S, which is
+// the SVD's U Vᵀ; false otherwise (R untouched), and the caller takes the SVD.
+// 2D closed form: R rotates by the angle of (F₀₀ + F₁₁, F₁₀ − F₀₁). 3D: Newton's
+// iteration X ← ½ (X + X⁻ᵀ) from X = F (Higham 1986), quadratic near R; stopped
+// when a step moves X by under 1e-9 (the next would move it by ~1e-18), or after
+// 40 steps (σ ≈ 1e6), when false sends it to the SVD. X⁻ᵀ = cof X / det X, the
+// cofactors' columns the cross products of X's. No trigonometry: in the stress of
+// the fixed-corotated materials it replaces the SVD, 2–3× its cost.
+template <int D>
+bool rotation_where_unclamped(const Eigen::Matrix<double, D, D>& F, Eigen::Matrix<double, D, D>& R) {
+  constexpr double s2 = kMinSingularValue * kMinSingularValue;
+  const Eigen::Matrix<double, D, D> A = F.transpose() * F - s2 * Eigen::Matrix<double, D, D>::Identity();
+  const double minor2 = A(0, 0) * A(1, 1) - A(0, 1) * A(0, 1);
+  if (!(A(0, 0) > 0 && minor2 > 0 && (D == 2 || A.determinant() > 0) && F.determinant() > 0))
+    return false;  // also catches NaN
+  if constexpr (D == 2) {
+    const double c = F(0, 0) + F(1, 1), s = F(1, 0) - F(0, 1), r = std::sqrt(c * c + s * s);
+    R << c / r, -s / r, s / r, c / r;
+    return true;
+  } else {
+    Eigen::Matrix3d X = F;
+    for (int k = 0; k < 40; ++k) {
+      Eigen::Matrix3d cof;
+      cof.col(0) = X.col(1).cross(X.col(2));
+      cof.col(1) = X.col(2).cross(X.col(0));
+      cof.col(2) = X.col(0).cross(X.col(1));
+      const double det = X.col(0).dot(cof.col(0));
+      const Eigen::Matrix3d next = 0.5 * (X + cof / det);
+      const double moved = (next - X).squaredNorm();
+      X = next;
+      if (moved < 1e-18) {
+        R = X;
+        return true;
+      }
+    }
+    return false;
+  }
+}
+
 // Kirchhoff stress of particle p. May rewrite F[p] (and J[p]) when it has to be
 // clamped away from a singular value near zero; returns true then.
 template <int D>
@@ -125,12 +166,25 @@ bool kirchhoff_stress(Particles<D>& ps, int p, Eigen::Matrix<double, D, D>& tau)
     return false;
   }
   Mat& F = ps.F[p];
+  double mu = ps.mu[p], lambda = ps.lambda[p];
+  if (m == Material::snow) {
+    const double h = snow_hardening(ps.J[p]);
+    mu *= h, lambda *= h;
+  }
+  // Fixed corotated (Stomakhin 2012): τ = 2μ (F − R) Fᵀ + λ (J − 1) J I, R = U Vᵀ.
+  const auto fixed_corotated = [&](const Mat& R, double J) {
+    tau = 2 * mu * (F - R) * F.transpose() + Mat::Identity() * (lambda * (J - 1) * J);
+  };
+  Mat R;
+  if (m != Material::sand && rotation_where_unclamped<D>(F, R)) {
+    fixed_corotated(R, F.determinant());
+    return false;
+  }
   bool clamped = false;
   const Svd<D> f = svd_clamped<D>(F, clamped);
   const Mat &U = f.U, &V = f.V;
   const Vec& sigma = f.sigma;
   if (clamped) F = U * sigma.asDiagonal() * V.transpose();
-  double mu = ps.mu[p], lambda = ps.lambda[p];
   if (m == Material::sand) {
     // St. Venant–Kirchhoff on Hencky strain ε = log Σ (Klár 2016, eq. 26):
     // τ = U (2μ ε + λ tr(ε) I) Uᵀ.
@@ -139,14 +193,7 @@ bool kirchhoff_stress(Particles<D>& ps, int p, Eigen::Matrix<double, D, D>& tau)
     tau = U * t.asDiagonal() * U.transpose();
     return clamped;
   }
-  if (m == Material::snow) {
-    const double h = snow_hardening(ps.J[p]);
-    mu *= h, lambda *= h;
-  }
-  // Fixed corotated (Stomakhin 2012): τ = 2μ (F − R) Fᵀ + λ (J − 1) J I, R = U Vᵀ.
-  const double J = sigma.prod();
-  const Mat R = U * V.transpose();
-  tau = 2 * mu * (F - R) * F.transpose() + Mat::Identity() * (lambda * (J - 1) * J);
+  fixed_corotated(U * V.transpose(), sigma.prod());
   return clamped;
 }
 

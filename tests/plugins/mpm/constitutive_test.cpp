@@ -2,6 +2,7 @@
 // independent references.
 #include "constitutive.hpp"
 
+#include <cstdio>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -57,6 +58,63 @@ TEST(Constitutive, FixedCorotatedStressOfARotatedStretch) {
   kirchhoff_stress(ps, 0, tau);
   EXPECT_LT((tau - expected).norm(), 1e-12);
 }
+
+// The polar rotation that replaces the SVD in the fixed-corotated stress: on
+// F = U diag(σ) Vᵀ built from random rotations it equals U Vᵀ (the reference is
+// the construction, not a decomposition), and it declines, leaving the SVD's
+// clamp to act, exactly where that clamp would: a σ below kMinSingularValue, an
+// inverted F, a non-finite one.
+template <int D>
+void check_polar_rotation(std::uint64_t seed) {
+  using Mat = Eigen::Matrix<double, D, D>;
+  using Vec = Eigen::Matrix<double, D, 1>;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI), log_sigma(std::log(0.21), std::log(50.0));
+  const auto rotation = [&] {
+    if constexpr (D == 2)
+      return Mat(Eigen::Rotation2Dd(angle(rng)).toRotationMatrix());
+    else
+      return Mat(Eigen::AngleAxisd(angle(rng), Eigen::Vector3d::Random().normalized()).toRotationMatrix());
+  };
+  double worst_polar = 0, worst_svd = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const Mat U = rotation(), V = rotation();
+    Vec sigma;
+    for (int d = 0; d < D; ++d) sigma[d] = trial % 2 ? 1 + 0.1 * (std::exp(log_sigma(rng)) - 1) / 50
+                                                      : std::exp(log_sigma(rng));
+    const Mat F = U * sigma.asDiagonal() * V.transpose();
+    Mat R;
+    ASSERT_TRUE(rotation_where_unclamped<D>(F, R)) << "trial " << trial << ", σ " << sigma.transpose();
+    EXPECT_LT((R - U * V.transpose()).norm(), 1e-12) << "trial " << trial;
+    EXPECT_LT((R.transpose() * R - Mat::Identity()).norm(), 1e-14) << "trial " << trial;
+    // The SVD path would not have clamped either; it gives U Vᵀ less exactly where
+    // σ spreads (FᵀF squares the condition number): within 1e-12 near the identity.
+    bool clamped = true;
+    const Svd<D> f = svd_clamped<D>(F, clamped);
+    EXPECT_FALSE(clamped);
+    const double svd_error = (f.U * f.V.transpose() - U * V.transpose()).norm();
+    if (trial % 2) {
+      EXPECT_LT(svd_error, 1e-12) << "trial " << trial;
+    }
+    worst_polar = std::max(worst_polar, (R - U * V.transpose()).norm());
+    worst_svd = std::max(worst_svd, svd_error);
+  }
+  std::printf("U Vᵀ to within %.1e by the polar iteration, %.1e by the SVD\n", worst_polar, worst_svd);
+  Mat R = Mat::Zero();
+  Vec low = Vec::Ones(), inverted = Vec::Ones();
+  low[D - 1] = 0.99 * kMinSingularValue;
+  inverted[D - 1] = -1;
+  EXPECT_FALSE(rotation_where_unclamped<D>(Mat(low.asDiagonal()), R));
+  low[D - 1] = 1.01 * kMinSingularValue;
+  EXPECT_TRUE(rotation_where_unclamped<D>(Mat(low.asDiagonal()), R));
+  R.setZero();
+  EXPECT_FALSE(rotation_where_unclamped<D>(Mat(inverted.asDiagonal()), R));
+  EXPECT_FALSE(rotation_where_unclamped<D>(Mat::Constant(std::nan("")), R));
+  EXPECT_EQ(R, Mat::Zero());  // untouched where it declines
+}
+
+TEST(Constitutive, PolarRotationIsTheSvdsWhereNothingIsClamped2D) { check_polar_rotation<2>(21); }
+TEST(Constitutive, PolarRotationIsTheSvdsWhereNothingIsClamped3D) { check_polar_rotation<3>(22); }
 
 TEST(Constitutive, SnowAndSandProjections) {
   Particles<3> ps;
