@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -12,6 +13,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 
+#include "lanes.hpp"
 #include "particles.hpp"
 
 namespace loom::mpm {
@@ -112,40 +114,71 @@ Svd<D> svd_clamped(const Eigen::Matrix<double, D, D>& F, bool& clamped) {
   return f;
 }
 
-// Where the SVD's clamp would leave F alone (det F > 0 and every singular value
-// at least kMinSingularValue, so FᵀF − σ²I is positive definite: Sylvester's
-// leading minors), the rotation R of F's polar decomposition F = R S, which is
-// the SVD's U Vᵀ; false otherwise (R untouched), and the caller takes the SVD.
-// 2D closed form: R rotates by the angle of (F₀₀ + F₁₁, F₁₀ − F₀₁). 3D: Newton's
-// iteration X ← ½ (X + X⁻ᵀ) from X = F (Higham 1986), quadratic near R; stopped
-// when a step moves X by under 1e-9 (the next would move it by ~1e-18), or after
-// 40 steps (σ ≈ 1e6), when false sends it to the SVD. X⁻ᵀ = cof X / det X, the
-// cofactors' columns the cross products of X's. No trigonometry: in the stress of
-// the fixed-corotated materials it replaces the SVD, 2–3× its cost.
+// Whether the SVD's clamp would leave F alone: det F > 0 and every singular value
+// at least kMinSingularValue, i.e. FᵀF − σ²I positive definite (Sylvester's
+// leading minors). False for a non-finite F too.
 template <int D>
-bool rotation_where_unclamped(const Eigen::Matrix<double, D, D>& F, Eigen::Matrix<double, D, D>& R) {
+bool unclamped(const Eigen::Matrix<double, D, D>& F) {
   constexpr double s2 = kMinSingularValue * kMinSingularValue;
   const Eigen::Matrix<double, D, D> A = F.transpose() * F - s2 * Eigen::Matrix<double, D, D>::Identity();
   const double minor2 = A(0, 0) * A(1, 1) - A(0, 1) * A(0, 1);
-  if (!(A(0, 0) > 0 && minor2 > 0 && (D == 2 || A.determinant() > 0) && F.determinant() > 0))
-    return false;  // also catches NaN
+  return A(0, 0) > 0 && minor2 > 0 && (D == 2 || A.determinant() > 0) && F.determinant() > 0;
+}
+
+// One step of Newton's polar iteration X ← ½ X + (½ / det X) cof X (Higham 1986;
+// cof X = det X · X⁻ᵀ, its columns the cross products of X's), on one 3×3 matrix
+// (T = double) or on two, lane by lane (T = Pair: each lane does the scalar
+// step's operations in its order). X[c] is column c. Returns ‖next − X‖²_F.
+template <class T>
+T polar_step(const T (&X)[3][3], T (&next)[3][3]) {
+  T cof[3][3];
+  for (int c = 0; c < 3; ++c) {
+    const T(&a)[3] = X[(c + 1) % 3];
+    const T(&b)[3] = X[(c + 2) % 3];
+    cof[c][0] = a[1] * b[2] - a[2] * b[1];
+    cof[c][1] = a[2] * b[0] - a[0] * b[2];
+    cof[c][2] = a[0] * b[1] - a[1] * b[0];
+  }
+  const T det = X[0][0] * cof[0][0] + X[0][1] * cof[0][1] + X[0][2] * cof[0][2];
+  const T half_inverse = 0.5 / det;
+  T moved{};
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) {
+      next[c][r] = 0.5 * X[c][r] + half_inverse * cof[c][r];
+      const T step = next[c][r] - X[c][r];
+      moved += step * step;
+    }
+  return moved;
+}
+
+// Newton's iteration stops when a step moves X by under 1e-9 (quadratic: the next
+// would move it by ~1e-18), or fails after 40 steps (σ ≈ 1e6 away from 1).
+constexpr double kPolarConverged = 1e-18;  // squared
+constexpr int kPolarSteps = 40;
+
+// Where F is unclamped, the rotation R of its polar decomposition F = R S (S
+// symmetric positive definite), which is the SVD's U Vᵀ; false otherwise, or when
+// Newton's iteration does not converge (R untouched), and the caller takes the
+// SVD. 2D closed form: R turns by the angle of (F₀₀ + F₁₁, F₁₀ − F₀₁). 3D:
+// Newton's iteration from X = F. No trigonometry: in the stress of the
+// fixed-corotated materials it replaces the SVD and its atan2 and sincos.
+template <int D>
+bool rotation_where_unclamped(const Eigen::Matrix<double, D, D>& F, Eigen::Matrix<double, D, D>& R) {
+  if (!unclamped<D>(F)) return false;
   if constexpr (D == 2) {
     const double c = F(0, 0) + F(1, 1), s = F(1, 0) - F(0, 1), r = std::sqrt(c * c + s * s);
     R << c / r, -s / r, s / r, c / r;
     return true;
   } else {
-    Eigen::Matrix3d X = F;
-    for (int k = 0; k < 40; ++k) {
-      Eigen::Matrix3d cof;
-      cof.col(0) = X.col(1).cross(X.col(2));
-      cof.col(1) = X.col(2).cross(X.col(0));
-      cof.col(2) = X.col(0).cross(X.col(1));
-      const double det = X.col(0).dot(cof.col(0));
-      const Eigen::Matrix3d next = 0.5 * (X + cof / det);
-      const double moved = (next - X).squaredNorm();
-      X = next;
-      if (moved < 1e-18) {
-        R = X;
+    double X[3][3], next[3][3];
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) X[c][r] = F(r, c);
+    for (int k = 0; k < kPolarSteps; ++k) {
+      const double moved = polar_step(X, next);
+      std::memcpy(X, next, sizeof X);
+      if (moved < kPolarConverged) {
+        for (int c = 0; c < 3; ++c)
+          for (int r = 0; r < 3; ++r) R(r, c) = X[c][r];
         return true;
       }
     }
@@ -153,10 +186,41 @@ bool rotation_where_unclamped(const Eigen::Matrix<double, D, D>& F, Eigen::Matri
   }
 }
 
-// Kirchhoff stress of particle p. May rewrite F[p] (and J[p]) when it has to be
-// clamped away from a singular value near zero; returns true then.
+// rotation_where_unclamped<3> of two matrices at once, lane l of a Pair for F[l]:
+// the two chains of dependent steps (a division and a dozen products each)
+// overlap. Each lane steps until its own convergence, then holds, so ok[l] and
+// R[l] equal bit for bit what rotation_where_unclamped<3> gives F[l] alone.
+inline void rotations_where_unclamped(const Eigen::Matrix3d* const (&F)[2], Eigen::Matrix3d* const (&R)[2],
+                                      bool (&ok)[2]) {
+  for (int l = 0; l < 2; ++l) ok[l] = unclamped<3>(*F[l]);
+  Pair X[3][3], next[3][3];
+  for (int c = 0; c < 3; ++c)  // a declined lane steps on the identity, which holds at once
+    for (int r = 0; r < 3; ++r)
+      X[c][r] = Pair{ok[0] ? (*F[0])(r, c) : double(r == c), ok[1] ? (*F[1])(r, c) : double(r == c)};
+  PairMask stepping = {ok[0] ? -1 : 0, ok[1] ? -1 : 0};
+  for (int k = 0; k < kPolarSteps && (stepping[0] || stepping[1]); ++k) {
+    const Pair moved = polar_step(X, next);
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) X[c][r] = stepping ? next[c][r] : X[c][r];
+    stepping &= ~(moved < kPolarConverged);
+  }
+  for (int l = 0; l < 2; ++l) {
+    ok[l] = ok[l] && !stepping[l];
+    if (ok[l])
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) (*R[l])(r, c) = X[c][r][l];
+  }
+}
+
+inline bool fixed_corotated(Material m) { return m == Material::elastic || m == Material::snow; }
+
+// Kirchhoff stress of particle p; R its polar rotation where
+// rotation_where_unclamped found one (a fixed-corotated material only), else null.
+// May rewrite F[p] (and J[p]) when it has to be clamped away from a singular value
+// near zero; returns true then.
 template <int D>
-bool kirchhoff_stress(Particles<D>& ps, int p, Eigen::Matrix<double, D, D>& tau) {
+bool kirchhoff_stress(Particles<D>& ps, int p, const Eigen::Matrix<double, D, D>* R,
+                      Eigen::Matrix<double, D, D>& tau) {
   using Mat = Eigen::Matrix<double, D, D>;
   using Vec = Eigen::Matrix<double, D, 1>;
   const Material m = ps.material[p];
@@ -172,12 +236,11 @@ bool kirchhoff_stress(Particles<D>& ps, int p, Eigen::Matrix<double, D, D>& tau)
     mu *= h, lambda *= h;
   }
   // Fixed corotated (Stomakhin 2012): τ = 2μ (F − R) Fᵀ + λ (J − 1) J I, R = U Vᵀ.
-  const auto fixed_corotated = [&](const Mat& R, double J) {
-    tau = 2 * mu * (F - R) * F.transpose() + Mat::Identity() * (lambda * (J - 1) * J);
+  const auto corotated = [&](const Mat& rotation, double J) {
+    tau = 2 * mu * (F - rotation) * F.transpose() + Mat::Identity() * (lambda * (J - 1) * J);
   };
-  Mat R;
-  if (m != Material::sand && rotation_where_unclamped<D>(F, R)) {
-    fixed_corotated(R, F.determinant());
+  if (R) {
+    corotated(*R, F.determinant());
     return false;
   }
   bool clamped = false;
@@ -193,8 +256,32 @@ bool kirchhoff_stress(Particles<D>& ps, int p, Eigen::Matrix<double, D, D>& tau)
     tau = U * t.asDiagonal() * U.transpose();
     return clamped;
   }
-  fixed_corotated(U * V.transpose(), sigma.prod());
+  corotated(U * V.transpose(), sigma.prod());
   return clamped;
+}
+
+template <int D>
+bool kirchhoff_stress(Particles<D>& ps, int p, Eigen::Matrix<double, D, D>& tau) {
+  Eigen::Matrix<double, D, D> R;
+  const bool polar = fixed_corotated(ps.material[p]) && rotation_where_unclamped<D>(ps.F[p], R);
+  return kirchhoff_stress<D>(ps, p, polar ? &R : nullptr, tau);
+}
+
+// The stresses of particles p and p + 1, equal bit for bit to two calls of
+// kirchhoff_stress; in 3D two fixed-corotated particles' polar iterations run
+// side by side. Returns how many were clamped.
+template <int D>
+int kirchhoff_stresses(Particles<D>& ps, int p, Eigen::Matrix<double, D, D> (&tau)[2]) {
+  if constexpr (D == 3) {
+    if (fixed_corotated(ps.material[p]) && fixed_corotated(ps.material[p + 1])) {
+      Eigen::Matrix3d R0, R1;
+      bool ok[2];
+      rotations_where_unclamped({&ps.F[p], &ps.F[p + 1]}, {&R0, &R1}, ok);
+      return kirchhoff_stress<3>(ps, p, ok[0] ? &R0 : nullptr, tau[0]) +
+             kirchhoff_stress<3>(ps, p + 1, ok[1] ? &R1 : nullptr, tau[1]);
+    }
+  }
+  return kirchhoff_stress<D>(ps, p, tau[0]) + kirchhoff_stress<D>(ps, p + 1, tau[1]);
 }
 
 // Plastic projection of particle p after F was advanced; true when J had to be

@@ -38,11 +38,6 @@ struct Weights {
   }
 };
 
-// Two doubles in one register (a GCC/Clang vector extension: SSE2 on x86-64, the
-// baseline Loom is built for). Each lane does the scalar code's IEEE operation on
-// one component, in the scalar code's order, so results are bit-identical to it.
-using Pair = double __attribute__((vector_size(16)));
-
 Pair load(const double* p) {
   Pair r;
   std::memcpy(&r, p, sizeof r);
@@ -263,12 +258,24 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
   // MLS-MPM's affine momentum: −Δt V⁰ 4/Δx² τ + m C  (Hu 2018, eq. 29).
   const double stress_scale = -dt * 4 * inv_dx_ * inv_dx_;
   affine_.resize(static_cast<std::size_t>(ps.size()));  // allocates only when the count grows
+  // Particles go two at a time (kirchhoff_stresses: the same stresses as one at a
+  // time, so how the range is split does not matter).
+  const auto affine = [&](int p, const Mat& tau) {
+    affine_[static_cast<std::size_t>(p)] = (stress_scale * ps.volume[p]) * tau + ps.mass[p] * ps.C[p];
+  };
   tbb::parallel_for(tbb::blocked_range<int>(0, ps.size(), 1024), [&](const tbb::blocked_range<int>& r) {
     long clamped = 0;
-    for (int p = r.begin(); p < r.end(); ++p) {
+    int p = r.begin();
+    for (; p + 1 < r.end(); p += 2) {
+      Mat tau[2];
+      clamped += kirchhoff_stresses(ps, p, tau);
+      affine(p, tau[0]);
+      affine(p + 1, tau[1]);
+    }
+    if (p < r.end()) {
       Mat tau;
       clamped += kirchhoff_stress(ps, p, tau);
-      affine_[static_cast<std::size_t>(p)] = (stress_scale * ps.volume[p]) * tau + ps.mass[p] * ps.C[p];
+      affine(p, tau);
     }
     if (clamped) clamped_ += clamped;
   });

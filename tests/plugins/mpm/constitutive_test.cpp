@@ -3,6 +3,7 @@
 #include "constitutive.hpp"
 
 #include <cstdio>
+#include <cstring>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -115,6 +116,40 @@ void check_polar_rotation(std::uint64_t seed) {
 
 TEST(Constitutive, PolarRotationIsTheSvdsWhereNothingIsClamped2D) { check_polar_rotation<2>(21); }
 TEST(Constitutive, PolarRotationIsTheSvdsWhereNothingIsClamped3D) { check_polar_rotation<3>(22); }
+
+// Two particles' polar iterations side by side give each exactly what it gets
+// alone (bit for bit), when the lanes need different numbers of steps and when
+// one or both decline (a low σ, an inverted F, NaN), so the stress pass's
+// results do not depend on how particles are paired.
+TEST(Constitutive, PairedPolarRotationsEqualOneAtATimeBitForBit) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI), log_sigma(std::log(0.21), std::log(50.0));
+  const auto random_F = [&](int kind) {
+    const auto rotation = [&] {
+      return Eigen::Matrix3d(Eigen::AngleAxisd(angle(rng), Eigen::Vector3d::Random().normalized()));
+    };
+    Eigen::Vector3d sigma;
+    for (int d = 0; d < 3; ++d) sigma[d] = kind == 0 ? 1 + 0.01 * angle(rng) : std::exp(log_sigma(rng));
+    if (kind == 2) sigma[2] = 0.5 * kMinSingularValue;
+    if (kind == 3) sigma[1] = -sigma[1];
+    Eigen::Matrix3d F = rotation() * sigma.asDiagonal() * rotation().transpose();
+    if (kind == 4) F(1, 2) = std::nan("");
+    return F;
+  };
+  int steps_differ = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    const Eigen::Matrix3d F0 = random_F(trial % 5), F1 = random_F((trial / 5) % 5);
+    Eigen::Matrix3d R0 = Eigen::Matrix3d::Zero(), R1 = R0, alone0 = R0, alone1 = R0;
+    bool ok[2];
+    rotations_where_unclamped({&F0, &F1}, {&R0, &R1}, ok);
+    EXPECT_EQ(ok[0], rotation_where_unclamped<3>(F0, alone0)) << "trial " << trial;
+    EXPECT_EQ(ok[1], rotation_where_unclamped<3>(F1, alone1)) << "trial " << trial;
+    EXPECT_EQ(std::memcmp(R0.data(), alone0.data(), sizeof R0), 0) << "trial " << trial;
+    EXPECT_EQ(std::memcmp(R1.data(), alone1.data(), sizeof R1), 0) << "trial " << trial;
+    steps_differ += trial % 5 == 0 && (trial / 5) % 5 == 1;
+  }
+  EXPECT_GT(steps_differ, 10);  // a near-identity lane beside a far one
+}
 
 TEST(Constitutive, SnowAndSandProjections) {
   Particles<3> ps;
