@@ -219,8 +219,7 @@ inline bool fixed_corotated(Material m) { return m == Material::elastic || m == 
 // May rewrite F[p] (and J[p]) when it has to be clamped away from a singular value
 // near zero; returns true then.
 template <int D>
-bool kirchhoff_stress(Particles<D>& ps, int p, const Eigen::Matrix<double, D, D>* R,
-                      Eigen::Matrix<double, D, D>& tau) {
+bool kirchhoff_stress(Particles<D>& ps, int p, const Eigen::Matrix<double, D, D>* R, Eigen::Matrix<double, D, D>& tau) {
   using Mat = Eigen::Matrix<double, D, D>;
   using Vec = Eigen::Matrix<double, D, 1>;
   const Material m = ps.material[p];

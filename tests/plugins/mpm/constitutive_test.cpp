@@ -81,8 +81,8 @@ void check_polar_rotation(std::uint64_t seed) {
   for (int trial = 0; trial < 2000; ++trial) {
     const Mat U = rotation(), V = rotation();
     Vec sigma;
-    for (int d = 0; d < D; ++d) sigma[d] = trial % 2 ? 1 + 0.1 * (std::exp(log_sigma(rng)) - 1) / 50
-                                                      : std::exp(log_sigma(rng));
+    for (int d = 0; d < D; ++d)
+      sigma[d] = trial % 2 ? 1 + 0.1 * (std::exp(log_sigma(rng)) - 1) / 50 : std::exp(log_sigma(rng));
     const Mat F = U * sigma.asDiagonal() * V.transpose();
     Mat R;
     ASSERT_TRUE(rotation_where_unclamped<D>(F, R)) << "trial " << trial << ", σ " << sigma.transpose();
