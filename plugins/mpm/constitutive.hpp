@@ -187,8 +187,8 @@ bool rotation_where_unclamped(const Eigen::Matrix<double, D, D>& F, Eigen::Matri
 }
 
 // rotation_where_unclamped<3> of two matrices at once, lane l of a Pair for F[l]:
-// the two chains of dependent steps (a division and a dozen products each)
-// overlap. Each lane steps until its own convergence, then holds, so ok[l] and
+// the two chains of dependent steps (a division and some fifty products and sums
+// each) overlap. Each lane steps until its own convergence, then holds, so ok[l] and
 // R[l] equal bit for bit what rotation_where_unclamped<3> gives F[l] alone.
 inline void rotations_where_unclamped(const Eigen::Matrix3d* const (&F)[2], Eigen::Matrix3d* const (&R)[2],
                                       bool (&ok)[2]) {

@@ -254,7 +254,8 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
                     });
   // The stress first, in a pass of its own over the particles in index order: it
   // touches no node, so its iterations are independent and short, and the core
-  // overlaps one particle's chain of dependent operations (the SVD's) with the next.
+  // overlaps one particle's chain of dependent operations (the polar iteration's,
+  // the SVD's) with the next.
   // MLS-MPM's affine momentum: −Δt V⁰ 4/Δx² τ + m C  (Hu 2018, eq. 29).
   const double stress_scale = -dt * 4 * inv_dx_ * inv_dx_;
   affine_.resize(static_cast<std::size_t>(ps.size()));  // allocates only when the count grows
