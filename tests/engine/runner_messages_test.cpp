@@ -41,6 +41,38 @@ TEST(RunnerMessages, AnUnknownCommandIsNamedWithTheNearestOne) {
   EXPECT_EQ(test::run_loom("nodes Math", &out), 0) << out;
 }
 
+// CLI11 hands an option that needs a value the next word, whatever it is: before
+// this rule `--profile --quiet` wrote the profile to a file named "--quiet" and
+// ran without --quiet. Now such a command is refused, naming both, and writes
+// nothing; a value after its option, and sbatch's options given to --slurm-arg
+// (not loom's own), go through as before.
+TEST(RunnerMessages, AnOptionGivenAsAnothersValueIsRefusedNamingBoth) {
+  const auto dir = test::temp_dir();
+  const auto g = write_graph(dir, sequence_graph(1, 0));
+  const std::string run = "run " + g.string() + " --no-cache --out " + (dir / "out").string();
+  std::string out;
+  EXPECT_EQ(loom(run + " --profile --quiet", &out), 2);
+  EXPECT_NE(out.find("--profile: needs a value before \"--quiet\", which is an option (write: --profile VALUE "
+                     "--quiet)"),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(loom(run + " --profile -q", &out), 2);
+  EXPECT_NE(out.find("needs a value before \"-q\""), std::string::npos) << out;
+  EXPECT_EQ(loom(run + " --profile --frames=1", &out), 2);
+  EXPECT_NE(out.find("needs a value before \"--frames=1\""), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(dir / "out")) << "nothing runs";
+  EXPECT_EQ(loom("submit " + g.string() + " --to local --job-dir --chunk=2", &out), 2);
+  EXPECT_NE(out.find("--job-dir: needs a value before \"--chunk=2\""), std::string::npos) << out;
+  // As meant: the value first.
+  ASSERT_EQ(loom(run + " --profile " + (dir / "p.json").string() + " --quiet", &out), 0) << out;
+  EXPECT_TRUE(fs::exists(dir / "p.json"));
+  EXPECT_TRUE(out.empty()) << out;  // --quiet applied
+  ASSERT_EQ(loom("submit " + g.string() + " --to local --slurm-arg=--partition=gpu --out " + (dir / "job").string(),
+                 &out),
+            0)
+      << out;
+}
+
 TEST(RunnerMessages, AMissingInputFileSuggestsTheClosestNameAndSaysHowItWasResolved) {
   const auto dir = test::temp_dir();
   fs::create_directories(dir / "meshes");

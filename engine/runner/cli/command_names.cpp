@@ -1,5 +1,7 @@
 #include "cli/command_names.hpp"
 
+#include <set>
+
 #include "loom/suggest.hpp"
 
 namespace loom::runner {
@@ -18,6 +20,26 @@ std::optional<std::string> unknown_command_message(const CLI::App& app, int argc
   std::string list;
   for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
   return text + " (commands: " + list + "; loom --help for more)";
+}
+
+void refuse_options_as_values(CLI::App& app) {
+  std::set<std::string> names;
+  for (const CLI::Option* opt : app.get_options()) {
+    for (const auto& n : opt->get_lnames()) names.insert("--" + n);
+    for (const auto& n : opt->get_snames()) names.insert("-" + n);
+  }
+  for (CLI::Option* opt : app.get_options()) {
+    if (!opt->nonpositional() || opt->get_expected_max() == 0) continue;  // positionals and flags
+    const std::string option = opt->get_name();
+    opt->check(CLI::Validator(
+        [names, option](std::string& value) -> std::string {
+          if (!names.count(value.substr(0, value.find('=')))) return {};
+          return "needs a value before \"" + value + "\", which is an option (write: " + option + " VALUE " + value +
+                 ")";
+        },
+        "", "not an option"));
+  }
+  for (CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) refuse_options_as_values(*sub);
 }
 
 }  // namespace loom::runner

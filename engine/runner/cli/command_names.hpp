@@ -1,5 +1,6 @@
-// `loom rnu`: a mistyped command is named, with the nearest command, instead
-// of CLI11's "A subcommand is required".
+// Command-line mistakes named as such: `loom rnu` (a mistyped command, named
+// with the nearest one instead of CLI11's "A subcommand is required") and
+// `loom run g.json --profile --quiet` (an option given as another's value).
 #pragma once
 
 #include <optional>
@@ -12,5 +13,13 @@ namespace loom::runner {
 // The error for argv[1] when it is neither an option nor one of app's
 // subcommands: "unknown command "rnu": did you mean "run"? (commands: ...)".
 std::optional<std::string> unknown_command_message(const CLI::App& app, int argc, char** argv);
+
+// CLI11 hands an option that needs a value the next word even when that word is
+// another option: `--profile --quiet` wrote the profile to a file named
+// "--quiet" and did not apply --quiet. Every option of app and of its
+// subcommands that takes a value refuses one naming an option of its own
+// command ("--quiet", "-q", "--out=DIR"), with an error that says so. Call once
+// every option is added.
+void refuse_options_as_values(CLI::App& app);
 
 }  // namespace loom::runner

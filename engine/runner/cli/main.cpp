@@ -348,6 +348,7 @@ static int loom_main(int argc, char** argv) {
   scaffold->add_option("--dir", plugin_dir, "create the plugin in DIR/NAME")->capture_default_str();
 
   auto farm = loom::runner::add_farm_commands(app);
+  loom::runner::refuse_options_as_values(app);
 
   if (auto unknown = loom::runner::unknown_command_message(app, argc, argv)) {
     std::cerr << "error: " << *unknown << "\n";
