@@ -67,9 +67,8 @@ TEST(RunnerMessages, AnOptionGivenAsAnothersValueIsRefusedNamingBoth) {
   ASSERT_EQ(loom(run + " --profile " + (dir / "p.json").string() + " --quiet", &out), 0) << out;
   EXPECT_TRUE(fs::exists(dir / "p.json"));
   EXPECT_TRUE(out.empty()) << out;  // --quiet applied
-  ASSERT_EQ(loom("submit " + g.string() + " --to local --slurm-arg=--partition=gpu --out " + (dir / "job").string(),
-                 &out),
-            0)
+  ASSERT_EQ(
+      loom("submit " + g.string() + " --to local --slurm-arg=--partition=gpu --out " + (dir / "job").string(), &out), 0)
       << out;
 }
 
