@@ -72,6 +72,31 @@ TEST(RunnerMessages, AnOptionGivenAsAnothersValueIsRefusedNamingBoth) {
       << out;
 }
 
+// Numbers out of range are said in words, where CLI11 said "Value 0 not in
+// range 0.000000 to 17976931348623157081..." (for a positive number, 0 too).
+TEST(RunnerMessages, ANumberOutOfRangeIsSaidInWords) {
+  const auto dir = test::temp_dir();
+  const auto g = write_graph(dir, sequence_graph(1, 0));
+  const std::string run = "run " + g.string() + " --no-cache --out " + (dir / "out").string();
+  std::string out;
+  const auto refused = [&](const std::string& args, const std::string& message) {
+    EXPECT_EQ(loom(args, &out), 2) << args;
+    EXPECT_NE(out.find(message), std::string::npos) << args << "\n" << out;
+    EXPECT_EQ(out.find("not in range"), std::string::npos) << out;
+  };
+  refused(run + " --threads -1", "--threads: expected a whole number of at least 0, got \"-1\"");
+  refused(run + " --threads 1.5", "--threads: expected a whole number of at least 0, got \"1.5\"");
+  refused(run + " --threads two", "--threads: expected a whole number of at least 0, got \"two\"");
+  refused(run + " --cache-limit 0", "--cache-limit: expected a number above 0, got \"0\"");
+  refused(run + " --preview-every -1", "--preview-every: expected a number of at least 0, got \"-1\"");
+  refused("submit " + g.string() + " --to local -j 0", "--jobs: expected a whole number of at least 1, got \"0\"");
+  refused("submit " + g.string() + " --to local --cache-limit -5",
+          "--cache-limit: expected a number above 0, got \"-5\"");
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  // In range, as before: a small cache limit, all cores.
+  EXPECT_EQ(loom(run + " --threads 0 --cache-limit 0.005 --preview-every 0", &out), 0) << out;
+}
+
 TEST(RunnerMessages, AMissingInputFileSuggestsTheClosestNameAndSaysHowItWasResolved) {
   const auto dir = test::temp_dir();
   fs::create_directories(dir / "meshes");

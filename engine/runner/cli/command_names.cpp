@@ -1,6 +1,8 @@
 #include "cli/command_names.hpp"
 
+#include <cmath>
 #include <set>
+#include <sstream>
 
 #include "loom/suggest.hpp"
 
@@ -41,5 +43,35 @@ void refuse_options_as_values(CLI::App& app) {
   }
   for (CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) refuse_options_as_values(*sub);
 }
+
+namespace {
+
+// Numbers of at least `bound` (above it if `strict`), whole ones if `whole`.
+CLI::Validator number_check(double bound, bool whole, bool strict) {
+  std::ostringstream b;
+  b << bound;
+  const std::string wanted =
+      std::string(whole ? "a whole number" : "a number") + (strict ? " above " : " of at least ") + b.str();
+  return CLI::Validator(
+      [=](std::string& value) -> std::string {
+        std::size_t used = 0;
+        double v = NAN;
+        try {
+          v = std::stod(value, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        const bool in_range = strict ? v > bound : v >= bound;
+        const bool ok = used == value.size() && std::isfinite(v) && in_range && (!whole || v == std::floor(v));
+        return ok ? std::string() : "expected " + wanted + ", got \"" + value + "\"";
+      },
+      "", wanted);
+}
+
+}  // namespace
+
+CLI::Validator whole_number_at_least(long least) { return number_check(static_cast<double>(least), true, false); }
+CLI::Validator number_at_least(double least) { return number_check(least, false, false); }
+CLI::Validator number_above(double bound) { return number_check(bound, false, true); }
 
 }  // namespace loom::runner

@@ -269,7 +269,7 @@ void add_cache_options(CLI::App* app, loom::runner::CacheSettings& cache) {
   app->add_option("--cache", cache.dir, "persistent cache folder (default: $XDG_CACHE_HOME/loom)");
   app->add_option("--cache-limit", cache.limit_mb, "cache size limit in MB (least recently used out)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(loom::runner::number_above(0));
 }
 
 // `loom run`'s command line, one option per line, read top to bottom like `loom run --help`.
@@ -279,7 +279,8 @@ CLI::App* add_run_command(CLI::App& app, RunSettings& s, loom::runner::SweepRequ
   run->add_option("--out", s.out_dir, "folder for output files (relative output paths)")->capture_default_str();
   run->add_option("--set", s.sets, "override an input: ID.INPUT=JSON (repeatable)");
   run->add_option("--target", s.targets, "evaluate ID or ID.OUTPUT instead of the sinks (repeatable)");
-  run->add_option("--threads", s.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  run->add_option("--threads", s.threads, "worker threads (0: all cores)")
+      ->check(loom::runner::whole_number_at_least(0));
   run->add_option("--profile", s.profile_path, "write a JSON profile of the run to this file (with --sweep: per point)");
   run->add_flag("--quiet,-q", s.quiet, "print only errors and requested outputs");
   run->add_flag("--json", s.print_json, "print the requested outputs as one JSON object, each value in full");
@@ -291,14 +292,14 @@ CLI::App* add_run_command(CLI::App& app, RunSettings& s, loom::runner::SweepRequ
                   "file, atomically; sinks still write the final results");
   run->add_option("--preview-every", s.preview_every, "with --preview: seconds between writes at least")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(loom::runner::number_at_least(0));
   run->add_option("--frames", s.frames, "frames to run, A-B or A (default: the graph's \"time\" range)");
   add_cache_options(run, s.cache);
   run->add_flag("--no-cache", s.cache.disabled, "neither read nor write the persistent cache");
   run->add_option("--cache-min-seconds", s.cache.min_seconds,
                   "store only results whose node takes this long over the run's frames (docs/time.md)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(loom::runner::number_at_least(0));
   run->add_flag("--cache-no-trim", s.cache.no_trim, "never trim the cache to its limit (farm workers sharing one)");
   run->add_flag("--allow-outside-out", s.allow_outside,
                 "let output paths be absolute or climb out of --out with \"..\" (refused otherwise)");

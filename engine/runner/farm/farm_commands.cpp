@@ -2,6 +2,7 @@
 
 #include <iostream>
 
+#include "cli/command_names.hpp"
 #include "cli/exit_codes.hpp"
 #include "farm/dispatch.hpp"
 #include "farm/jobs.hpp"
@@ -35,16 +36,17 @@ Commands::Commands(CLI::App& app) {
   submit_->add_option("--job-dir", r.job_dir, "the job folder (default: OUT/.loom-job)");
   submit_->add_option("--frames", r.run.frames, "frames, A-B or A (default: the graph's \"time\" range)");
   submit_->add_option("--chunk", r.chunk, "frames (or sweep points) per task (default: 10 frames, 1 point)")
-      ->check(CLI::PositiveNumber);
+      ->check(whole_number_at_least(1));
   submit_->add_option("--retries", r.retries, "re-runs of a task that exits 1 or is killed by a signal")
-      ->capture_default_str()->check(CLI::NonNegativeNumber);
-  submit_->add_option("-j,--jobs", r.jobs, "local: tasks at once (default: the cores)")->check(CLI::PositiveNumber);
+      ->capture_default_str()->check(whole_number_at_least(0));
+  submit_->add_option("-j,--jobs", r.jobs, "local: tasks at once (default: the cores)")
+      ->check(whole_number_at_least(1));
   submit_->add_option("--slurm-arg", r.slurm_args, "passed to sbatch, e.g. --slurm-arg=--partition=gpu (repeatable)")
       ->allow_extra_args(false);
   submit_
       ->add_option("--sim-chunk", r.sim_chunk,
                    "simulations as chained tasks of this many frames, each continuing from the last stored state")
-      ->check(CLI::PositiveNumber);
+      ->check(whole_number_at_least(1));
   submit_->add_option("--loom", r.node_loom,
                       "Slurm: the loom each node runs, a name on its PATH or a path (default: loom on the "
                       "node's PATH, else this one's path)");
@@ -52,11 +54,14 @@ Commands::Commands(CLI::App& app) {
   submit_->add_option("--set", r.run.sets, "override an input: ID.INPUT=JSON (repeatable; baked into the job)");
   submit_->add_option("--target", r.run.targets, "evaluate ID or ID.OUTPUT instead of the sinks (repeatable)");
   submit_->add_option("--threads", r.run.threads, "worker threads per task (0: all cores)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number_at_least(0));
   submit_->add_option("--cache", r.cache_dir, "the cache shared by the tasks (default: OUT/.loom-cache)");
-  submit_->add_option("--cache-limit", r.cache_limit_mb, "cache size limit in MB")->capture_default_str();
+  submit_->add_option("--cache-limit", r.cache_limit_mb, "cache size limit in MB")
+      ->capture_default_str()
+      ->check(number_above(0));
   submit_->add_option("--cache-min-seconds", r.cache_min_seconds, "store only results slower than this")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_at_least(0));
   submit_->add_flag("--no-cache", r.no_cache, "tasks share no cache (simulations then re-simulate per chunk)");
   submit_->add_flag("--allow-outside-out", r.run.allow_outside, "as loom run");
   add_sweep_options(submit_, r.sweep);
@@ -66,7 +71,8 @@ Commands::Commands(CLI::App& app) {
       ->required()->check(CLI::IsMember({"status", "resume", "cancel", "task"}));
   jobs_->add_option("jobdir", job_dir_, "the job folder (OUT/.loom-job)")->required();
   jobs_->add_option("task", task_, "with `task`: the task id");
-  jobs_->add_option("-j,--jobs", jobs_count_, "local resume: tasks at once")->check(CLI::PositiveNumber);
+  jobs_->add_option("-j,--jobs", jobs_count_, "local resume: tasks at once")
+      ->check(whole_number_at_least(1));
 }
 
 int Commands::run() {
