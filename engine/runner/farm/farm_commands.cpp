@@ -38,7 +38,8 @@ Commands::Commands(CLI::App& app) {
   submit_->add_option("--chunk", r.chunk, "frames (or sweep points) per task (default: 10 frames, 1 point)")
       ->check(whole_number_at_least(1));
   submit_->add_option("--retries", r.retries, "re-runs of a task that exits 1 or is killed by a signal")
-      ->capture_default_str()->check(whole_number_at_least(0));
+      ->capture_default_str()
+      ->check(whole_number_at_least(0));
   submit_->add_option("-j,--jobs", r.jobs, "local: tasks at once (default: the cores)")
       ->check(whole_number_at_least(1));
   submit_->add_option("--slurm-arg", r.slurm_args, "passed to sbatch, e.g. --slurm-arg=--partition=gpu (repeatable)")
@@ -71,8 +72,7 @@ Commands::Commands(CLI::App& app) {
       ->required()->check(CLI::IsMember({"status", "resume", "cancel", "task"}));
   jobs_->add_option("jobdir", job_dir_, "the job folder (OUT/.loom-job)")->required();
   jobs_->add_option("task", task_, "with `task`: the task id");
-  jobs_->add_option("-j,--jobs", jobs_count_, "local resume: tasks at once")
-      ->check(whole_number_at_least(1));
+  jobs_->add_option("-j,--jobs", jobs_count_, "local resume: tasks at once")->check(whole_number_at_least(1));
 }
 
 int Commands::run() {
