@@ -5,6 +5,7 @@ import atexit
 import collections
 import collections.abc
 import json
+import numbers
 import os
 import sys
 import weakref
@@ -107,6 +108,9 @@ class Session:
     paths of Save nodes resolve against."""
 
     def __init__(self, threads=0, disk_cache=True, output_dir=".", allow_outside_output=False):
+        # As `loom run --threads`: -1 meant all cores and 1.5 one thread, silently.
+        if isinstance(threads, bool) or not isinstance(threads, numbers.Integral) or threads < 0:
+            raise ValueError(f"threads: expected a whole number of at least 0 (0: all cores), got {threads!r}")
         cache = None if disk_cache is False or disk_cache is None else ("" if disk_cache is True else os.fspath(disk_cache))
         self._core = _loom.SessionCore(int(threads), cache, os.fspath(output_dir), bool(allow_outside_output))
         _sessions.add(self)

@@ -26,6 +26,18 @@ def test_python_node_matches_numpy(session):
     assert r[scale.image].encoding == "srgb"
 
 
+def test_threads_is_a_whole_number_of_at_least_zero():
+    # As `loom run --threads`: refused with the same words, not truncated or
+    # read as "all cores".
+    for bad in (-1, 1.5, "2", True, None):
+        with pytest.raises(ValueError, match=r"threads: expected a whole number of at least 0 \(0: all cores\), got "):
+            loom.Session(threads=bad, disk_cache=False)
+    for good in (0, 1, np.int64(2)):
+        g = loom.Graph()
+        board = g.add("Checkerboard", size=[8, 8])
+        assert np.asarray(loom.Session(threads=good, disk_cache=False).run(g, board.image)).shape[:2] == (8, 8)
+
+
 def test_python_node_same_in_loom_run(session, runner, tmp_path):
     # Two Python nodes and a C++ node side by side on 2 threads in `loom run`,
     # against the session's values. A linear source (HeightMap), so that the
