@@ -89,34 +89,66 @@ void scatter(double* grid, long row, const long* stride, const Weights<D>& w,
   }
 }
 
-// G2P's sums over the particle's 3^D nodes: v = Σ w_i v_i and Bo = Σ w_i v_i oᵀ.
+// Three terms at the offsets o = 0, 1, 2 along one axis: their sum, and their sum
+// weighted by the offset, t₁ + 2 t₂.
+Pair sum3(const Pair (&t)[3]) { return (t[0] + t[1]) + t[2]; }
+Pair moment3(const Pair (&t)[3]) { return t[1] + (t[2] + t[2]); }
+
+// G2P's sums over the particle's 3^D nodes, v = Σ w v_o and Bo = Σ w v_o oᵀ, one
+// axis at a time. The weight is a product over the axes, w = w_i w_j w_k, and the
+// offset is o = (i, j, k), so Σ_i w_i Σ_j w_j Σ_k w_k (1, i, j, k) v_ijk gives v and
+// Bo's columns: a row's three nodes give its sum and its moment in k, three rows a
+// plane's sums and moments, three planes the totals. Each node is weighted and
+// added once, and no sum runs through all 3^D nodes, so the core overlaps them.
 template <int D>
 void gather(const double* grid, long row, const long* stride, const Weights<D>& w,
             Eigen::Matrix<double, D, 1>& v_out, Eigen::Matrix<double, D, D>& Bo_out) {
   // 3D: pairs (x, y) and (z, mass); the mass lane's sums are not used.
   constexpr int P = D == 3 ? 2 : 1;
-  Pair v[P] = {}, Bo[D][P] = {};
-  const auto add = [&](const double* node, double weight, const int (&o)[D]) {
-    Pair wv[P], wv2[P];
-    for (int l = 0; l < P; ++l) wv[l] = splat(weight) * load(node + 2 * l), wv2[l] = wv[l] + wv[l];
+  Pair weight[D][3];
+  for (int d = 0; d < D; ++d)
+    for (int o = 0; o < 3; ++o) weight[d][o] = splat(w.w[d][o]);
+  Pair v[P], Bo[D][P];
+  if constexpr (D == 2) {
+    Pair sum[3], moment_y[3];  // per i, over its 3 nodes, weighted by w_i
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) {
+      const double* node = grid + 3 * (row + i * stride[0]);
+      Pair t[3];
+#pragma GCC unroll 3
+      for (int j = 0; j < 3; ++j) t[j] = weight[1][j] * load(node + 3 * j * stride[1]);
+      sum[i] = weight[0][i] * sum3(t);
+      moment_y[i] = weight[0][i] * moment3(t);
+    }
+    v[0] = sum3(sum);
+    Bo[0][0] = moment3(sum);
+    Bo[1][0] = sum3(moment_y);
+  } else {
+#pragma GCC unroll 2
     for (int l = 0; l < P; ++l) {
-      v[l] += wv[l];
-      for (int c = 0; c < D; ++c) Bo[c][l] = offset(Bo[c][l], o[c], wv[l], wv2[l]);
-    }
-  };
+      Pair sum[3], moment_y[3], moment_z[3];  // per i, over its 3×3 nodes, weighted
 #pragma GCC unroll 3
-  for (int i = 0; i < 3; ++i)
+      for (int i = 0; i < 3; ++i) {
+        Pair row_sum[3], row_moment_z[3];  // per (i, j), over its 3 nodes, weighted
 #pragma GCC unroll 3
-    for (int j = 0; j < 3; ++j) {
-      const double wij = w.w[0][i] * w.w[1][j];
-      const double* node = grid + (D + 1) * (row + i * stride[0] + j * stride[1]);
-      if constexpr (D == 2) {
-        add(node, wij, {i, j});
-      } else {
+        for (int j = 0; j < 3; ++j) {
+          const double* node = grid + 4 * (row + i * stride[0] + j * stride[1]) + 2 * l;
+          Pair t[3];
 #pragma GCC unroll 3
-        for (int k = 0; k < 3; ++k) add(node + 4 * k, wij * w.w[2][k], {i, j, k});
+          for (int k = 0; k < 3; ++k) t[k] = weight[2][k] * load(node + 4 * k);
+          row_sum[j] = weight[1][j] * sum3(t);
+          row_moment_z[j] = weight[1][j] * moment3(t);
+        }
+        sum[i] = weight[0][i] * sum3(row_sum);
+        moment_y[i] = weight[0][i] * moment3(row_sum);
+        moment_z[i] = weight[0][i] * sum3(row_moment_z);
       }
+      v[l] = sum3(sum);
+      Bo[0][l] = moment3(sum);
+      Bo[1][l] = sum3(moment_y);
+      Bo[2][l] = sum3(moment_z);
     }
+  }
   for (int r = 0; r < D; ++r) {
     v_out[r] = v[r / 2][r % 2];
     for (int c = 0; c < D; ++c) Bo_out(r, c) = Bo[c][r / 2][r % 2];
