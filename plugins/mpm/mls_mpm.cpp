@@ -163,6 +163,21 @@ std::string shortest(double v) {
 
 constexpr int block_size(int D) { return D == 2 ? 8 : 4; }
 
+// How many particles ahead the scatter asks for a particle's inputs (measured:
+// 2, 4, 8 and 16 ahead; 8 was the fastest in 3D).
+constexpr int kPrefetchAhead = 8;
+
+// Asks the caches for what the scatter will read of particle p.
+template <int D, typename Mat>
+void prefetch_scatter_inputs(const Particles<D>& ps, const std::vector<Mat>& affine, int p) {
+  const auto* a = reinterpret_cast<const char*>(&affine[static_cast<std::size_t>(p)]);
+  __builtin_prefetch(&ps.x[p]);
+  __builtin_prefetch(&ps.v[p]);
+  __builtin_prefetch(&ps.mass[p]);
+  __builtin_prefetch(a);
+  __builtin_prefetch(a + sizeof(Mat) - 1);  // 3D: 72 bytes may span two lines
+}
+
 double sound_speed_squared(Material m, double mu, double lambda, double J, double rho) {
   double stiffness = lambda + 2 * mu;
   if (m == Material::snow) stiffness *= snow_hardening(J);
@@ -312,12 +327,19 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
     }
     if (clamped) clamped_ += clamped;
   });
+  // The scatter visits particles block by block, so it reads their arrays out of
+  // index order: a particle's x, v, mass and affine matrix are cache misses. Its
+  // body is long (600 instructions in 3D), so the core cannot reach the next
+  // particle's loads before it has finished this one's; it asks for them ahead.
+  // (GCC 12 dropped the same prefetches written in a lambda here.)
+  const int end = ps.size();
   for (const auto& blocks : colour_blocks_) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
                       [&](const tbb::blocked_range<std::size_t>& r) {
       for (std::size_t k = r.begin(); k < r.end(); ++k) {
         const int b = blocks[k];
         for (int i = block_start_[b]; i < block_start_[b + 1]; ++i) {
+          if (i + kPrefetchAhead < end) prefetch_scatter_inputs(ps, affine_, order_[i + kPrefetchAhead]);
           const int p = order_[i];
           const Weights<D> w(ps.x[p], inv_dx_);
           const double m = ps.mass[p];
