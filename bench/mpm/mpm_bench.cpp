@@ -143,7 +143,7 @@ double limit_row(loom::bench::Csv& csv, const Scene& scene, Particles<D> ps, int
   solver.substep(ps, 2e-5);
   long with_mass = 0;
   for (const auto& node : solver.grid()) with_mass += node[D] > 0;
-  const long nodes = static_cast<long>(solver.grid().size());
+  const long nodes = solver.reachable_nodes();  // the nodes a substep clears and updates
   Particles<D> proxy_ps = ps;
   traffic::StreamingProxy<D> proxy(nodes, with_mass);
   const auto& triad = loom::bench::stream_kernel("triad");

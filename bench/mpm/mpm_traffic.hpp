@@ -11,8 +11,10 @@
 //   G2P  x read and written; v, C written; fluid: J read and written; solids:
 //        F read and written; the sound speed reads material, μ, λ, mass,
 //        volume (and J for solids)
-//   grid the clear writes every node; the update reads every node and writes
-//        the nodes with mass. P2G's and G2P's node accesses are counted as
+//   grid the clear writes every node of the blocks particles can reach, this
+//        substep's and the last's (the same blocks when particles barely
+//        move, as in the bench); the update reads those of this substep and
+//        writes the nodes with mass. P2G's and G2P's node accesses are counted as
 //        cache hits: a block's particles (about 1,500 in the 2D scenes, 500 in
 //        3D) share its stencil of 10² or 6³ nodes (2.4 or 6.9 KB), and the
 //        nodes with mass (1 MB in 2D, 5 MB in 3D) fit in the 32 MB L3.
@@ -41,7 +43,7 @@ double particle_bytes(Material m) {
   return bin + p2g + g2p;
 }
 
-// Grid bytes of one substep: `nodes` in all, `with_mass` of them reached by particles.
+// Grid bytes of one substep: `nodes` cleared and updated, `with_mass` of them reached by particles.
 template <int D>
 double grid_bytes(long nodes, long with_mass) {
   const double node = sizeof(Eigen::Matrix<double, D + 1, 1>);

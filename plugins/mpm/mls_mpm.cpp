@@ -201,6 +201,8 @@ Solver<D>::Solver(const Settings& settings)
   for (int d = 0; d < D; ++d) blocks *= blocks_per_axis_;
   block_start_.assign(static_cast<std::size_t>(blocks) + 1, 0);
   for (auto& list : colour_blocks_) list.reserve(static_cast<std::size_t>(blocks));
+  reachable_.assign(static_cast<std::size_t>(blocks), 0);
+  reachable_before_.assign(static_cast<std::size_t>(blocks), 0);
 }
 
 template <int D>
@@ -291,14 +293,83 @@ void Solver<D>::bin(const Particles<D>& ps) {
   each_chunk([&](int* cursor, int begin, int end) {
     for (int p = begin; p < end; ++p) order_[cursor[block_of_[p]]++] = p;
   });
+  mark_reachable_blocks();
+}
+
+// A particle of block b has its stencil's lowest node in b and its highest two
+// nodes further along each axis, so its nodes lie in b and the blocks one further
+// along any set of axes (B ≥ 2). Those are this substep's reachable blocks; the
+// clear takes them and last substep's (whose nodes may hold last substep's sums),
+// the grid update this substep's. Every node outside both was zero and stays so,
+// as the clear of every node would leave it.
+template <int D>
+void Solver<D>::mark_reachable_blocks() {
+  reachable_before_.swap(reachable_);
+  std::fill(reachable_.begin(), reachable_.end(), 0);
+  const int blocks = static_cast<int>(reachable_.size());
+  for (int b = 0; b < blocks; ++b) {
+    if (block_start_[b + 1] == block_start_[b]) continue;
+    int c[D];
+    for (int d = D - 1, r = b; d >= 0; --d, r /= blocks_per_axis_) c[d] = r % blocks_per_axis_;
+    for (int corner = 0; corner < (1 << D); ++corner) {
+      int next = 0;
+      bool inside = true;
+      for (int d = 0; d < D; ++d) {
+        const int cd = c[d] + ((corner >> d) & 1);
+        inside = inside && cd < blocks_per_axis_;
+        next = next * blocks_per_axis_ + cd;
+      }
+      if (inside) reachable_[static_cast<std::size_t>(next)] = 1;
+    }
+  }
+  to_clear_.clear();
+  to_update_.clear();
+  for (int b = 0; b < blocks; ++b) {
+    if (reachable_[b] || reachable_before_[b]) to_clear_.push_back(b);
+    if (reachable_[b]) to_update_.push_back(b);
+  }
+}
+
+template <int D>
+long Solver<D>::reachable_nodes() const {
+  constexpr int B = block_size(D);
+  long nodes = 0;
+  for (const int b : to_update_) {
+    long box = 1;
+    for (int d = D - 1, rest = b; d >= 0; --d, rest /= blocks_per_axis_)
+      box *= std::min(B, n_ - rest % blocks_per_axis_ * B);
+    nodes += box;
+  }
+  return nodes;
+}
+
+// Calls f(i) for the index i of every node of the given blocks (each a B^D box of
+// nodes, cut at the grid's end), the blocks in parallel: they share no node.
+template <int D>
+template <typename F>
+void Solver<D>::for_nodes_of_blocks(const std::vector<int>& blocks, const F& f) {
+  constexpr int B = block_size(D);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t k = r.begin(); k < r.end(); ++k) {
+      int lo[D], hi[D];
+      for (int d = D - 1, rest = blocks[k]; d >= 0; --d, rest /= blocks_per_axis_)
+        lo[d] = rest % blocks_per_axis_ * B, hi[d] = std::min(lo[d] + B, n_);
+      if constexpr (D == 2) {
+        for (int x = lo[0]; x < hi[0]; ++x)
+          for (long i = x * stride_[0] + lo[1]; i < x * stride_[0] + hi[1]; ++i) f(i);
+      } else {
+        for (int x = lo[0]; x < hi[0]; ++x)
+          for (int y = lo[1]; y < hi[1]; ++y)
+            for (long i = x * stride_[0] + y * stride_[1] + lo[2]; i < x * stride_[0] + y * stride_[1] + hi[2]; ++i)
+              f(i);
+      }
+    }
+  });
 }
 
 template <int D>
 void Solver<D>::p2g(Particles<D>& ps, double dt) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid_.size(), 1 << 14),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t i = r.begin(); i < r.end(); ++i) grid_[i].setZero();
-                    });
+  for_nodes_of_blocks(to_clear_, [&](long i) { grid_[static_cast<std::size_t>(i)].setZero(); });
   // The stress first, in a pass of its own over the particles in index order: it
   // touches no node, so its iterations are independent and short, and the core
   // overlaps one particle's chain of dependent operations (the polar iteration's,
@@ -369,11 +440,9 @@ void Solver<D>::grid_update(double dt) {
       if (bc == Boundary::slip || vn < 0) v -= vn * n;
     }
   };
-  tbb::parallel_for(tbb::blocked_range<long>(0, static_cast<long>(grid_.size()), 1 << 12),
-                    [&](const tbb::blocked_range<long>& r) {
-    for (long i = r.begin(); i < r.end(); ++i) {
+  for_nodes_of_blocks(to_update_, [&](long i) {
       Node& node = grid_[static_cast<std::size_t>(i)];
-      if (node[D] <= 0) continue;
+      if (node[D] <= 0) return;
       Vec v = node.template head<D>() / node[D] + dt * g;
       Eigen::Matrix<int, D, 1> idx;
       for (int d = 0, r2 = static_cast<int>(i); d < D; ++d)
@@ -397,7 +466,6 @@ void Solver<D>::grid_update(double dt) {
         }
       }
       node.template head<D>() = v;
-    }
   });
 }
 

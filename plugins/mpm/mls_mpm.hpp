@@ -83,10 +83,16 @@ class Solver {
   double cfl_dt(double signal_speed) const;
 
   const std::vector<Node>& grid() const { return grid_; }  // after the last substep
+  // The nodes the last substep's grid update visited: those of the blocks its
+  // particles could reach (every other node is zero).
+  long reachable_nodes() const;
   long clamped_deformation() const { return clamped_.load(); }
 
  private:
   void bin(const Particles<D>& ps);
+  void mark_reachable_blocks();
+  template <typename F>
+  void for_nodes_of_blocks(const std::vector<int>& blocks, const F& f);
   void p2g(Particles<D>& ps, double dt);
   void grid_update(double dt);
   double g2p(Particles<D>& ps, double dt);
@@ -102,6 +108,11 @@ class Solver {
   std::vector<int> block_of_, block_start_, order_;
   std::vector<int> cursor_;  // per chunk of particles and block: a count, then a write cursor
   std::vector<int> colour_blocks_[1 << D];
+  // The blocks whose nodes particles can reach (a block with particles and the
+  // next one along each axis), this substep and the last: only their nodes are
+  // cleared and updated; every other node has stayed zero.
+  std::vector<char> reachable_, reachable_before_;
+  std::vector<int> to_clear_, to_update_;
   std::atomic<long> clamped_{0};
   std::atomic<bool> diverged_{false};  // a particle's new velocity was NaN or infinite
 };
