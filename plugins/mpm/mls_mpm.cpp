@@ -349,22 +349,23 @@ template <int D>
 template <typename F>
 void Solver<D>::for_nodes_of_blocks(const std::vector<int>& blocks, const F& f) {
   constexpr int B = block_size(D);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t k = r.begin(); k < r.end(); ++k) {
-      int lo[D], hi[D];
-      for (int d = D - 1, rest = blocks[k]; d >= 0; --d, rest /= blocks_per_axis_)
-        lo[d] = rest % blocks_per_axis_ * B, hi[d] = std::min(lo[d] + B, n_);
-      if constexpr (D == 2) {
-        for (int x = lo[0]; x < hi[0]; ++x)
-          for (long i = x * stride_[0] + lo[1]; i < x * stride_[0] + hi[1]; ++i) f(i);
-      } else {
-        for (int x = lo[0]; x < hi[0]; ++x)
-          for (int y = lo[1]; y < hi[1]; ++y)
-            for (long i = x * stride_[0] + y * stride_[1] + lo[2]; i < x * stride_[0] + y * stride_[1] + hi[2]; ++i)
-              f(i);
-      }
-    }
-  });
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, blocks.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+          int lo[D], hi[D];
+          for (int d = D - 1, rest = blocks[k]; d >= 0; --d, rest /= blocks_per_axis_)
+            lo[d] = rest % blocks_per_axis_ * B, hi[d] = std::min(lo[d] + B, n_);
+          if constexpr (D == 2) {
+            for (int x = lo[0]; x < hi[0]; ++x)
+              for (long i = x * stride_[0] + lo[1]; i < x * stride_[0] + hi[1]; ++i) f(i);
+          } else {
+            for (int x = lo[0]; x < hi[0]; ++x)
+              for (int y = lo[1]; y < hi[1]; ++y)
+                for (long i = x * stride_[0] + y * stride_[1] + lo[2]; i < x * stride_[0] + y * stride_[1] + hi[2]; ++i)
+                  f(i);
+          }
+        }
+      });
 }
 
 template <int D>
@@ -441,31 +442,30 @@ void Solver<D>::grid_update(double dt) {
     }
   };
   for_nodes_of_blocks(to_update_, [&](long i) {
-      Node& node = grid_[static_cast<std::size_t>(i)];
-      if (node[D] <= 0) return;
-      Vec v = node.template head<D>() / node[D] + dt * g;
-      Eigen::Matrix<int, D, 1> idx;
-      for (int d = 0, r2 = static_cast<int>(i); d < D; ++d)
-        idx[D - 1 - d] = r2 % n_, r2 /= n_;
-      for (int d = 0; d < D; ++d) {
-        if (idx[d] < wall) apply(v, Vec::Unit(d), s_.walls);
-        if (idx[d] > n_ - 1 - wall) apply(v, -Vec::Unit(d), s_.walls);
-      }
-      if (!s_.colliders.empty()) {
-        const Vec x = idx.template cast<double>() * dx_;
-        for (const Collider& c : s_.colliders) {
-          const Vec point = c.point.template head<D>();
-          if (c.shape == Collider::Shape::plane) {
-            const Vec n = c.normal.template head<D>().normalized();
-            if ((x - point).dot(n) < 0) apply(v, n, c.boundary);
-          } else {
-            const Vec r = x - point;
-            const double dist = r.norm();
-            if (dist < c.radius && dist > 0) apply(v, r / dist, c.boundary);
-          }
+    Node& node = grid_[static_cast<std::size_t>(i)];
+    if (node[D] <= 0) return;
+    Vec v = node.template head<D>() / node[D] + dt * g;
+    Eigen::Matrix<int, D, 1> idx;
+    for (int d = 0, r2 = static_cast<int>(i); d < D; ++d) idx[D - 1 - d] = r2 % n_, r2 /= n_;
+    for (int d = 0; d < D; ++d) {
+      if (idx[d] < wall) apply(v, Vec::Unit(d), s_.walls);
+      if (idx[d] > n_ - 1 - wall) apply(v, -Vec::Unit(d), s_.walls);
+    }
+    if (!s_.colliders.empty()) {
+      const Vec x = idx.template cast<double>() * dx_;
+      for (const Collider& c : s_.colliders) {
+        const Vec point = c.point.template head<D>();
+        if (c.shape == Collider::Shape::plane) {
+          const Vec n = c.normal.template head<D>().normalized();
+          if ((x - point).dot(n) < 0) apply(v, n, c.boundary);
+        } else {
+          const Vec r = x - point;
+          const double dist = r.norm();
+          if (dist < c.radius && dist > 0) apply(v, r / dist, c.boundary);
         }
       }
-      node.template head<D>() = v;
+    }
+    node.template head<D>() = v;
   });
 }
 
