@@ -285,9 +285,9 @@ void Solver<D>::bin(const Particles<D>& ps) {
   for (auto& list : colour_blocks_) list.clear();
   for (int b = 0; b < blocks; ++b) {
     if (block_start_[b + 1] == block_start_[b]) continue;
+    const std::array<int, D> c = block_coordinates(b);
     int colour = 0;
-    for (int d = D - 1, r = b; d >= 0; --d, r /= blocks_per_axis_)
-      colour |= ((r % blocks_per_axis_) & 1) << d;
+    for (int d = 0; d < D; ++d) colour |= (c[d] & 1) << d;
     colour_blocks_[colour].push_back(b);
   }
   each_chunk([&](int* cursor, int begin, int end) {
@@ -303,14 +303,20 @@ void Solver<D>::bin(const Particles<D>& ps) {
 // the grid update this substep's. Every node outside both was zero and stays so,
 // as the clear of every node would leave it.
 template <int D>
+std::array<int, D> Solver<D>::block_coordinates(int b) const {
+  std::array<int, D> c;
+  for (int d = D - 1; d >= 0; --d, b /= blocks_per_axis_) c[static_cast<std::size_t>(d)] = b % blocks_per_axis_;
+  return c;
+}
+
+template <int D>
 void Solver<D>::mark_reachable_blocks() {
   reachable_before_.swap(reachable_);
   std::fill(reachable_.begin(), reachable_.end(), 0);
   const int blocks = static_cast<int>(reachable_.size());
   for (int b = 0; b < blocks; ++b) {
     if (block_start_[b + 1] == block_start_[b]) continue;
-    int c[D];
-    for (int d = D - 1, r = b; d >= 0; --d, r /= blocks_per_axis_) c[d] = r % blocks_per_axis_;
+    const std::array<int, D> c = block_coordinates(b);
     for (int corner = 0; corner < (1 << D); ++corner) {
       int next = 0;
       bool inside = true;
@@ -335,9 +341,9 @@ long Solver<D>::reachable_nodes() const {
   constexpr int B = block_size(D);
   long nodes = 0;
   for (const int b : to_update_) {
+    const std::array<int, D> c = block_coordinates(b);
     long box = 1;
-    for (int d = D - 1, rest = b; d >= 0; --d, rest /= blocks_per_axis_)
-      box *= std::min(B, n_ - rest % blocks_per_axis_ * B);
+    for (int d = 0; d < D; ++d) box *= std::min(B, n_ - c[d] * B);
     nodes += box;
   }
   return nodes;
@@ -352,9 +358,9 @@ void Solver<D>::for_nodes_of_blocks(const std::vector<int>& blocks, const F& f) 
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, blocks.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t k = r.begin(); k < r.end(); ++k) {
+          const std::array<int, D> c = block_coordinates(blocks[k]);
           int lo[D], hi[D];
-          for (int d = D - 1, rest = blocks[k]; d >= 0; --d, rest /= blocks_per_axis_)
-            lo[d] = rest % blocks_per_axis_ * B, hi[d] = std::min(lo[d] + B, n_);
+          for (int d = 0; d < D; ++d) lo[d] = c[d] * B, hi[d] = std::min(lo[d] + B, n_);
           if constexpr (D == 2) {
             for (int x = lo[0]; x < hi[0]; ++x)
               for (long i = x * stride_[0] + lo[1]; i < x * stride_[0] + hi[1]; ++i) f(i);

@@ -14,6 +14,7 @@
 // thread count.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <functional>
 #include <vector>
@@ -90,6 +91,8 @@ class Solver {
 
  private:
   void bin(const Particles<D>& ps);
+  // Block b's position along each axis, in blocks.
+  std::array<int, D> block_coordinates(int b) const;
   void mark_reachable_blocks();
   template <typename F>
   void for_nodes_of_blocks(const std::vector<int>& blocks, const F& f);
