@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include <emmintrin.h>
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -163,8 +164,9 @@ std::string shortest(double v) {
 
 constexpr int block_size(int D) { return D == 2 ? 8 : 4; }
 
-// How many particles ahead the scatter asks for a particle's inputs (measured:
-// 2, 4, 8 and 16 ahead; 8 was the fastest in 3D).
+// How many particles ahead the 2D scatter asks for a particle's inputs (measured
+// when the 3D scatter read them this way too: 2, 4, 8 and 16 ahead; 8 was the
+// fastest).
 constexpr int kPrefetchAhead = 8;
 
 // Asks the caches for what the scatter will read of particle p.
@@ -175,7 +177,19 @@ void prefetch_scatter_inputs(const Particles<D>& ps, const std::vector<Mat>& aff
   __builtin_prefetch(&ps.v[p]);
   __builtin_prefetch(&ps.mass[p]);
   __builtin_prefetch(a);
-  __builtin_prefetch(a + sizeof(Mat) - 1);  // 3D: 72 bytes may span two lines
+  __builtin_prefetch(a + sizeof(Mat) - 1);  // the matrix may span two lines
+}
+
+// Copies `from` to `to` past the caches, whole lines at a time (`to` is
+// line-aligned and its size a multiple of 64 bytes): nothing is read of `to`'s
+// lines first, and the copies do not evict what the caller works on. The writing
+// thread calls _mm_sfence before another thread reads them.
+template <typename T>
+void stream_store(const T& from, T& to) {
+  static_assert(sizeof(T) % 64 == 0 && alignof(T) % 64 == 0);
+  const auto* f = reinterpret_cast<const double*>(&from);
+  auto* t = reinterpret_cast<double*>(&to);
+  for (std::size_t i = 0; i < sizeof(T) / sizeof(double); i += 2) _mm_stream_pd(t + i, _mm_load_pd(f + i));
 }
 
 double sound_speed_squared(Material m, double mu, double lambda, double J, double rho) {
@@ -246,7 +260,7 @@ void Solver<D>::bin(const Particles<D>& ps) {
   const int np = ps.size();
   const int blocks = static_cast<int>(block_start_.size()) - 1;
   block_of_.resize(static_cast<std::size_t>(np));  // allocates only when the count grows
-  order_.resize(static_cast<std::size_t>(np));
+  (kBlockOrderedInputs ? slot_ : order_).resize(static_cast<std::size_t>(np));
   // Counting sort, stable: each block's particles stay in index order. Consecutive
   // chunks of particles are counted and scattered in parallel, each chunk from its
   // own cursors, which start where the earlier chunks' particles of the block end;
@@ -291,7 +305,11 @@ void Solver<D>::bin(const Particles<D>& ps) {
     colour_blocks_[colour].push_back(b);
   }
   each_chunk([&](int* cursor, int begin, int end) {
-    for (int p = begin; p < end; ++p) order_[cursor[block_of_[p]]++] = p;
+    for (int p = begin; p < end; ++p) {
+      const int place = cursor[block_of_[p]]++;
+      if constexpr (kBlockOrderedInputs) slot_[p] = place;
+      else order_[place] = p;
+    }
   });
   mark_reachable_blocks();
 }
@@ -383,33 +401,58 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
   // the SVD's) with the next.
   // MLS-MPM's affine momentum: −Δt V⁰ 4/Δx² τ + m C  (Hu 2018, eq. 29).
   const double stress_scale = -dt * 4 * inv_dx_ * inv_dx_;
-  affine_.resize(static_cast<std::size_t>(ps.size()));  // allocates only when the count grows
+  // (Each container allocates only when the count grows.)
+  if constexpr (kBlockOrderedInputs) scatter_inputs_.resize(static_cast<std::size_t>(ps.size()));
+  else affine_.resize(static_cast<std::size_t>(ps.size()));
+  // In 3D each particle's scatter inputs go to its place in block order, written
+  // past the caches (the writes land all over the array; the scatter reads them
+  // back in a stream).
+  const auto store_input = [&](int p, const Mat& tau) {
+    const Mat affine = (stress_scale * ps.volume[p]) * tau + ps.mass[p] * ps.C[p];
+    if constexpr (kBlockOrderedInputs) {
+      ScatterInput in;
+      in.x = ps.x[p];
+      in.v = ps.v[p];
+      in.mass = ps.mass[p];
+      in.affine = affine;
+      stream_store(in, scatter_inputs_[static_cast<std::size_t>(slot_[p])]);
+    } else {
+      affine_[static_cast<std::size_t>(p)] = affine;
+    }
+  };
   // Particles go two at a time (kirchhoff_stresses: the same stresses as one at a
   // time, so how the range is split does not matter).
-  const auto affine = [&](int p, const Mat& tau) {
-    affine_[static_cast<std::size_t>(p)] = (stress_scale * ps.volume[p]) * tau + ps.mass[p] * ps.C[p];
-  };
   tbb::parallel_for(tbb::blocked_range<int>(0, ps.size(), 1024), [&](const tbb::blocked_range<int>& r) {
     long clamped = 0;
     int p = r.begin();
     for (; p + 1 < r.end(); p += 2) {
       Mat tau[2];
       clamped += kirchhoff_stresses(ps, p, tau);
-      affine(p, tau[0]);
-      affine(p + 1, tau[1]);
+      store_input(p, tau[0]);
+      store_input(p + 1, tau[1]);
     }
     if (p < r.end()) {
       Mat tau;
       clamped += kirchhoff_stress(ps, p, tau);
-      affine(p, tau);
+      store_input(p, tau);
     }
     if (clamped) clamped_ += clamped;
+    if constexpr (kBlockOrderedInputs) _mm_sfence();
   });
-  // The scatter visits particles block by block, so it reads their arrays out of
-  // index order: a particle's x, v, mass and affine matrix are cache misses. Its
-  // body is long (600 instructions in 3D), so the core cannot reach the next
-  // particle's loads before it has finished this one's; it asks for them ahead.
-  // (GCC 12 dropped the same prefetches written in a lambda here.)
+  // Σ_i w_i (m v + affine (x_i − x_p)) with x_i − x_p = (o − fx) Δx, split as
+  // q + A o: q = m v − affine fx Δx, A = affine Δx. (always_inline: GCC 12 called
+  // it in 3D, 16 instructions a particle more.)
+  const auto scatter_particle = [&](const Vec& x, const Vec& v, double m, const Mat& affine) __attribute__((always_inline)) {
+    const Weights<D> w(x, inv_dx_);
+    const Vec q = m * v - affine * (w.fx * dx_);
+    const Mat A = affine * dx_;
+    long base = 0;
+    for (int d = 0; d < D; ++d) base += w.base[d] * stride_[d];
+    scatter<D>(grid_.data()->data(), base, stride_.data(), w, q, A, m);
+  };
+  // In 2D the scatter reads the particles' arrays out of index order: x, v, mass
+  // and affine matrix are cache misses, which it asks for ahead. (GCC 12 dropped
+  // the same prefetches written in a lambda here.)
   const int end = ps.size();
   for (const auto& blocks : colour_blocks_) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1),
@@ -417,18 +460,14 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
       for (std::size_t k = r.begin(); k < r.end(); ++k) {
         const int b = blocks[k];
         for (int i = block_start_[b]; i < block_start_[b + 1]; ++i) {
-          if (i + kPrefetchAhead < end) prefetch_scatter_inputs(ps, affine_, order_[i + kPrefetchAhead]);
-          const int p = order_[i];
-          const Weights<D> w(ps.x[p], inv_dx_);
-          const double m = ps.mass[p];
-          const Mat& affine = affine_[static_cast<std::size_t>(p)];
-          // Σ_i w_i (m v + affine (x_i − x_p)) with x_i − x_p = (o − fx) Δx, split as
-          // q + A o: q = m v − affine fx Δx, A = affine Δx.
-          const Vec q = m * ps.v[p] - affine * (w.fx * dx_);
-          const Mat A = affine * dx_;
-          long base = 0;
-          for (int d = 0; d < D; ++d) base += w.base[d] * stride_[d];
-          scatter<D>(grid_.data()->data(), base, stride_.data(), w, q, A, m);
+          if constexpr (kBlockOrderedInputs) {
+            const ScatterInput& in = scatter_inputs_[static_cast<std::size_t>(i)];
+            scatter_particle(in.x, in.v, in.mass, in.affine);
+          } else {
+            if (i + kPrefetchAhead < end) prefetch_scatter_inputs(ps, affine_, order_[i + kPrefetchAhead]);
+            const int p = order_[i];
+            scatter_particle(ps.x[p], ps.v[p], ps.mass[p], affine_[static_cast<std::size_t>(p)]);
+          }
         }
       }
     });
