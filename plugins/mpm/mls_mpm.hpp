@@ -113,7 +113,7 @@ class Solver {
   // costs, in 2D it does not).
   static constexpr bool kBlockOrderedInputs = D == 3;
   struct alignas(64) ScatterInput {  // 3D: 128 bytes, two cache lines
-    ScatterInput() {}  // left unset, as Eigen leaves its matrices: resize() writes nothing
+    ScatterInput() {}                // left unset, as Eigen leaves its matrices: resize() writes nothing
     Vec x;
     double mass;
     Vec v;
@@ -124,8 +124,8 @@ class Solver {
   // Binning workspace, kept across substeps (no allocation per substep).
   int blocks_per_axis_;
   std::vector<int> block_of_, block_start_;
-  std::vector<int> order_;  // 2D: the particles in block order (by block, then index)
-  std::vector<int> slot_;   // 3D: each particle's place in that order
+  std::vector<int> order_;   // 2D: the particles in block order (by block, then index)
+  std::vector<int> slot_;    // 3D: each particle's place in that order
   std::vector<int> cursor_;  // per chunk of particles and block: a count, then a write cursor
   std::vector<int> colour_blocks_[1 << D];
   // The blocks whose nodes particles can reach (a block with particles and the
