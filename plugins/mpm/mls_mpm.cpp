@@ -192,6 +192,29 @@ void stream_store(const T& from, T& to) {
   for (std::size_t i = 0; i < sizeof(T) / sizeof(double); i += 2) _mm_stream_pd(t + i, _mm_load_pd(f + i));
 }
 
+// Every array of `from` into `to` in another order: to[slot[p]] = from[p], or, to
+// put them back, to[p] = from[slot[p]] (slot a permutation of the indices).
+enum class Direction { to_slots, back };
+template <int D>
+void permute(const Particles<D>& from, Particles<D>& to, const std::vector<int>& slot, Direction direction) {
+  const int n = from.size();
+  const auto each = [&](auto member) {
+    const auto& src = from.*member;
+    auto& dst = to.*member;
+    dst.resize(src.size());
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096), [&](const tbb::blocked_range<int>& r) {
+      for (int p = r.begin(); p < r.end(); ++p) {
+        const auto s = static_cast<std::size_t>(slot[static_cast<std::size_t>(p)]);
+        if (direction == Direction::to_slots) dst[s] = src[static_cast<std::size_t>(p)];
+        else dst[static_cast<std::size_t>(p)] = src[s];
+      }
+    });
+  };
+  using P = Particles<D>;
+  each(&P::x), each(&P::v), each(&P::C), each(&P::F), each(&P::J), each(&P::q), each(&P::material);
+  each(&P::mu), each(&P::lambda), each(&P::mass), each(&P::volume), each(&P::color);
+}
+
 double sound_speed_squared(Material m, double mu, double lambda, double J, double rho) {
   double stiffness = lambda + 2 * mu;
   if (m == Material::snow) stiffness *= snow_hardening(J);
@@ -591,6 +614,18 @@ AdvanceReport Solver<D>::advance(Particles<D>& ps, double seconds,
                   "velocities): lower cfl or dt_max, or the stiffness");
   };
   require_finite();
+  // The substeps run on a copy of the particles in block order, put back in the
+  // caller's order at the end (an error leaves the caller's particles as they
+  // were). G2P reads the grid in storage order, and a simulation mixes the order
+  // the emitters left: in a 3D dam break, G2P took 27 % longer after 0.5 s and 47 %
+  // after 0.75 s (measured in docs/mpm.md).
+  bin(ps);
+  std::vector<int> slot(static_cast<std::size_t>(ps.size()));
+  if constexpr (kBlockOrderedInputs) slot = slot_;
+  else
+    for (int i = 0; i < ps.size(); ++i) slot[static_cast<std::size_t>(order_[i])] = i;
+  Particles<D> sorted;
+  permute(ps, sorted, slot, Direction::to_slots);
   while (seconds - t > 1e-12 * seconds) {
     const double remaining = seconds - t;
     const double steps = std::ceil(remaining / cfl_dt(speed) - 1e-9);
@@ -598,7 +633,7 @@ AdvanceReport Solver<D>::advance(Particles<D>& ps, double seconds,
     if (report.substeps >= s_.max_substeps)
       throw Error("more than " + std::to_string(s_.max_substeps) + " substeps in one frame (Δt " + shortest(dt) +
                   " s): lower the stiffness or the speeds, or raise max_substeps");
-    speed = substep(ps, dt);
+    speed = substep(sorted, dt);
     require_finite();
     t += dt;
     ++report.substeps;
@@ -606,6 +641,7 @@ AdvanceReport Solver<D>::advance(Particles<D>& ps, double seconds,
     report.dt_max = std::max(report.dt_max, dt);
     if (between) between(t / seconds);
   }
+  permute(sorted, ps, slot, Direction::back);
   report.clamped_deformation = clamped_.load();
   return report;
 }
