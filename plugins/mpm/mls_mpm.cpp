@@ -205,8 +205,10 @@ void permute(const Particles<D>& from, Particles<D>& to, const std::vector<int>&
     tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096), [&](const tbb::blocked_range<int>& r) {
       for (int p = r.begin(); p < r.end(); ++p) {
         const auto s = static_cast<std::size_t>(slot[static_cast<std::size_t>(p)]);
-        if (direction == Direction::to_slots) dst[s] = src[static_cast<std::size_t>(p)];
-        else dst[static_cast<std::size_t>(p)] = src[s];
+        if (direction == Direction::to_slots)
+          dst[s] = src[static_cast<std::size_t>(p)];
+        else
+          dst[static_cast<std::size_t>(p)] = src[s];
       }
     });
   };
@@ -621,7 +623,8 @@ AdvanceReport Solver<D>::advance(Particles<D>& ps, double seconds,
   // after 0.75 s (measured in docs/mpm.md).
   bin(ps);
   std::vector<int> slot(static_cast<std::size_t>(ps.size()));
-  if constexpr (kBlockOrderedInputs) slot = slot_;
+  if constexpr (kBlockOrderedInputs)
+    slot = slot_;
   else
     for (int i = 0; i < ps.size(); ++i) slot[static_cast<std::size_t>(order_[i])] = i;
   Particles<D> sorted;

@@ -3,10 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
-#include <vector>
 #include <cstdio>
 #include <cstring>
+#include <utility>
+#include <vector>
 
 #include <Eigen/LU>
 #include <Eigen/SVD>
@@ -339,11 +339,11 @@ void advance_keeps_the_callers_order(int resolution) {
   int constants_differ = 0;
   for (int p = 0; p < n; ++p) {
     const int r = n - 1 - p;
-    worst = std::max({worst, (ps.x[p] - reversed.x[r]).norm(), (ps.v[p] - reversed.v[r]).norm(),
-                      (ps.F[p] - reversed.F[r]).norm()});
+    worst = std::max(
+        {worst, (ps.x[p] - reversed.x[r]).norm(), (ps.v[p] - reversed.v[r]).norm(), (ps.F[p] - reversed.F[r]).norm()});
     moved = std::max(moved, (ps.x[p] - start.x[p]).norm());
-    constants_differ += ps.color[p] != start.color[p] || ps.mass[p] != start.mass[p] || reversed.color[r] != start.color[p] ||
-                        reversed.mass[r] != start.mass[p];
+    constants_differ += ps.color[p] != start.color[p] || ps.mass[p] != start.mass[p] ||
+                        reversed.color[r] != start.color[p] || reversed.mass[r] != start.mass[p];
   }
   std::printf("%dD: %d particles, %d substeps, moved up to %.3g, forwards against reversed %.3g\n", D, n,
               forwards.substeps, moved, worst);
