@@ -198,9 +198,9 @@ enum class Direction { to_slots, back };
 template <int D>
 void permute(const Particles<D>& from, Particles<D>& to, const std::vector<int>& slot, Direction direction) {
   const int n = from.size();
-  const auto each = [&](auto member) {
-    const auto& src = from.*member;
-    auto& dst = to.*member;
+  Particles<D>::each_array([&](auto array) {
+    const auto& src = from.*array;
+    auto& dst = to.*array;
     dst.resize(src.size());
     tbb::parallel_for(tbb::blocked_range<int>(0, n, 4096), [&](const tbb::blocked_range<int>& r) {
       for (int p = r.begin(); p < r.end(); ++p) {
@@ -211,10 +211,7 @@ void permute(const Particles<D>& from, Particles<D>& to, const std::vector<int>&
           dst[static_cast<std::size_t>(p)] = src[s];
       }
     });
-  };
-  using P = Particles<D>;
-  each(&P::x), each(&P::v), each(&P::C), each(&P::F), each(&P::J), each(&P::q), each(&P::material);
-  each(&P::mu), each(&P::lambda), each(&P::mass), each(&P::volume), each(&P::color);
+  });
 }
 
 double sound_speed_squared(Material m, double mu, double lambda, double J, double rho) {

@@ -24,22 +24,14 @@ void read_array(ByteReader& r, std::vector<T>& v) {
 
 template <int D>
 void write_particles(ByteWriter& w, const Particles<D>& p) {
-  write_array(w, p.x), write_array(w, p.v), write_array(w, p.C), write_array(w, p.F);
-  write_array(w, p.J), write_array(w, p.q), write_array(w, p.material), write_array(w, p.mu);
-  write_array(w, p.lambda), write_array(w, p.mass), write_array(w, p.volume);
-  write_array(w, p.color);
+  Particles<D>::each_array([&](auto array) { write_array(w, p.*array); });
 }
 template <int D>
 void read_particles(ByteReader& r, Particles<D>& p) {
-  read_array(r, p.x), read_array(r, p.v), read_array(r, p.C), read_array(r, p.F);
-  read_array(r, p.J), read_array(r, p.q), read_array(r, p.material), read_array(r, p.mu);
-  read_array(r, p.lambda), read_array(r, p.mass), read_array(r, p.volume);
-  read_array(r, p.color);
-  const std::size_t n = p.x.size();
-  for (std::size_t size : {p.v.size(), p.C.size(), p.F.size(), p.J.size(), p.q.size(), p.material.size(),
-                           p.mu.size(), p.lambda.size(), p.mass.size(), p.volume.size(),
-                           p.color.size()})
-    if (size != n) throw Error("stored MPMState has attribute arrays of different lengths");
+  Particles<D>::each_array([&](auto array) { read_array(r, p.*array); });
+  bool same_lengths = true;
+  Particles<D>::each_array([&](auto array) { same_lengths = same_lengths && (p.*array).size() == p.x.size(); });
+  if (!same_lengths) throw Error("stored MPMState has attribute arrays of different lengths");
   for (Material m : p.material)
     if (static_cast<int>(m) > static_cast<int>(Material::sand))
       throw Error("stored MPMState has an unknown material");

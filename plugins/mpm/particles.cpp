@@ -9,9 +9,7 @@ Lame lame_parameters(Material material, double E, double nu) {
 
 template <int D>
 void Particles<D>::reserve(std::size_t n) {
-  x.reserve(n), v.reserve(n), C.reserve(n), F.reserve(n), J.reserve(n), q.reserve(n);
-  material.reserve(n), mu.reserve(n), lambda.reserve(n), mass.reserve(n), volume.reserve(n);
-  color.reserve(n);
+  each_array([&](auto array) { (this->*array).reserve(n); });
 }
 
 template <int D>
@@ -33,10 +31,7 @@ void Particles<D>::add(const Vec& position, const Vec& velocity, Material m, con
 
 template <int D>
 void Particles<D>::append(const Particles& o) {
-  auto cat = [](auto& a, const auto& b) { a.insert(a.end(), b.begin(), b.end()); };
-  cat(x, o.x), cat(v, o.v), cat(C, o.C), cat(F, o.F), cat(J, o.J), cat(q, o.q), cat(material, o.material);
-  cat(mu, o.mu), cat(lambda, o.lambda), cat(mass, o.mass), cat(volume, o.volume);
-  cat(color, o.color);
+  each_array([&](auto array) { (this->*array).insert((this->*array).end(), (o.*array).begin(), (o.*array).end()); });
 }
 
 template struct Particles<2>;

@@ -38,6 +38,15 @@ struct Particles {
   std::vector<Eigen::Vector3f> color;
 
   int size() const { return static_cast<int>(x.size()); }
+  // Calls f(&Particles::array) for every per-particle array, in the order above
+  // (the order MPMState stores them in): the one list of them that reserving,
+  // appending, storing and reordering go through.
+  template <typename F>
+  static void each_array(const F& f) {
+    f(&Particles::x), f(&Particles::v), f(&Particles::C), f(&Particles::F), f(&Particles::J), f(&Particles::q);
+    f(&Particles::material), f(&Particles::mu), f(&Particles::lambda), f(&Particles::mass), f(&Particles::volume);
+    f(&Particles::color);
+  }
   void reserve(std::size_t n);
   // Appends one particle at rest state (F = I, C = 0, J = 1, q = 0).
   void add(const Vec& position, const Vec& velocity, Material m, const Lame& lame, double mass,

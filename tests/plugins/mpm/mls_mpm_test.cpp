@@ -323,12 +323,8 @@ void advance_keeps_the_callers_order(int resolution) {
     ps.color[p] = Eigen::Vector3f(static_cast<float>(p), 0, 1);
   }
   const Particles<D> start = ps;
-  Particles<D> reversed;
-  for (int p = ps.size() - 1; p >= 0; --p) {
-    Particles<D> one;
-    one.add(ps.x[p], ps.v[p], ps.material[p], {ps.mu[p], ps.lambda[p]}, ps.mass[p], ps.volume[p], ps.color[p]);
-    reversed.append(one);
-  }
+  Particles<D> reversed = ps;
+  Particles<D>::each_array([&](auto array) { std::reverse((reversed.*array).begin(), (reversed.*array).end()); });
   Settings s;
   s.resolution = resolution;
   const AdvanceReport forwards = Solver<D>(s).advance(ps, 0.02);
