@@ -1,6 +1,9 @@
 // MLS-MPM throughput, strong scaling, memory, and time-vs-error; no peer MPM
 // library is installed on this machine (Taichi is not packaged by Debian), so
-// Loom is measured alone against the targets.
+// Loom is measured alone against the targets. The timed modes run as
+// `loom run` does (loom/process_start.hpp): malloc's memory on 2-MiB pages
+// (docs/architecture.md, decision 29; GLIBC_TUNABLES=glibc.malloc.hugetlb=0
+// measures 4-KiB pages).
 //
 //   throughput: particle-substeps per second (wall and per CPU-second) for
 //     2D: mpm88's fluid scaled to 1M particles in [0.2, 0.6]² on 512²
@@ -14,7 +17,9 @@
 //     SSE2 flop rate and divider rate (core_rate.hpp), for the compute limits
 //     with callgrind's counts.
 //   count: a few substeps of one scene and nothing else, to count instructions
-//     (on one thread: callgrind's toggle counts only the thread that enters it):
+//     (on one thread: callgrind's toggle counts only the thread that enters it;
+//     the one mode that does not start again on huge pages, below, since
+//     valgrind would not follow the exec):
 //     valgrind --tool=callgrind --toggle-collect='loom::mpm::Solver<*>::substep*'
 //       build/bin/bench_mpm count --threads 1 --scene 0 --particles 100000 --substeps 2
 //   nbody: the NBody node's direct sum (orbits.cpp), pair interactions per
@@ -39,6 +44,7 @@
 #include "emitters.hpp"
 #include "mls_mpm.hpp"
 #include "mpm_traffic.hpp"
+#include "loom/process_start.hpp"
 #include "orbits.hpp"
 #include "stream_bandwidth.hpp"
 
@@ -349,10 +355,13 @@ int main(int argc, char** argv) {
                  static_cast<int>(scenes().size()) - 1);
     return 2;
   }
+  // After the arguments are read (all valid: the program starts again with them).
+  const bool counting = !modes.empty() && loom::bench::wants(modes, "count");
+  if (!counting) loom::prepare_process(argv, /*evaluates_graphs=*/true);
   if (max_threads == 0) max_threads = static_cast<int>(std::thread::hardware_concurrency());
   if (loom::bench::wants(modes, "throughput")) run_throughput(max_threads, quick);
   if (loom::bench::wants(modes, "limit")) run_limit(max_threads, quick);
   if (loom::bench::wants(modes, "nbody")) run_nbody(quick);
   if (loom::bench::wants(modes, "error")) run_error(quick);
-  if (!modes.empty() && loom::bench::wants(modes, "count")) run_count(scene, particles, substeps);
+  if (counting) run_count(scene, particles, substeps);
 }
