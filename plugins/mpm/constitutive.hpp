@@ -214,6 +214,12 @@ inline void rotations_where_unclamped(const Eigen::Matrix3d* const (&F)[2], Eige
 
 inline bool fixed_corotated(Material m) { return m == Material::elastic || m == Material::snow; }
 
+// Weakly compressible fluid, mpm88: τ = K (J − 1) I (λ holds K).
+template <int D>
+Eigen::Matrix<double, D, D> fluid_kirchhoff_stress(const Particles<D>& ps, int p) {
+  return Eigen::Matrix<double, D, D>::Identity() * (ps.lambda[p] * (ps.J[p] - 1));
+}
+
 // Kirchhoff stress of particle p; R its polar rotation where
 // rotation_where_unclamped found one (a fixed-corotated material only), else null.
 // May rewrite F[p] (and J[p]) when it has to be clamped away from a singular value
@@ -224,8 +230,7 @@ bool kirchhoff_stress(Particles<D>& ps, int p, const Eigen::Matrix<double, D, D>
   using Vec = Eigen::Matrix<double, D, 1>;
   const Material m = ps.material[p];
   if (m == Material::fluid) {
-    // Weakly compressible fluid, mpm88: τ = K (J − 1) I.
-    tau = Mat::Identity() * (ps.lambda[p] * (ps.J[p] - 1));
+    tau = fluid_kirchhoff_stress(ps, p);
     return false;
   }
   Mat& F = ps.F[p];

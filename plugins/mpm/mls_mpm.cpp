@@ -422,9 +422,15 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
   // The stress first, in a pass of its own over the particles in index order: it
   // touches no node, so its iterations are independent and short, and the core
   // overlaps one particle's chain of dependent operations (the polar iteration's,
-  // the SVD's) with the next.
+  // the SVD's) with the next. In 2D the fluid's stress, a product, is left to the
+  // scatter: there the pass would cost more in memory traffic than it gains
+  // (measured in docs/mpm.md). In 3D the pass also writes the scatter's inputs.
+  constexpr bool kFluidStressInScatter = D == 2;
   // MLS-MPM's affine momentum: −Δt V⁰ 4/Δx² τ + m C  (Hu 2018, eq. 29).
   const double stress_scale = -dt * 4 * inv_dx_ * inv_dx_;
+  const auto affine_momentum = [&](int p, const Mat& tau) -> Mat {
+    return (stress_scale * ps.volume[p]) * tau + ps.mass[p] * ps.C[p];
+  };
   // (Each container allocates only when the count grows.)
   if constexpr (kBlockOrderedInputs)
     scatter_inputs_.resize(static_cast<std::size_t>(ps.size()));
@@ -434,7 +440,7 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
   // past the caches (the writes land all over the array; the scatter reads them
   // back in a stream).
   const auto store_input = [&](int p, const Mat& tau) {
-    const Mat affine = (stress_scale * ps.volume[p]) * tau + ps.mass[p] * ps.C[p];
+    const Mat affine = affine_momentum(p, tau);
     if constexpr (kBlockOrderedInputs) {
       ScatterInput in;
       in.x = ps.x[p];
@@ -446,21 +452,31 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
       affine_[static_cast<std::size_t>(p)] = affine;
     }
   };
-  // Particles go two at a time (kirchhoff_stresses: the same stresses as one at a
-  // time, so how the range is split does not matter).
+  // In 3D particles go two at a time (kirchhoff_stresses: the same stresses as one
+  // at a time, so how the range is split does not matter; in 2D it takes them one
+  // at a time anyway).
   tbb::parallel_for(tbb::blocked_range<int>(0, ps.size(), 1024), [&](const tbb::blocked_range<int>& r) {
     long clamped = 0;
-    int p = r.begin();
-    for (; p + 1 < r.end(); p += 2) {
-      Mat tau[2];
-      clamped += kirchhoff_stresses(ps, p, tau);
-      store_input(p, tau[0]);
-      store_input(p + 1, tau[1]);
-    }
-    if (p < r.end()) {
-      Mat tau;
-      clamped += kirchhoff_stress(ps, p, tau);
-      store_input(p, tau);
+    if constexpr (kFluidStressInScatter) {
+      for (int p = r.begin(); p < r.end(); ++p) {
+        if (ps.material[p] == Material::fluid) continue;
+        Mat tau;
+        clamped += kirchhoff_stress(ps, p, tau);
+        store_input(p, tau);
+      }
+    } else {
+      int p = r.begin();
+      for (; p + 1 < r.end(); p += 2) {
+        Mat tau[2];
+        clamped += kirchhoff_stresses(ps, p, tau);
+        store_input(p, tau[0]);
+        store_input(p + 1, tau[1]);
+      }
+      if (p < r.end()) {
+        Mat tau;
+        clamped += kirchhoff_stress(ps, p, tau);
+        store_input(p, tau);
+      }
     }
     if (clamped) clamped_ += clamped;
     if constexpr (kBlockOrderedInputs) _mm_sfence();
@@ -493,7 +509,10 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
           } else {
             if (i + kPrefetchAhead < end) prefetch_scatter_inputs(ps, affine_, order_[i + kPrefetchAhead]);
             const int p = order_[i];
-            scatter_particle(ps.x[p], ps.v[p], ps.mass[p], affine_[static_cast<std::size_t>(p)]);
+            const bool fluid = kFluidStressInScatter && ps.material[p] == Material::fluid;
+            scatter_particle(ps.x[p], ps.v[p], ps.mass[p],
+                             fluid ? affine_momentum(p, fluid_kirchhoff_stress(ps, p))
+                                   : affine_[static_cast<std::size_t>(p)]);
           }
         }
       }
