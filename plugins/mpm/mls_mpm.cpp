@@ -510,9 +510,9 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
             if (i + kPrefetchAhead < end) prefetch_scatter_inputs(ps, affine_, order_[i + kPrefetchAhead]);
             const int p = order_[i];
             const bool fluid = kFluidStressInScatter && ps.material[p] == Material::fluid;
-            scatter_particle(ps.x[p], ps.v[p], ps.mass[p],
-                             fluid ? affine_momentum(p, fluid_kirchhoff_stress(ps, p))
-                                   : affine_[static_cast<std::size_t>(p)]);
+            scatter_particle(
+                ps.x[p], ps.v[p], ps.mass[p],
+                fluid ? affine_momentum(p, fluid_kirchhoff_stress(ps, p)) : affine_[static_cast<std::size_t>(p)]);
           }
         }
       }
