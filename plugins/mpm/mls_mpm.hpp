@@ -110,7 +110,8 @@ class Solver {
   // them into scatter_inputs_ in that order, and the scatter reads them one after
   // another; in 2D the scatter reads them where they are, affine_ by particle
   // index, in order_ (measured in docs/mpm.md: in 3D the copy saves more than it
-  // costs, in 2D it does not).
+  // costs, in 2D it does not), and computes a fluid particle's affine momentum
+  // itself (the stress pass skips the fluid there).
   static constexpr bool kBlockOrderedInputs = D == 3;
   struct alignas(64) ScatterInput {  // 3D: 128 bytes, two cache lines
     ScatterInput() {}                // left unset, as Eigen leaves its matrices: resize() writes nothing
