@@ -271,21 +271,18 @@ bool kirchhoff_stress(Particles<D>& ps, int p, Eigen::Matrix<double, D, D>& tau)
   return kirchhoff_stress<D>(ps, p, polar ? &R : nullptr, tau);
 }
 
-// The stresses of particles p and p + 1, equal bit for bit to two calls of
-// kirchhoff_stress; in 3D two fixed-corotated particles' polar iterations run
-// side by side. Returns how many were clamped.
-template <int D>
-int kirchhoff_stresses(Particles<D>& ps, int p, Eigen::Matrix<double, D, D> (&tau)[2]) {
-  if constexpr (D == 3) {
-    if (fixed_corotated(ps.material[p]) && fixed_corotated(ps.material[p + 1])) {
-      Eigen::Matrix3d R0, R1;
-      bool ok[2];
-      rotations_where_unclamped({&ps.F[p], &ps.F[p + 1]}, {&R0, &R1}, ok);
-      return kirchhoff_stress<3>(ps, p, ok[0] ? &R0 : nullptr, tau[0]) +
-             kirchhoff_stress<3>(ps, p + 1, ok[1] ? &R1 : nullptr, tau[1]);
-    }
+// The stresses of 3D particles p and p + 1, equal bit for bit to two calls of
+// kirchhoff_stress; two fixed-corotated particles' polar iterations run side by
+// side. Returns how many were clamped.
+inline int kirchhoff_stresses(Particles<3>& ps, int p, Eigen::Matrix3d (&tau)[2]) {
+  if (fixed_corotated(ps.material[p]) && fixed_corotated(ps.material[p + 1])) {
+    Eigen::Matrix3d R0, R1;
+    bool ok[2];
+    rotations_where_unclamped({&ps.F[p], &ps.F[p + 1]}, {&R0, &R1}, ok);
+    return kirchhoff_stress<3>(ps, p, ok[0] ? &R0 : nullptr, tau[0]) +
+           kirchhoff_stress<3>(ps, p + 1, ok[1] ? &R1 : nullptr, tau[1]);
   }
-  return kirchhoff_stress<D>(ps, p, tau[0]) + kirchhoff_stress<D>(ps, p + 1, tau[1]);
+  return kirchhoff_stress<3>(ps, p, tau[0]) + kirchhoff_stress<3>(ps, p + 1, tau[1]);
 }
 
 // Plastic projection of particle p after F was advanced; true when J had to be

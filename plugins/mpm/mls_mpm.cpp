@@ -453,8 +453,7 @@ void Solver<D>::p2g(Particles<D>& ps, double dt) {
     }
   };
   // In 3D particles go two at a time (kirchhoff_stresses: the same stresses as one
-  // at a time, so how the range is split does not matter; in 2D it takes them one
-  // at a time anyway).
+  // at a time, so how the range is split does not matter).
   tbb::parallel_for(tbb::blocked_range<int>(0, ps.size(), 1024), [&](const tbb::blocked_range<int>& r) {
     long clamped = 0;
     if constexpr (kFluidStressInScatter) {
