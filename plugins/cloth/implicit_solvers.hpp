@@ -78,6 +78,9 @@ struct SolveOptions {
 
 struct SolveReport {
   std::vector<double> residuals;
+  // ‖∇E(x0)‖, the scale `residuals` are relative to (0 when not measured):
+  // with it a caller puts solves from different starts on one scale.
+  double start_gradient = 0;
   // Local/global with Anderson: the E (springs, inertia and contact
   // constraints) of the start, then of each accepted iterate (the start's
   // plus the accepted changes, each computed without cancellation).

@@ -145,6 +145,7 @@ Eigen::MatrixX3d LocalGlobalSolver::solve(const SpringSystem& s, const Eigen::Ma
   }
   const bool measure = options.record_residuals || options.tolerance > 0;
   const double g0 = measure ? incremental_gradient(s, x, y, h_).norm() : 1;
+  if (measure) rep.start_gradient = g0;
   if (measure && g0 == 0) {
     rep.converged = true;
     return x;

@@ -161,6 +161,7 @@ Eigen::MatrixX3d newton_solve(const SpringSystem& s, const Eigen::MatrixX3d& y, 
   double energy = potential(s, x, y, h, options);
   Eigen::VectorXd g = gather(gradient(s, x, y, h, options), row, dofs);
   const double g0 = g.norm();
+  rep.start_gradient = g0;
   if (g0 == 0) {
     rep.converged = true;
     return x;

@@ -246,6 +246,16 @@ Eigen::MatrixX3d local_global_start(const SpringSystem& s, const Eigen::MatrixX3
 
 }  // namespace
 
+Eigen::MatrixX3d inertial_prediction(const ClothState& state, double h, const StepSettings& settings) {
+  const SpringSystem& s = *state.system;
+  const Eigen::MatrixX3d f = external_forces(s, state.x, state.v, state.time, settings);
+  const double decay = std::exp(-settings.damping * h);
+  Eigen::MatrixX3d y = state.x;
+  for (Eigen::Index i = 0; i < y.rows(); ++i)
+    if (!s.fixed[i]) y.row(i) += h * (decay * state.v.row(i)) + h * h / s.mass[i] * f.row(i);
+  return y;
+}
+
 StepResult step(const ClothState& state, double h, const StepSettings& settings, const LocalGlobalSolver* lg,
                 NewtonWorkspace* newton_workspace) {
   const SpringSystem& s = *state.system;
@@ -257,12 +267,12 @@ StepResult step(const ClothState& state, double h, const StepSettings& settings,
     result.state.v = state.v;
     return result;
   }
-  const Eigen::MatrixX3d f = external_forces(s, state.x, state.v, state.time, settings);
   const Eigen::MatrixX3d v0 = std::exp(-settings.damping * h) * state.v;
   Eigen::MatrixX3d x;
   if (settings.solver == Solver::explicit_euler) {
     // Symplectic Euler: v_{n+1} = v_n + h M⁻¹ (f_ext + f_int(x_n)), x_{n+1} = x_n + h v_{n+1}.
-    const Eigen::MatrixX3d force = f + spring_forces(s, state.x);
+    const Eigen::MatrixX3d force =
+        external_forces(s, state.x, state.v, state.time, settings) + spring_forces(s, state.x);
     x = state.x;
     for (Eigen::Index i = 0; i < x.rows(); ++i)
       if (!s.fixed[i]) x.row(i) += h * (v0.row(i) + h / s.mass[i] * force.row(i));
@@ -272,10 +282,7 @@ StepResult step(const ClothState& state, double h, const StepSettings& settings,
                   " s exceeds the stability bound 2/ω_max = " + std::to_string(2 / max_frequency(s)) +
                   " s; use more substeps or an implicit solver");
   } else {
-    // y = x_n + h v_n + h² M⁻¹ f_ext (the inertial target), fixed rows at x_n.
-    Eigen::MatrixX3d y = state.x;
-    for (Eigen::Index i = 0; i < y.rows(); ++i)
-      if (!s.fixed[i]) y.row(i) += h * v0.row(i) + h * h / s.mass[i] * f.row(i);
+    const Eigen::MatrixX3d y = inertial_prediction(state, h, settings);
     SolveOptions options = settings.solve;
     std::vector<FrictionContact> friction;
     if ((settings.ground || !settings.spheres.empty()) && settings.solver == Solver::newton) {

@@ -103,6 +103,10 @@ struct StepResult {
 StepResult step(const ClothState& state, double h, const StepSettings& settings, const LocalGlobalSolver* lg,
                 NewtonWorkspace* newton_workspace = nullptr);
 
+// y = x_n + h v_n + h² M⁻¹ f_ext, the step's inertial prediction (v_n after
+// damping; fixed rows at x_n): E's target, and where Newton starts.
+Eigen::MatrixX3d inertial_prediction(const ClothState& state, double h, const StepSettings& settings);
+
 // The weight w of local/global's contact constraints (Projective Dynamics):
 // 0.1 × the stiffest spring's k (measured on the drape, docs/cloth.md: a
 // weight of k leaves 9 % stretch at rest against 3 % at 0.1 k; below that

@@ -63,6 +63,14 @@ TEST(ImplicitSolvers, NewtonAndLocalGlobalConvergeToTheSameStep) {
   EXPECT_LT(relative, 1e-8) << "local/global iterations: " << lg_report.iterations;
   // Both are minimizers: the gradient vanishes.
   EXPECT_LT(incremental_gradient(s, xn, y, h).norm(), 1e-10 * incremental_gradient(s, y, y, h).norm());
+  // The scale each report's residuals are relative to: the start's gradient.
+  EXPECT_EQ(newton_report.start_gradient, incremental_gradient(s, y, y, h).norm());
+  EXPECT_EQ(lg_report.start_gradient, incremental_gradient(s, y, y, h).norm());
+  SolveOptions one;
+  one.iterations = 1;
+  SolveReport from_newton;
+  lg.solve(s, y, xn, one, &from_newton);
+  EXPECT_EQ(from_newton.start_gradient, incremental_gradient(s, xn, y, h).norm());
 }
 
 TEST(ImplicitSolvers, LocalGlobalDecreasesThePotentialEveryIteration) {
