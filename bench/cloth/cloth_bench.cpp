@@ -47,8 +47,8 @@
 #include <vector>
 
 #include "bench_harness.hpp"
-#include "loom/process_start.hpp"
 #include "incremental_potential.hpp"
+#include "loom/process_start.hpp"
 #include "time_step.hpp"
 
 namespace {
@@ -334,7 +334,6 @@ void cuboid_study() {
   loom::bench::plot(csv, {"seconds", "height_ratio", "k", "cuboid dropped on the ground: height / rest height", false,
                           false, ""});
 }
-
 
 // Time to accuracy: one step's ‖∇E‖ against the time spent, per iteration,
 // for plain local/global, Chebyshev (ρ = 0.99 and 0.999), Anderson (window
