@@ -244,15 +244,20 @@ Eigen::MatrixX3d local_global_start(const SpringSystem& s, const Eigen::MatrixX3
   return incremental_potential(s, x0, y, h) < incremental_potential(s, y, y, h) ? x0 : y;
 }
 
+// v_n after the step's damping: e^{−c h} v_n.
+Eigen::MatrixX3d damped_velocity(const ClothState& state, double h, const StepSettings& settings) {
+  return std::exp(-settings.damping * h) * state.v;
+}
+
 }  // namespace
 
 Eigen::MatrixX3d inertial_prediction(const ClothState& state, double h, const StepSettings& settings) {
   const SpringSystem& s = *state.system;
   const Eigen::MatrixX3d f = external_forces(s, state.x, state.v, state.time, settings);
-  const double decay = std::exp(-settings.damping * h);
+  const Eigen::MatrixX3d v0 = damped_velocity(state, h, settings);
   Eigen::MatrixX3d y = state.x;
   for (Eigen::Index i = 0; i < y.rows(); ++i)
-    if (!s.fixed[i]) y.row(i) += h * (decay * state.v.row(i)) + h * h / s.mass[i] * f.row(i);
+    if (!s.fixed[i]) y.row(i) += h * v0.row(i) + h * h / s.mass[i] * f.row(i);
   return y;
 }
 
@@ -267,7 +272,7 @@ StepResult step(const ClothState& state, double h, const StepSettings& settings,
     result.state.v = state.v;
     return result;
   }
-  const Eigen::MatrixX3d v0 = std::exp(-settings.damping * h) * state.v;
+  const Eigen::MatrixX3d v0 = damped_velocity(state, h, settings);
   Eigen::MatrixX3d x;
   if (settings.solver == Solver::explicit_euler) {
     // Symplectic Euler: v_{n+1} = v_n + h M⁻¹ (f_ext + f_int(x_n)), x_{n+1} = x_n + h v_{n+1}.
