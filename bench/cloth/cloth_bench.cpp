@@ -352,6 +352,35 @@ void cuboid_study() {
 // Newton's there is relative to each of its two passes' starts: its drape
 // curve is shown, not compared. Printed: the time each method takes to each
 // level.
+// One method of the accuracy studies: the solver, its iteration cap and
+// acceleration (Chebyshev's ρ, 0: off; Anderson's window, 0: off).
+struct AccuracyMethod {
+  std::string name;
+  Solver solver;
+  int iterations;
+  double rho;
+  int anderson;
+  // `base`'s forces and colliders with this method, every residual recorded
+  // and `tolerance` (relative to the start) as the stop.
+  StepSettings settings(const StepSettings& base, double tolerance) const {
+    StepSettings st = base;
+    st.solver = solver;
+    st.solve.iterations = iterations;
+    st.solve.tolerance = tolerance;
+    st.solve.record_residuals = true;
+    st.solve.chebyshev = rho > 0;
+    if (rho > 0) st.solve.chebyshev_rho = rho;
+    st.solve.anderson = anderson;
+    return st;
+  }
+};
+
+// The step's scale: ‖∇E(y)‖ at its inertial prediction y.
+double step_scale(const ClothState& state, double h, const StepSettings& settings) {
+  const Eigen::MatrixX3d y = inertial_prediction(state, h, settings);
+  return incremental_gradient(*state.system, y, y, h).norm();
+}
+
 struct AccuracyScene {
   std::string name;
   std::shared_ptr<const SpringSystem> system;
@@ -401,36 +430,18 @@ void accuracy_study(int n, int runs) {
   const std::vector<AccuracyScene> scenes = accuracy_scenes(n, h);
   loom::bench::Csv csv("cloth_accuracy", {"curve", "scene", "method", "iteration", "seconds", "residual",
                                           "residual_to_own_start", "load"});
-  struct Method {
-    std::string name;
-    Solver solver;
-    int iterations;
-    double rho;    // Chebyshev's, 0: off
-    int anderson;  // window, 0: off
-  };
-  const std::vector<Method> methods = {{"plain", Solver::local_global, 3000, 0, 0},
-                                       {"chebyshev 0.99", Solver::local_global, 3000, 0.99, 0},
-                                       {"chebyshev 0.999", Solver::local_global, 3000, 0.999, 0},
-                                       {"anderson 6", Solver::local_global, 3000, 0, 6},
-                                       {"newton", Solver::newton, 200, 0, 0}};
+  const std::vector<AccuracyMethod> methods = {{"plain", Solver::local_global, 3000, 0, 0},
+                                               {"chebyshev 0.99", Solver::local_global, 3000, 0.99, 0},
+                                               {"chebyshev 0.999", Solver::local_global, 3000, 0.999, 0},
+                                               {"anderson 6", Solver::local_global, 3000, 0, 6},
+                                               {"newton", Solver::newton, 200, 0, 0}};
   const double tolerances[] = {1e-2, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8};
   for (std::size_t sc = 0; sc < scenes.size(); ++sc) {
-    // The step's scale: the gradient at its inertial prediction y.
-    const double scale =
-        incremental_gradient(*scenes[sc].system, inertial_prediction(scenes[sc].state, h, scenes[sc].base),
-                             inertial_prediction(scenes[sc].state, h, scenes[sc].base), h)
-            .norm();
+    const double scale = step_scale(scenes[sc].state, h, scenes[sc].base);
     std::printf("\n%s (%d vertices), load %s, |grad E(y)| = %.3g: seconds to |grad E| / |grad E(y)| (iterations)\n",
                 scenes[sc].name.c_str(), scenes[sc].system->vertices(), load().c_str(), scale);
-    for (const Method& m : methods) {
-      StepSettings st = scenes[sc].base;
-      st.solver = m.solver;
-      st.solve.iterations = m.iterations;
-      st.solve.tolerance = 1e-9;
-      st.solve.record_residuals = true;
-      st.solve.chebyshev = m.rho > 0;
-      if (m.rho > 0) st.solve.chebyshev_rho = m.rho;
-      st.solve.anderson = m.anderson;
+    for (const AccuracyMethod& m : methods) {
+      StepSettings st = m.settings(scenes[sc].base, 1e-9);
       Clock::time_point t0;
       std::vector<double> stamps;
       st.solve.after_iteration = [&] { stamps.push_back(seconds_since(t0)); };
@@ -499,30 +510,15 @@ void accuracy_over_frames(int n) {
   loom::bench::Csv csv("cloth_accuracy_frames", {"frame", "method", "seconds", "iterations", "start", "load"});
   std::printf("\nlight %dx%d curtain over a run: seconds to |grad E| / |grad E(y)| = 1e-6 (iterations), load %s\n", n,
               n, load().c_str());
-  struct Method {
-    const char* name;
-    Solver solver;
-    int iterations;
-    double rho;
-    int anderson;
-  };
-  const Method methods[] = {{"anderson 6", Solver::local_global, 1500, 0, 6},
-                            {"chebyshev 0.999", Solver::local_global, 1500, 0.999, 0},
-                            {"newton", Solver::newton, 60, 0, 0}};
+  const AccuracyMethod methods[] = {{"anderson 6", Solver::local_global, 1500, 0, 6},
+                                    {"chebyshev 0.999", Solver::local_global, 1500, 0.999, 0},
+                                    {"newton", Solver::newton, 60, 0, 0}};
   for (int frame = 0; frame <= 40; ++frame) {
     if (frame >= 10 && frame % 5 == 0) {
-      const Eigen::MatrixX3d y = inertial_prediction(state, h, base);
-      const double scale = incremental_gradient(*system, y, y, h).norm();
+      const double scale = step_scale(state, h, base);
       std::printf("  frame %d:", frame);
-      for (const Method& m : methods) {
-        StepSettings st = base;
-        st.solver = m.solver;
-        st.solve.iterations = m.iterations;
-        st.solve.tolerance = 1e-14;
-        st.solve.record_residuals = true;
-        st.solve.chebyshev = m.rho > 0;
-        if (m.rho > 0) st.solve.chebyshev_rho = m.rho;
-        st.solve.anderson = m.anderson;
+      for (const AccuracyMethod& m : methods) {
+        StepSettings st = m.settings(base, 1e-14);
         std::vector<double> stamps;
         const Clock::time_point t0 = Clock::now();
         st.solve.after_iteration = [&] { stamps.push_back(seconds_since(t0)); };
@@ -531,12 +527,12 @@ void accuracy_over_frames(int n) {
         std::size_t k = 0;
         while (k < report.residuals.size() && report.residuals[k] * start > 1e-6) ++k;
         const bool reached = k < report.residuals.size();
-        csv.row({static_cast<long long>(frame), std::string(m.name), reached ? stamps[k] : -1.0,
+        csv.row({static_cast<long long>(frame), m.name, reached ? stamps[k] : -1.0,
                  static_cast<long long>(reached ? k + 1 : 0), start, load()});
         if (reached)
-          std::printf("  %s %.3f s (%zu)", m.name, stamps[k], k + 1);
+          std::printf("  %s %.3f s (%zu)", m.name.c_str(), stamps[k], k + 1);
         else
-          std::printf("  %s not in %d", m.name, m.iterations);
+          std::printf("  %s not in %d", m.name.c_str(), m.iterations);
       }
       std::printf("\n");
     }
