@@ -331,10 +331,14 @@ void set_lighting(GlProgram& p, const Scene& scene, const std::vector<ShadowMap>
   p.set("u_bias", o.shadow_bias);
   p.set("u_slope_bias", o.shadow_slope_bias);
   p.set("u_light_size", o.light_size);
+  // Clip to window coordinates (GL's default depth range): x, y, z in [0, 1].
+  Eigen::Matrix4d clip_to_window = Eigen::Matrix4d::Identity();
+  clip_to_window.topLeftCorner<3, 3>() *= 0.5;
+  clip_to_window.topRightCorner<3, 1>().setConstant(0.5);
   for (std::size_t m = 0; m < maps.size(); ++m) {
     const ShadowView& v = maps[m].view;
     const std::string k = "[" + std::to_string(m) + "]";
-    p.set(("u_shadow_matrix" + k).c_str(), Eigen::Matrix4d(v.projection * v.view));
+    p.set(("u_shadow_matrix" + k).c_str(), Eigen::Matrix4d(clip_to_window * v.projection * v.view));
     p.set(("u_shadow_origin" + k).c_str(), v.origin);
     p.set(("u_shadow_axis" + k).c_str(), v.axis);
     p.set(("u_shadow_texel" + k).c_str(), v.texel);

@@ -157,7 +157,7 @@ uniform float u_spot_cos_inner[MAX_LIGHTS];
 uniform float u_spot_cos_outer[MAX_LIGHTS];
 uniform float u_bias, u_slope_bias;            // in shadow-map texels
 uniform float u_light_size;                    // pcss: emitter radius, or tan(angular radius)
-uniform mat4 u_shadow_matrix[MAX_SHADOWS];     // world -> light clip (2D maps)
+uniform mat4 u_shadow_matrix[MAX_SHADOWS];     // world -> the map's window coordinates, [0,1] inside (2D maps)
 uniform vec3 u_shadow_origin[MAX_SHADOWS];
 uniform vec3 u_shadow_axis[MAX_SHADOWS];
 uniform float u_shadow_texel[MAX_SHADOWS];     // texel size in scene units (at unit depth if perspective)
@@ -167,8 +167,8 @@ uniform sampler2D u_shadow_map[MAX_SHADOWS];
 uniform samplerCube u_shadow_cube[MAX_SHADOWS];
 
 vec3 safe_normalize(vec3 v, vec3 fallback) {
-  float l = length(v);
-  return l > 1e-20 ? v / l : fallback;
+  float l2 = dot(v, v);
+  return l2 > 1e-38 ? v * inversesqrt(l2) : fallback;
 }
 
 #if SHADOW_FILTER != FILTER_NONE
@@ -201,13 +201,17 @@ float visibility(int s, int kind, vec3 P, vec3 N, vec3 L) {
   // slope term, which follows the angle to the light, matches how the stored
   // depth varies across texels; orthographic maps store depth along the light.
   float d = ortho ? dot(v, u_shadow_axis[s]) : length(v);
-  vec2 uv = vec2(0.0);
+  // An orthographic map's window depth is its stored depth; its w is 1.
+  vec4 q = vec4(0.0, 0.0, 0.0, 1.0);
   if (!cube) {
-    vec4 q = u_shadow_matrix[s] * vec4(P, 1.0);
-    if (q.w <= 0.0) return 1.0;
-    uv = q.xy / q.w * 0.5 + 0.5;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return 1.0;
+    q = u_shadow_matrix[s] * vec4(P, 1.0);
+    if (!ortho) {
+      if (q.w <= 0.0) return 1.0;
+      q.xy /= q.w;
+    }
+    if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, vec2(1.0)))) return 1.0;
   }
+  vec2 uv = q.xy;
   vec3 dir = safe_normalize(v, vec3(0.0, 0.0, 1.0));
   vec3 t = vec3(1.0, 0.0, 0.0), b = vec3(0.0, 1.0, 0.0);
   if (cube) {
@@ -253,15 +257,18 @@ float visibility(int s, int kind, vec3 P, vec3 N, vec3 L) {
     // The same n x n texels as one texelFetch each, 2 x 2 per textureGather
     // (a quarter of the lookups). Texels past the edge read the border (1e30,
     // or depth 1 = the far plane for ortho maps): nothing there, lit. Gather order: (x0,y1) (x1,y1) (x1,y0) (x0,y0).
-    int res = u_shadow_resolution[s];
-    ivec2 t0 = ivec2(floor(uv * float(res) - 0.5 * float(n - 1)));
+    // The receiver's depth on the map's stored scale (an orthographic map
+    // stores window depth, a perspective one the distance), compared with
+    // the stored depths as they are.
+    float res = float(u_shadow_resolution[s]), texel_uv = 1.0 / res;
+    float receiver = ortho ? q.z - bias / u_shadow_depth_range[s].y : d - bias;
+    vec2 corner = (floor(uv * res - 0.5 * float(n - 1)) + 1.0) * texel_uv;
     float lit = 0.0;
     for (int gy = 0; gy < n; gy += 2)
       for (int gx = 0; gx < n; gx += 2) {
-        vec4 z = u_shadow_depth_range[s].x +
-                 u_shadow_depth_range[s].y * textureGather(u_shadow_map[s], vec2(t0 + ivec2(gx + 1, gy + 1)) / float(res), 0);
+        vec4 z = textureGather(u_shadow_map[s], corner + vec2(gx, gy) * texel_uv, 0);
         float wx = gx + 1 < n ? 1.0 : 0.0, wy = gy + 1 < n ? 1.0 : 0.0;
-        lit += dot(vec4(greaterThanEqual(z, vec4(d - bias))), vec4(wy, wx * wy, wx, 1.0));
+        lit += dot(vec4(greaterThanEqual(z, vec4(receiver))), vec4(wy, wx * wy, wx, 1.0));
       }
     return lit / float(n * n);
   }
