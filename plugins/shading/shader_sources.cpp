@@ -419,7 +419,10 @@ void main() {
     N = safe_normalize(T * m.x + B * m.y + N * m.z, N);
   }
 #endif
-  vec3 albedo = u_base_color * v.color;
+  vec3 albedo = u_base_color;
+#if HAS_VERTEX_COLOR
+  albedo *= v.color;  // read only where the mesh has colours: each varying costs llvmpipe's triangle setup
+#endif
 #if HAS_BASE_MAP
   albedo *= texture(u_base_map, tex_uv).rgb;
 #endif

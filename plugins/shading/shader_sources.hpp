@@ -40,7 +40,7 @@ extern const char* const mesh_vertex;         // object -> world, frame attribut
 extern const char* const mesh_tess_control;   // uniform tessellation level
 extern const char* const mesh_tess_eval;      // displacement along the interpolated normal
 // Blinn-Phong, normal and displacement maps, shadows. `defines`: lighting_defines
-// plus HAS_BASE_MAP, HAS_NORMAL_MAP, HAS_DISPLACEMENT (0 or 1).
+// plus HAS_BASE_MAP, HAS_NORMAL_MAP, HAS_DISPLACEMENT, HAS_VERTEX_COLOR (0 or 1).
 std::string mesh_fragment(const std::string& defines);
 extern const char* const empty_fragment;      // depth only
 extern const char* const depth_fragment;      // shadow maps: the light's depth metric

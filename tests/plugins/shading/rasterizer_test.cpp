@@ -83,6 +83,17 @@ TEST(Rasterizer, SphereMatchesAnalyticLambert) {
   EXPECT_LE(worst, 1.0 / 255) << "worst per-channel error";
 }
 
+// The albedo from the mesh's vertex colours (base colour white): the
+// program reads them only for meshes that have them.
+TEST(Rasterizer, VertexColoursAreTheAlbedo) {
+  Mesh sphere = scenes::sphere(256, 512);
+  sphere.C = Eigen::RowVector3d(0.7, 0.5, 0.3).replicate(sphere.V.rows(), 1);
+  int compared = 0;
+  const double worst = worst_lambert_error(scenes::object(sphere, {1, 1, 1}), &compared);
+  EXPECT_GT(compared, 20000);
+  EXPECT_LE(worst, 1.0 / 255) << "worst per-channel error";
+}
+
 // A point set of one point, radius 1, drawn as a sphere impostor: exact.
 TEST(Rasterizer, PointImpostorMatchesAnalyticLambert) {
   SceneObject o;
