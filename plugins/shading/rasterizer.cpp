@@ -489,12 +489,11 @@ void Rasterizer::State::draw_object(const Frame& f, const GpuObject& o) {
   }
   const bool points = o.kind == GpuObject::Kind::points;
   const bool tess = !points && displaced(o, options.tessellation);
-  const std::string defines = points ? f.lighting + "#define DEPTH_PASS 0\n"
-                                     : f.lighting + "#define HAS_BASE_MAP " + (o.base_map ? "1" : "0") +
-                                           "\n#define HAS_NORMAL_MAP " + (o.normal_map ? "1" : "0") +
-                                           "\n#define HAS_DISPLACEMENT " + (tess ? "1" : "0") +
-                                           "\n#define HAS_VERTEX_COLOR " + (o.source->mesh->has_colors() ? "1" : "0") +
-                                           "\n";
+  const std::string defines =
+      points ? f.lighting + "#define DEPTH_PASS 0\n"
+             : f.lighting + "#define HAS_BASE_MAP " + (o.base_map ? "1" : "0") + "\n#define HAS_NORMAL_MAP " +
+                   (o.normal_map ? "1" : "0") + "\n#define HAS_DISPLACEMENT " + (tess ? "1" : "0") +
+                   "\n#define HAS_VERTEX_COLOR " + (o.source->mesh->has_colors() ? "1" : "0") + "\n";
   GlProgram& p = lit_program(points ? Lit::sphere : tess ? Lit::mesh_tess : Lit::mesh, defines);
   p.use();
   set_lighting(p, f.scene, f.maps, options, f.camera.eye, f.ambient, f.env);
