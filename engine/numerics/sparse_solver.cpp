@@ -127,6 +127,7 @@ std::string cholmod_failure(const char* step, int status) {
 
 struct SparseCholesky::Impl {
   Common common;
+  SparseCholesky::Options options;
   cholmod_factor* L = nullptr;
   Eigen::Index n = -1;
   bool factored = false;
@@ -180,11 +181,15 @@ struct SparseCholesky::Impl {
                   std::to_string(n) + "): check that the system is symmetric positive definite, "
                   "e.g. that every connected part has a fixed (Dirichlet) value");
     if (common.c.status < CHOLMOD_OK) throw Error(cholmod_failure("factorization", common.c.status));
+    // The same numbers, stored column by column (numeric LL', packed).
+    if (options.simplicial_solves && !cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, L, &common.c))
+      throw Error(cholmod_failure("conversion to simplicial form", common.c.status));
     factored = true;
   }
 };
 
 SparseCholesky::SparseCholesky() : impl_(std::make_unique<Impl>()) {}
+SparseCholesky::SparseCholesky(const Options& options) : SparseCholesky() { impl_->options = options; }
 SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
 SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
@@ -198,7 +203,8 @@ void SparseCholesky::compute(const SparseMatrix& A, const std::function<void()>&
 
 void SparseCholesky::refactor(const SparseMatrix& A, const std::function<void()>& check) {
   require_square_finite(A, "sparse Cholesky");
-  if (!impl_->L || !impl_->same_pattern(A)) impl_->analyze(A);
+  // A simplicial factor cannot be refactored as a supernodal one: analyse again.
+  if (!impl_->L || impl_->options.simplicial_solves || !impl_->same_pattern(A)) impl_->analyze(A);
   if (check) check();
   impl_->factorize(A);
 }

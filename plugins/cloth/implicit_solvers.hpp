@@ -165,7 +165,8 @@ class LocalGlobalSolver {
   double contact_weight_;
   std::vector<int> free_;   // free vertex of each unknown row
   std::vector<int> row_;    // unknown row of each vertex, −1 if fixed
-  loom::numerics::SparseCholesky cholesky_;
+  // Factored once, solved every iteration: kept simplicial (no BLAS per solve).
+  loom::numerics::SparseCholesky cholesky_{loom::numerics::SparseCholesky::Options{true}};
 };
 
 }  // namespace loom::cloth

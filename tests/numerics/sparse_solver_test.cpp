@@ -175,6 +175,23 @@ TEST(SparseCholesky, RefactorWithNewValuesMatchesAFreshFactorization) {
   EXPECT_LT(rel_error(chol.solve(B), ldlt.solve(B)), 1e-10);
 }
 
+// The factor kept in simplicial form for many solves: the same solutions as
+// the supernodal one, after compute() and after refactor() with new values.
+TEST(SparseCholesky, SimplicialSolvesMatchTheSupernodalFactor) {
+  const SparseMatrix A = laplacian_2d(60, 1.0 / 61);
+  const Eigen::MatrixXd B = random_rhs(3600, 3, 12);
+  SparseCholesky supernodal, simplicial(SparseCholesky::Options{true});
+  supernodal.compute(A);
+  simplicial.compute(A);
+  Eigen::SimplicialLDLT<SparseMatrix> ldlt(A);
+  EXPECT_LT(rel_error(simplicial.solve(B), ldlt.solve(B)), 1e-12);
+  EXPECT_LT(rel_error(simplicial.solve(B), supernodal.solve(B)), 1e-12);
+  SparseMatrix A2 = A * 2.5;
+  for (int i = 0; i < A2.rows(); ++i) A2.coeffRef(i, i) += 0.1 * i;
+  simplicial.refactor(A2);
+  EXPECT_LT(rel_error(simplicial.solve(B), Eigen::SimplicialLDLT<SparseMatrix>(A2).solve(B)), 1e-12);
+}
+
 TEST(SparseCholesky, RefactorWithAnotherPatternFallsBackToCompute) {
   SparseCholesky chol;
   chol.refactor(random_spd(100, 2, 9));  // no compute() yet

@@ -37,7 +37,18 @@ using SparseMatrix = Eigen::SparseMatrix<double>;  // column-major
 
 class LOOM_API SparseCholesky {
  public:
+  struct Options {
+    // Many solves for each factorization (a local/global solver's fixed
+    // matrix): the factor is kept in CHOLMOD's simplicial form after the
+    // supernodal factorization, whose triangular solves call no BLAS. For a
+    // few right-hand-side columns the supernodal solve's BLAS calls, each
+    // packing its small blocks, cost more than the arithmetic: the cloth
+    // curtain's (81², 3 columns) local/global iteration took 2.0 ms with it
+    // and 1.6 ms without (docs/cloth.md). refactor() then analyses again.
+    bool simplicial_solves = false;
+  };
   SparseCholesky();
+  explicit SparseCholesky(const Options& options);
   ~SparseCholesky();
   SparseCholesky(SparseCholesky&&) noexcept;
   SparseCholesky& operator=(SparseCholesky&&) noexcept;
