@@ -43,8 +43,9 @@ class LOOM_API SparseCholesky {
     // supernodal factorization, whose triangular solves call no BLAS. For a
     // few right-hand-side columns the supernodal solve's BLAS calls, each
     // packing its small blocks, cost more than the arithmetic: the cloth
-    // curtain's (81², 3 columns) local/global iteration took 2.0 ms with it
-    // and 1.6 ms without (docs/cloth.md). refactor() then analyses again.
+    // curtain's (81², 3 columns) local/global iteration took 2.0 ms with the
+    // supernodal solve and 1.6 ms with this (docs/cloth.md). refactor() then
+    // analyses again.
     bool simplicial_solves = false;
   };
   SparseCholesky();
