@@ -257,11 +257,12 @@ float visibility(int s, int kind, vec3 P, vec3 N, vec3 L) {
     // The same n x n texels as one texelFetch each, 2 x 2 per textureGather
     // (a quarter of the lookups). Texels past the edge read the border (1e30,
     // or depth 1 = the far plane for ortho maps): nothing there, lit. Gather order: (x0,y1) (x1,y1) (x1,y0) (x0,y0).
-    // The receiver's depth on the map's stored scale (an orthographic map
-    // stores window depth, a perspective one the distance), compared with
-    // the stored depths as they are.
+    // The receiver's depth on the map's stored scale (stored_depth's range
+    // inverted; an orthographic map's window depth is already on it),
+    // compared with the stored depths as they are.
     float res = float(u_shadow_resolution[s]), texel_uv = 1.0 / res;
-    float receiver = ortho ? q.z - bias / u_shadow_depth_range[s].y : d - bias;
+    vec2 range = u_shadow_depth_range[s];
+    float receiver = ortho ? q.z - bias / range.y : (d - bias - range.x) / range.y;
     vec2 corner = (floor(uv * res - 0.5 * float(n - 1)) + 1.0) * texel_uv;
     float lit = 0.0;
     for (int gy = 0; gy < n; gy += 2)
