@@ -220,6 +220,44 @@ double sound_speed_squared(Material m, double mu, double lambda, double J, doubl
   return stiffness / rho;
 }
 
+// The largest |v| + c over particles, c = √c² the sound speed. c depends on a
+// particle's constants alone (material, μ, λ, mass, volume), except for snow's (J
+// too), and neighbours in memory usually share them: over a run of particles with
+// one c the largest is √(max |v|²) + c exactly, since √ and + round monotonically,
+// so the division and both square roots are taken once a run, not once a particle
+// (G2P's stalls on them were measured in docs/mpm.md).
+class LargestSignalSpeed {
+ public:
+  explicit LargestSignalSpeed(double best) : best_(best) {}
+  // A particle's constants, its J and |v|². (A NaN |v|² or c is passed over, as
+  // std::max(best, NaN) passes over it.)
+  void add(Material m, double mu, double lambda, double J, double mass, double volume, double v2) {
+    if (!(open_ && m == material_ && m != Material::snow && mu == mu_ && lambda == lambda_ && mass == mass_ &&
+          volume == volume_)) {
+      close();
+      open_ = true;
+      material_ = m, mu_ = mu, lambda_ = lambda, mass_ = mass, volume_ = volume;
+      c_ = std::sqrt(sound_speed_squared(m, mu, lambda, J, mass / volume));
+      v2_ = -1;  // none yet
+    }
+    if (v2 > v2_) v2_ = v2;
+  }
+  double largest() {
+    close();
+    return best_;
+  }
+
+ private:
+  void close() {
+    if (open_ && v2_ >= 0) best_ = std::max(best_, std::sqrt(v2_) + c_);
+    open_ = false;
+  }
+  double best_;
+  bool open_ = false;
+  Material material_{};
+  double mu_ = 0, lambda_ = 0, mass_ = 0, volume_ = 0, c_ = 0, v2_ = -1;
+};
+
 }  // namespace
 
 template <int D>
@@ -266,12 +304,10 @@ double Solver<D>::max_signal_speed(const Particles<D>& ps) const {
   return tbb::parallel_reduce(
       tbb::blocked_range<int>(0, ps.size(), 4096), 0.0,
       [&](const tbb::blocked_range<int>& r, double best) {
-        for (int p = r.begin(); p < r.end(); ++p) {
-          const double c2 = sound_speed_squared(ps.material[p], ps.mu[p], ps.lambda[p], ps.J[p],
-                                                ps.mass[p] / ps.volume[p]);
-          best = std::max(best, ps.v[p].norm() + std::sqrt(c2));
-        }
-        return best;
+        LargestSignalSpeed speed(best);
+        for (int p = r.begin(); p < r.end(); ++p)
+          speed.add(ps.material[p], ps.mu[p], ps.lambda[p], ps.J[p], ps.mass[p], ps.volume[p], ps.v[p].squaredNorm());
+        return speed.largest();
       },
       [](double a, double b) { return std::max(a, b); });
 }
@@ -566,6 +602,7 @@ double Solver<D>::g2p(Particles<D>& ps, double dt) {
       tbb::blocked_range<int>(0, ps.size(), 1024), 0.0,
       [&](const tbb::blocked_range<int>& r, double best) {
         long clamped = 0;
+        LargestSignalSpeed speed(best);
         for (int p = r.begin(); p < r.end(); ++p) {
           const Weights<D> w(ps.x[p], inv_dx_);
           // v = Σ w_i v_i and B = Σ w_i v_i (x_i − x_p)ᵀ = (Σ w_i v_i oᵀ − v fxᵀ) Δx.
@@ -583,9 +620,9 @@ double Solver<D>::g2p(Particles<D>& ps, double dt) {
           }
           ps.v[p] = v;
           ps.C[p] = C;
-          Vec x = ps.x[p] + dt * v;
-          for (int d = 0; d < D; ++d) x[d] = std::clamp(x[d], lo, hi);
-          ps.x[p] = x;
+          // (Clamped as a vector: written a component at a time, GCC stored both to
+          // the stack and loaded them back as one pair, a store-forwarding stall.)
+          ps.x[p] = (ps.x[p] + dt * v).cwiseMax(lo).cwiseMin(hi);
           if (ps.material[p] == Material::fluid) {
             double J = ps.J[p] * (1 + dt * C.trace());  // mpm88
             if (!(J >= kMinJ)) J = kMinJ, ++clamped;
@@ -594,12 +631,10 @@ double Solver<D>::g2p(Particles<D>& ps, double dt) {
             ps.F[p] = (Mat::Identity() + dt * C) * ps.F[p];
             clamped += plastic_projection(ps, p, s_.sand);
           }
-          const double c2 = sound_speed_squared(ps.material[p], ps.mu[p], ps.lambda[p], ps.J[p],
-                                                ps.mass[p] / ps.volume[p]);
-          best = std::max(best, v.norm() + std::sqrt(c2));
+          speed.add(ps.material[p], ps.mu[p], ps.lambda[p], ps.J[p], ps.mass[p], ps.volume[p], v.squaredNorm());
         }
         if (clamped) clamped_ += clamped;
-        return best;
+        return speed.largest();
       },
       [](double a, double b) { return std::max(a, b); });
 }
