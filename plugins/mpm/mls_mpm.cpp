@@ -162,8 +162,6 @@ std::string shortest(double v) {
   return s.str();
 }
 
-constexpr int block_size(int D) { return D == 2 ? 8 : 4; }
-
 // How many particles ahead the 2D scatter asks for a particle's inputs (measured
 // when the 3D scatter read them this way too: 2, 4, 8 and 16 ahead; 8 was the
 // fastest).
@@ -270,7 +268,7 @@ Solver<D>::Solver(const Settings& settings)
   long cells = 1;
   for (int d = D - 1; d >= 0; --d) stride_[d] = cells, cells *= n_;
   grid_.assign(static_cast<std::size_t>(cells), Node::Zero());
-  blocks_per_axis_ = (n_ + block_size(D) - 1) / block_size(D);
+  blocks_per_axis_ = (n_ + kBlockCells - 1) / kBlockCells;
   int blocks = 1;
   for (int d = 0; d < D; ++d) blocks *= blocks_per_axis_;
   block_start_.assign(static_cast<std::size_t>(blocks) + 1, 0);
@@ -314,7 +312,7 @@ double Solver<D>::max_signal_speed(const Particles<D>& ps) const {
 
 template <int D>
 void Solver<D>::bin(const Particles<D>& ps) {
-  constexpr int B = block_size(D);
+  constexpr int B = kBlockCells;
   const int np = ps.size();
   const int blocks = static_cast<int>(block_start_.size()) - 1;
   block_of_.resize(static_cast<std::size_t>(np));  // allocates only when the count grows
@@ -416,7 +414,7 @@ void Solver<D>::mark_reachable_blocks() {
 
 template <int D>
 long Solver<D>::reachable_nodes() const {
-  constexpr int B = block_size(D);
+  constexpr int B = kBlockCells;
   long nodes = 0;
   for (const int b : to_update_) {
     const std::array<int, D> c = block_coordinates(b);
@@ -432,7 +430,7 @@ long Solver<D>::reachable_nodes() const {
 template <int D>
 template <typename F>
 void Solver<D>::for_nodes_of_blocks(const std::vector<int>& blocks, const F& f) {
-  constexpr int B = block_size(D);
+  constexpr int B = kBlockCells;
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, blocks.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t k = r.begin(); k < r.end(); ++k) {
@@ -648,6 +646,24 @@ double Solver<D>::substep(Particles<D>& ps, double dt) {
 }
 
 template <int D>
+std::vector<int> Solver<D>::block_order_slots(const Particles<D>& ps) {
+  bin(ps);
+  std::vector<int> slot(static_cast<std::size_t>(ps.size()));
+  if constexpr (kBlockOrderedInputs)
+    slot = slot_;
+  else
+    for (int i = 0; i < ps.size(); ++i) slot[static_cast<std::size_t>(order_[i])] = i;
+  return slot;
+}
+
+template <int D>
+Particles<D> Solver<D>::in_block_order(const Particles<D>& ps) {
+  Particles<D> sorted;
+  permute(ps, sorted, block_order_slots(ps), Direction::to_slots);
+  return sorted;
+}
+
+template <int D>
 AdvanceReport Solver<D>::advance(Particles<D>& ps, double seconds,
                                  const std::function<void(double)>& between) {
   AdvanceReport report;
@@ -671,12 +687,7 @@ AdvanceReport Solver<D>::advance(Particles<D>& ps, double seconds,
   // were). G2P reads the grid in storage order, and a simulation mixes the order
   // the emitters left: in a 3D dam break, G2P took 27 % longer after 0.5 s and 47 %
   // after 0.75 s (measured in docs/mpm.md).
-  bin(ps);
-  std::vector<int> slot(static_cast<std::size_t>(ps.size()));
-  if constexpr (kBlockOrderedInputs)
-    slot = slot_;
-  else
-    for (int i = 0; i < ps.size(); ++i) slot[static_cast<std::size_t>(order_[i])] = i;
+  const std::vector<int> slot = block_order_slots(ps);
   Particles<D> sorted;
   permute(ps, sorted, slot, Direction::to_slots);
   while (seconds - t > 1e-12 * seconds) {

@@ -64,6 +64,9 @@ class Solver {
   using Mat = Eigen::Matrix<double, D, D>;
   using Node = Eigen::Matrix<double, D + 1, 1>;  // momentum (then velocity), mass
 
+  // A block's size in cells along each axis (see the top of this file).
+  static constexpr int kBlockCells = D == 2 ? 8 : 4;
+
   explicit Solver(const Settings& settings);
 
   // Advances by `seconds` in substeps of Δt = remaining / ⌈remaining / Δt_CFL⌉
@@ -75,6 +78,10 @@ class Solver {
   // One substep: P2G, grid update, G2P. Returns max over particles of
   // (|v| + sound speed) afterwards, for the next CFL step.
   double substep(Particles<D>& ps, double dt);
+
+  // A copy of the particles in the order advance() runs its substeps in: by block
+  // (see bin), then by index. For timing substeps as a frame runs them.
+  Particles<D> in_block_order(const Particles<D>& ps);
 
   // Keeps particles inside [2Δx, size − 2Δx]^D; returns how many were moved.
   long clamp_positions(Particles<D>& ps) const;
@@ -91,6 +98,8 @@ class Solver {
 
  private:
   void bin(const Particles<D>& ps);
+  // Each particle's place in block order (in_block_order).
+  std::vector<int> block_order_slots(const Particles<D>& ps);
   // Block b's position along each axis, in blocks.
   std::array<int, D> block_coordinates(int b) const;
   void mark_reachable_blocks();

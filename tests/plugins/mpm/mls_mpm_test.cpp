@@ -2,9 +2,11 @@
 #include "mls_mpm.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <utility>
 #include <vector>
 
@@ -306,6 +308,70 @@ void only_reachable_nodes_cleared_and_updated(int resolution) {
 TEST(MlsMpm, OnlyReachableNodesAreClearedAndUpdated) {
   only_reachable_nodes_cleared_and_updated<2>(45);
   only_reachable_nodes_cleared_and_updated<3>(30);
+}
+
+// in_block_order() returns the particles in the order advance() runs them: blocks
+// in order (a particle's block is that of its stencil's lowest node,
+// ⌊x/Δx − 1/2⌋ / kBlockCells along each axis), each block's particles in their
+// index order. So: it is a permutation, its blocks never decrease, and within a
+// block the original indices increase; and one substep on it gives the same grid,
+// byte for byte, and the same particles as on the particles as they were (each
+// node sums its contributions block by block, each block's in index order).
+template <int D>
+void in_block_order_is_advances_order(int resolution) {
+  using Vec = Eigen::Matrix<double, D, 1>;
+  auto ps = block<D>(0.27, 0.63, Material::fluid, 400, 1.0 / 150);
+  for (int p = 0; p < ps.size(); ++p) ps.v[p] = Vec::Constant(0.3 * std::sin(p));  // one velocity each
+  std::reverse(ps.x.begin(), ps.x.end());  // the emitter's order, undone
+  Solver<D> solver(free_space(resolution));
+  const Particles<D> sorted = solver.in_block_order(ps);
+  ASSERT_EQ(sorted.size(), ps.size());
+  std::map<std::array<double, D>, int> index_of;  // the lattice's positions are distinct
+  const auto key = [](const Vec& x) {
+    std::array<double, D> k;
+    for (int d = 0; d < D; ++d) k[static_cast<std::size_t>(d)] = x[d];
+    return k;
+  };
+  for (int p = 0; p < ps.size(); ++p) index_of[key(ps.x[p])] = p;
+  const int per_axis = (resolution + Solver<D>::kBlockCells - 1) / Solver<D>::kBlockCells;
+  const auto block_of = [&](const Vec& x) {
+    int b = 0;
+    for (int d = 0; d < D; ++d) b = b * per_axis + static_cast<int>(x[d] * resolution - 0.5) / Solver<D>::kBlockCells;
+    return b;
+  };
+  std::vector<int> from(static_cast<std::size_t>(ps.size()));
+  int out_of_order = 0, blocks = 1;
+  for (int i = 0; i < sorted.size(); ++i) {
+    from[static_cast<std::size_t>(i)] = index_of.at(key(sorted.x[i]));
+    if (i == 0) continue;
+    const int b = block_of(sorted.x[i]), before = block_of(sorted.x[i - 1]);
+    blocks += b != before;
+    out_of_order += b < before || (b == before && from[static_cast<std::size_t>(i)] < from[static_cast<std::size_t>(i - 1)]);
+  }
+  std::vector<int> all = from;
+  std::sort(all.begin(), all.end());
+  for (int i = 0; i < ps.size(); ++i) ASSERT_EQ(all[static_cast<std::size_t>(i)], i);
+  EXPECT_EQ(out_of_order, 0);
+  EXPECT_GT(blocks, 8);
+  Particles<D> as_they_were = ps, in_blocks = sorted;
+  Solver<D> a(free_space(resolution)), b(free_space(resolution));
+  a.substep(as_they_were, 1e-4);
+  b.substep(in_blocks, 1e-4);
+  EXPECT_TRUE(std::memcmp(a.grid().data(), b.grid().data(), a.grid().size() * sizeof(a.grid()[0])) == 0);
+  int differ = 0;
+  for (int i = 0; i < ps.size(); ++i) {
+    const int p = from[static_cast<std::size_t>(i)];
+    differ += in_blocks.x[i] != as_they_were.x[p] || in_blocks.v[i] != as_they_were.v[p] ||
+              in_blocks.C[i] != as_they_were.C[p] || in_blocks.J[i] != as_they_were.J[p];
+  }
+  std::printf("%dD: %d particles in %d blocks, %d out of order, %d differ after a substep\n", D, ps.size(), blocks,
+              out_of_order, differ);
+  EXPECT_EQ(differ, 0);
+}
+
+TEST(MlsMpm, InBlockOrderIsTheOrderAdvanceRunsIn) {
+  in_block_order_is_advances_order<2>(45);
+  in_block_order_is_advances_order<3>(30);
 }
 
 // advance() runs its substeps on a copy of the particles in block order and puts
