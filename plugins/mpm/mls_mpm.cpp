@@ -334,14 +334,25 @@ void Solver<D>::bin(const Particles<D>& ps) {
         },
         tbb::simple_partitioner());
   };
+  // Both passes go by runs of particles in one block, which advance() makes long
+  // (its particles are in block order): a block's count and cursor are kept in a
+  // register over its run, not incremented in memory particle after particle, each
+  // increment waiting for the one before.
   each_chunk([&](int* count, int begin, int end) {
+    int run_block = -1, run = 0;
     for (int p = begin; p < end; ++p) {
       int block = 0;
       for (int d = 0; d < D; ++d)
         block = block * blocks_per_axis_ + static_cast<int>(ps.x[p][d] * inv_dx_ - 0.5) / B;
       block_of_[p] = block;
-      ++count[block];
+      if (block == run_block) {
+        ++run;
+      } else {
+        if (run) count[run_block] += run;
+        run_block = block, run = 1;
+      }
     }
+    if (run) count[run_block] += run;
   });
   int start = 0;  // counts become cursors: block by block, chunk by chunk
   for (int b = 0; b < blocks; ++b) {
@@ -361,13 +372,20 @@ void Solver<D>::bin(const Particles<D>& ps) {
     colour_blocks_[colour].push_back(b);
   }
   each_chunk([&](int* cursor, int begin, int end) {
+    int run_block = -1, next = 0;  // the run's block and its next place
     for (int p = begin; p < end; ++p) {
-      const int place = cursor[block_of_[p]]++;
+      const int block = block_of_[p];
+      if (block != run_block) {
+        if (run_block >= 0) cursor[run_block] = next;
+        run_block = block, next = cursor[block];
+      }
+      const int place = next++;
       if constexpr (kBlockOrderedInputs)
         slot_[p] = place;
       else
         order_[place] = p;
     }
+    if (run_block >= 0) cursor[run_block] = next;
   });
   mark_reachable_blocks();
 }
