@@ -321,8 +321,9 @@ template <int D>
 void in_block_order_is_advances_order(int resolution) {
   using Vec = Eigen::Matrix<double, D, 1>;
   auto ps = block<D>(0.27, 0.63, Material::fluid, 400, 1.0 / 150);
-  for (int p = 0; p < ps.size(); ++p) ps.v[p] = Vec::Constant(0.3 * std::sin(p));  // one velocity each
-  std::reverse(ps.x.begin(), ps.x.end());  // the emitter's order, undone
+  // Each particle its own velocity, and the positions reversed: far from block order.
+  for (int p = 0; p < ps.size(); ++p) ps.v[p] = Vec::Constant(0.3 * std::sin(p));
+  std::reverse(ps.x.begin(), ps.x.end());
   Solver<D> solver(free_space(resolution));
   const Particles<D> sorted = solver.in_block_order(ps);
   ASSERT_EQ(sorted.size(), ps.size());
@@ -346,7 +347,8 @@ void in_block_order_is_advances_order(int resolution) {
     if (i == 0) continue;
     const int b = block_of(sorted.x[i]), before = block_of(sorted.x[i - 1]);
     blocks += b != before;
-    out_of_order += b < before || (b == before && from[static_cast<std::size_t>(i)] < from[static_cast<std::size_t>(i - 1)]);
+    const bool index_fell = from[static_cast<std::size_t>(i)] < from[static_cast<std::size_t>(i - 1)];
+    out_of_order += b < before || (b == before && index_fell);
   }
   std::vector<int> all = from;
   std::sort(all.begin(), all.end());
