@@ -8,7 +8,8 @@
 //   adaptive     relMSE against time, adaptive thresholds vs uniform spp
 //   bvh          BVH build time of a 1M-triangle mesh
 //   cycles       Blender's Cycles side by side (cycles_peer.hpp)
-//   rays         Embree's own ray rate on the rays PathTrace casts, the limit (ray_rate.hpp)
+//   rays         Embree's own ray rate on the rays PathTrace casts, the limit, and the
+//                same for Embree's tutorial path tracer on its rays (ray_rate.hpp)
 // relMSE = mean over pixels and channels of (x - ref)² / (ref² + 0.01).
 #include <chrono>
 #include <cmath>
@@ -26,6 +27,7 @@
 #include "cornell_box_scene.hpp"
 #include "cycles_peer.hpp"
 #include "embree_scene.hpp"
+#include "embree_tutorial.hpp"
 #include "image_codec.hpp"
 #include "image_error.hpp"
 #include "integrator.hpp"
@@ -36,21 +38,16 @@
 namespace fs = std::filesystem;
 using namespace loom::pathtrace;
 using loom::bench::Csv;
+using loom::pathtrace::bench::cpu_seconds;
 using loom::pathtrace::bench::read_pfm;
 using loom::pathtrace::bench::rel_mse;
+using loom::pathtrace::bench::run_embree_tutorial;
 
 namespace {
 
 // --quick: a quarter of the reference samples and of the 512² repetitions.
 bool quick = false;
 int ref_spp(int spp) { return quick ? spp / 4 : spp; }
-
-// CPU seconds (user + system, all threads) of this process or of its finished children.
-double cpu_seconds(int who) {
-  rusage u{};
-  getrusage(who, &u);
-  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -120,24 +117,8 @@ void bench_throughput() {
 
 // ---- Embree's tutorial path tracer --------------------------------------------------
 
-// Runs `pathtracer`; returns wall seconds (negative when it could not run) and
-// its CPU seconds in *cpu.
-double run_embree(int size, int spp, int depth, int threads, const fs::path& out, double* cpu = nullptr) {
-  const std::string cmd = "pathtracer -c " + std::string(EMBREE_MODELS) + "/cornell_box.ecs --size " +
-                          std::to_string(size) + " " + std::to_string(size) + " --spp " + std::to_string(spp) +
-                          " --max-path-length " + std::to_string(depth) + " --threads " + std::to_string(threads) +
-                          " -o " + out.string() + " > /dev/null 2>&1";
-  const auto t = std::chrono::steady_clock::now();
-  const double c0 = cpu_seconds(RUSAGE_CHILDREN);
-  const int rc = std::system(cmd.c_str());
-  const double s = seconds_since(t);
-  if (cpu) *cpu = cpu_seconds(RUSAGE_CHILDREN) - c0;
-  return rc == 0 ? s : -1;
-}
-
 void bench_embree() {
-  if (std::system("command -v pathtracer > /dev/null 2>&1") != 0 ||
-      !fs::exists(fs::path(EMBREE_MODELS) / "cornell_box.ecs")) {
+  if (!bench::embree_tutorial_installed()) {
     std::cout << "embree: Embree's pathtracer (embree-tools) is not installed: skipped\n";
     return;
   }
@@ -168,8 +149,8 @@ void bench_embree() {
       cpu_ours.push_back(cpu_seconds(RUSAGE_SELF) - c0);
       wall_ours.push_back(ours.seconds);
       double cpu_full = 0, cpu_one = 0;
-      const double w_full = run_embree(size, spp, depth, threads, tmp, &cpu_full);
-      const double w_one = run_embree(size, 1, depth, threads, tmp, &cpu_one);
+      const double w_full = run_embree_tutorial(size, spp, depth, threads, tmp, &cpu_full);
+      const double w_one = run_embree_tutorial(size, 1, depth, threads, tmp, &cpu_one);
       wall_embree.push_back((w_full - w_one) * spp / (spp - 1));
       cpu_embree.push_back((cpu_full - cpu_one) * spp / (spp - 1));
     }
@@ -183,7 +164,7 @@ void bench_embree() {
     csv.row({"loom", (long long)threads, (long long)size, (long long)spp, median(wall_ours), median(cpu_ours),
              paths / median(wall_ours), paths / median(cpu_ours), rays_per_path * paths / median(wall_ours), m[0], m[1],
              m[2], std::string(""), std::string(""), loom::bench::load_average()});
-    run_embree(size, spp, depth, threads, tmp);
+    run_embree_tutorial(size, spp, depth, threads, tmp);
     const cv::Mat e = read_pfm(tmp);
     const cv::Scalar me = e.empty() ? cv::Scalar() : cv::mean(e);
     csv.row({"embree-pathtracer", (long long)threads, (long long)size, (long long)spp, median(wall_embree),
@@ -214,9 +195,9 @@ void bench_embree() {
              n * n * spp / cpu_ours, double(ours.result.rays) / ours.seconds, m[0], m[1], m[2], e_ours,
              1 / (e_ours * cpu_ours), loom::bench::load_average()});
     double c_full = 0, c_one = 0;
-    const double t_full = run_embree(n, spp, depth, 2, tmp, &c_full);
-    const double t_one = run_embree(n, 1, depth, 2, tmp, &c_one);
-    run_embree(n, spp, depth, 2, tmp);
+    const double t_full = run_embree_tutorial(n, spp, depth, 2, tmp, &c_full);
+    const double t_one = run_embree_tutorial(n, 1, depth, 2, tmp, &c_one);
+    run_embree_tutorial(n, spp, depth, 2, tmp);
     const double t_embree = (t_full - t_one) * spp / (spp - 1);
     const double c_embree = (c_full - c_one) * spp / (spp - 1);
     cv::Mat e = read_pfm(tmp);
@@ -420,7 +401,7 @@ int main(int argc, char** argv) {
               {"adaptive", "adaptive thresholds against uniform spp"},
               {"bvh", "BVH build time of a 1M-triangle mesh"},
               {"cycles", "against Blender's Cycles (2 threads): relMSE per second, time to equal error"},
-              {"rays", "Embree alone on the rays PathTrace casts (the limit of its ray cost), 1 and 2 threads"},
+              {"rays", "Embree alone on PathTrace's rays and on its tutorial's: the ray-rate limit, 1 and 2 threads"},
               {"throughput", "paths per second, 1 thread (only when asked for)"}},
              "sections to run (default: all but throughput)");
   cli.parse(argc, argv);

@@ -1,8 +1,13 @@
 #include "ray_rate.hpp"
 
+#include <algorithm>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <functional>
 #include <iostream>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -12,11 +17,15 @@
 #include "alternating.hpp"
 #include "bench_harness.hpp"
 #include "camera_rays.hpp"
+#include "embree_ray_log.hpp"
 #include "embree_scene.hpp"
+#include "embree_tutorial.hpp"
 #include "integrator.hpp"
 #include "scenes.hpp"
 
 namespace loom::pathtrace::bench {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -34,7 +43,10 @@ struct RecordedRays {
 
   void add(const Vec3f& o, const Vec3f& d, float tfar, RayKind kind, bool found_something) {
     const unsigned mask = kind == RayKind::shadow ? EmbreeScene::kShadowMask : EmbreeScene::kCameraMask;
-    rays.push_back({o.x(), o.y(), o.z(), 0.f, d.x(), d.y(), d.z(), 0.f, tfar, mask, 0, 0});
+    add({o.x(), o.y(), o.z(), 0.f, d.x(), d.y(), d.z(), 0.f, tfar, mask, 0, 0}, kind, found_something);
+  }
+  void add(const RTCRay& ray, RayKind kind, bool found_something) {
+    rays.push_back(ray);
     kinds.push_back(kind);
     shadow += kind == RayKind::shadow;
     found += found_something;
@@ -167,11 +179,70 @@ std::uint64_t trace_recorded_packets(const RecordedRays& r, RTCScene scene) {
       [](std::uint64_t a, std::uint64_t b) { return a + b; });
 }
 
-}  // namespace
+// The rays Embree's tutorial path tracer hands Embree on the same scene (its
+// own camera, sampler and path loop: a shadow ray to the point light at each
+// hit, then a bounce), recorded by embree_ray_log.cpp in one thread, so in
+// the order its paths cast them. Empty, saying why, when the tutorial is not
+// installed or its rays could not be recorded.
+RecordedRays record_tutorial(int size, int spp, int max_depth) {
+  RecordedRays r;
+  if (!embree_tutorial_installed()) {
+    std::cout << "rays: Embree's tutorial path tracer (embree-tools) is not installed: its columns are n/a\n";
+    return r;
+  }
+  const fs::path log = fs::temp_directory_path() / "loom-bench-embree-rays.bin";
+  const fs::path image = fs::temp_directory_path() / "loom-bench-embree-rays.pfm";
+  std::error_code ignored;
+  fs::remove(log, ignored);
+  const bool ran =
+      run_embree_tutorial(size, spp, max_depth, 1, image, nullptr,
+                          "LD_PRELOAD='" EMBREE_RAY_LOG_MODULE "' LOOM_EMBREE_RAY_LOG='" + log.string() + "'") >= 0;
+  std::ifstream in(log, std::ios::binary);
+  LoggedRay l;
+  while (ran && in.read(reinterpret_cast<char*>(&l), sizeof l)) {
+    const RayKind kind = l.shadow                                          ? RayKind::shadow
+                         : (l.flags & RTC_INTERSECT_CONTEXT_FLAG_COHERENT) ? RayKind::camera
+                                                                           : RayKind::bounce;
+    r.add(l.ray, kind, l.found);
+  }
+  r.paths = std::uint64_t(size) * std::uint64_t(size) * std::uint64_t(spp);
+  if (r.rays.empty())
+    std::cout << "rays: no rays recorded from Embree's tutorial (" EMBREE_RAY_LOG_MODULE
+                 " loaded with LD_PRELOAD): its columns are n/a\n";
+  fs::remove(log, ignored);
+  fs::remove(image, ignored);
+  return r;
+}
 
-void bench_ray_rate(bool quick) {
-  const Scene scene = embree_cornell_box(EMBREE_MODELS);
+// The tutorial's rendering time per path: its marginal cost, (t(spp) - t(1))
+// scaled to spp, so that loading the model and building its BVH cancel (as
+// the `embree` mode times it). Appends wall and CPU seconds per path.
+void time_tutorial(int size, int spp, int max_depth, int threads, std::vector<double>* wall, std::vector<double>* cpu) {
+  const fs::path image = fs::temp_directory_path() / "loom-bench-embree-rays.pfm";
+  double cpu_full = 0, cpu_one = 0;
+  const double w_full = run_embree_tutorial(size, spp, max_depth, threads, image, &cpu_full);
+  const double w_one = run_embree_tutorial(size, 1, max_depth, threads, image, &cpu_one);
+  const double paths = double(size) * size * (spp - 1);
+  wall->push_back((w_full - w_one) / paths);
+  cpu->push_back((cpu_full - cpu_one) / paths);
+  std::error_code ignored;
+  fs::remove(image, ignored);
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+// One scene's rows: PathTrace's render, Embree alone on its recorded rays (one
+// ray per call and in packets) and, when `tutorial` holds rays, Embree's
+// tutorial path tracer and Embree alone on its rays, alternating, with 1 and
+// 2 threads.
+void rate_on(const std::string& name, const Scene& scene, const RecordedRays& tutorial, bool quick,
+             loom::bench::Csv& csv) {
   const EmbreeScene traced(scene);
+  long long triangles = 0;
+  for (const SceneObject& o : scene.objects) triangles += o.mesh->F.rows();
   RenderSettings s;  // as the `embree` mode renders it
   s.width = s.height = quick ? 128 : 256;
   s.spp = 16;
@@ -181,37 +252,118 @@ void bench_ray_rate(bool quick) {
   const int passes = quick ? 2 : 4;  // over the recorded rays per timed run
   const double recorded_per_path = double(recorded.rays.size()) / double(recorded.paths);
   const double recorded_shadow = double(recorded.shadow) / double(recorded.rays.size());
-  loom::bench::Csv csv(
-      "pathtrace_rays",
-      {"threads", "loom_rays_per_s", "embree_rays_per_s", "fraction", "loom_rays_per_cpu_s", "embree_rays_per_cpu_s",
-       "fraction_cpu", "loom_rays_per_path", "loom_shadow_share", "recorded_rays_per_path", "recorded_shadow_share",
-       "outcomes_match", "embree_packets_rays_per_cpu_s", "fraction_of_packets_cpu", "packet_outcomes_match", "load1"});
+  const bool have_tutorial = !tutorial.rays.empty();
+  const double tutorial_per_path = have_tutorial ? double(tutorial.rays.size()) / double(tutorial.paths) : 0;
   for (int threads : {1, 2}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     RenderResult ours;
-    bool same = true, same_packets = true;
-    const auto t = loom::bench::time_alternating(
-        quick ? 1 : 3, {[&] { ours = render(scene, *scene.camera, traced, s); },
-                        [&] {
-                          for (int p = 0; p < passes; ++p)
-                            same = trace_recorded(recorded, traced.rtc_scene()) == recorded.found && same;
-                        },
-                        [&] {
-                          for (int p = 0; p < passes; ++p)
-                            same_packets =
-                                trace_recorded_packets(recorded, traced.rtc_scene()) == recorded.found && same_packets;
-                        }});
+    bool same = true, same_packets = true, same_tutorial = true;
+    std::vector<double> tutorial_wall, tutorial_cpu;  // seconds per path (a child process: timed by itself)
+    std::vector<std::function<void()>> contenders = {
+        [&] { ours = render(scene, *scene.camera, traced, s); },
+        [&] {
+          for (int p = 0; p < passes; ++p)
+            same = trace_recorded(recorded, traced.rtc_scene()) == recorded.found && same;
+        },
+        [&] {
+          for (int p = 0; p < passes; ++p)
+            same_packets = trace_recorded_packets(recorded, traced.rtc_scene()) == recorded.found && same_packets;
+        }};
+    if (have_tutorial) {
+      contenders.push_back([&] {
+        for (int p = 0; p < passes; ++p)
+          same_tutorial = trace_recorded(tutorial, traced.rtc_scene()) == tutorial.found && same_tutorial;
+      });
+      contenders.push_back([&] { time_tutorial(s.width, s.spp, s.max_depth, threads, &tutorial_wall, &tutorial_cpu); });
+    }
+    const auto t = loom::bench::time_alternating(quick ? 1 : 5, contenders);
     const double loom_rays = double(ours.rays), embree_rays = double(recorded.rays.size()) * passes;
     const double lw = loom_rays / t[0].wall, ew = embree_rays / t[1].wall;
     const double lc = loom_rays / t[0].cpu, ec = embree_rays / t[1].cpu, pc = embree_rays / t[2].cpu;
-    csv.row({(long long)threads, lw, ew, lw / ew, lc, ec, lc / ec, loom_rays / double(ours.paths),
-             double(ours.shadow_rays) / loom_rays, recorded_per_path, recorded_shadow, std::string(same ? "yes" : "no"),
-             pc, lc / pc, std::string(same_packets ? "yes" : "no"), loom::bench::load_average()});
-    std::cout << "rays, " << threads << " thread(s): PathTrace " << lw / 1e6 << " M rays/s, Embree alone " << ew / 1e6
-              << " M rays/s: " << 100 * lw / ew << " % of the limit (per CPU second " << 100 * lc / ec
-              << " %; of Embree's rate in 16-ray packets, " << pc / 1e6 << " M rays per CPU s: " << 100 * lc / pc
-              << " %)\n";
+    // Embree's tutorial on its own rays (its rays per path over its time per path).
+    const double tutorial_rays = double(tutorial.rays.size()) * passes;
+    const double tw = have_tutorial ? tutorial_per_path / median(tutorial_wall) : 0;
+    const double tc = have_tutorial ? tutorial_per_path / median(tutorial_cpu) : 0;
+    const double etw = have_tutorial ? tutorial_rays / t[3].wall : 1;
+    const double etc = have_tutorial ? tutorial_rays / t[3].cpu : 1;
+    const auto tutorial_cell = [&](double v) {
+      return have_tutorial ? loom::bench::Cell(v) : loom::bench::Cell(std::string("n/a"));
+    };
+    csv.row({name,
+             triangles,
+             (long long)threads,
+             lw,
+             ew,
+             lw / ew,
+             lc,
+             ec,
+             lc / ec,
+             loom_rays / double(ours.paths),
+             double(ours.shadow_rays) / loom_rays,
+             recorded_per_path,
+             recorded_shadow,
+             std::string(same ? "yes" : "no"),
+             pc,
+             lc / pc,
+             std::string(same_packets ? "yes" : "no"),
+             tutorial_cell(tw),
+             tutorial_cell(etw),
+             tutorial_cell(tw / etw),
+             tutorial_cell(tc),
+             tutorial_cell(etc),
+             tutorial_cell(tc / etc),
+             tutorial_cell(tutorial_per_path),
+             tutorial_cell(have_tutorial ? double(tutorial.shadow) / double(tutorial.rays.size()) : 0),
+             std::string(!have_tutorial  ? "n/a"
+                         : same_tutorial ? "yes"
+                                         : "no"),
+             loom::bench::load_average()});
+    std::cout << "rays, " << name << ", " << threads << " thread(s): PathTrace " << lw / 1e6
+              << " M rays/s, Embree alone " << ew / 1e6 << " M rays/s: " << 100 * lw / ew
+              << " % of the limit (per CPU second " << 100 * lc / ec << " %; of Embree's rate in 16-ray packets, "
+              << pc / 1e6 << " M rays per CPU s: " << 100 * lc / pc << " %)\n";
+    if (have_tutorial)
+      std::cout << "rays, " << name << ", " << threads << " thread(s): Embree's tutorial path tracer " << tw / 1e6
+                << " M rays/s, Embree alone on its rays " << etw / 1e6 << " M rays/s: " << 100 * tw / etw
+                << " % of the limit (per CPU second " << 100 * tc / etc << " %)\n";
   }
+}
+
+}  // namespace
+
+void bench_ray_rate(bool quick) {
+  loom::bench::Csv csv("pathtrace_rays", {"scene",
+                                          "triangles",
+                                          "threads",
+                                          "loom_rays_per_s",
+                                          "embree_rays_per_s",
+                                          "fraction",
+                                          "loom_rays_per_cpu_s",
+                                          "embree_rays_per_cpu_s",
+                                          "fraction_cpu",
+                                          "loom_rays_per_path",
+                                          "loom_shadow_share",
+                                          "recorded_rays_per_path",
+                                          "recorded_shadow_share",
+                                          "outcomes_match",
+                                          "embree_packets_rays_per_cpu_s",
+                                          "fraction_of_packets_cpu",
+                                          "packet_outcomes_match",
+                                          "tutorial_rays_per_s",
+                                          "embree_on_tutorial_rays_per_s",
+                                          "tutorial_fraction",
+                                          "tutorial_rays_per_cpu_s",
+                                          "embree_on_tutorial_rays_per_cpu_s",
+                                          "tutorial_fraction_cpu",
+                                          "tutorial_rays_per_path",
+                                          "tutorial_shadow_share",
+                                          "tutorial_outcomes_match",
+                                          "load1"});
+  const RecordedRays tutorial = record_tutorial(128, quick ? 4 : 8, 8);
+  rate_on("cornell", embree_cornell_box(EMBREE_MODELS), tutorial, quick, csv);
+  // The same box with a ball of 2M triangles (500k with --quick): a scene
+  // whose rays cost Embree twice the traversal.
+  rate_on("cornell+ball", embree_cornell_box_with_ball(EMBREE_MODELS, quick ? 354 : 707), {}, quick, csv);
   csv.save();
 }
 

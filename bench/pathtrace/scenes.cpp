@@ -113,6 +113,16 @@ Scene embree_cornell_box(const std::filesystem::path& models) {
   return scene;
 }
 
+Scene embree_cornell_box_with_ball(const std::filesystem::path& models, int rings) {
+  Scene scene = embree_cornell_box(models);
+  SceneObject ball;
+  ball.name = "ball";
+  ball.mesh = sphere_mesh({370, 130, 200}, 130, rings, 2 * rings);
+  ball.material.base_color = Eigen::Vector3d(0.8, 0.8, 0.8);
+  scene.objects.push_back(ball);
+  return scene;
+}
+
 Scene night_scene(bool lamp) {
   Scene scene;
   scene.objects.push_back(ball({0, 1, 0}, 1, Material::Model::plastic, {0.7, 0.15, 0.1}, 0.25));

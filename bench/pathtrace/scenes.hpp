@@ -13,6 +13,9 @@ namespace loom::pathtrace::bench {
 // commented out in the file) with cornell_box.ecs's point light (213 300 227,
 // intensity 100000) and camera (278 273 -800 looking at 278 273 0, 37°).
 Scene embree_cornell_box(const std::filesystem::path& models);
+// The same box with a light grey Lambertian ball of 4·rings² triangles
+// resting on its floor (a scene whose rays cost Embree more traversal).
+Scene embree_cornell_box_with_ball(const std::filesystem::path& models, int rings);
 Scene night_scene(bool lamp);
 Scene bright_pixel_scene();
 // Lit by an emissive mesh: a diffuse ground, ball and box under a glowing

@@ -1,0 +1,35 @@
+#include "embree_tutorial.hpp"
+
+#include <chrono>
+#include <cstdlib>
+
+#include <sys/resource.h>
+
+namespace loom::pathtrace::bench {
+
+double cpu_seconds(int who) {
+  rusage u{};
+  getrusage(who, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+bool embree_tutorial_installed() {
+  return std::system("command -v pathtracer > /dev/null 2>&1") == 0 &&
+         std::filesystem::exists(std::filesystem::path(EMBREE_MODELS) / "cornell_box.ecs");
+}
+
+double run_embree_tutorial(int size, int spp, int depth, int threads, const std::filesystem::path& out, double* cpu,
+                           const std::string& environment) {
+  const std::string cmd = environment + " pathtracer -c " + std::string(EMBREE_MODELS) + "/cornell_box.ecs --size " +
+                          std::to_string(size) + " " + std::to_string(size) + " --spp " + std::to_string(spp) +
+                          " --max-path-length " + std::to_string(depth) + " --threads " + std::to_string(threads) +
+                          " -o " + out.string() + " > /dev/null 2>&1";
+  const auto t = std::chrono::steady_clock::now();
+  const double c0 = cpu_seconds(RUSAGE_CHILDREN);
+  const int rc = std::system(cmd.c_str());
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  if (cpu) *cpu = cpu_seconds(RUSAGE_CHILDREN) - c0;
+  return rc == 0 ? s : -1;
+}
+
+}  // namespace loom::pathtrace::bench

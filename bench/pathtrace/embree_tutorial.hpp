@@ -1,0 +1,24 @@
+// Embree's tutorial path tracer (Debian embree-tools `pathtracer`, the C++
+// tutorial: one path at a time through rtcIntersect1 / rtcOccluded1) run as a
+// separate process on its cornell_box model, for the `embree` and `rays` modes.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace loom::pathtrace::bench {
+
+// CPU seconds (user + system, all threads) of this process (RUSAGE_SELF) or
+// of its finished children (RUSAGE_CHILDREN).
+double cpu_seconds(int who);
+
+// Whether `pathtracer` and its cornell_box.ecs are installed.
+bool embree_tutorial_installed();
+
+// Renders cornell_box.ecs at size², spp samples, max path length depth, into
+// the PFM `out`; `environment` is put before the command (VAR=value ...).
+// Returns its wall seconds (negative when it failed), its CPU seconds in *cpu.
+double run_embree_tutorial(int size, int spp, int depth, int threads, const std::filesystem::path& out,
+                           double* cpu = nullptr, const std::string& environment = "");
+
+}  // namespace loom::pathtrace::bench
