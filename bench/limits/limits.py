@@ -207,10 +207,21 @@ def pathtrace(raw):
         # Written by `bench_pathtrace rays`: PathTrace's ray rate against
         # Embree's own on the same scene and rays.
         loom_rate, embree_rate = num(r["loom_rays_per_s"]), num(r["embree_rays_per_s"])
-        out.append(Row(f"PathTrace rays/s against Embree's ray rate, {r['threads']} thread(s)", 1 / loom_rate,
+        scene = "Embree's Cornell box" if r.get("scene", "cornell") == "cornell" else \
+            f"the Cornell box with a ball, {int(num(r['triangles'])):,} triangles"
+        out.append(Row(f"PathTrace rays/s against Embree's ray rate, {scene}, {r['threads']} thread(s)", 1 / loom_rate,
                        limit=1 / embree_rate, limit_basis=f"Embree alone: {embree_rate / 1e6:.1f} M rays/s",
                        fraction=loom_rate / embree_rate, load=num(r["load1"]),
-                       label=f"PathTrace, {r['threads']} thread(s): Embree's ray rate"))
+                       label=f"PathTrace, {r.get('scene', 'cornell')}, {r['threads']} thread(s): Embree's ray rate"))
+        tutorial_rate, embree_on_tutorial = num(r.get("tutorial_rays_per_s")), num(r.get("embree_on_tutorial_rays_per_s"))
+        if tutorial_rate == tutorial_rate:  # not NaN: Embree's tutorial was installed
+            # The peer's own fraction: Embree's tutorial path tracer against
+            # Embree alone on the rays the tutorial casts.
+            out.append(Row(f"Embree's tutorial path tracer rays/s against Embree's ray rate on its own rays, "
+                           f"{scene}, {r['threads']} thread(s)", 1 / tutorial_rate, limit=1 / embree_on_tutorial,
+                           limit_basis=f"Embree alone: {embree_on_tutorial / 1e6:.1f} M rays/s",
+                           fraction=tutorial_rate / embree_on_tutorial, load=num(r["load1"]),
+                           label=f"Embree's tutorial, {r['threads']} thread(s): Embree's ray rate"))
     ratios = read(raw, "pathtrace_cycles_ratios")
     for scene in sorted({r["scene"] for r in ratios}):
         vals = [num(r["time_ratio_at_equal_error"]) for r in ratios if r["scene"] == scene and r["renderer"] == "loom"]
