@@ -31,6 +31,7 @@
 #include "image_codec.hpp"
 #include "image_error.hpp"
 #include "integrator.hpp"
+#include "lanes.hpp"
 #include "ray_rate.hpp"
 #include "scenes.hpp"
 #include "sphere_mesh.hpp"
@@ -402,14 +403,16 @@ int main(int argc, char** argv) {
               {"bvh", "BVH build time of a 1M-triangle mesh"},
               {"cycles", "against Blender's Cycles (2 threads): relMSE per second, time to equal error"},
               {"rays", "Embree alone on PathTrace's rays and on its tutorial's: the ray-rate limit, 1 and 2 threads"},
-              {"throughput", "paths per second, 1 thread (only when asked for)"}},
-             "sections to run (default: all but throughput)");
+              {"throughput", "paths per second, 1 thread (only when asked for)"},
+              {"lanes", "an experiment: 16 paths in SIMD lanes against Embree's ray rate (only when asked for)"}},
+             "sections to run (default: all but throughput and lanes)");
   cli.parse(argc, argv);
   const std::set<std::string> want(sections.begin(), sections.end());
   auto on = [&](const char* s) { return want.empty() || want.count(s); };
   std::cout << "load at start: " << loom::bench::load_average() << "\n";
   if (on("bvh")) bench_bvh();
   if (want.count("throughput")) bench_throughput();
+  if (want.count("lanes")) bench::bench_lanes(quick);
   if (on("embree")) bench_embree();
   if (on("convergence")) bench_convergence();
   if (on("strategies")) {

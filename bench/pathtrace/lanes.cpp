@@ -1,0 +1,343 @@
+#include "lanes.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <iostream>
+#include <vector>
+
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include "alternating.hpp"
+#include "bench_harness.hpp"
+#include "camera_rays.hpp"
+#include "embree_scene.hpp"
+#include "image_error.hpp"
+#include "integrator.hpp"
+#include "scenes.hpp"
+
+namespace loom::pathtrace::bench {
+
+namespace {
+
+constexpr int kLanes = 16;
+constexpr float kInvPi = 0.318309886f;
+
+// 16 paths in flight, each lane one path, structure of arrays; the loops over
+// lanes below have no branches, so GCC turns them into SSE2 over 4 × 4 lanes.
+struct Lanes {
+  alignas(64) float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
+  alignas(64) float br[kLanes], bg[kLanes], bb[kLanes];  // throughput
+  alignas(64) std::uint32_t rng[kLanes];
+  alignas(64) int depth[kLanes], pixel[kLanes], live[kLanes];  // live: -1 or 0, as Embree's valid masks
+};
+
+// What one lane's bounce leaves for the film and the shadow ray.
+struct Shading {
+  alignas(64) float sx[kLanes], sy[kLanes], sz[kLanes], sdx[kLanes], sdy[kLanes], sdz[kLanes], stmax[kLanes];
+  alignas(64) float cr[kLanes], cg[kLanes], cb[kLanes];  // the light's contribution if unblocked
+  alignas(64) int shadow[kLanes];                        // -1: a shadow ray to trace
+};
+
+// A lane's seed from its sample's index (Wellons' "lowbias32" integer hash).
+std::uint32_t hash32(std::uint32_t x) {
+  x ^= x >> 16, x *= 0x7feb352du, x ^= x >> 15, x *= 0x846ca68bu, x ^= x >> 16;
+  return x ? x : 1;
+}
+
+// xorshift32 per lane: 24 bits into [0, 1).
+inline float next_uniform(std::uint32_t& x) {
+  x ^= x << 13, x ^= x >> 17, x ^= x << 5;
+  return float(int(x >> 8)) * (1.f / 16777216);
+}
+
+struct Setup {
+  const EmbreeScene& traced;
+  CameraRays camera;
+  int size, spp, max_depth;
+  float light[3], intensity;
+  std::vector<float> albedo;  // 3 per geometry id (the traced objects' order: this scene has no instances)
+};
+
+// A packet as the lane loop handed it to Embree, and how many of its rays
+// found a surface or a blocker.
+struct Packet {
+  alignas(64) int valid[kLanes];
+  RTCRay16 rays;
+  bool shadow;
+  int found;
+};
+
+// Renders the pixels [begin, end) × spp, 16 paths at a time; returns the
+// rays traced. film: 3 floats per pixel, summed radiance.
+std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std::vector<Packet>* record) {
+  Lanes L;
+  Shading S;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  const RTCScene scene = s.traced.rtc_scene();
+  std::uint64_t rays = 0;
+  std::int64_t next = std::int64_t(begin) * s.spp;
+  const std::int64_t last = std::int64_t(end) * s.spp;
+  for (int k = 0; k < kLanes; ++k) L.live[k] = 0;
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) RTCRay16 shadow;
+  for (;;) {
+    // Idle lanes take the next samples: camera ray, seed, throughput 1.
+    for (int k = 0; k < kLanes; ++k) {
+      if (L.live[k] || next == last) continue;
+      const int pixel = int(next / s.spp), x = pixel % s.size, y = pixel / s.size;
+      L.rng[k] = hash32(std::uint32_t(next) * 2654435761u + 12345u);
+      const float jx = next_uniform(L.rng[k]), jy = next_uniform(L.rng[k]);
+      Vec3f o, d;
+      s.camera.ray(2 * (x + jx) / s.size - 1, 1 - 2 * (y + jy) / s.size, &o, &d);
+      L.ox[k] = o.x(), L.oy[k] = o.y(), L.oz[k] = o.z(), L.dx[k] = d.x(), L.dy[k] = d.y(), L.dz[k] = d.z();
+      L.br[k] = L.bg[k] = L.bb[k] = 1;
+      L.depth[k] = 0, L.pixel[k] = pixel, L.live[k] = -1;
+      ++next;
+    }
+    int any = 0;
+    for (int k = 0; k < kLanes; ++k) any |= L.live[k];
+    if (!any) break;
+    for (int k = 0; k < kLanes; ++k) {
+      rh.ray.org_x[k] = L.ox[k], rh.ray.org_y[k] = L.oy[k], rh.ray.org_z[k] = L.oz[k], rh.ray.tnear[k] = 0;
+      rh.ray.dir_x[k] = L.dx[k], rh.ray.dir_y[k] = L.dy[k], rh.ray.dir_z[k] = L.dz[k], rh.ray.time[k] = 0;
+      rh.ray.tfar[k] = INFINITY, rh.ray.mask[k] = EmbreeScene::kCameraMask, rh.ray.id[k] = 0, rh.ray.flags[k] = 0;
+      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID, rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    if (record) {
+      record->emplace_back();
+      std::copy(L.live, L.live + kLanes, record->back().valid);
+      record->back().rays = rh.ray;
+      record->back().shadow = false;
+    }
+    rtcIntersect16(L.live, scene, &context, &rh);
+    for (int k = 0; k < kLanes; ++k) rays += L.live[k] & 1;
+    if (record) {
+      int found = 0;
+      for (int k = 0; k < kLanes; ++k) found += L.live[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+      record->back().found = found;
+    }
+    // Gathers: each hit's albedo (scalar loads; the rest is lane-parallel).
+    alignas(64) float ar[kLanes], ag[kLanes], ab[kLanes];
+    alignas(64) int hit[kLanes];
+    for (int k = 0; k < kLanes; ++k) {
+      const unsigned g = rh.hit.geomID[k];
+      hit[k] = L.live[k] & (g != RTC_INVALID_GEOMETRY_ID ? -1 : 0);
+      const unsigned i = hit[k] ? 3 * g : 0;
+      ar[k] = s.albedo[i], ag[k] = s.albedo[i + 1], ab[k] = s.albedo[i + 2];
+    }
+    // The hit, next-event estimation and the bounce, lane-parallel (no
+    // branches: every lane computes, masks decide what counts).
+    const float light_x = s.light[0], light_y = s.light[1], light_z = s.light[2], intensity = s.intensity;
+    const int max_depth = s.max_depth;
+    for (int k = 0; k < kLanes; ++k) {
+      const float t = rh.ray.tfar[k];
+      const float px = L.ox[k] + t * L.dx[k], py = L.oy[k] + t * L.dy[k], pz = L.oz[k] + t * L.dz[k];
+      float nx = rh.hit.Ng_x[k], ny = rh.hit.Ng_y[k], nz = rh.hit.Ng_z[k];
+      const float inv_n = 1 / std::sqrt(nx * nx + ny * ny + nz * nz + 1e-30f);
+      const float flip = ((nx * L.dx[k] + ny * L.dy[k] + nz * L.dz[k]) > 0 ? -1.f : 1.f) * inv_n;
+      nx *= flip, ny *= flip, nz *= flip;
+      const float eps = 1e-4f * (1 + std::max(std::fabs(px), std::max(std::fabs(py), std::fabs(pz))));
+      const float qx = px + eps * nx, qy = py + eps * ny, qz = pz + eps * nz;  // off the surface, outward
+      // Shadow ray to the point light: (I / d²) · cos · albedo / π.
+      const float lx = light_x - qx, ly = light_y - qy, lz = light_z - qz;
+      const float l2 = lx * lx + ly * ly + lz * lz, inv_l = 1 / std::sqrt(l2);
+      const float cos_l = (lx * nx + ly * ny + lz * nz) * inv_l;
+      const float w = (cos_l > 0 ? 1.f : 0.f) * (intensity * cos_l * kInvPi / l2);
+      S.sx[k] = qx, S.sy[k] = qy, S.sz[k] = qz;
+      S.sdx[k] = lx * inv_l, S.sdy[k] = ly * inv_l, S.sdz[k] = lz * inv_l, S.stmax[k] = l2 * inv_l - eps;
+      S.cr[k] = w * L.br[k] * ar[k], S.cg[k] = w * L.bg[k] * ag[k], S.cb[k] = w * L.bb[k] * ab[k];
+      S.shadow[k] = hit[k] & (cos_l > 0 ? -1 : 0);
+      // Cosine-weighted bounce (Malley), in the frame of Duff et al. 2017.
+      const float u1 = next_uniform(L.rng[k]), u2 = next_uniform(L.rng[k]);
+      const float r = std::sqrt(u1), zl = std::sqrt(1 - u1);
+      const int q = int(4 * u2 + 0.5f);
+      const float a = (4 * u2 - float(q)) * 1.57079633f, a2 = a * a;
+      const float sa = a * (1 + a2 * (-1.f / 6 + a2 * (1.f / 120 + a2 * (-1.f / 5040))));
+      const float ca = 1 + a2 * (-0.5f + a2 * (1.f / 24 + a2 * (-1.f / 720 + a2 * (1.f / 40320))));
+      const int qq = q & 3;
+      const float c = qq == 0 ? ca : qq == 1 ? -sa : qq == 2 ? -ca : sa;
+      const float sn = qq == 0 ? sa : qq == 1 ? ca : qq == 2 ? -sa : -ca;
+      const float xl = r * c, yl = r * sn;
+      const float sign = nz >= 0 ? 1.f : -1.f, fa = -1 / (sign + nz), fb = nx * ny * fa;
+      const float tx = 1 + sign * nx * nx * fa, ty = sign * fb, tz = -sign * nx;
+      const float bx = fb, by = sign + ny * ny * fa, bz = -ny;
+      L.dx[k] = xl * tx + yl * bx + zl * nx;
+      L.dy[k] = xl * ty + yl * by + zl * ny;
+      L.dz[k] = xl * tz + yl * bz + zl * nz;
+      L.ox[k] = qx, L.oy[k] = qy, L.oz[k] = qz;
+      L.br[k] *= ar[k], L.bg[k] *= ag[k], L.bb[k] *= ab[k];
+      L.depth[k] += 1;
+      const int on = (L.depth[k] < max_depth) & ((L.br[k] > 0) | (L.bg[k] > 0) | (L.bb[k] > 0));
+      L.live[k] = hit[k] & -on;
+    }
+    for (int k = 0; k < kLanes; ++k) {
+      shadow.org_x[k] = S.sx[k], shadow.org_y[k] = S.sy[k], shadow.org_z[k] = S.sz[k], shadow.tnear[k] = 0;
+      shadow.dir_x[k] = S.sdx[k], shadow.dir_y[k] = S.sdy[k], shadow.dir_z[k] = S.sdz[k], shadow.time[k] = 0;
+      shadow.tfar[k] = S.stmax[k], shadow.mask[k] = EmbreeScene::kShadowMask, shadow.id[k] = 0, shadow.flags[k] = 0;
+    }
+    if (record) {
+      record->emplace_back();
+      std::copy(S.shadow, S.shadow + kLanes, record->back().valid);
+      record->back().rays = shadow;
+      record->back().shadow = true;
+    }
+    rtcOccluded16(S.shadow, scene, &context, &shadow);
+    for (int k = 0; k < kLanes; ++k) rays += S.shadow[k] & 1;
+    if (record) {
+      int found = 0;
+      for (int k = 0; k < kLanes; ++k) found += S.shadow[k] && shadow.tfar[k] < 0;
+      record->back().found = found;
+    }
+    // Unblocked contributions into the film (scattered by pixel).
+    for (int k = 0; k < kLanes; ++k)
+      if (S.shadow[k] && shadow.tfar[k] >= 0) {
+        float* f = film + 3 * std::size_t(L.pixel[k] - begin);
+        f[0] += S.cr[k], f[1] += S.cg[k], f[2] += S.cb[k];
+      }
+  }
+  return rays;
+}
+
+}  // namespace
+
+void bench_lanes(bool quick) {
+  const Scene scene = embree_cornell_box(EMBREE_MODELS);
+  const EmbreeScene traced(scene);
+  Setup s{traced, CameraRays(*scene.camera, 1, 1), quick ? 128 : 256, 16, 8, {}, 0, {}};
+  s.camera = CameraRays(*scene.camera, s.size, s.size);
+  for (int i = 0; i < 3; ++i) s.light[i] = float(scene.lights.at(0).position[i]);
+  s.intensity = float(scene.lights.at(0).intensity);
+  for (const TracedObject& o : traced.objects()) {
+    const Eigen::Vector3d c = scene.objects[std::size_t(o.scene_index)].material.base_color;
+    for (int i = 0; i < 3; ++i) s.albedo.push_back(float(c[i]));
+  }
+  const int pixels = s.size * s.size;
+  RenderSettings rs;
+  rs.width = rs.height = s.size;
+  rs.spp = s.spp;
+  rs.max_depth = s.max_depth;
+  rs.russian_roulette = false;
+  std::vector<float> film(3 * std::size_t(pixels));
+  std::vector<Packet> recorded;  // the packets of one sample per pixel, for the replay
+  Setup one = s;
+  one.spp = 1;
+  render_lanes(one, 0, pixels, film.data(), &recorded);
+  std::uint64_t recorded_rays = 0, recorded_found = 0;
+  for (const Packet& p : recorded) {
+    for (int k = 0; k < kLanes; ++k) recorded_rays += p.valid[k] & 1;
+    recorded_found += std::uint64_t(p.found);
+  }
+  const RTCScene rtc = traced.rtc_scene();
+  // Embree alone on the recorded packets: as packets, or one ray per call.
+  // Returns how many rays found a surface or a blocker.
+  const auto replay = [&](bool packets) {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, recorded.size(), 256), std::uint64_t(0),
+        [&](const tbb::blocked_range<std::size_t>& r, std::uint64_t found) {
+          RTCIntersectContext context;
+          rtcInitIntersectContext(&context);
+          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            const Packet& p = recorded[i];
+            if (packets) {
+              if (p.shadow) {
+                RTCRay16 ray = p.rays;
+                rtcOccluded16(p.valid, rtc, &context, &ray);
+                for (int k = 0; k < kLanes; ++k) found += p.valid[k] && ray.tfar[k] < 0;
+              } else {
+                RTCRayHit16 h;
+                h.ray = p.rays;
+                for (int k = 0; k < kLanes; ++k)
+                  h.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID, h.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+                rtcIntersect16(p.valid, rtc, &context, &h);
+                for (int k = 0; k < kLanes; ++k) found += p.valid[k] && h.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+              }
+              continue;
+            }
+            for (int k = 0; k < kLanes; ++k) {
+              if (!p.valid[k]) continue;
+              RTCRay ray{p.rays.org_x[k], p.rays.org_y[k], p.rays.org_z[k], p.rays.tnear[k],
+                         p.rays.dir_x[k], p.rays.dir_y[k], p.rays.dir_z[k], p.rays.time[k],
+                         p.rays.tfar[k],  p.rays.mask[k],  p.rays.id[k],    p.rays.flags[k]};
+              if (p.shadow) {
+                rtcOccluded1(rtc, &context, &ray);
+                found += ray.tfar < 0;
+              } else {
+                RTCRayHit h;
+                h.ray = ray;
+                h.hit.geomID = RTC_INVALID_GEOMETRY_ID, h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                rtcIntersect1(rtc, &context, &h);
+                found += h.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+              }
+            }
+          }
+          return found;
+        },
+        [](std::uint64_t a, std::uint64_t b) { return a + b; });
+  };
+  // The estimator checked: both 16-spp images against PathTrace's converged one.
+  RenderSettings reference_settings = rs;
+  reference_settings.spp = quick ? 64 : 512;
+  reference_settings.seed = 99;
+  const cv::Mat reference = render(scene, *scene.camera, traced, reference_settings).image;
+  RenderSettings independent = rs;  // PathTrace with the lane loop's kind of samples
+  independent.sampler = SamplerKind::independent;
+  const double error_independent = rel_mse(render(scene, *scene.camera, traced, independent).image, reference);
+  const int passes = s.spp;  // the replay traces as many rays as a render
+  loom::bench::Csv csv("pathtrace_lanes",
+                       {"threads", "pathtrace_rays_per_cpu_s", "lanes_rays_per_cpu_s", "embree_one_rays_per_cpu_s",
+                        "embree_packets_rays_per_cpu_s", "lanes_fraction_of_one", "lanes_fraction_of_packets",
+                        "lanes_rays_per_path", "pathtrace_rays_per_path", "lanes_mean", "pathtrace_mean",
+                        "lanes_relmse", "pathtrace_relmse", "pathtrace_independent_relmse", "outcomes_match", "load1"});
+  for (int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    std::atomic<std::uint64_t> rays{0};
+    RenderResult ours;
+    bool same_one = true, same_packets = true;
+    const auto lanes = [&] {
+      std::fill(film.begin(), film.end(), 0.f);
+      rays = 0;
+      tbb::parallel_for(tbb::blocked_range<int>(0, pixels, 1024), [&](const tbb::blocked_range<int>& r) {
+        rays += render_lanes(s, r.begin(), r.end(), film.data() + 3 * std::size_t(r.begin()), nullptr);
+      });
+    };
+    const auto pathtrace = [&] { ours = render(scene, *scene.camera, traced, rs); };
+    const auto embree_one = [&] {
+      for (int p = 0; p < passes; ++p) same_one = replay(false) == recorded_found && same_one;
+    };
+    const auto embree_packets = [&] {
+      for (int p = 0; p < passes; ++p) same_packets = replay(true) == recorded_found && same_packets;
+    };
+    const auto t = loom::bench::time_alternating(quick ? 1 : 5, {pathtrace, lanes, embree_one, embree_packets});
+    double mean_lanes = 0;
+    for (float v : film) mean_lanes += v;
+    mean_lanes /= double(film.size()) * s.spp;
+    const cv::Mat lane_image = cv::Mat(s.size, s.size, CV_32FC3, film.data()) / float(s.spp);
+    const double error_lanes = rel_mse(lane_image, reference), error_ours = rel_mse(ours.image, reference);
+    const cv::Scalar m = cv::mean(ours.image);
+    const double mean_ours = (m[0] + m[1] + m[2]) / 3;
+    const double replayed = double(recorded_rays) * passes;
+    const double lane_rate = double(rays) / t[1].cpu, one_rate = replayed / t[2].cpu, packet_rate = replayed / t[3].cpu;
+    const double pathtrace_rate = double(ours.rays) / t[0].cpu;
+    csv.row({(long long)threads, pathtrace_rate, lane_rate, one_rate, packet_rate, lane_rate / one_rate,
+             lane_rate / packet_rate, double(rays) / double(pixels) / s.spp, double(ours.rays) / double(ours.paths),
+             mean_lanes, mean_ours, error_lanes, error_ours, error_independent,
+             std::string(same_one && same_packets ? "yes" : "no"), loom::bench::load_average()});
+    std::cout << "lanes, " << threads << " thread(s), per CPU second: PathTrace " << pathtrace_rate / 1e6
+              << " M rays, the lane loop " << lane_rate / 1e6 << " M; Embree alone on the lane loop's rays "
+              << one_rate / 1e6 << " M one per call, " << packet_rate / 1e6 << " M in its packets: the lane loop at "
+              << lane_rate / one_rate << " / " << lane_rate / packet_rate << " of them"
+              << (same_one && same_packets ? "" : " (REPLAY FOUND OTHER HITS)") << "; rays per path "
+              << double(rays) / double(pixels) / s.spp << " (PathTrace " << double(ours.rays) / double(ours.paths)
+              << "), image mean " << mean_lanes << " (PathTrace " << mean_ours << "), relMSE against PathTrace at "
+              << reference_settings.spp << " spp " << error_lanes << " (PathTrace " << error_ours
+              << ", with independent samples " << error_independent << ")\n";
+  }
+  csv.save();
+}
+
+}  // namespace loom::pathtrace::bench

@@ -1,0 +1,13 @@
+// An experiment, not a renderer: the path loop of the `rays` mode's scene
+// (Lambertian walls, one point light, depth 8, no roulette) with 16 paths in
+// SIMD lanes and Embree's 16-ray packets, to measure what shading in lanes
+// would give against Embree's own ray rate (issue 39, item 4).
+#pragma once
+
+namespace loom::pathtrace::bench {
+
+// `bench_pathtrace lanes`: PathTrace's render, the lane loop, and Embree alone
+// on the lane loop's rays, alternating, 1 and 2 threads; prints the rates.
+void bench_lanes(bool quick);
+
+}  // namespace loom::pathtrace::bench
