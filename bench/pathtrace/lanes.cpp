@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <iostream>
+#include <optional>
 #include <vector>
 
 #include <tbb/global_control.h>
@@ -26,12 +27,12 @@ namespace {
 constexpr int kLanes = 16;
 constexpr float kInvPi = 0.318309886f;
 
-// 16 paths in flight, each lane one path, structure of arrays; the loops over
-// lanes below have no branches, so GCC turns them into SSE2 over 4 × 4 lanes.
+// 16 paths in flight, each lane one path, structure of arrays. The shading
+// loop over the lanes has no branches, so GCC turns it into SSE2 over 4 × 4
+// lanes; the gathers (albedo, PathTrace's pixel sampler per lane) are scalar.
 struct Lanes {
   alignas(64) float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
-  alignas(64) float br[kLanes], bg[kLanes], bb[kLanes];  // throughput
-  alignas(64) std::uint32_t rng[kLanes];
+  alignas(64) float br[kLanes], bg[kLanes], bb[kLanes];        // throughput
   alignas(64) int depth[kLanes], pixel[kLanes], live[kLanes];  // live: -1 or 0, as Embree's valid masks
 };
 
@@ -42,22 +43,12 @@ struct Shading {
   alignas(64) int shadow[kLanes];                        // -1: a shadow ray to trace
 };
 
-// A lane's seed from its sample's index (Wellons' "lowbias32" integer hash).
-std::uint32_t hash32(std::uint32_t x) {
-  x ^= x >> 16, x *= 0x7feb352du, x ^= x >> 15, x *= 0x846ca68bu, x ^= x >> 16;
-  return x ? x : 1;
-}
-
-// xorshift32 per lane: 24 bits into [0, 1).
-inline float next_uniform(std::uint32_t& x) {
-  x ^= x << 13, x ^= x >> 17, x ^= x << 5;
-  return float(int(x >> 8)) * (1.f / 16777216);
-}
-
 struct Setup {
   const EmbreeScene& traced;
   CameraRays camera;
   int size, spp, max_depth;
+  SamplerKind sampler;  // PathTrace's own samples: the same numbers for the same pixel, sample and seed
+  std::uint64_t seed;
   float light[3], intensity;
   std::vector<float> albedo;  // 3 per geometry id (the traced objects' order: this scene has no instances)
 };
@@ -85,15 +76,17 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
   for (int k = 0; k < kLanes; ++k) L.live[k] = 0;
   alignas(64) RTCRayHit16 rh;
   alignas(64) RTCRay16 shadow;
+  std::optional<PixelSampler> samplers[kLanes];
+  alignas(64) float u1[kLanes], u2[kLanes];  // each lane's bounce direction pair
   for (;;) {
     // Idle lanes take the next samples: camera ray, seed, throughput 1.
     for (int k = 0; k < kLanes; ++k) {
       if (L.live[k] || next == last) continue;
       const int pixel = int(next / s.spp), x = pixel % s.size, y = pixel / s.size;
-      L.rng[k] = hash32(std::uint32_t(next) * 2654435761u + 12345u);
-      const float jx = next_uniform(L.rng[k]), jy = next_uniform(L.rng[k]);
+      samplers[k].emplace(s.sampler, s.seed, std::uint64_t(pixel), std::uint64_t(next % s.spp));
+      const Vec2f j = samplers[k]->camera_jitter();
       Vec3f o, d;
-      s.camera.ray(2 * (x + jx) / s.size - 1, 1 - 2 * (y + jy) / s.size, &o, &d);
+      s.camera.ray(2 * (x + j.x()) / s.size - 1, 1 - 2 * (y + j.y()) / s.size, &o, &d);
       L.ox[k] = o.x(), L.oy[k] = o.y(), L.oz[k] = o.z(), L.dx[k] = d.x(), L.dy[k] = d.y(), L.dz[k] = d.z();
       L.br[k] = L.bg[k] = L.bb[k] = 1;
       L.depth[k] = 0, L.pixel[k] = pixel, L.live[k] = -1;
@@ -129,6 +122,11 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
       hit[k] = L.live[k] & (g != RTC_INVALID_GEOMETRY_ID ? -1 : 0);
       const unsigned i = hit[k] ? 3 * g : 0;
       ar[k] = s.albedo[i], ag[k] = s.albedo[i + 1], ab[k] = s.albedo[i + 2];
+      // The bounce's pair, drawn as PathTrace draws it (a lone point light: no light pair).
+      if (!hit[k]) continue;
+      samplers[k]->start_bounce(L.depth[k], false);
+      const Vec2f u = samplers[k]->uniform2(Decision::direction);
+      u1[k] = u.x(), u2[k] = u.y();
     }
     // The hit, next-event estimation and the bounce, lane-parallel (no
     // branches: every lane computes, masks decide what counts).
@@ -153,10 +151,9 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
       S.cr[k] = w * L.br[k] * ar[k], S.cg[k] = w * L.bg[k] * ag[k], S.cb[k] = w * L.bb[k] * ab[k];
       S.shadow[k] = hit[k] & (cos_l > 0 ? -1 : 0);
       // Cosine-weighted bounce (Malley), in the frame of Duff et al. 2017.
-      const float u1 = next_uniform(L.rng[k]), u2 = next_uniform(L.rng[k]);
-      const float r = std::sqrt(u1), zl = std::sqrt(1 - u1);
-      const int q = int(4 * u2 + 0.5f);
-      const float a = (4 * u2 - float(q)) * 1.57079633f, a2 = a * a;
+      const float r = std::sqrt(u1[k]), zl = std::sqrt(1 - u1[k]);
+      const int q = int(4 * u2[k] + 0.5f);
+      const float a = (4 * u2[k] - float(q)) * 1.57079633f, a2 = a * a;
       const float sa = a * (1 + a2 * (-1.f / 6 + a2 * (1.f / 120 + a2 * (-1.f / 5040))));
       const float ca = 1 + a2 * (-0.5f + a2 * (1.f / 24 + a2 * (-1.f / 720 + a2 * (1.f / 40320))));
       const int qq = q & 3;
@@ -208,8 +205,21 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
 void bench_lanes(bool quick) {
   const Scene scene = embree_cornell_box(EMBREE_MODELS);
   const EmbreeScene traced(scene);
-  Setup s{traced, CameraRays(*scene.camera, 1, 1), quick ? 128 : 256, 16, 8, {}, 0, {}};
-  s.camera = CameraRays(*scene.camera, s.size, s.size);
+  RenderSettings rs;  // PathTrace's settings, and the lane loop's
+  rs.width = rs.height = quick ? 128 : 256;
+  rs.spp = 16;
+  rs.max_depth = 8;
+  rs.russian_roulette = false;
+  Setup s{traced,
+          CameraRays(*scene.camera, rs.width, rs.height),
+          rs.width,
+          rs.spp,
+          rs.max_depth,
+          rs.sampler,
+          rs.seed,
+          {},
+          0,
+          {}};
   for (int i = 0; i < 3; ++i) s.light[i] = float(scene.lights.at(0).position[i]);
   s.intensity = float(scene.lights.at(0).intensity);
   for (const TracedObject& o : traced.objects()) {
@@ -217,12 +227,17 @@ void bench_lanes(bool quick) {
     for (int i = 0; i < 3; ++i) s.albedo.push_back(float(c[i]));
   }
   const int pixels = s.size * s.size;
-  RenderSettings rs;
-  rs.width = rs.height = s.size;
-  rs.spp = s.spp;
-  rs.max_depth = s.max_depth;
-  rs.russian_roulette = false;
   std::vector<float> film(3 * std::size_t(pixels));
+  // Renders the image with the lane loop into `film`; returns the rays.
+  const auto render_image = [&](const Setup& setup) {
+    std::fill(film.begin(), film.end(), 0.f);
+    std::atomic<std::uint64_t> rays{0};
+    tbb::parallel_for(tbb::blocked_range<int>(0, pixels, 1024), [&](const tbb::blocked_range<int>& r) {
+      rays += render_lanes(setup, r.begin(), r.end(), film.data() + 3 * std::size_t(r.begin()), nullptr);
+    });
+    return std::uint64_t(rays);
+  };
+  const auto film_image = [&] { return cv::Mat(cv::Mat(s.size, s.size, CV_32FC3, film.data()) / float(s.spp)); };
   std::vector<Packet> recorded;  // the packets of one sample per pixel, for the replay
   Setup one = s;
   one.spp = 1;
@@ -284,27 +299,27 @@ void bench_lanes(bool quick) {
   reference_settings.spp = quick ? 64 : 512;
   reference_settings.seed = 99;
   const cv::Mat reference = render(scene, *scene.camera, traced, reference_settings).image;
-  RenderSettings independent = rs;  // PathTrace with the lane loop's kind of samples
+  // Both with independent samples too (untimed).
+  RenderSettings independent = rs;
   independent.sampler = SamplerKind::independent;
   const double error_independent = rel_mse(render(scene, *scene.camera, traced, independent).image, reference);
+  Setup s_independent = s;
+  s_independent.sampler = SamplerKind::independent;
+  render_image(s_independent);
+  const double error_lanes_independent = rel_mse(film_image(), reference);
   const int passes = s.spp;  // the replay traces as many rays as a render
   loom::bench::Csv csv("pathtrace_lanes",
                        {"threads", "pathtrace_rays_per_cpu_s", "lanes_rays_per_cpu_s", "embree_one_rays_per_cpu_s",
                         "embree_packets_rays_per_cpu_s", "lanes_fraction_of_one", "lanes_fraction_of_packets",
                         "lanes_rays_per_path", "pathtrace_rays_per_path", "lanes_mean", "pathtrace_mean",
-                        "lanes_relmse", "pathtrace_relmse", "pathtrace_independent_relmse", "outcomes_match", "load1"});
+                        "lanes_relmse", "pathtrace_relmse", "lanes_relmse_to_pathtrace_same_samples",
+                        "lanes_independent_relmse", "pathtrace_independent_relmse", "outcomes_match", "load1"});
   for (int threads : {1, 2}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
-    std::atomic<std::uint64_t> rays{0};
+    std::uint64_t rays = 0;
     RenderResult ours;
     bool same_one = true, same_packets = true;
-    const auto lanes = [&] {
-      std::fill(film.begin(), film.end(), 0.f);
-      rays = 0;
-      tbb::parallel_for(tbb::blocked_range<int>(0, pixels, 1024), [&](const tbb::blocked_range<int>& r) {
-        rays += render_lanes(s, r.begin(), r.end(), film.data() + 3 * std::size_t(r.begin()), nullptr);
-      });
-    };
+    const auto lanes = [&] { rays = render_image(s); };
     const auto pathtrace = [&] { ours = render(scene, *scene.camera, traced, rs); };
     const auto embree_one = [&] {
       for (int p = 0; p < passes; ++p) same_one = replay(false) == recorded_found && same_one;
@@ -316,8 +331,9 @@ void bench_lanes(bool quick) {
     double mean_lanes = 0;
     for (float v : film) mean_lanes += v;
     mean_lanes /= double(film.size()) * s.spp;
-    const cv::Mat lane_image = cv::Mat(s.size, s.size, CV_32FC3, film.data()) / float(s.spp);
+    const cv::Mat lane_image = film_image();
     const double error_lanes = rel_mse(lane_image, reference), error_ours = rel_mse(ours.image, reference);
+    const double lanes_to_ours = rel_mse(lane_image, ours.image);  // the same samples: rounding apart
     const cv::Scalar m = cv::mean(ours.image);
     const double mean_ours = (m[0] + m[1] + m[2]) / 3;
     const double replayed = double(recorded_rays) * passes;
@@ -325,7 +341,7 @@ void bench_lanes(bool quick) {
     const double pathtrace_rate = double(ours.rays) / t[0].cpu;
     csv.row({(long long)threads, pathtrace_rate, lane_rate, one_rate, packet_rate, lane_rate / one_rate,
              lane_rate / packet_rate, double(rays) / double(pixels) / s.spp, double(ours.rays) / double(ours.paths),
-             mean_lanes, mean_ours, error_lanes, error_ours, error_independent,
+             mean_lanes, mean_ours, error_lanes, error_ours, lanes_to_ours, error_lanes_independent, error_independent,
              std::string(same_one && same_packets ? "yes" : "no"), loom::bench::load_average()});
     std::cout << "lanes, " << threads << " thread(s), per CPU second: PathTrace " << pathtrace_rate / 1e6
               << " M rays, the lane loop " << lane_rate / 1e6 << " M; Embree alone on the lane loop's rays "
@@ -335,7 +351,8 @@ void bench_lanes(bool quick) {
               << double(rays) / double(pixels) / s.spp << " (PathTrace " << double(ours.rays) / double(ours.paths)
               << "), image mean " << mean_lanes << " (PathTrace " << mean_ours << "), relMSE against PathTrace at "
               << reference_settings.spp << " spp " << error_lanes << " (PathTrace " << error_ours
-              << ", with independent samples " << error_independent << ")\n";
+              << "; with independent samples " << error_lanes_independent << " and " << error_independent
+              << "), relMSE against PathTrace's image of the same samples " << lanes_to_ours << "\n";
   }
   csv.save();
 }

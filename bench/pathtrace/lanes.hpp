@@ -1,7 +1,8 @@
 // An experiment, not a renderer: the path loop of the `rays` mode's scene
 // (Lambertian walls, one point light, depth 8, no roulette) with 16 paths in
-// SIMD lanes and Embree's 16-ray packets, to measure what shading in lanes
-// would give against Embree's own ray rate (issue 39, item 4).
+// SIMD lanes and Embree's 16-ray packets, drawing PathTrace's own samples, to
+// measure what shading in lanes would give against Embree's own ray rate
+// (issue 39, item 4).
 #pragma once
 
 namespace loom::pathtrace::bench {
