@@ -289,6 +289,8 @@ void rate_on(const std::string& name, const Scene& scene, const RecordedRays& tu
     const auto tutorial_cell = [&](double v) {
       return have_tutorial ? loom::bench::Cell(v) : loom::bench::Cell(std::string("n/a"));
     };
+    const std::string tutorial_match = !have_tutorial ? "n/a" : same_tutorial ? "yes" : "no";
+    const double tutorial_shadow = have_tutorial ? double(tutorial.shadow) / double(tutorial.rays.size()) : 0;
     csv.row({name,
              triangles,
              (long long)threads,
@@ -313,10 +315,8 @@ void rate_on(const std::string& name, const Scene& scene, const RecordedRays& tu
              tutorial_cell(etc),
              tutorial_cell(tc / etc),
              tutorial_cell(tutorial_per_path),
-             tutorial_cell(have_tutorial ? double(tutorial.shadow) / double(tutorial.rays.size()) : 0),
-             std::string(!have_tutorial  ? "n/a"
-                         : same_tutorial ? "yes"
-                                         : "no"),
+             tutorial_cell(tutorial_shadow),
+             tutorial_match,
              loom::bench::load_average()});
     std::cout << "rays, " << name << ", " << threads << " thread(s): PathTrace " << lw / 1e6
               << " M rays/s, Embree alone " << ew / 1e6 << " M rays/s: " << 100 * lw / ew
