@@ -20,10 +20,10 @@ bool embree_tutorial_installed() {
 
 double run_embree_tutorial(int size, int spp, int depth, int threads, const std::filesystem::path& out, double* cpu,
                            const std::string& environment) {
-  const std::string cmd = environment + " pathtracer -c " + std::string(EMBREE_MODELS) + "/cornell_box.ecs --size " +
+  const std::string cmd = environment + " pathtracer -c '" + std::string(EMBREE_MODELS) + "/cornell_box.ecs' --size " +
                           std::to_string(size) + " " + std::to_string(size) + " --spp " + std::to_string(spp) +
                           " --max-path-length " + std::to_string(depth) + " --threads " + std::to_string(threads) +
-                          " -o " + out.string() + " > /dev/null 2>&1";
+                          " -o '" + out.string() + "' > /dev/null 2>&1";
   const auto t = std::chrono::steady_clock::now();
   const double c0 = cpu_seconds(RUSAGE_CHILDREN);
   const int rc = std::system(cmd.c_str());
