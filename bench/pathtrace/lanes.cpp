@@ -51,6 +51,7 @@ struct Setup {
   std::uint64_t seed;
   float light[3], intensity;
   std::vector<float> albedo;  // 3 per geometry id (the traced objects' order: this scene has no instances)
+  bool packets = true;        // 16-ray packets, or each live lane's ray in a call of its own
 };
 
 // A packet as the lane loop handed it to Embree, and how many of its rays
@@ -61,6 +62,31 @@ struct Packet {
   bool shadow;
   int found;
 };
+
+// The packet's valid rays traced one per call (rtcIntersect1), results
+// written back into the packet.
+void intersect_one_by_one(RTCScene scene, RTCIntersectContext* context, const int* valid, RTCRayHit16* p) {
+  for (int k = 0; k < kLanes; ++k) {
+    if (!valid[k]) continue;
+    RTCRayHit h;
+    h.ray = {p->ray.org_x[k], p->ray.org_y[k], p->ray.org_z[k], p->ray.tnear[k], p->ray.dir_x[k], p->ray.dir_y[k],
+             p->ray.dir_z[k], p->ray.time[k],  p->ray.tfar[k],  p->ray.mask[k],  p->ray.id[k],    p->ray.flags[k]};
+    h.hit.geomID = RTC_INVALID_GEOMETRY_ID, h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, context, &h);
+    p->ray.tfar[k] = h.ray.tfar;
+    p->hit.Ng_x[k] = h.hit.Ng_x, p->hit.Ng_y[k] = h.hit.Ng_y, p->hit.Ng_z[k] = h.hit.Ng_z;
+    p->hit.geomID[k] = h.hit.geomID;
+  }
+}
+void occluded_one_by_one(RTCScene scene, RTCIntersectContext* context, const int* valid, RTCRay16* p) {
+  for (int k = 0; k < kLanes; ++k) {
+    if (!valid[k]) continue;
+    RTCRay r{p->org_x[k], p->org_y[k], p->org_z[k], p->tnear[k], p->dir_x[k], p->dir_y[k],
+             p->dir_z[k], p->time[k],  p->tfar[k],  p->mask[k],  p->id[k],    p->flags[k]};
+    rtcOccluded1(scene, context, &r);
+    p->tfar[k] = r.tfar;
+  }
+}
 
 // Renders the pixels [begin, end) × spp, 16 paths at a time; returns the
 // rays traced. film: 3 floats per pixel, summed radiance.
@@ -107,7 +133,10 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
       record->back().rays = rh.ray;
       record->back().shadow = false;
     }
-    rtcIntersect16(L.live, scene, &context, &rh);
+    if (s.packets)
+      rtcIntersect16(L.live, scene, &context, &rh);
+    else
+      intersect_one_by_one(scene, &context, L.live, &rh);
     for (int k = 0; k < kLanes; ++k) rays += L.live[k] & 1;
     if (record) {
       int found = 0;
@@ -186,7 +215,10 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
       record->back().rays = shadow;
       record->back().shadow = true;
     }
-    rtcOccluded16(S.shadow, scene, &context, &shadow);
+    if (s.packets)
+      rtcOccluded16(S.shadow, scene, &context, &shadow);
+    else
+      occluded_one_by_one(scene, &context, S.shadow, &shadow);
     for (int k = 0; k < kLanes; ++k) rays += S.shadow[k] & 1;
     if (record) {
       int found = 0;
@@ -261,37 +293,24 @@ void bench_lanes(bool quick) {
           rtcInitIntersectContext(&context);
           for (std::size_t i = r.begin(); i != r.end(); ++i) {
             const Packet& p = recorded[i];
-            if (packets) {
-              if (p.shadow) {
-                RTCRay16 ray = p.rays;
+            if (p.shadow) {
+              RTCRay16 ray = p.rays;
+              if (packets)
                 rtcOccluded16(p.valid, rtc, &context, &ray);
-                for (int k = 0; k < kLanes; ++k) found += p.valid[k] && ray.tfar[k] < 0;
-              } else {
-                RTCRayHit16 h;
-                h.ray = p.rays;
-                for (int k = 0; k < kLanes; ++k)
-                  h.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID, h.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-                rtcIntersect16(p.valid, rtc, &context, &h);
-                for (int k = 0; k < kLanes; ++k) found += p.valid[k] && h.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
-              }
+              else
+                occluded_one_by_one(rtc, &context, p.valid, &ray);
+              for (int k = 0; k < kLanes; ++k) found += p.valid[k] && ray.tfar[k] < 0;
               continue;
             }
-            for (int k = 0; k < kLanes; ++k) {
-              if (!p.valid[k]) continue;
-              RTCRay ray{p.rays.org_x[k], p.rays.org_y[k], p.rays.org_z[k], p.rays.tnear[k],
-                         p.rays.dir_x[k], p.rays.dir_y[k], p.rays.dir_z[k], p.rays.time[k],
-                         p.rays.tfar[k],  p.rays.mask[k],  p.rays.id[k],    p.rays.flags[k]};
-              if (p.shadow) {
-                rtcOccluded1(rtc, &context, &ray);
-                found += ray.tfar < 0;
-              } else {
-                RTCRayHit h;
-                h.ray = ray;
-                h.hit.geomID = RTC_INVALID_GEOMETRY_ID, h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                rtcIntersect1(rtc, &context, &h);
-                found += h.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-              }
-            }
+            RTCRayHit16 h;
+            h.ray = p.rays;
+            for (int k = 0; k < kLanes; ++k)
+              h.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID, h.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+            if (packets)
+              rtcIntersect16(p.valid, rtc, &context, &h);
+            else
+              intersect_one_by_one(rtc, &context, p.valid, &h);
+            for (int k = 0; k < kLanes; ++k) found += p.valid[k] && h.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
           }
           return found;
         },
@@ -311,18 +330,36 @@ void bench_lanes(bool quick) {
   render_image(s_independent);
   const double error_lanes_independent = rel_mse(film_image(), reference);
   const int passes = s.spp;  // the replay traces as many rays as a render
-  loom::bench::Csv csv("pathtrace_lanes",
-                       {"threads", "pathtrace_rays_per_cpu_s", "lanes_rays_per_cpu_s", "embree_one_rays_per_cpu_s",
-                        "embree_packets_rays_per_cpu_s", "lanes_fraction_of_one", "lanes_fraction_of_packets",
-                        "lanes_rays_per_path", "pathtrace_rays_per_path", "lanes_mean", "pathtrace_mean",
-                        "lanes_relmse", "pathtrace_relmse", "lanes_relmse_to_pathtrace_same_samples",
-                        "lanes_independent_relmse", "pathtrace_independent_relmse", "outcomes_match", "load1"});
+  loom::bench::Csv csv("pathtrace_lanes", {"threads",
+                                           "pathtrace_rays_per_cpu_s",
+                                           "lanes_rays_per_cpu_s",
+                                           "embree_one_rays_per_cpu_s",
+                                           "embree_packets_rays_per_cpu_s",
+                                           "lanes_fraction_of_one",
+                                           "lanes_fraction_of_packets",
+                                           "lanes_rays_per_path",
+                                           "pathtrace_rays_per_path",
+                                           "lanes_mean",
+                                           "pathtrace_mean",
+                                           "lanes_relmse",
+                                           "pathtrace_relmse",
+                                           "lanes_relmse_to_pathtrace_same_samples",
+                                           "lanes_independent_relmse",
+                                           "pathtrace_independent_relmse",
+                                           "outcomes_match",
+                                           "lanes_one_call_rays_per_cpu_s",
+                                           "lanes_one_call_fraction_of_one",
+                                           "load1"});
+  Setup s_one_call = s;  // the same loop, each ray in a call of its own
+  s_one_call.packets = false;
   for (int threads : {1, 2}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     std::uint64_t rays = 0;
     RenderResult ours;
     bool same_one = true, same_packets = true;
     const auto lanes = [&] { rays = render_image(s); };
+    std::uint64_t rays_one_call = 0;
+    const auto lanes_one_call = [&] { rays_one_call = render_image(s_one_call); };
     const auto pathtrace = [&] { ours = render(scene, *scene.camera, traced, rs); };
     const auto embree_one = [&] {
       for (int p = 0; p < passes; ++p) same_one = replay(false) == recorded_found && same_one;
@@ -330,7 +367,8 @@ void bench_lanes(bool quick) {
     const auto embree_packets = [&] {
       for (int p = 0; p < passes; ++p) same_packets = replay(true) == recorded_found && same_packets;
     };
-    const auto t = loom::bench::time_alternating(quick ? 1 : 5, {pathtrace, lanes, embree_one, embree_packets});
+    const auto t =
+        loom::bench::time_alternating(quick ? 1 : 5, {pathtrace, lanes_one_call, embree_one, embree_packets, lanes});
     double mean_lanes = 0;
     for (float v : film) mean_lanes += v;
     mean_lanes /= double(film.size()) * s.spp;
@@ -340,12 +378,29 @@ void bench_lanes(bool quick) {
     const cv::Scalar m = cv::mean(ours.image);
     const double mean_ours = (m[0] + m[1] + m[2]) / 3;
     const double replayed = double(recorded_rays) * passes;
-    const double lane_rate = double(rays) / t[1].cpu, one_rate = replayed / t[2].cpu, packet_rate = replayed / t[3].cpu;
+    const double lane_rate = double(rays) / t[4].cpu, one_rate = replayed / t[2].cpu, packet_rate = replayed / t[3].cpu;
+    const double one_call_rate = double(rays_one_call) / t[1].cpu;
     const double pathtrace_rate = double(ours.rays) / t[0].cpu;
-    csv.row({(long long)threads, pathtrace_rate, lane_rate, one_rate, packet_rate, lane_rate / one_rate,
-             lane_rate / packet_rate, double(rays) / double(pixels) / s.spp, double(ours.rays) / double(ours.paths),
-             mean_lanes, mean_ours, error_lanes, error_ours, lanes_to_ours, error_lanes_independent, error_independent,
-             std::string(same_one && same_packets ? "yes" : "no"), loom::bench::load_average()});
+    csv.row({(long long)threads,
+             pathtrace_rate,
+             lane_rate,
+             one_rate,
+             packet_rate,
+             lane_rate / one_rate,
+             lane_rate / packet_rate,
+             double(rays) / double(pixels) / s.spp,
+             double(ours.rays) / double(ours.paths),
+             mean_lanes,
+             mean_ours,
+             error_lanes,
+             error_ours,
+             lanes_to_ours,
+             error_lanes_independent,
+             error_independent,
+             std::string(same_one && same_packets ? "yes" : "no"),
+             one_call_rate,
+             one_call_rate / one_rate,
+             loom::bench::load_average()});
     std::cout << "lanes, " << threads << " thread(s), per CPU second: PathTrace " << pathtrace_rate / 1e6
               << " M rays, the lane loop " << lane_rate / 1e6 << " M; Embree alone on the lane loop's rays "
               << one_rate / 1e6 << " M one per call, " << packet_rate / 1e6 << " M in its packets: the lane loop at "
@@ -355,7 +410,9 @@ void bench_lanes(bool quick) {
               << "), image mean " << mean_lanes << " (PathTrace " << mean_ours << "), relMSE against PathTrace at "
               << reference_settings.spp << " spp " << error_lanes << " (PathTrace " << error_ours
               << "; with independent samples " << error_lanes_independent << " and " << error_independent
-              << "), relMSE against PathTrace's image of the same samples " << lanes_to_ours << "\n";
+              << "), relMSE against PathTrace's image of the same samples " << lanes_to_ours
+              << "; with one ray per call " << one_call_rate / 1e6 << " M rays, " << one_call_rate / one_rate
+              << " of Embree alone one per call\n";
   }
   csv.save();
 }

@@ -7,8 +7,10 @@
 
 namespace loom::pathtrace::bench {
 
-// `bench_pathtrace lanes`: PathTrace's render, the lane loop, and Embree alone
-// on the lane loop's rays, alternating, 1 and 2 threads; prints the rates.
+// `bench_pathtrace lanes`: PathTrace's render, the lane loop (with packets,
+// and with one ray per call), and Embree alone on the lane loop's packets
+// (as packets, and one ray per call), alternating, 1 and 2 threads. Writes
+// pathtrace_lanes.csv: the rates, and the images' errors against PathTrace's.
 void bench_lanes(bool quick);
 
 }  // namespace loom::pathtrace::bench
