@@ -63,10 +63,14 @@ struct Packet {
   int found;
 };
 
-// The packet's valid rays traced one per call (rtcIntersect1), results
-// written back into the packet.
-void intersect_one_by_one(RTCScene scene, RTCIntersectContext* context, const int* valid, RTCRayHit16* p) {
-  for (int k = 0; k < kLanes; ++k) {
+// A packet's valid rays traced, as one packet or one ray per call
+// (rtcIntersect1, results written back into the packet). Returns how many
+// found a surface.
+int trace(bool packet, RTCScene scene, RTCIntersectContext* context, const int* valid, RTCRayHit16* p) {
+  for (int k = 0; k < kLanes; ++k)
+    p->hit.geomID[k] = RTC_INVALID_GEOMETRY_ID, p->hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+  if (packet) rtcIntersect16(valid, scene, context, p);
+  for (int k = 0; k < kLanes && !packet; ++k) {
     if (!valid[k]) continue;
     RTCRayHit h;
     h.ray = {p->ray.org_x[k], p->ray.org_y[k], p->ray.org_z[k], p->ray.tnear[k], p->ray.dir_x[k], p->ray.dir_y[k],
@@ -77,15 +81,34 @@ void intersect_one_by_one(RTCScene scene, RTCIntersectContext* context, const in
     p->hit.Ng_x[k] = h.hit.Ng_x, p->hit.Ng_y[k] = h.hit.Ng_y, p->hit.Ng_z[k] = h.hit.Ng_z;
     p->hit.geomID[k] = h.hit.geomID;
   }
+  int found = 0;
+  for (int k = 0; k < kLanes; ++k) found += valid[k] && p->hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+  return found;
 }
-void occluded_one_by_one(RTCScene scene, RTCIntersectContext* context, const int* valid, RTCRay16* p) {
-  for (int k = 0; k < kLanes; ++k) {
+// The same for shadow rays (rtcOccluded16 / rtcOccluded1); returns how many
+// found a blocker.
+int trace(bool packet, RTCScene scene, RTCIntersectContext* context, const int* valid, RTCRay16* p) {
+  if (packet) rtcOccluded16(valid, scene, context, p);
+  for (int k = 0; k < kLanes && !packet; ++k) {
     if (!valid[k]) continue;
     RTCRay r{p->org_x[k], p->org_y[k], p->org_z[k], p->tnear[k], p->dir_x[k], p->dir_y[k],
              p->dir_z[k], p->time[k],  p->tfar[k],  p->mask[k],  p->id[k],    p->flags[k]};
     rtcOccluded1(scene, context, &r);
     p->tfar[k] = r.tfar;
   }
+  int found = 0;
+  for (int k = 0; k < kLanes; ++k) found += valid[k] && p->tfar[k] < 0;
+  return found;
+}
+
+// A packet as the loop hands it to Embree, kept for the replay; returns where
+// its count of hits or blockers goes.
+int* record_packet(std::vector<Packet>& record, const int* valid, const RTCRay16& rays, bool shadow) {
+  record.emplace_back();
+  std::copy(valid, valid + kLanes, record.back().valid);
+  record.back().rays = rays;
+  record.back().shadow = shadow;
+  return &record.back().found;
 }
 
 // Renders the pixels [begin, end) × spp, 16 paths at a time; returns the
@@ -125,24 +148,11 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
       rh.ray.org_x[k] = L.ox[k], rh.ray.org_y[k] = L.oy[k], rh.ray.org_z[k] = L.oz[k], rh.ray.tnear[k] = 0;
       rh.ray.dir_x[k] = L.dx[k], rh.ray.dir_y[k] = L.dy[k], rh.ray.dir_z[k] = L.dz[k], rh.ray.time[k] = 0;
       rh.ray.tfar[k] = INFINITY, rh.ray.mask[k] = EmbreeScene::kCameraMask, rh.ray.id[k] = 0, rh.ray.flags[k] = 0;
-      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID, rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
-    if (record) {
-      record->emplace_back();
-      std::copy(L.live, L.live + kLanes, record->back().valid);
-      record->back().rays = rh.ray;
-      record->back().shadow = false;
-    }
-    if (s.packets)
-      rtcIntersect16(L.live, scene, &context, &rh);
-    else
-      intersect_one_by_one(scene, &context, L.live, &rh);
+    int* hits = record ? record_packet(*record, L.live, rh.ray, false) : nullptr;
+    const int found_surfaces = trace(s.packets, scene, &context, L.live, &rh);
+    if (hits) *hits = found_surfaces;
     for (int k = 0; k < kLanes; ++k) rays += L.live[k] & 1;
-    if (record) {
-      int found = 0;
-      for (int k = 0; k < kLanes; ++k) found += L.live[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
-      record->back().found = found;
-    }
     // Gathers, scalar: each hit's albedo and its bounce pair from the lane's sampler.
     alignas(64) float ar[kLanes], ag[kLanes], ab[kLanes];
     alignas(64) int hit[kLanes];
@@ -209,22 +219,10 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
       shadow.dir_x[k] = S.sdx[k], shadow.dir_y[k] = S.sdy[k], shadow.dir_z[k] = S.sdz[k], shadow.time[k] = 0;
       shadow.tfar[k] = S.stmax[k], shadow.mask[k] = EmbreeScene::kShadowMask, shadow.id[k] = 0, shadow.flags[k] = 0;
     }
-    if (record) {
-      record->emplace_back();
-      std::copy(S.shadow, S.shadow + kLanes, record->back().valid);
-      record->back().rays = shadow;
-      record->back().shadow = true;
-    }
-    if (s.packets)
-      rtcOccluded16(S.shadow, scene, &context, &shadow);
-    else
-      occluded_one_by_one(scene, &context, S.shadow, &shadow);
+    int* blockers = record ? record_packet(*record, S.shadow, shadow, true) : nullptr;
+    const int found_blockers = trace(s.packets, scene, &context, S.shadow, &shadow);
+    if (blockers) *blockers = found_blockers;
     for (int k = 0; k < kLanes; ++k) rays += S.shadow[k] & 1;
-    if (record) {
-      int found = 0;
-      for (int k = 0; k < kLanes; ++k) found += S.shadow[k] && shadow.tfar[k] < 0;
-      record->back().found = found;
-    }
     // Unblocked contributions into the film (scattered by pixel).
     for (int k = 0; k < kLanes; ++k)
       if (S.shadow[k] && shadow.tfar[k] >= 0) {
@@ -295,22 +293,12 @@ void bench_lanes(bool quick) {
             const Packet& p = recorded[i];
             if (p.shadow) {
               RTCRay16 ray = p.rays;
-              if (packets)
-                rtcOccluded16(p.valid, rtc, &context, &ray);
-              else
-                occluded_one_by_one(rtc, &context, p.valid, &ray);
-              for (int k = 0; k < kLanes; ++k) found += p.valid[k] && ray.tfar[k] < 0;
-              continue;
+              found += std::uint64_t(trace(packets, rtc, &context, p.valid, &ray));
+            } else {
+              RTCRayHit16 h;
+              h.ray = p.rays;
+              found += std::uint64_t(trace(packets, rtc, &context, p.valid, &h));
             }
-            RTCRayHit16 h;
-            h.ray = p.rays;
-            for (int k = 0; k < kLanes; ++k)
-              h.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID, h.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-            if (packets)
-              rtcIntersect16(p.valid, rtc, &context, &h);
-            else
-              intersect_one_by_one(rtc, &context, p.valid, &h);
-            for (int k = 0; k < kLanes; ++k) found += p.valid[k] && h.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
           }
           return found;
         },
