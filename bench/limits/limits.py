@@ -61,7 +61,7 @@ def steps(quick):
         ("bench_poisson", ["--disk", "--size", "1024", "first"] + q),
         ("bench_parameterize", ["--generated", "--uniform"] + q),
         ("bench_arap", ["--generated"] + q),
-        ("bench_pathtrace", ["embree", "rays"] + q),
+        ("bench_pathtrace", ["embree", "rays", "lanes"] + q),
         ("bench_mpm", ["limit", "nbody"] + q),
         ("bench_shading", ["limits"] + q),
         ("bench_pathtrace", ["cycles"] + q),
@@ -222,6 +222,18 @@ def pathtrace(raw):
                            limit_basis=f"Embree alone: {embree_on_tutorial / 1e6:.1f} M rays/s",
                            fraction=tutorial_rate / embree_on_tutorial, load=num(r["load1"]),
                            label=f"Embree's tutorial, {r['threads']} thread(s): Embree's ray rate"))
+    for r in read(raw, "pathtrace_lanes"):
+        # Written by `bench_pathtrace lanes`: an experiment, not PathTrace (16
+        # paths in SIMD lanes, 16-ray packets) against Embree alone on its packets.
+        lanes_rate, packet_rate = num(r["lanes_rays_per_cpu_s"]), num(r["embree_packets_rays_per_cpu_s"])
+        speedup = lanes_rate / num(r["pathtrace_rays_per_cpu_s"])
+        out.append(Row(f"An experiment, not PathTrace: the box's estimator and samples with 16 paths in SIMD lanes "
+                       f"and 16-ray packets, {r['threads']} thread(s), per CPU second "
+                       f"({speedup:.2f}× PathTrace's rays; relMSE {num(r['lanes_relmse']):.4f}, "
+                       f"PathTrace's {num(r['pathtrace_relmse']):.4f})", 1 / lanes_rate, limit=1 / packet_rate,
+                       limit_basis=f"Embree alone on its packets: {packet_rate / 1e6:.1f} M rays/s",
+                       fraction=lanes_rate / packet_rate, load=num(r["load1"]),
+                       label=f"SIMD-lane experiment, {r['threads']} thread(s): Embree's packet rate"))
     ratios = read(raw, "pathtrace_cycles_ratios")
     for scene in sorted({r["scene"] for r in ratios}):
         vals = [num(r["time_ratio_at_equal_error"]) for r in ratios if r["scene"] == scene and r["renderer"] == "loom"]
