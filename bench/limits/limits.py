@@ -212,7 +212,8 @@ def pathtrace(raw):
         out.append(Row(f"PathTrace rays/s against Embree's ray rate, {scene}, {r['threads']} thread(s)", 1 / loom_rate,
                        limit=1 / embree_rate, limit_basis=f"Embree alone: {embree_rate / 1e6:.1f} M rays/s",
                        fraction=loom_rate / embree_rate, load=num(r["load1"]),
-                       label=f"PathTrace, {r.get('scene', 'cornell')}, {r['threads']} thread(s): Embree's ray rate"))
+                       label=f"PathTrace {'box' if r.get('scene', 'cornell') == 'cornell' else 'box+ball'}, "
+                             f"{r['threads']} thr.: Embree's rate"))
         tutorial_rate, embree_on_tutorial = num(r.get("tutorial_rays_per_s")), num(r.get("embree_on_tutorial_rays_per_s"))
         if tutorial_rate == tutorial_rate:  # not NaN: Embree's tutorial was installed
             # The peer's own fraction: Embree's tutorial path tracer against
@@ -221,7 +222,7 @@ def pathtrace(raw):
                            f"{scene}, {r['threads']} thread(s)", 1 / tutorial_rate, limit=1 / embree_on_tutorial,
                            limit_basis=f"Embree alone: {embree_on_tutorial / 1e6:.1f} M rays/s",
                            fraction=tutorial_rate / embree_on_tutorial, load=num(r["load1"]),
-                           label=f"Embree's tutorial, {r['threads']} thread(s): Embree's ray rate"))
+                           label=f"Embree's tutorial, {r['threads']} thr.: Embree's rate"))
     for r in read(raw, "pathtrace_lanes"):
         # Written by `bench_pathtrace lanes`: an experiment, not PathTrace (16
         # paths in SIMD lanes, 16-ray packets) against Embree alone on its packets.
@@ -233,7 +234,7 @@ def pathtrace(raw):
                        f"PathTrace's {num(r['pathtrace_relmse']):.4f})", 1 / lanes_rate, limit=1 / packet_rate,
                        limit_basis=f"Embree alone on its packets: {packet_rate / 1e6:.1f} M rays/s",
                        fraction=lanes_rate / packet_rate, load=num(r["load1"]),
-                       label=f"SIMD-lane experiment, {r['threads']} thread(s): Embree's packet rate"))
+                       label=f"Lane experiment, {r['threads']} thr.: Embree packets"))
     ratios = read(raw, "pathtrace_cycles_ratios")
     for scene in sorted({r["scene"] for r in ratios}):
         vals = [num(r["time_ratio_at_equal_error"]) for r in ratios if r["scene"] == scene and r["renderer"] == "loom"]
