@@ -13,6 +13,7 @@
 namespace {
 
 using loom::json;
+using loom::bench::median;
 
 json link(const std::string& from) { return {{"from", from}}; }
 
@@ -118,10 +119,6 @@ int main(int argc, char** argv) {
         t[c.form + "/cold"].push_back(s(loaded, cold));
         t[c.form + "/cached"].push_back(s(cold, cached));
       }
-    auto median = [](std::vector<double> v) {
-      std::sort(v.begin(), v.end());
-      return v[v.size() / 2];
-    };
     for (const Case& c : cases)
       for (const std::string phase : {"load+validate", "cold", "cached"}) {
         const double m = median(t[c.form + "/" + phase]), f = median(t["flat/" + phase]);

@@ -12,6 +12,8 @@
 #include <functional>
 #include <vector>
 
+#include "bench_harness.hpp"
+
 namespace loom::bench {
 
 struct AlternatingTiming {
@@ -32,11 +34,6 @@ inline std::vector<AlternatingTiming> time_alternating(int runs, const std::vect
       cpu[k].push_back(static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
       wall[k].push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
     }
-  auto median = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t h = v.size() / 2;
-    return v.size() % 2 ? v[h] : (v[h - 1] + v[h]) / 2;
-  };
   std::vector<AlternatingTiming> out;
   for (std::size_t k = 0; k < contenders.size(); ++k) out.push_back({median(wall[k]), median(cpu[k])});
   return out;

@@ -23,6 +23,15 @@ double process_cpu_seconds();
 // The 1-minute load average, to report beside every figure (0 if unknown).
 double load_average();
 
+// The median of v: its middle value, the mean of the middle two for an even
+// count; 0 for none.
+inline double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t h = v.size() / 2;
+  return v.size() % 2 ? v[h] : (v[h - 1] + v[h]) / 2;
+}
+
 struct Timing {
   double median = 0, min = 0, max = 0;  // seconds
   int runs = 0;
@@ -38,13 +47,11 @@ Timing time_median(F&& f, int runs = 5) {
     f();
     t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
-  std::vector<double> sorted = t;
-  std::sort(sorted.begin(), sorted.end());
   Timing r;
   r.runs = runs;
-  r.min = sorted.front();
-  r.max = sorted.back();
-  r.median = runs % 2 ? sorted[runs / 2] : (sorted[runs / 2 - 1] + sorted[runs / 2]) / 2;
+  r.min = *std::min_element(t.begin(), t.end());
+  r.max = *std::max_element(t.begin(), t.end());
+  r.median = median(t);
   return r;
 }
 

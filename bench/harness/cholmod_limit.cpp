@@ -2,6 +2,7 @@
 
 #include <cholmod.h>
 
+#include "bench_harness.hpp"
 #include "loom/numerics/blas_threads.hpp"
 
 #include <algorithm>
@@ -12,11 +13,6 @@
 namespace loom::bench {
 namespace {
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t h = v.size() / 2;
-  return v.size() % 2 ? v[h] : (v[h - 1] + v[h]) / 2;
-}
 
 template <class F>
 double seconds(F&& f) {

@@ -27,6 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using loom::bench::Csv;
+using loom::bench::median;
 
 constexpr int kThreads = 2;
 
@@ -136,12 +137,6 @@ PowerFit fit(const std::vector<double>& seconds, const std::vector<double>& relm
   f.b = (n * sxy - sx * sy) / (n * sxx - sx * sx);
   f.a = (sy - f.b * sx) / n;
   return f;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
 }
 
 void save_png(const cv::Mat& image, const std::string& name) {

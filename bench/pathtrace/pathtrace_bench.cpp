@@ -39,6 +39,7 @@
 namespace fs = std::filesystem;
 using namespace loom::pathtrace;
 using loom::bench::Csv;
+using loom::bench::median;
 using loom::pathtrace::bench::cpu_seconds;
 using loom::pathtrace::bench::read_pfm;
 using loom::pathtrace::bench::rel_mse;
@@ -155,10 +156,6 @@ void bench_embree() {
       wall_embree.push_back((w_full - w_one) * spp / (spp - 1));
       cpu_embree.push_back((cpu_full - cpu_one) * spp / (spp - 1));
     }
-    auto median = [](std::vector<double> v) {
-      std::sort(v.begin(), v.end());
-      return v[v.size() / 2];
-    };
     const double paths = double(size) * size * spp;
     const cv::Scalar m = cv::mean(quantize8(ours.result.image));
     const double rays_per_path = double(ours.result.rays) / paths;

@@ -26,6 +26,7 @@
 namespace loom::pathtrace::bench {
 
 namespace fs = std::filesystem;
+using loom::bench::median;
 
 namespace {
 
@@ -227,11 +228,6 @@ void time_tutorial(int size, int spp, int max_depth, int threads, std::vector<do
   cpu->push_back((cpu_full - cpu_one) / paths);
   std::error_code ignored;
   fs::remove(image, ignored);
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
 }
 
 // One scene's rows: PathTrace's render, Embree alone on its recorded rays (one

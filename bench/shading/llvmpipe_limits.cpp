@@ -16,6 +16,7 @@ namespace loom::shading {
 namespace {
 
 using loom::bench::Csv;
+using loom::bench::median;
 
 // LP_NUM_THREADS as llvmpipe reads it when the first context is made (unset:
 // one rasterizer thread per CPU).
@@ -24,11 +25,6 @@ std::string lp_threads() {
   return v ? std::string(v) : std::to_string(std::thread::hardware_concurrency()) + " (default: CPUs)";
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t h = v.size() / 2;
-  return v.empty() ? 0 : v.size() % 2 ? v[h] : (v[h - 1] + v[h]) / 2;
-}
 
 // Fill rate against quads per frame: the rate must level off (a frame's
 // clear and flush amortized) and time grow with the quads (nothing dropped).
