@@ -13,7 +13,6 @@
 namespace loom::bench {
 namespace {
 
-
 template <class F>
 double seconds(F&& f) {
   const auto t0 = std::chrono::steady_clock::now();

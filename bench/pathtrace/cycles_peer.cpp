@@ -15,7 +15,6 @@
 #include "bench_harness.hpp"
 #include "cornell_box_scene.hpp"
 #include "embree_scene.hpp"
-#include "image_codec.hpp"
 #include "image_error.hpp"
 #include "integrator.hpp"
 #include "loom/error.hpp"
@@ -139,11 +138,6 @@ PowerFit fit(const std::vector<double>& seconds, const std::vector<double>& relm
   return f;
 }
 
-void save_png(const cv::Mat& image, const std::string& name) {
-  const fs::path dir = loom::bench::results_dir() / "pathtrace";
-  fs::create_directories(dir);
-  loom::io::write_image(Image(image, Encoding::linear), dir / name, loom::io::Depth::u8);
-}
 
 // Per renderer and spp: times and errors of every round.
 struct Measured {

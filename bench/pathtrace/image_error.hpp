@@ -1,4 +1,5 @@
-// Error of an image against a reference, and the PFM files the peers write.
+// Error of an image against a reference, the PFM files the peers write, and
+// the PNGs this benchmark writes.
 #pragma once
 
 #include <filesystem>
@@ -6,6 +7,10 @@
 #include <string>
 
 #include <opencv2/core.hpp>
+
+#include "bench_harness.hpp"
+#include "image_codec.hpp"
+#include "loom/image.hpp"
 
 namespace loom::pathtrace::bench {
 
@@ -31,6 +36,13 @@ inline cv::Mat read_pfm(const std::filesystem::path& path) {
   cv::Mat m(h, w, CV_32FC3);
   for (int y = h - 1; y >= 0; --y) f.read(reinterpret_cast<char*>(m.ptr<float>(y)), std::streamsize(w) * 12);
   return f ? m : cv::Mat();
+}
+
+// A linear image as an 8-bit PNG <results>/pathtrace/<name>.
+inline void save_png(const cv::Mat& image, const std::string& name) {
+  const std::filesystem::path dir = loom::bench::results_dir() / "pathtrace";
+  std::filesystem::create_directories(dir);
+  loom::io::write_image(loom::Image(image, loom::Encoding::linear), dir / name, loom::io::Depth::u8);
 }
 
 }  // namespace loom::pathtrace::bench

@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <vector>
@@ -17,7 +16,6 @@
 #include "bench_harness.hpp"
 #include "camera_rays.hpp"
 #include "embree_scene.hpp"
-#include "image_codec.hpp"
 #include "image_error.hpp"
 #include "integrator.hpp"
 #include "scenes.hpp"
@@ -404,12 +402,9 @@ void bench_lanes(bool quick) {
               << "; with one ray per call " << one_call_rate / 1e6 << " M rays, " << one_call_rate / one_rate
               << " of Embree alone one per call\n";
     if (threads == 2) {  // the two images of the same samples, to look at side by side
-      const std::filesystem::path dir = loom::bench::results_dir() / "pathtrace";
-      std::filesystem::create_directories(dir);
       cv::Mat side;
       cv::hconcat(ours.image, lane_image, side);
-      loom::io::write_image(loom::Image(side, loom::Encoding::linear), dir / "lanes-pathtrace-and-lane-loop.png",
-                            loom::io::Depth::u8);
+      save_png(side, "lanes-pathtrace-and-lane-loop.png");
     }
   }
   csv.save();

@@ -28,7 +28,6 @@
 #include "cycles_peer.hpp"
 #include "embree_scene.hpp"
 #include "embree_tutorial.hpp"
-#include "image_codec.hpp"
 #include "image_error.hpp"
 #include "integrator.hpp"
 #include "lanes.hpp"
@@ -43,6 +42,7 @@ using loom::bench::median;
 using loom::pathtrace::bench::cpu_seconds;
 using loom::pathtrace::bench::read_pfm;
 using loom::pathtrace::bench::rel_mse;
+using loom::pathtrace::bench::save_png;
 using loom::pathtrace::bench::run_embree_tutorial;
 
 namespace {
@@ -81,11 +81,6 @@ Timed timed_render(const loom::Scene& scene, const EmbreeScene& traced, const Re
   return {std::move(r), seconds_since(t), cpu_seconds(RUSAGE_SELF) - c0};
 }
 
-void save_png(const cv::Mat& image, const std::string& name) {
-  const fs::path dir = loom::bench::results_dir() / "pathtrace";
-  fs::create_directories(dir);
-  loom::io::write_image(loom::Image(image, loom::Encoding::linear), dir / name, loom::io::Depth::u8);
-}
 
 // Loom alone on the embree comparison scene, 1 thread: paths per CPU second
 // and rays per path with each sampler, alternating, medians of 3 (for

@@ -25,7 +25,6 @@ std::string lp_threads() {
   return v ? std::string(v) : std::to_string(std::thread::hardware_concurrency()) + " (default: CPUs)";
 }
 
-
 // Fill rate against quads per frame: the rate must level off (a frame's
 // clear and flush amortized) and time grow with the quads (nothing dropped).
 void fill_rate_sweep(LimitRig& rig, bool quick) {
