@@ -138,7 +138,6 @@ PowerFit fit(const std::vector<double>& seconds, const std::vector<double>& relm
   return f;
 }
 
-
 // Per renderer and spp: times and errors of every round.
 struct Measured {
   std::map<std::string, std::map<int, std::vector<double>>> seconds, relmse;

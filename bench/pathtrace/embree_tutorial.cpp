@@ -4,6 +4,7 @@
 #include <cstdlib>
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 namespace loom::pathtrace::bench {
 
@@ -16,6 +17,10 @@ double cpu_seconds(int who) {
 bool embree_tutorial_installed() {
   return std::system("command -v pathtracer > /dev/null 2>&1") == 0 &&
          std::filesystem::exists(std::filesystem::path(EMBREE_MODELS) / "cornell_box.ecs");
+}
+
+std::filesystem::path tutorial_scratch(const std::string& suffix) {
+  return std::filesystem::temp_directory_path() / ("loom-bench-embree-" + std::to_string(getpid()) + suffix);
 }
 
 double run_embree_tutorial(int size, int spp, int depth, int threads, const std::filesystem::path& out, double* cpu,

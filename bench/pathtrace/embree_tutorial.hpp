@@ -15,6 +15,11 @@ double cpu_seconds(int who);
 // Whether `pathtracer` and its cornell_box.ecs are installed.
 bool embree_tutorial_installed();
 
+// A scratch file for the tutorial's image or ray log, named for this process
+// (temp directory, loom-bench-embree-<pid><suffix>), so that two benchmarks
+// running at once do not share it.
+std::filesystem::path tutorial_scratch(const std::string& suffix);
+
 // Renders cornell_box.ecs at size², spp samples, max path length depth, into
 // the PFM `out`; `environment` is put before the command (VAR=value ...).
 // Returns its wall seconds (negative when it failed), its CPU seconds in *cpu.

@@ -42,8 +42,8 @@ using loom::bench::median;
 using loom::pathtrace::bench::cpu_seconds;
 using loom::pathtrace::bench::read_pfm;
 using loom::pathtrace::bench::rel_mse;
-using loom::pathtrace::bench::save_png;
 using loom::pathtrace::bench::run_embree_tutorial;
+using loom::pathtrace::bench::save_png;
 
 namespace {
 
@@ -80,7 +80,6 @@ Timed timed_render(const loom::Scene& scene, const EmbreeScene& traced, const Re
   RenderResult r = render(scene, *scene.camera, traced, s);
   return {std::move(r), seconds_since(t), cpu_seconds(RUSAGE_SELF) - c0};
 }
-
 
 // Loom alone on the embree comparison scene, 1 thread: paths per CPU second
 // and rays per path with each sampler, alternating, medians of 3 (for
@@ -121,7 +120,7 @@ void bench_embree() {
   }
   const loom::Scene scene = bench::embree_cornell_box(EMBREE_MODELS);
   const EmbreeScene traced(scene);
-  const fs::path tmp = fs::temp_directory_path() / "loom-bench-embree.pfm";
+  const fs::path tmp = bench::tutorial_scratch(".pfm");
   Csv csv("pathtrace_embree",
           {"renderer", "threads", "size", "spp", "seconds", "cpu_seconds", "paths_per_s", "paths_per_cpu_s",
            "rays_per_s", "mean_r", "mean_g", "mean_b", "relmse", "efficiency_cpu", "load1"});
@@ -209,6 +208,8 @@ void bench_embree() {
     std::cout << "embree image matched " << (err_flipped < err_direct ? "mirrored" : "as is") << "\n";
   }
   csv.save();
+  std::error_code ignored;
+  fs::remove(tmp, ignored);
 }
 
 // ---- convergence ---------------------------------------------------------------------

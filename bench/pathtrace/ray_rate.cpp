@@ -191,8 +191,7 @@ RecordedRays record_tutorial(int size, int spp, int max_depth) {
     std::cout << "rays: Embree's tutorial path tracer (embree-tools) is not installed: its columns are n/a\n";
     return r;
   }
-  const fs::path log = fs::temp_directory_path() / "loom-bench-embree-rays.bin";
-  const fs::path image = fs::temp_directory_path() / "loom-bench-embree-rays.pfm";
+  const fs::path log = tutorial_scratch("-rays.bin"), image = tutorial_scratch("-rays.pfm");
   std::error_code ignored;
   fs::remove(log, ignored);
   const bool ran =
@@ -219,7 +218,7 @@ RecordedRays record_tutorial(int size, int spp, int max_depth) {
 // scaled to spp, so that loading the model and building its BVH cancel (as
 // the `embree` mode times it). Appends wall and CPU seconds per path.
 void time_tutorial(int size, int spp, int max_depth, int threads, std::vector<double>* wall, std::vector<double>* cpu) {
-  const fs::path image = fs::temp_directory_path() / "loom-bench-embree-rays.pfm";
+  const fs::path image = tutorial_scratch("-rays.pfm");
   double cpu_full = 0, cpu_one = 0;
   const double w_full = run_embree_tutorial(size, spp, max_depth, threads, image, &cpu_full);
   const double w_one = run_embree_tutorial(size, 1, max_depth, threads, image, &cpu_one);
