@@ -293,14 +293,20 @@ bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceH
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_.get(), &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-  const int index = object_of_geometry_[rh.hit.geomID];
+  surface_hit(o, d, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, hit);
+  return true;
+}
+
+void EmbreeScene::surface_hit(const Vec3f& o, const Vec3f& d, float t, unsigned geometry, unsigned primitive,
+                              float u, float v, SurfaceHit* hit) const {
+  const int index = object_of_geometry_[geometry];
   const TracedObject& obj = objects_[index];
   SurfaceHit& h = *hit;
-  h.t = rh.ray.tfar;
+  h.t = t;
   h.p = o + h.t * d;
   h.eps = offset_distance(h.p);
   h.object = index;
-  h.prim = int(rh.hit.primID);
+  h.prim = int(primitive);
   h.uv = Vec2f::Zero();
   h.color = Vec3f::Ones();
   if (obj.spheres) {
@@ -309,10 +315,10 @@ bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceH
     h.ng = n.squaredNorm() > 0 ? Vec3f(n.normalized()) : Vec3f(-d);
     h.ns = h.ng;
     if (!obj.point_colors.empty()) h.color = obj.point_colors[h.prim];
-    return true;
+    return;
   }
   const Eigen::Vector3i& f = obj.F[h.prim];
-  const float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1 - b1 - b2;
+  const float b1 = u, b2 = v, b0 = 1 - b1 - b2;
   h.ng = obj.face_normal[h.prim];
   // A degenerate triangle has no normal of its own: it faces the ray.
   if (h.ng.x() == 0 && h.ng.y() == 0 && h.ng.z() == 0) h.ng = -d;
@@ -331,7 +337,6 @@ bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceH
     h.dpdv = b0 * obj.dPdv[f[0]] + b1 * obj.dPdv[f[1]] + b2 * obj.dPdv[f[2]];
   }
   if (!obj.C.empty()) h.color = b0 * obj.C[f[0]] + b1 * obj.C[f[1]] + b2 * obj.C[f[2]];
-  return true;
 }
 
 bool EmbreeScene::occluded(const Vec3f& o, const Vec3f& d, float tmax) const {
