@@ -235,6 +235,19 @@ def pathtrace(raw):
                        limit_basis=f"Embree alone on its packets: {packet_rate / 1e6:.1f} M rays/s",
                        fraction=lanes_rate / packet_rate, load=num(r["load1"]),
                        label=f"Lane experiment, {r['threads']} thr.: Embree packets"))
+        # Its general variant: PathTrace's hit assembly and light sampler in
+        # each lane, the same paths as PathTrace, against Embree alone on its packets.
+        general_rate = num(r.get("general_rays_per_cpu_s"))
+        if general_rate == general_rate:  # not NaN: a run that measured it
+            general_packets = num(r["embree_general_packets_rays_per_cpu_s"])
+            out.append(Row(f"An experiment, not PathTrace: the lane loop taking each hit and light sample from "
+                           f"PathTrace's own code, {r['threads']} thread(s), per CPU second "
+                           f"({general_rate / num(r['pathtrace_rays_per_cpu_s']):.2f}× PathTrace's rays; its image "
+                           f"PathTrace's to relMSE {num(r['general_relmse_to_pathtrace_same_samples']):.1e})",
+                           1 / general_rate, limit=1 / general_packets,
+                           limit_basis=f"Embree alone on its packets: {general_packets / 1e6:.1f} M rays/s",
+                           fraction=general_rate / general_packets, load=num(r["load1"]),
+                           label=f"Lanes, PathTrace's parts, {r['threads']} thr."))
     ratios = read(raw, "pathtrace_cycles_ratios")
     for scene in sorted({r["scene"] for r in ratios}):
         vals = [num(r["time_ratio_at_equal_error"]) for r in ratios if r["scene"] == scene and r["renderer"] == "loom"]

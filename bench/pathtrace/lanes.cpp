@@ -18,6 +18,7 @@
 #include "embree_scene.hpp"
 #include "image_error.hpp"
 #include "integrator.hpp"
+#include "light_sampler.hpp"
 #include "scenes.hpp"
 
 namespace loom::pathtrace::bench {
@@ -52,6 +53,12 @@ struct Setup {
   float light[3], intensity;
   std::vector<float> albedo;  // 3 per geometry id (the traced objects' order: this scene has no instances)
   bool packets = true;        // 16-ray packets, or each live lane's ray in a call of its own
+  // Set: the general variant, which takes each hit from PathTrace's own hit
+  // assembly (EmbreeScene::surface_hit) and its light sample from
+  // PathTrace's LightSampler, one lane at a time, and shades the lanes with
+  // the shading normal, the base color per traced object and MIS weights.
+  const LightSampler* lights = nullptr;
+  std::vector<Vec3f> base;  // per traced object: the material's base color
 };
 
 // A packet as the lane loop handed it to Embree, and how many of its rays
@@ -79,7 +86,8 @@ int trace(bool packet, RTCScene scene, RTCIntersectContext* context, const int* 
     rtcIntersect1(scene, context, &h);
     p->ray.tfar[k] = h.ray.tfar;
     p->hit.Ng_x[k] = h.hit.Ng_x, p->hit.Ng_y[k] = h.hit.Ng_y, p->hit.Ng_z[k] = h.hit.Ng_z;
-    p->hit.geomID[k] = h.hit.geomID;
+    p->hit.u[k] = h.hit.u, p->hit.v[k] = h.hit.v;
+    p->hit.geomID[k] = h.hit.geomID, p->hit.primID[k] = h.hit.primID;
   }
   int found = 0;
   for (int k = 0; k < kLanes; ++k) found += valid[k] && p->hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
@@ -111,6 +119,168 @@ int* record_packet(std::vector<Packet>& record, const int* valid, const RTCRay16
   return &record.back().found;
 }
 
+// A cosine-weighted direction about the unit normal n for the pair (u1, u2)
+// (Malley), in the frame of Duff et al. 2017; the angle's cos and sin by
+// sampling.hpp's quadrant rule, its Taylor series two terms shorter
+// (truncation below 4e-7) and the quadrant selected without a switch, so
+// that a loop over the lanes that calls it stays free of branches.
+inline void cosine_bounce(float nx, float ny, float nz, float u1, float u2, float& dx, float& dy, float& dz) {
+  const float r = std::sqrt(u1), zl = std::sqrt(1 - u1);
+  const int q = int(4 * u2 + 0.5f);
+  const float a = (4 * u2 - float(q)) * 1.57079633f, a2 = a * a;
+  const float sa = a * (1 + a2 * (-1.f / 6 + a2 * (1.f / 120 + a2 * (-1.f / 5040))));
+  const float ca = 1 + a2 * (-0.5f + a2 * (1.f / 24 + a2 * (-1.f / 720 + a2 * (1.f / 40320))));
+  const int qq = q & 3;
+  const float c = qq == 0 ? ca : qq == 1 ? -sa : qq == 2 ? -ca : sa;
+  const float sn = qq == 0 ? sa : qq == 1 ? ca : qq == 2 ? -sa : -ca;
+  const float xl = r * c, yl = r * sn;
+  const float sign = nz >= 0 ? 1.f : -1.f, fa = -1 / (sign + nz), fb = nx * ny * fa;
+  const float tx = 1 + sign * nx * nx * fa, ty = sign * fb, tz = -sign * nx;
+  const float bx = fb, by = sign + ny * ny * fa, bz = -ny;
+  dx = xl * tx + yl * bx + zl * nx;
+  dy = xl * ty + yl * by + zl * ny;
+  dz = xl * tz + yl * bz + zl * nz;
+}
+
+// The bounce at each lane's hit for the scene's lone point light, with the
+// hit's geometric normal and its object's albedo: scalar gathers, then one
+// loop over the lanes.
+void shade_point_light(const Setup& s, const RTCRayHit16& rh, std::optional<PixelSampler>* samplers, Lanes& L,
+                       Shading& S) {
+  alignas(64) float u1[kLanes], u2[kLanes];  // each lane's bounce direction pair
+  // Gathers, scalar: each hit's albedo and its bounce pair from the lane's sampler.
+  alignas(64) float ar[kLanes], ag[kLanes], ab[kLanes];
+  alignas(64) int hit[kLanes];
+  for (int k = 0; k < kLanes; ++k) {
+    const unsigned g = rh.hit.geomID[k];
+    hit[k] = L.live[k] & (g != RTC_INVALID_GEOMETRY_ID ? -1 : 0);
+    const unsigned i = hit[k] ? 3 * g : 0;
+    ar[k] = s.albedo[i], ag[k] = s.albedo[i + 1], ab[k] = s.albedo[i + 2];
+    // The bounce's pair, drawn as PathTrace draws it (a lone point light: no light pair).
+    if (!hit[k]) continue;
+    samplers[k]->start_bounce(L.depth[k], false);
+    const Vec2f u = samplers[k]->uniform2(Decision::direction);
+    u1[k] = u.x(), u2[k] = u.y();
+  }
+  // The hit, next-event estimation and the bounce, lane-parallel (no
+  // branches: every lane computes, masks decide what counts).
+  const float light_x = s.light[0], light_y = s.light[1], light_z = s.light[2], intensity = s.intensity;
+  const int max_depth = s.max_depth;
+  for (int k = 0; k < kLanes; ++k) {
+    const float t = rh.ray.tfar[k];
+    const float px = L.ox[k] + t * L.dx[k], py = L.oy[k] + t * L.dy[k], pz = L.oz[k] + t * L.dz[k];
+    float nx = rh.hit.Ng_x[k], ny = rh.hit.Ng_y[k], nz = rh.hit.Ng_z[k];
+    const float inv_n = 1 / std::sqrt(nx * nx + ny * ny + nz * nz + 1e-30f);
+    const float flip = ((nx * L.dx[k] + ny * L.dy[k] + nz * L.dz[k]) > 0 ? -1.f : 1.f) * inv_n;
+    nx *= flip, ny *= flip, nz *= flip;
+    const float eps = 1e-4f * (1 + std::max(std::fabs(px), std::max(std::fabs(py), std::fabs(pz))));
+    const float qx = px + eps * nx, qy = py + eps * ny, qz = pz + eps * nz;  // off the surface, outward
+    // Shadow ray to the point light: (I / d²) · cos · albedo / π.
+    const float lx = light_x - qx, ly = light_y - qy, lz = light_z - qz;
+    const float l2 = lx * lx + ly * ly + lz * lz, inv_l = 1 / std::sqrt(l2);
+    const float cos_l = (lx * nx + ly * ny + lz * nz) * inv_l;
+    const float w = (cos_l > 0 ? 1.f : 0.f) * (intensity * cos_l * kInvPi / l2);
+    S.sx[k] = qx, S.sy[k] = qy, S.sz[k] = qz;
+    S.sdx[k] = lx * inv_l, S.sdy[k] = ly * inv_l, S.sdz[k] = lz * inv_l, S.stmax[k] = l2 * inv_l - eps;
+    S.cr[k] = w * L.br[k] * ar[k], S.cg[k] = w * L.bg[k] * ag[k], S.cb[k] = w * L.bb[k] * ab[k];
+    S.shadow[k] = hit[k] & (cos_l > 0 ? -1 : 0);
+    cosine_bounce(nx, ny, nz, u1[k], u2[k], L.dx[k], L.dy[k], L.dz[k]);
+    L.ox[k] = qx, L.oy[k] = qy, L.oz[k] = qz;
+    L.br[k] *= ar[k], L.bg[k] *= ag[k], L.bb[k] *= ab[k];
+    L.depth[k] += 1;
+    const int on = (L.depth[k] < max_depth) & ((L.br[k] > 0) | (L.bg[k] > 0) | (L.bb[k] > 0));
+    L.live[k] = hit[k] & -on;
+  }
+}
+
+// What PathTrace's own code gives a lane at its hit (EmbreeScene::surface_hit,
+// LightSampler::sample), gathered one lane at a time for the lane loop.
+struct Gathered {
+  alignas(64) float px[kLanes], py[kLanes], pz[kLanes], eps[kLanes];
+  alignas(64) float gx[kLanes], gy[kLanes], gz[kLanes], nx[kLanes], ny[kLanes], nz[kLanes];
+  alignas(64) float ar[kLanes], ag[kLanes], ab[kLanes];  // base color times the hit's color
+  alignas(64) float wx[kLanes], wy[kLanes], wz[kLanes], lr[kLanes], lg[kLanes], lb[kLanes], lpdf[kLanes];
+  alignas(64) float qx[kLanes], qy[kLanes], qz[kLanes], q_eps[kLanes];  // the light's point and its offset
+  alignas(64) float u1[kLanes], u2[kLanes];                             // the bounce direction pair
+  alignas(64) float delta[kLanes];                                      // 1 for a delta light, else 0
+  alignas(64) int hit[kLanes], light[kLanes];                           // -1 or 0
+};
+
+// The bounce at each lane's hit as PathTrace's path loop computes it for a
+// Lambertian surface (integrator.cpp: sample_direct, LambertBsdf, scatter):
+// the hit and the light sample from PathTrace's code one lane at a time,
+// then NEE with the power heuristic, the shadow segment, the cosine bounce
+// and the offsets in one loop over the lanes. Not here: emission at hits,
+// the environment, normal maps, textures, roulette, lights without shadows.
+void shade_general(const Setup& s, const RTCRayHit16& rh, std::optional<PixelSampler>* samplers, Lanes& L,
+                   Shading& S) {
+  Gathered G{};  // lanes without a hit or a light compute on zeros, masked out
+  const bool light_point = s.lights->reads_point();
+  for (int k = 0; k < kLanes; ++k) {
+    G.hit[k] = L.live[k] & (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID ? -1 : 0);
+    G.light[k] = 0, G.delta[k] = 0.f;
+    if (!G.hit[k]) continue;
+    SurfaceHit h;
+    s.traced.surface_hit({L.ox[k], L.oy[k], L.oz[k]}, {L.dx[k], L.dy[k], L.dz[k]}, rh.ray.tfar[k],
+                         rh.hit.geomID[k], rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k], &h);
+    const Vec3f base = s.base[std::size_t(h.object)].cwiseProduct(h.color);
+    G.px[k] = h.p.x(), G.py[k] = h.p.y(), G.pz[k] = h.p.z(), G.eps[k] = h.eps;
+    G.gx[k] = h.ng.x(), G.gy[k] = h.ng.y(), G.gz[k] = h.ng.z();
+    G.nx[k] = h.ns.x(), G.ny[k] = h.ns.y(), G.nz[k] = h.ns.z();
+    G.ar[k] = base.x(), G.ag[k] = base.y(), G.ab[k] = base.z();
+    PixelSampler& sampler = *samplers[k];
+    sampler.start_bounce(L.depth[k], light_point);
+    const Vec2f u = light_point ? sampler.uniform2(Decision::light) : Vec2f::Zero();
+    const auto ls = s.lights->sample(h.p, u, 0.f);
+    if (ls && ls->shadowed && std::isfinite(ls->distance)) {
+      G.light[k] = -1, G.delta[k] = ls->delta ? 1.f : 0.f;
+      G.wx[k] = ls->wi.x(), G.wy[k] = ls->wi.y(), G.wz[k] = ls->wi.z();
+      G.lr[k] = ls->radiance.x(), G.lg[k] = ls->radiance.y(), G.lb[k] = ls->radiance.z(), G.lpdf[k] = ls->pdf;
+      G.qx[k] = ls->point.x(), G.qy[k] = ls->point.y(), G.qz[k] = ls->point.z();
+      G.q_eps[k] = s.traced.offset_distance(ls->point);
+    }
+    const Vec2f d = sampler.uniform2(Decision::direction);
+    G.u1[k] = d.x(), G.u2[k] = d.y();
+  }
+  const int max_depth = s.max_depth;
+  for (int k = 0; k < kLanes; ++k) {
+    // The shading normal on wo's side (LambertBsdf).
+    const float turn = (G.nx[k] * L.dx[k] + G.ny[k] * L.dy[k] + G.nz[k] * L.dz[k]) > 0 ? -1.f : 1.f;
+    const float nx = turn * G.nx[k], ny = turn * G.ny[k], nz = turn * G.nz[k];
+    // NEE: f cos / p_light with the power heuristic against cos / π (sample_direct).
+    const float cos_i = nx * G.wx[k] + ny * G.wy[k] + nz * G.wz[k], bsdf_pdf = cos_i * kInvPi;
+    // A delta light's weight is 1, the power heuristic's is at most 1: the
+    // larger of the two, so that every lane divides and no branch keeps the
+    // loop scalar (a light's pdf is never 0: LightSampler returns no sample then).
+    const float a = G.lpdf[k] * G.lpdf[k], b = bsdf_pdf * bsdf_pdf;
+    const float w = std::max(a / (a + b), G.delta[k]);
+    const float scale = bsdf_pdf * w / G.lpdf[k];
+    // The shadow segment from the offset hit to the light's point (EmbreeScene::shadow_segment).
+    const float lx = G.qx[k] - G.px[k], ly = G.qy[k] - G.py[k], lz = G.qz[k] - G.pz[k];
+    const float e = ((G.gx[k] * lx + G.gy[k] * ly + G.gz[k] * lz) >= 0 ? 1.f : -1.f) * G.eps[k];
+    const float ox = G.px[k] + e * G.gx[k], oy = G.py[k] + e * G.gy[k], oz = G.pz[k] + e * G.gz[k];
+    const float sx = G.qx[k] - ox, sy = G.qy[k] - oy, sz = G.qz[k] - oz;
+    const float l2 = sx * sx + sy * sy + sz * sz, inv_l = 1 / std::sqrt(l2);
+    const float tmax = l2 * inv_l - G.q_eps[k];
+    S.sx[k] = ox, S.sy[k] = oy, S.sz[k] = oz, S.sdx[k] = sx * inv_l, S.sdy[k] = sy * inv_l, S.sdz[k] = sz * inv_l;
+    S.stmax[k] = tmax;
+    S.cr[k] = L.br[k] * G.ar[k] * G.lr[k] * scale, S.cg[k] = L.bg[k] * G.ag[k] * G.lg[k] * scale;
+    S.cb[k] = L.bb[k] * G.ab[k] * G.lb[k] * scale;
+    S.shadow[k] = G.hit[k] & G.light[k] & (cos_i > 0 ? -1 : 0) & (tmax > 0 ? -1 : 0);
+    // Cosine-weighted bounce about the turned shading normal.
+    float dx, dy, dz;
+    cosine_bounce(nx, ny, nz, G.u1[k], G.u2[k], dx, dy, dz);
+    // The next ray leaves from the side of the geometric surface it goes to (EmbreeScene::offset).
+    const float f = ((G.gx[k] * dx + G.gy[k] * dy + G.gz[k] * dz) >= 0 ? 1.f : -1.f) * G.eps[k];
+    L.ox[k] = G.px[k] + f * G.gx[k], L.oy[k] = G.py[k] + f * G.gy[k], L.oz[k] = G.pz[k] + f * G.gz[k];
+    L.dx[k] = dx, L.dy[k] = dy, L.dz[k] = dz;
+    L.br[k] *= G.ar[k], L.bg[k] *= G.ag[k], L.bb[k] *= G.ab[k];
+    L.depth[k] += 1;
+    const int on = (L.depth[k] < max_depth) & ((L.br[k] > 0) | (L.bg[k] > 0) | (L.bb[k] > 0));
+    L.live[k] = G.hit[k] & -on;
+  }
+}
+
 // Renders the pixels [begin, end) × spp, 16 paths at a time; returns the
 // rays traced. film: 3 floats per pixel, summed radiance.
 std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std::vector<Packet>* record) {
@@ -126,7 +296,6 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
   alignas(64) RTCRayHit16 rh;
   alignas(64) RTCRay16 shadow;
   std::optional<PixelSampler> samplers[kLanes];
-  alignas(64) float u1[kLanes], u2[kLanes];  // each lane's bounce direction pair
   for (;;) {
     // Idle lanes take the next samples: camera ray, seed, throughput 1.
     for (int k = 0; k < kLanes; ++k) {
@@ -153,67 +322,10 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
     const int found_surfaces = trace(s.packets, scene, &context, L.live, &rh);
     if (hits) *hits = found_surfaces;
     for (int k = 0; k < kLanes; ++k) rays += L.live[k] & 1;
-    // Gathers, scalar: each hit's albedo and its bounce pair from the lane's sampler.
-    alignas(64) float ar[kLanes], ag[kLanes], ab[kLanes];
-    alignas(64) int hit[kLanes];
-    for (int k = 0; k < kLanes; ++k) {
-      const unsigned g = rh.hit.geomID[k];
-      hit[k] = L.live[k] & (g != RTC_INVALID_GEOMETRY_ID ? -1 : 0);
-      const unsigned i = hit[k] ? 3 * g : 0;
-      ar[k] = s.albedo[i], ag[k] = s.albedo[i + 1], ab[k] = s.albedo[i + 2];
-      // The bounce's pair, drawn as PathTrace draws it (a lone point light: no light pair).
-      if (!hit[k]) continue;
-      samplers[k]->start_bounce(L.depth[k], false);
-      const Vec2f u = samplers[k]->uniform2(Decision::direction);
-      u1[k] = u.x(), u2[k] = u.y();
-    }
-    // The hit, next-event estimation and the bounce, lane-parallel (no
-    // branches: every lane computes, masks decide what counts).
-    const float light_x = s.light[0], light_y = s.light[1], light_z = s.light[2], intensity = s.intensity;
-    const int max_depth = s.max_depth;
-    for (int k = 0; k < kLanes; ++k) {
-      const float t = rh.ray.tfar[k];
-      const float px = L.ox[k] + t * L.dx[k], py = L.oy[k] + t * L.dy[k], pz = L.oz[k] + t * L.dz[k];
-      float nx = rh.hit.Ng_x[k], ny = rh.hit.Ng_y[k], nz = rh.hit.Ng_z[k];
-      const float inv_n = 1 / std::sqrt(nx * nx + ny * ny + nz * nz + 1e-30f);
-      const float flip = ((nx * L.dx[k] + ny * L.dy[k] + nz * L.dz[k]) > 0 ? -1.f : 1.f) * inv_n;
-      nx *= flip, ny *= flip, nz *= flip;
-      const float eps = 1e-4f * (1 + std::max(std::fabs(px), std::max(std::fabs(py), std::fabs(pz))));
-      const float qx = px + eps * nx, qy = py + eps * ny, qz = pz + eps * nz;  // off the surface, outward
-      // Shadow ray to the point light: (I / d²) · cos · albedo / π.
-      const float lx = light_x - qx, ly = light_y - qy, lz = light_z - qz;
-      const float l2 = lx * lx + ly * ly + lz * lz, inv_l = 1 / std::sqrt(l2);
-      const float cos_l = (lx * nx + ly * ny + lz * nz) * inv_l;
-      const float w = (cos_l > 0 ? 1.f : 0.f) * (intensity * cos_l * kInvPi / l2);
-      S.sx[k] = qx, S.sy[k] = qy, S.sz[k] = qz;
-      S.sdx[k] = lx * inv_l, S.sdy[k] = ly * inv_l, S.sdz[k] = lz * inv_l, S.stmax[k] = l2 * inv_l - eps;
-      S.cr[k] = w * L.br[k] * ar[k], S.cg[k] = w * L.bg[k] * ag[k], S.cb[k] = w * L.bb[k] * ab[k];
-      S.shadow[k] = hit[k] & (cos_l > 0 ? -1 : 0);
-      // Cosine-weighted bounce (Malley), in the frame of Duff et al. 2017; the
-      // angle's cos and sin by sampling.hpp's quadrant rule, its Taylor series
-      // two terms shorter (truncation below 4e-7) and the quadrant selected
-      // without a switch.
-      const float r = std::sqrt(u1[k]), zl = std::sqrt(1 - u1[k]);
-      const int q = int(4 * u2[k] + 0.5f);
-      const float a = (4 * u2[k] - float(q)) * 1.57079633f, a2 = a * a;
-      const float sa = a * (1 + a2 * (-1.f / 6 + a2 * (1.f / 120 + a2 * (-1.f / 5040))));
-      const float ca = 1 + a2 * (-0.5f + a2 * (1.f / 24 + a2 * (-1.f / 720 + a2 * (1.f / 40320))));
-      const int qq = q & 3;
-      const float c = qq == 0 ? ca : qq == 1 ? -sa : qq == 2 ? -ca : sa;
-      const float sn = qq == 0 ? sa : qq == 1 ? ca : qq == 2 ? -sa : -ca;
-      const float xl = r * c, yl = r * sn;
-      const float sign = nz >= 0 ? 1.f : -1.f, fa = -1 / (sign + nz), fb = nx * ny * fa;
-      const float tx = 1 + sign * nx * nx * fa, ty = sign * fb, tz = -sign * nx;
-      const float bx = fb, by = sign + ny * ny * fa, bz = -ny;
-      L.dx[k] = xl * tx + yl * bx + zl * nx;
-      L.dy[k] = xl * ty + yl * by + zl * ny;
-      L.dz[k] = xl * tz + yl * bz + zl * nz;
-      L.ox[k] = qx, L.oy[k] = qy, L.oz[k] = qz;
-      L.br[k] *= ar[k], L.bg[k] *= ag[k], L.bb[k] *= ab[k];
-      L.depth[k] += 1;
-      const int on = (L.depth[k] < max_depth) & ((L.br[k] > 0) | (L.bg[k] > 0) | (L.bb[k] > 0));
-      L.live[k] = hit[k] & -on;
-    }
+    if (s.lights)
+      shade_general(s, rh, samplers, L, S);
+    else
+      shade_point_light(s, rh, samplers, L, S);
     for (int k = 0; k < kLanes; ++k) {
       shadow.org_x[k] = S.sx[k], shadow.org_y[k] = S.sy[k], shadow.org_z[k] = S.sz[k], shadow.tnear[k] = 0;
       shadow.dir_x[k] = S.sdx[k], shadow.dir_y[k] = S.sdy[k], shadow.dir_z[k] = S.sdz[k], shadow.time[k] = 0;
@@ -252,6 +364,9 @@ void bench_lanes(bool quick) {
           rs.seed,
           {},
           0,
+          {},
+          true,
+          nullptr,
           {}};
   for (int i = 0; i < 3; ++i) s.light[i] = float(scene.lights.at(0).position[i]);
   s.intensity = float(scene.lights.at(0).intensity);
@@ -259,6 +374,17 @@ void bench_lanes(bool quick) {
     const Eigen::Vector3d c = scene.objects[std::size_t(o.scene_index)].material.base_color;
     for (int i = 0; i < 3; ++i) s.albedo.push_back(float(c[i]));
   }
+  // The general variant: PathTrace's light sampler and hit assembly.
+  const EnvironmentLight environment(scene.environment, rs.environment_sampling);
+  std::vector<Vec3f> emission;
+  Setup s_general = s;
+  for (const TracedObject& o : traced.objects()) {
+    const Material& m = scene.objects[std::size_t(o.scene_index)].material;
+    emission.push_back(m.emission.cast<float>());
+    s_general.base.push_back(m.base_color.cast<float>());
+  }
+  const LightSampler lights(scene, traced, emission, environment);
+  s_general.lights = &lights;
   const int pixels = s.size * s.size;
   std::vector<float> film(3 * std::size_t(pixels));
   // Renders the image with the lane loop into `film`; returns the rays.
@@ -271,19 +397,29 @@ void bench_lanes(bool quick) {
     return std::uint64_t(rays);
   };
   const auto film_image = [&] { return cv::Mat(cv::Mat(s.size, s.size, CV_32FC3, film.data()) / float(s.spp)); };
-  std::vector<Packet> recorded;  // the packets of one sample per pixel, for the replay
-  Setup one = s;
-  one.spp = 1;
-  render_lanes(one, 0, pixels, film.data(), &recorded);
-  std::uint64_t recorded_rays = 0, recorded_found = 0;
-  for (const Packet& p : recorded) {
-    for (int k = 0; k < kLanes; ++k) recorded_rays += p.valid[k] & 1;
-    recorded_found += std::uint64_t(p.found);
-  }
+  // The packets of one sample per pixel, for the replay; their rays, and how many found something.
+  struct Recorded {
+    std::vector<Packet> packets;
+    std::uint64_t rays = 0, found = 0;
+  };
+  const auto record_one_sample = [&](const Setup& setup) {
+    Recorded r;
+    Setup one = setup;
+    one.spp = 1;
+    render_lanes(one, 0, pixels, film.data(), &r.packets);
+    for (const Packet& p : r.packets) {
+      for (int k = 0; k < kLanes; ++k) r.rays += p.valid[k] & 1;
+      r.found += std::uint64_t(p.found);
+    }
+    return r;
+  };
+  const Recorded recorded_lanes = record_one_sample(s), recorded_general = record_one_sample(s_general);
+  const std::vector<Packet>& recorded = recorded_lanes.packets;
+  const std::uint64_t recorded_rays = recorded_lanes.rays, recorded_found = recorded_lanes.found;
   const RTCScene rtc = traced.rtc_scene();
-  // Embree alone on the recorded packets: as packets, or one ray per call.
+  // Embree alone on recorded packets: as packets, or one ray per call.
   // Returns how many rays found a surface or a blocker.
-  const auto replay = [&](bool packets) {
+  const auto replay_packets = [&](const std::vector<Packet>& recorded, bool packets) {
     return tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, recorded.size(), 256), std::uint64_t(0),
         [&](const tbb::blocked_range<std::size_t>& r, std::uint64_t found) {
@@ -304,6 +440,7 @@ void bench_lanes(bool quick) {
         },
         [](std::uint64_t a, std::uint64_t b) { return a + b; });
   };
+  const auto replay = [&](bool packets) { return replay_packets(recorded, packets); };
   // The estimator checked: both 16-spp images against PathTrace's converged one.
   RenderSettings reference_settings = rs;
   reference_settings.spp = quick ? 64 : 512;
@@ -337,6 +474,12 @@ void bench_lanes(bool quick) {
                                            "outcomes_match",
                                            "lanes_one_call_rays_per_cpu_s",
                                            "lanes_one_call_fraction_of_one",
+                                           "general_rays_per_cpu_s",
+                                           "embree_general_packets_rays_per_cpu_s",
+                                           "general_fraction_of_packets",
+                                           "general_rays_per_path",
+                                           "general_relmse",
+                                           "general_relmse_to_pathtrace_same_samples",
                                            "load1"});
   Setup s_one_call = s;  // the same loop, each ray in a call of its own
   s_one_call.packets = false;
@@ -355,18 +498,28 @@ void bench_lanes(bool quick) {
     const auto embree_packets = [&] {
       for (int p = 0; p < passes; ++p) same_packets = replay(true) == recorded_found && same_packets;
     };
-    const auto t =
-        loom::bench::time_alternating(quick ? 1 : 5, {pathtrace, lanes_one_call, embree_one, embree_packets, lanes});
+    std::uint64_t rays_general = 0;
+    const auto general = [&] { rays_general = render_image(s_general); };
+    const auto embree_general = [&] {
+      for (int p = 0; p < passes; ++p)
+        same_packets = replay_packets(recorded_general.packets, true) == recorded_general.found && same_packets;
+    };
+    const auto t = loom::bench::time_alternating(
+        quick ? 1 : 5, {pathtrace, lanes_one_call, embree_one, embree_packets, general, embree_general, lanes});
     double mean_lanes = 0;
     for (float v : film) mean_lanes += v;
     mean_lanes /= double(film.size()) * s.spp;
     const cv::Mat lane_image = film_image();
     const double error_lanes = rel_mse(lane_image, reference), error_ours = rel_mse(ours.image, reference);
     const double lanes_to_ours = rel_mse(lane_image, ours.image);  // the same samples: rounding apart
+    render_image(s_general);  // its image, untimed
+    const double error_general = rel_mse(film_image(), reference), general_to_ours = rel_mse(film_image(), ours.image);
     const cv::Scalar m = cv::mean(ours.image);
     const double mean_ours = (m[0] + m[1] + m[2]) / 3;
     const double replayed = double(recorded_rays) * passes;
-    const double lane_rate = double(rays) / t[4].cpu, one_rate = replayed / t[2].cpu, packet_rate = replayed / t[3].cpu;
+    const double general_rate = double(rays_general) / t[4].cpu;
+    const double general_packet_rate = double(recorded_general.rays) * passes / t[5].cpu;
+    const double lane_rate = double(rays) / t[6].cpu, one_rate = replayed / t[2].cpu, packet_rate = replayed / t[3].cpu;
     const double one_call_rate = double(rays_one_call) / t[1].cpu;
     const double pathtrace_rate = double(ours.rays) / t[0].cpu;
     csv.row({(long long)threads,
@@ -388,6 +541,12 @@ void bench_lanes(bool quick) {
              std::string(same_one && same_packets ? "yes" : "no"),
              one_call_rate,
              one_call_rate / one_rate,
+             general_rate,
+             general_packet_rate,
+             general_rate / general_packet_rate,
+             double(rays_general) / double(pixels) / s.spp,
+             error_general,
+             general_to_ours,
              loom::bench::load_average()});
     std::cout << "lanes, " << threads << " thread(s), per CPU second: PathTrace " << pathtrace_rate / 1e6
               << " M rays, the lane loop " << lane_rate / 1e6 << " M; Embree alone on the lane loop's rays "
@@ -400,7 +559,10 @@ void bench_lanes(bool quick) {
               << "; with independent samples " << error_lanes_independent << " and " << error_independent
               << "), relMSE against PathTrace's image of the same samples " << lanes_to_ours
               << "; with one ray per call " << one_call_rate / 1e6 << " M rays, " << one_call_rate / one_rate
-              << " of Embree alone one per call\n";
+              << " of Embree alone one per call; the general variant " << general_rate / 1e6 << " M rays, "
+              << general_rate / general_packet_rate << " of Embree alone on its packets ("
+              << general_packet_rate / 1e6 << " M), relMSE " << error_general << ", against PathTrace's image "
+              << general_to_ours << "\n";
     if (threads == 2) {  // the two images of the same samples, to look at side by side
       cv::Mat side;
       cv::hconcat(ours.image, lane_image, side);
