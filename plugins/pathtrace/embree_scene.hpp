@@ -128,6 +128,9 @@ class EmbreeScene {
   struct ReleaseScene {
     void operator()(RTCScene s) const { rtcReleaseScene(s); }
   };
+  // What surface_hit() returns, inlined into intersect().
+  void assemble_hit(const Vec3f& origin, const Vec3f& direction, float t, unsigned geometry, unsigned primitive,
+                    float u, float v, SurfaceHit* hit) const;
   std::unique_ptr<RTCDeviceTy, ReleaseDevice> device_;  // declared first: released last
   std::unique_ptr<RTCSceneTy, ReleaseScene> scene_;
   std::vector<TracedObject> objects_;
