@@ -212,8 +212,7 @@ struct Gathered {
 // then NEE with the power heuristic, the shadow segment, the cosine bounce
 // and the offsets in one loop over the lanes. Not here: emission at hits,
 // the environment, normal maps, textures, roulette, lights without shadows.
-void shade_general(const Setup& s, const RTCRayHit16& rh, std::optional<PixelSampler>* samplers, Lanes& L,
-                   Shading& S) {
+void shade_general(const Setup& s, const RTCRayHit16& rh, std::optional<PixelSampler>* samplers, Lanes& L, Shading& S) {
   Gathered G{};  // lanes without a hit or a light compute on zeros, masked out
   const bool light_point = s.lights->reads_point();
   for (int k = 0; k < kLanes; ++k) {
@@ -221,8 +220,8 @@ void shade_general(const Setup& s, const RTCRayHit16& rh, std::optional<PixelSam
     G.light[k] = 0, G.delta[k] = 0.f;
     if (!G.hit[k]) continue;
     SurfaceHit h;
-    s.traced.surface_hit({L.ox[k], L.oy[k], L.oz[k]}, {L.dx[k], L.dy[k], L.dz[k]}, rh.ray.tfar[k],
-                         rh.hit.geomID[k], rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k], &h);
+    s.traced.surface_hit({L.ox[k], L.oy[k], L.oz[k]}, {L.dx[k], L.dy[k], L.dz[k]}, rh.ray.tfar[k], rh.hit.geomID[k],
+                         rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k], &h);
     const Vec3f base = s.base[std::size_t(h.object)].cwiseProduct(h.color);
     G.px[k] = h.p.x(), G.py[k] = h.p.y(), G.pz[k] = h.p.z(), G.eps[k] = h.eps;
     G.gx[k] = h.ng.x(), G.gy[k] = h.ng.y(), G.gz[k] = h.ng.z();
@@ -512,7 +511,8 @@ void bench_lanes(bool quick) {
     const cv::Mat lane_image = film_image();
     const double error_lanes = rel_mse(lane_image, reference), error_ours = rel_mse(ours.image, reference);
     const double lanes_to_ours = rel_mse(lane_image, ours.image);  // the same samples: rounding apart
-    render_image(s_general);  // its image, untimed
+    // The general variant's image, untimed.
+    render_image(s_general);
     const double error_general = rel_mse(film_image(), reference), general_to_ours = rel_mse(film_image(), ours.image);
     const cv::Scalar m = cv::mean(ours.image);
     const double mean_ours = (m[0] + m[1] + m[2]) / 3;
@@ -560,9 +560,8 @@ void bench_lanes(bool quick) {
               << "), relMSE against PathTrace's image of the same samples " << lanes_to_ours
               << "; with one ray per call " << one_call_rate / 1e6 << " M rays, " << one_call_rate / one_rate
               << " of Embree alone one per call; the general variant " << general_rate / 1e6 << " M rays, "
-              << general_rate / general_packet_rate << " of Embree alone on its packets ("
-              << general_packet_rate / 1e6 << " M), relMSE " << error_general << ", against PathTrace's image "
-              << general_to_ours << "\n";
+              << general_rate / general_packet_rate << " of Embree alone on its packets (" << general_packet_rate / 1e6
+              << " M), relMSE " << error_general << ", against PathTrace's image " << general_to_ours << "\n";
     if (threads == 2) {  // the two images of the same samples, to look at side by side
       cv::Mat side;
       cv::hconcat(ours.image, lane_image, side);

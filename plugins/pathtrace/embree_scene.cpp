@@ -297,15 +297,15 @@ bool EmbreeScene::intersect(const Vec3f& o, const Vec3f& d, float tmax, SurfaceH
   return true;
 }
 
-void EmbreeScene::surface_hit(const Vec3f& o, const Vec3f& d, float t, unsigned geometry, unsigned primitive,
-                              float u, float v, SurfaceHit* hit) const {
+void EmbreeScene::surface_hit(const Vec3f& o, const Vec3f& d, float t, unsigned geometry, unsigned primitive, float u,
+                              float v, SurfaceHit* hit) const {
   assemble_hit(o, d, t, geometry, primitive, u, v, hit);
 }
 
 // Inlined into intersect(), which runs for every closest-hit ray (a call
 // there would pass eight arguments and the hit through memory).
-[[gnu::always_inline]] inline void EmbreeScene::assemble_hit(const Vec3f& o, const Vec3f& d, float t,
-                                                             unsigned geometry, unsigned primitive, float u, float v,
+[[gnu::always_inline]] inline void EmbreeScene::assemble_hit(const Vec3f& o, const Vec3f& d, float t, unsigned geometry,
+                                                             unsigned primitive, float u, float v,
                                                              SurfaceHit* hit) const {
   const int index = object_of_geometry_[geometry];
   const TracedObject& obj = objects_[index];

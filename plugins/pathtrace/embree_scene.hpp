@@ -84,8 +84,8 @@ class EmbreeScene {
   // The hit that Embree found along origin + t * direction, on its geometry
   // and primitive at barycentrics (u, v): what intersect() returns, for a
   // caller that traced the ray itself (in a packet).
-  void surface_hit(const Vec3f& origin, const Vec3f& direction, float t, unsigned geometry, unsigned primitive,
-                   float u, float v, SurfaceHit* hit) const;
+  void surface_hit(const Vec3f& origin, const Vec3f& direction, float t, unsigned geometry, unsigned primitive, float u,
+                   float v, SurfaceHit* hit) const;
   // Any shadow-casting surface between origin and origin + tmax * direction.
   bool occluded(const Vec3f& origin, const Vec3f& direction, float tmax) const;
   // A ray origin moved off the surface to the side `direction` leaves by.
