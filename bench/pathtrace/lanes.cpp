@@ -211,7 +211,9 @@ struct Gathered {
 // the hit and the light sample from PathTrace's code one lane at a time,
 // then NEE with the power heuristic, the shadow segment, the cosine bounce
 // and the offsets in one loop over the lanes. Not here: emission at hits,
-// the environment, normal maps, textures, roulette, lights without shadows.
+// the environment, normal maps, textures, roulette, lights without shadows,
+// a light's point within the offsets of the hit (PathTrace adds its light
+// untested; this loop drops it).
 void shade_general(const Setup& s, const RTCRayHit16& rh, std::optional<PixelSampler>* samplers, Lanes& L, Shading& S) {
   Gathered G{};  // lanes without a hit or a light compute on zeros, masked out
   const bool light_point = s.lights->reads_point();
