@@ -26,7 +26,6 @@ namespace loom::pathtrace::bench {
 namespace {
 
 constexpr int kLanes = 16;
-constexpr float kInvPi = 0.318309886f;
 
 // 16 paths in flight, each lane one path, structure of arrays. The shading
 // loop over the lanes has no branches, so GCC turns it into SSE2 over 4 × 4
@@ -51,14 +50,15 @@ struct Setup {
   SamplerKind sampler;  // PathTrace's own samples: the same numbers for the same pixel, sample and seed
   std::uint64_t seed;
   float light[3], intensity;
-  std::vector<float> albedo;  // 3 per geometry id (the traced objects' order: this scene has no instances)
-  bool packets = true;        // 16-ray packets, or each live lane's ray in a call of its own
+  // Per traced object, its material's base color; an object's index is its
+  // Embree geometry id (this scene has no instances).
+  std::vector<Vec3f> base;
+  bool packets = true;  // 16-ray packets, or each live lane's ray in a call of its own
   // Set: the general variant, which takes each hit from PathTrace's own hit
   // assembly (EmbreeScene::surface_hit) and its light sample from
   // PathTrace's LightSampler, one lane at a time, and shades the lanes with
-  // the shading normal, the base color per traced object and MIS weights.
+  // the shading normal, the base color times the hit's color and MIS weights.
   const LightSampler* lights = nullptr;
-  std::vector<Vec3f> base;  // per traced object: the material's base color
 };
 
 // A packet as the lane loop handed it to Embree, and how many of its rays
@@ -147,15 +147,16 @@ inline void cosine_bounce(float nx, float ny, float nz, float u1, float u2, floa
 // loop over the lanes.
 void shade_point_light(const Setup& s, const RTCRayHit16& rh, std::optional<PixelSampler>* samplers, Lanes& L,
                        Shading& S) {
-  alignas(64) float u1[kLanes], u2[kLanes];  // each lane's bounce direction pair
+  // Each lane's bounce direction pair; lanes without a hit compute on zeros, masked out.
+  alignas(64) float u1[kLanes]{}, u2[kLanes]{};
   // Gathers, scalar: each hit's albedo and its bounce pair from the lane's sampler.
   alignas(64) float ar[kLanes], ag[kLanes], ab[kLanes];
   alignas(64) int hit[kLanes];
   for (int k = 0; k < kLanes; ++k) {
     const unsigned g = rh.hit.geomID[k];
     hit[k] = L.live[k] & (g != RTC_INVALID_GEOMETRY_ID ? -1 : 0);
-    const unsigned i = hit[k] ? 3 * g : 0;
-    ar[k] = s.albedo[i], ag[k] = s.albedo[i + 1], ab[k] = s.albedo[i + 2];
+    const Vec3f& albedo = s.base[hit[k] ? g : 0];
+    ar[k] = albedo.x(), ag[k] = albedo.y(), ab[k] = albedo.z();
     // The bounce's pair, drawn as PathTrace draws it (a lone point light: no light pair).
     if (!hit[k]) continue;
     samplers[k]->start_bounce(L.depth[k], false);
@@ -367,24 +368,19 @@ void bench_lanes(bool quick) {
           0,
           {},
           true,
-          nullptr,
-          {}};
+          nullptr};
   for (int i = 0; i < 3; ++i) s.light[i] = float(scene.lights.at(0).position[i]);
   s.intensity = float(scene.lights.at(0).intensity);
+  std::vector<Vec3f> emission;
   for (const TracedObject& o : traced.objects()) {
-    const Eigen::Vector3d c = scene.objects[std::size_t(o.scene_index)].material.base_color;
-    for (int i = 0; i < 3; ++i) s.albedo.push_back(float(c[i]));
+    const Material& m = scene.objects[std::size_t(o.scene_index)].material;
+    s.base.push_back(m.base_color.cast<float>());
+    emission.push_back(m.emission.cast<float>());
   }
   // The general variant: PathTrace's light sampler and hit assembly.
   const EnvironmentLight environment(scene.environment, rs.environment_sampling);
-  std::vector<Vec3f> emission;
-  Setup s_general = s;
-  for (const TracedObject& o : traced.objects()) {
-    const Material& m = scene.objects[std::size_t(o.scene_index)].material;
-    emission.push_back(m.emission.cast<float>());
-    s_general.base.push_back(m.base_color.cast<float>());
-  }
   const LightSampler lights(scene, traced, emission, environment);
+  Setup s_general = s;
   s_general.lights = &lights;
   const int pixels = s.size * s.size;
   std::vector<float> film(3 * std::size_t(pixels));
