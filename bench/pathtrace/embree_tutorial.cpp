@@ -8,11 +8,16 @@
 
 namespace loom::pathtrace::bench {
 
-double cpu_seconds(int who) {
+namespace {
+
+// CPU seconds (user + system, all threads) of this process's finished children.
+double children_cpu_seconds() {
   rusage u{};
-  getrusage(who, &u);
+  getrusage(RUSAGE_CHILDREN, &u);
   return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
+
+}  // namespace
 
 bool embree_tutorial_installed() {
   return std::system("command -v pathtracer > /dev/null 2>&1") == 0 &&
@@ -30,11 +35,19 @@ double run_embree_tutorial(int size, int spp, int depth, int threads, const std:
                           " --max-path-length " + std::to_string(depth) + " --threads " + std::to_string(threads) +
                           " -o '" + out.string() + "' > /dev/null 2>&1";
   const auto t = std::chrono::steady_clock::now();
-  const double c0 = cpu_seconds(RUSAGE_CHILDREN);
+  const double c0 = children_cpu_seconds();
   const int rc = std::system(cmd.c_str());
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-  if (cpu) *cpu = cpu_seconds(RUSAGE_CHILDREN) - c0;
+  if (cpu) *cpu = children_cpu_seconds() - c0;
   return rc == 0 ? s : -1;
+}
+
+TutorialSeconds time_embree_tutorial(int size, int spp, int depth, int threads, const std::filesystem::path& out) {
+  double cpu_full = 0, cpu_one = 0;
+  const double wall_full = run_embree_tutorial(size, spp, depth, threads, out, &cpu_full);
+  const double wall_one = run_embree_tutorial(size, 1, depth, threads, out, &cpu_one);
+  const double scale = double(spp) / (spp - 1);
+  return {(wall_full - wall_one) * scale, (cpu_full - cpu_one) * scale};
 }
 
 }  // namespace loom::pathtrace::bench

@@ -8,10 +8,6 @@
 
 namespace loom::pathtrace::bench {
 
-// CPU seconds (user + system, all threads) of this process (RUSAGE_SELF) or
-// of its finished children (RUSAGE_CHILDREN).
-double cpu_seconds(int who);
-
 // Whether `pathtracer` and its cornell_box.ecs are installed.
 bool embree_tutorial_installed();
 
@@ -25,5 +21,13 @@ std::filesystem::path tutorial_scratch(const std::string& suffix);
 // Returns its wall seconds (negative when it failed), its CPU seconds in *cpu.
 double run_embree_tutorial(int size, int spp, int depth, int threads, const std::filesystem::path& out,
                            double* cpu = nullptr, const std::string& environment = "");
+
+// Its time for size² × spp paths alone, without loading the model and
+// building its BVH: the marginal cost (t(spp) - t(1)) · spp / (spp - 1) of two
+// runs into `out`, in wall and CPU seconds.
+struct TutorialSeconds {
+  double wall, cpu;
+};
+TutorialSeconds time_embree_tutorial(int size, int spp, int depth, int threads, const std::filesystem::path& out);
 
 }  // namespace loom::pathtrace::bench

@@ -20,7 +20,6 @@
 #include <map>
 #include <set>
 
-#include <sys/resource.h>
 #include <tbb/global_control.h>
 
 #include "bench_harness.hpp"
@@ -39,7 +38,7 @@ namespace fs = std::filesystem;
 using namespace loom::pathtrace;
 using loom::bench::Csv;
 using loom::bench::median;
-using loom::pathtrace::bench::cpu_seconds;
+using loom::bench::process_cpu_seconds;
 using loom::pathtrace::bench::read_pfm;
 using loom::pathtrace::bench::rel_mse;
 using loom::pathtrace::bench::run_embree_tutorial;
@@ -76,9 +75,9 @@ struct Timed {
 };
 Timed timed_render(const loom::Scene& scene, const EmbreeScene& traced, const RenderSettings& s) {
   const auto t = std::chrono::steady_clock::now();
-  const double c0 = cpu_seconds(RUSAGE_SELF);
+  const double c0 = process_cpu_seconds();
   RenderResult r = render(scene, *scene.camera, traced, s);
-  return {std::move(r), seconds_since(t), cpu_seconds(RUSAGE_SELF) - c0};
+  return {std::move(r), seconds_since(t), process_cpu_seconds() - c0};
 }
 
 // Loom alone on the embree comparison scene, 1 thread: paths per CPU second
@@ -140,15 +139,12 @@ void bench_embree() {
     std::vector<double> wall_ours, cpu_ours, wall_embree, cpu_embree;
     Timed ours{};
     for (int rep = 0; rep < (quick ? 1 : 3); ++rep) {
-      const double c0 = cpu_seconds(RUSAGE_SELF);
       ours = timed_render(scene, traced, s);
-      cpu_ours.push_back(cpu_seconds(RUSAGE_SELF) - c0);
+      cpu_ours.push_back(ours.cpu_seconds);
       wall_ours.push_back(ours.seconds);
-      double cpu_full = 0, cpu_one = 0;
-      const double w_full = run_embree_tutorial(size, spp, depth, threads, tmp, &cpu_full);
-      const double w_one = run_embree_tutorial(size, 1, depth, threads, tmp, &cpu_one);
-      wall_embree.push_back((w_full - w_one) * spp / (spp - 1));
-      cpu_embree.push_back((cpu_full - cpu_one) * spp / (spp - 1));
+      const bench::TutorialSeconds embree = bench::time_embree_tutorial(size, spp, depth, threads, tmp);
+      wall_embree.push_back(embree.wall);
+      cpu_embree.push_back(embree.cpu);
     }
     const double paths = double(size) * size * spp;
     const cv::Scalar m = cv::mean(quantize8(ours.result.image));
@@ -177,21 +173,17 @@ void bench_embree() {
     save_png(reference, "embree-scene-loom-reference.png");
     s.spp = spp;
     s.seed = 1;
-    const double c0 = cpu_seconds(RUSAGE_SELF);
     const Timed ours = timed_render(scene, traced, s);
-    const double cpu_ours = cpu_seconds(RUSAGE_SELF) - c0;
+    const double cpu_ours = ours.cpu_seconds;
     const cv::Mat oq = quantize8(ours.result.image);
     const double e_ours = rel_mse(oq, reference);
     cv::Scalar m = cv::mean(oq);
     csv.row({"loom", 2LL, (long long)n, (long long)spp, ours.seconds, cpu_ours, n * n * spp / ours.seconds,
              n * n * spp / cpu_ours, double(ours.result.rays) / ours.seconds, m[0], m[1], m[2], e_ours,
              1 / (e_ours * cpu_ours), loom::bench::load_average()});
-    double c_full = 0, c_one = 0;
-    const double t_full = run_embree_tutorial(n, spp, depth, 2, tmp, &c_full);
-    const double t_one = run_embree_tutorial(n, 1, depth, 2, tmp, &c_one);
+    const bench::TutorialSeconds embree = bench::time_embree_tutorial(n, spp, depth, 2, tmp);
     run_embree_tutorial(n, spp, depth, 2, tmp);
-    const double t_embree = (t_full - t_one) * spp / (spp - 1);
-    const double c_embree = (c_full - c_one) * spp / (spp - 1);
+    const double t_embree = embree.wall, c_embree = embree.cpu;
     cv::Mat e = read_pfm(tmp);
     // Embree's camera is left-handed here: its image is the mirror of ours.
     cv::Mat flipped;
@@ -369,9 +361,9 @@ void bench_bvh() {
     std::vector<double> cpu;
     const auto t = loom::bench::time_median(
         [&] {
-          const double c0 = cpu_seconds(RUSAGE_SELF);
+          const double c0 = process_cpu_seconds();
           tris = EmbreeScene(scene).triangles();
-          cpu.push_back(cpu_seconds(RUSAGE_SELF) - c0);
+          cpu.push_back(process_cpu_seconds() - c0);
         },
         3);
     std::sort(cpu.begin(), cpu.end());

@@ -219,12 +219,10 @@ RecordedRays record_tutorial(int size, int spp, int max_depth) {
 // the `embree` mode times it). Appends wall and CPU seconds per path.
 void time_tutorial(int size, int spp, int max_depth, int threads, std::vector<double>* wall, std::vector<double>* cpu) {
   const fs::path image = tutorial_scratch("-rays.pfm");
-  double cpu_full = 0, cpu_one = 0;
-  const double w_full = run_embree_tutorial(size, spp, max_depth, threads, image, &cpu_full);
-  const double w_one = run_embree_tutorial(size, 1, max_depth, threads, image, &cpu_one);
-  const double paths = double(size) * size * (spp - 1);
-  wall->push_back((w_full - w_one) / paths);
-  cpu->push_back((cpu_full - cpu_one) / paths);
+  const TutorialSeconds t = time_embree_tutorial(size, spp, max_depth, threads, image);
+  const double paths = double(size) * size * spp;
+  wall->push_back(t.wall / paths);
+  cpu->push_back(t.cpu / paths);
   std::error_code ignored;
   fs::remove(image, ignored);
 }
