@@ -82,12 +82,9 @@ struct Pass {
 // Sample `sample` of pixel (x, y), added to its sums.
 void trace_sample(const PathContext& c, const CameraRays& cam, Film& film, int x, int y, int sample,
                   RayCounts& counts) {
-  const int W = film.width, H = film.height;
-  const std::size_t index = std::size_t(y) * W + x;
-  PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(sample));
-  const Vec2f j = sampler.camera_jitter();
+  const std::size_t index = std::size_t(y) * film.width + x;
   Vec3f origin, dir;
-  cam.ray(2 * (x + j.x()) / W - 1, 1 - 2 * (y + j.y()) / H, &origin, &dir);
+  PixelSampler sampler = start_sample(c, cam, film.width, film.height, index, sample, origin, dir);
   const PathResult p = trace_path(c, origin, dir, sampler);
   counts.rays += std::uint64_t(p.rays + p.shadow_rays);
   counts.shadow_rays += std::uint64_t(p.shadow_rays);
@@ -302,16 +299,8 @@ void resolve(const Film& film, RenderResult& out) {
 
 RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene& traced, const RenderSettings& s,
                     const RenderHooks& hooks) {
-  const std::vector<ObjectShading> shading = object_shading(scene, traced);
-  std::vector<Vec3f> emission;
-  bool emitters_hittable = false;
-  for (const ObjectShading& sh : shading) {
-    emission.push_back(sh.emission);
-    emitters_hittable |= sh.emissive;
-  }
-  const EnvironmentLight environment(scene.environment, s.environment_sampling);
-  const LightSampler lights(scene, traced, emission, environment);
-  const PathContext context{traced, shading, lights, environment, s, emitters_hittable || !environment.black()};
+  const PathScene path_scene(scene, traced, s.environment_sampling);
+  const PathContext context = path_scene.context(s);
   const CameraRays cam(camera, s.width, s.height);
 
   Film film(s.width, s.height);
@@ -350,8 +339,8 @@ RenderResult render(const Scene& scene, const Camera& camera, const EmbreeScene&
   out.rays = counts.rays;
   out.shadow_rays = counts.shadow_rays;
   out.nonfinite = counts.nonfinite;
-  out.emissive_triangles = lights.emissive_triangles();
-  out.environment_sampled = lights.samples_environment();
+  out.emissive_triangles = path_scene.lights.emissive_triangles();
+  out.environment_sampled = path_scene.lights.samples_environment();
   return out;
 }
 

@@ -1,116 +1,12 @@
 #include "path_loop.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
-
-#include "normal_mapping.hpp"
 
 namespace loom::pathtrace {
 
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
-
-// A scattered direction: weight = f cos θ / pdf.
-struct Scattered {
-  Vec3f weight, dir;
-  float pdf;
-  bool delta;
-};
-
-// Each BSDF form gives next-event estimation a Term for a light's direction:
-// f cos θ = factor · scale (kept apart so the product rounds the same way for
-// both forms), whether it is nonzero, and what its pdf() needs.
-
-// Lambert, two-sided, in closed form with no local frame: f cos θi = base cos θi / π
-// on wo's side of the shading normal, pdf = cos θi / π (cosine sampling), weight = base.
-struct LambertBsdf {
-  Vec3f n;  // the shading normal turned to wo's side
-  Vec3f base;
-  struct Term {
-    Vec3f factor;
-    float scale;
-    bool nonzero;
-  };
-  bool nonspecular() const { return true; }
-  Term direct(const Vec3f& wi) const {
-    const float cos_i = n.dot(wi);
-    return {base, cos_i * kInvPi, cos_i > 0};
-  }
-  float pdf(const Term& t) const { return t.scale; }
-  std::optional<Scattered> sample(PixelSampler& sampler) const {
-    const Vec3f wi = sample_cosine_hemisphere(sampler.uniform2(Decision::direction));
-    if (!(wi.z() > 0)) return std::nullopt;
-    return Scattered{base, unit(Frame(n).to_world(wi)), wi.z() * kInvPi, false};
-  }
-};
-
-// Every other model through bsdf.hpp, in the shading frame.
-struct FramedBsdf {
-  SurfaceMaterial m;
-  Frame frame;
-  Vec3f wo;
-  struct Term {
-    Vec3f factor;
-    float scale;
-    bool nonzero;
-    Vec3f wi_local;
-  };
-  bool nonspecular() const { return !m.purely_specular(); }
-  Term direct(const Vec3f& wi) const {
-    const Vec3f local = frame.to_local(wi);
-    const Vec3f f = bsdf_eval(m, wo, local);
-    return {f, 1.f, (f.array() > 0).any(), local};
-  }
-  float pdf(const Term& t) const { return bsdf_pdf(m, wo, t.wi_local); }
-  std::optional<Scattered> sample(PixelSampler& sampler) const {
-    const float uc = sampler.uniform(Decision::lobe);
-    const auto bs = bsdf_sample(m, wo, uc, sampler.uniform2(Decision::direction));
-    if (!bs || !(bs->weight.array() > 0).any()) return std::nullopt;
-    return Scattered{bs->weight, unit(frame.to_world(bs->wi)), bs->pdf, bs->delta};
-  }
-};
-
-// Next-event estimation (pbrt-v4's SampleLd): one light sample, its shadow
-// ray, f Le w_light / p_light with w_light the power heuristic against the
-// BSDF's pdf (1 for delta lights or without MIS). `wo_side` cuts directions
-// through the geometric surface (normal maps, reflection only). β enters the
-// product first, as the path loop always multiplied. A shadowed light's
-// contribution is left in `shadow` for the caller to trace.
-template <class Bsdf>
-void sample_direct(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, const Vec3f& beta,
-                   bool use_mis, PixelSampler& sampler, PathResult& r, PendingShadow& shadow) {
-  const auto ls = sample_light(c, hit, sampler);
-  if (!ls) return;
-  const auto t = bsdf.direct(ls->wi);
-  if (!t.nonzero || !(wo_side * ls->wi.dot(hit.ng) >= 0)) return;
-  const float w = ls->delta || !use_mis ? 1.f : power_heuristic(ls->pdf, bsdf.pdf(t));
-  add_light(c, hit, *ls, beta.cwiseProduct(t.factor).cwiseProduct(ls->radiance) * (t.scale * w / ls->pdf), r, shadow);
-}
-
-// One bounce at a hit: direct light, then the BSDF-sampled direction the path
-// continues in. False when the path ends here. The shadow ray is traced
-// after the direction is sampled, which does not depend on it: issued
-// first, that chain of dependent arithmetic (warp, frame, normalization)
-// runs while Embree's occlusion kernel starts, instead of after it returns.
-template <class Bsdf>
-bool scatter_by(const PathContext& c, const SurfaceHit& hit, float wo_side, const Bsdf& bsdf, Strategies use,
-                PixelSampler& sampler, PathVertex& v, PathResult& r) {
-  PendingShadow shadow;
-  if (use.nee && bsdf.nonspecular()) sample_direct(c, hit, wo_side, bsdf, v.beta, use.mis, sampler, r, shadow);
-  const auto s = bsdf.sample(sampler);
-  if (shadow.pending && !c.traced.occluded(shadow.ray.origin, shadow.ray.direction, shadow.ray.tmax)) r.L += shadow.L;
-  if (!s) return false;
-  v.beta = v.beta.cwiseProduct(s->weight);
-  v.prev_pdf = s->pdf;
-  v.prev_delta = s->delta;
-  v.dir = s->dir;
-  return !(wo_side * v.dir.dot(hit.ng) < 0);
-}
-
-}  // namespace
-
+// The scene's materials as the path loop reads them, per traced object.
 std::vector<ObjectShading> object_shading(const Scene& scene, const EmbreeScene& traced) {
   std::vector<ObjectShading> shading(traced.objects().size());
   for (std::size_t i = 0; i < shading.size(); ++i) {
@@ -132,97 +28,22 @@ std::vector<ObjectShading> object_shading(const Scene& scene, const EmbreeScene&
   return shading;
 }
 
-
-Strategies strategies(const PathContext& c) {
-  return {c.settings.strategy != Strategy::bsdf && !c.lights.empty(), c.settings.strategy == Strategy::mis};
+std::vector<Vec3f> emission_of(const std::vector<ObjectShading>& shading) {
+  std::vector<Vec3f> emission;
+  for (const ObjectShading& sh : shading) emission.push_back(sh.emission);
+  return emission;
 }
 
-std::optional<LightSample> sample_light(const PathContext& c, const SurfaceHit& hit, PixelSampler& sampler) {
-  const Vec2f u = c.lights.reads_point() ? sampler.uniform2(Decision::light) : Vec2f::Zero();
-  // The environment map's pixel.
-  const float ue = c.lights.samples_environment() ? sampler.uniform(Decision::environment_pixel) : 0.f;
-  return c.lights.sample(hit.p, u, ue);
-}
+}  // namespace
 
-void add_light(const PathContext& c, const SurfaceHit& hit, const LightSample& ls, const Vec3f& L, PathResult& r,
-               PendingShadow& shadow) {
-  if (ls.shadowed) {
-    ++r.shadow_rays;
-    shadow.ray = std::isinf(ls.distance) ? EmbreeScene::Segment{c.traced.offset(hit, ls.wi), ls.wi, kInf}
-                                         : c.traced.shadow_segment(hit, ls.point);
-    shadow.L = L;
-    shadow.pending = shadow.ray.tmax > 0;  // else nothing lies between: unblocked
-    if (shadow.pending) return;
-  }
-  r.L += L;
-}
-
-// Light from the environment along a ray that left the scene, MIS-weighted
-// against light sampling's environment pdf.
-void add_environment(const PathContext& c, const PathVertex& v, Strategies use, int depth, PathResult& r) {
-  if (c.environment.black()) return;
-  float w = 1;
-  if (!v.prev_delta && use.nee && c.lights.samples_environment())
-    w = use.mis ? power_heuristic(v.prev_pdf, c.lights.environment_pdf(v.dir)) : 0.f;
-  r.L += v.beta.cwiseProduct(c.environment.radiance(v.dir)) * w;
-  if (depth == 0) r.albedo = c.environment.radiance(v.dir);
-}
-
-Vec3f arrive(const PathContext& c, Strategies use, const PathVertex& v, int depth, SurfaceHit& hit, PathResult& r,
-             float& wo_side) {
-  const ObjectShading& sh = c.shading[std::size_t(hit.object)];
-  // With a normal map, a direction on the other side of the geometric
-  // surface than wo is cut (reflection only: it would pass through).
-  wo_side = 0;
-  if (sh.normal_map) {
-    hit.ns = mapped_normal(hit.ns, hit.dpdu, hit.dpdv, texel_bilinear(*sh.normal_map, hit.uv));
-    hit.ns = bend_above_horizon(hit.ns, hit.ng, -v.dir);
-    if (sh.reflective_only) wo_side = -v.dir.dot(hit.ng);
-  }
-  Vec3f base = sh.material.base.cwiseProduct(hit.color);
-  if (sh.base_color_map) base = base.cwiseProduct(texel_color(*sh.base_color_map, hit.uv));
-  if (depth == 0) {
-    r.albedo = base;
-    r.normal = hit.ns;
-    r.depth = hit.t;
-  }
-  // Emission (one-sided, on the winding's front).
-  if (sh.emissive && hit.ng.dot(v.dir) < 0) {
-    float w = 1;
-    if (!v.prev_delta && use.nee && !c.traced.objects()[std::size_t(hit.object)].spheres)
-      w = use.mis ? power_heuristic(v.prev_pdf, c.lights.triangle_pdf(hit, v.prev_point)) : 0.f;
-    r.L += v.beta.cwiseProduct(sh.emission) * w;
-  }
-  return base;
-}
-
-bool scatter(const PathContext& c, const SurfaceHit& hit, float wo_side, const ObjectShading& sh, const Vec3f& base,
-             Strategies use, PixelSampler& sampler, PathVertex& v, PathResult& r) {
-  if (sh.lambert)
-    return scatter_by(c, hit, wo_side, LambertBsdf{hit.ns.dot(v.dir) > 0 ? Vec3f(-hit.ns) : hit.ns, base}, use,
-                      sampler, v, r);
-  SurfaceMaterial m = sh.material;
-  m.base = base;
-  const Frame frame(hit.ns);
-  return scatter_by(c, hit, wo_side, FramedBsdf{m, frame, frame.to_local(-v.dir)}, use, sampler, v, r);
-}
-
-bool next_ray(const PathContext& c, const SurfaceHit& hit, int depth, PixelSampler& sampler, PathVertex& v,
-              Vec3f& origin) {
-  v.prev_point = hit.p;
-  // A path that can gather nothing more ends here: its throughput is zero
-  // (e.g. red after green), or the next hit would be past the last bounce
-  // and could only add emission the scene does not have.
-  if (!(v.beta.maxCoeff() > 0)) return false;
-  if (depth + 1 >= c.settings.max_depth && !c.emitters_hittable) return false;
-  origin = c.traced.offset(hit, v.dir);
-  if (c.settings.russian_roulette && depth + 1 >= c.settings.rr_min_depth) {
-    const float survive = std::min(0.95f, v.beta.maxCoeff());
-    if (!(sampler.uniform(Decision::roulette) < survive)) return false;
-    v.beta /= survive;
-  }
-  return v.beta.allFinite();
-}
+PathScene::PathScene(const Scene& scene, const EmbreeScene& traced_scene,
+                     EnvironmentLight::Sampling environment_sampling)
+    : traced(traced_scene),
+      shading(object_shading(scene, traced_scene)),
+      environment(scene.environment, environment_sampling),
+      lights(scene, traced_scene, emission_of(shading), environment),
+      emitters_hittable(!environment.black() ||
+                        std::any_of(shading.begin(), shading.end(), [](const ObjectShading& sh) { return sh.emissive; })) {}
 
 PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, PixelSampler& sampler) {
   const Strategies use = strategies(c);
@@ -234,7 +55,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, PixelSample
   for (int depth = 0;; ++depth) {
     ++r.rays;
     sampler.start_bounce(depth, use.nee && c.lights.reads_point());
-    if (!c.traced.intersect(origin, v.dir, kInf, &hit, depth == 0)) {
+    if (!c.traced.intersect(origin, v.dir, path_detail::kInf, &hit, depth == 0)) {
       add_environment(c, v, use, depth, r);
       break;
     }
