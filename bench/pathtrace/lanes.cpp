@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
 #include <iostream>
 #include <optional>
@@ -17,8 +18,11 @@
 #include "camera_rays.hpp"
 #include "embree_scene.hpp"
 #include "image_error.hpp"
+#include "cornell_box_scene.hpp"
 #include "integrator.hpp"
+#include "lane_paths.hpp"
 #include "light_sampler.hpp"
+#include "path_loop.hpp"
 #include "scenes.hpp"
 
 namespace loom::pathtrace::bench {
@@ -347,6 +351,60 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
   return rays;
 }
 
+// The complete variant (lane_paths.hpp) against PathTrace's trace_path on
+// the same samples of `scene` (every pixel's samples in order), alternating,
+// 1 and 2 threads: their rays per CPU second, and whether every sample's
+// result (radiance, AOVs, ray counts) is the same bits. One row per thread
+// count into `csv`.
+void complete_against_pathtrace(const std::string& name, const Scene& scene, const RenderSettings& rs, bool quick,
+                                loom::bench::Csv& csv) {
+  const EmbreeScene traced(scene);
+  const PathScene paths(scene, traced, rs.environment_sampling);
+  const PathContext c = paths.context(rs);
+  const CameraRays cam(*scene.camera, rs.width, rs.height);
+  std::vector<SampleJob> jobs;
+  for (std::uint32_t p = 0; p < std::uint32_t(rs.width) * std::uint32_t(rs.height); ++p)
+    for (int sample = 0; sample < rs.spp; ++sample) jobs.push_back({p, sample});
+  std::vector<PathResult> in_lanes(jobs.size()), one_at_a_time(jobs.size());
+  constexpr std::size_t kRun = 1024;  // jobs a task takes
+  const auto lanes = [&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, jobs.size(), kRun), [&](const auto& r) {
+      trace_lanes(c, cam, rs.width, rs.height, jobs.data() + r.begin(), r.size(), in_lanes.data() + r.begin());
+    });
+  };
+  const auto one_path = [&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, jobs.size(), kRun), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        Vec3f origin, dir;
+        PixelSampler sampler = start_sample(c, cam, rs.width, rs.height, jobs[i].pixel, jobs[i].sample, origin, dir);
+        one_at_a_time[i] = trace_path(c, origin, dir, sampler);
+      }
+    });
+  };
+  const auto bits = [](const PathResult& p) {
+    return std::vector<float>{p.L.x(),      p.L.y(),      p.L.z(),      p.albedo.x(), p.albedo.y(),
+                              p.albedo.z(), p.normal.x(), p.normal.y(), p.normal.z(), p.depth,
+                              float(p.rays), float(p.shadow_rays)};
+  };
+  for (int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    const auto t = loom::bench::time_alternating(quick ? 1 : 5, {one_path, lanes});
+    std::uint64_t rays = 0;
+    bool same = true;
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+      rays += std::uint64_t(one_at_a_time[i].rays + one_at_a_time[i].shadow_rays);
+      const std::vector<float> a = bits(in_lanes[i]), b = bits(one_at_a_time[i]);
+      same = same && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+    }
+    const double one_rate = double(rays) / t[0].cpu, lane_rate = double(rays) / t[1].cpu;
+    csv.row({name, (long long)threads, one_rate, lane_rate, lane_rate / one_rate, double(rays) / double(jobs.size()),
+             std::string(same ? "yes" : "no"), loom::bench::load_average()});
+    std::cout << "lanes, the complete variant on " << name << ", " << threads << " thread(s), per CPU second: "
+              << "PathTrace's loop " << one_rate / 1e6 << " M rays, in lanes " << lane_rate / 1e6 << " M: "
+              << lane_rate / one_rate << "x; every sample the same bits: " << (same ? "yes" : "NO") << "\n";
+  }
+}
+
 }  // namespace
 
 void bench_lanes(bool quick) {
@@ -567,6 +625,16 @@ void bench_lanes(bool quick) {
     }
   }
   csv.save();
+  // The complete variant: on the same box, and on the plugin's box with a
+  // mirror and a glass ball (their bounces take the scalar step in their lane).
+  loom::bench::Csv complete("pathtrace_lanes_complete", {"scene", "threads", "pathtrace_loop_rays_per_cpu_s",
+                                                          "lanes_rays_per_cpu_s", "lanes_over_pathtrace_loop",
+                                                          "rays_per_path", "same_bits", "load1"});
+  complete_against_pathtrace("Embree's box", scene, rs, quick, complete);
+  CornellBoxOptions balls;
+  balls.contents = CornellContents::spheres;
+  complete_against_pathtrace("the box with a mirror and a glass ball", cornell_box(balls), rs, quick, complete);
+  complete.save();
 }
 
 }  // namespace loom::pathtrace::bench
