@@ -248,6 +248,14 @@ def pathtrace(raw):
                            limit_basis=f"Embree alone on its packets: {general_packets / 1e6:.1f} M rays/s",
                            fraction=general_rate / general_packets, load=num(r["load1"]),
                            label=f"Lanes, PathTrace's parts, {r['threads']} thr."))
+    for r in read(raw, "pathtrace_lanes_complete"):
+        # Written by `bench_pathtrace lanes`: PathTrace's whole path loop 16
+        # paths at a time (the scalar steps per lane, the Lambertian bounce in
+        # SIMD), against PathTrace's own loop on the same samples.
+        out.append(Row(f"An experiment, not PathTrace: PathTrace's whole path loop 16 paths at a time, {r['scene']}, "
+                       f"{r['threads']} thread(s), rays per CPU second (every sample the same bits: {r['same_bits']})",
+                       peer_name="PathTrace's loop, one path at a time",
+                       ratio=num(r["lanes_over_pathtrace_loop"]), load=num(r["load1"])))
     ratios = read(raw, "pathtrace_cycles_ratios")
     for scene in sorted({r["scene"] for r in ratios}):
         vals = [num(r["time_ratio_at_equal_error"]) for r in ratios if r["scene"] == scene and r["renderer"] == "loom"]

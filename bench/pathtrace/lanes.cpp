@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstring>
 #include <cstdint>
+#include <cstring>
 #include <iostream>
 #include <optional>
 #include <vector>
@@ -16,9 +16,9 @@
 #include "alternating.hpp"
 #include "bench_harness.hpp"
 #include "camera_rays.hpp"
+#include "cornell_box_scene.hpp"
 #include "embree_scene.hpp"
 #include "image_error.hpp"
-#include "cornell_box_scene.hpp"
 #include "integrator.hpp"
 #include "lane_paths.hpp"
 #include "light_sampler.hpp"
@@ -382,9 +382,9 @@ void complete_against_pathtrace(const std::string& name, const Scene& scene, con
     });
   };
   const auto bits = [](const PathResult& p) {
-    return std::vector<float>{p.L.x(),      p.L.y(),      p.L.z(),      p.albedo.x(), p.albedo.y(),
-                              p.albedo.z(), p.normal.x(), p.normal.y(), p.normal.z(), p.depth,
-                              float(p.rays), float(p.shadow_rays)};
+    return std::vector<float>{p.L.x(),      p.L.y(),      p.L.z(),       p.albedo.x(),
+                              p.albedo.y(), p.albedo.z(), p.normal.x(),  p.normal.y(),
+                              p.normal.z(), p.depth,      float(p.rays), float(p.shadow_rays)};
   };
   for (int threads : {1, 2}) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
@@ -400,8 +400,8 @@ void complete_against_pathtrace(const std::string& name, const Scene& scene, con
     csv.row({name, (long long)threads, one_rate, lane_rate, lane_rate / one_rate, double(rays) / double(jobs.size()),
              std::string(same ? "yes" : "no"), loom::bench::load_average()});
     std::cout << "lanes, the complete variant on " << name << ", " << threads << " thread(s), per CPU second: "
-              << "PathTrace's loop " << one_rate / 1e6 << " M rays, in lanes " << lane_rate / 1e6 << " M: "
-              << lane_rate / one_rate << "x; every sample the same bits: " << (same ? "yes" : "NO") << "\n";
+              << "PathTrace's loop " << one_rate / 1e6 << " M rays, in lanes " << lane_rate / 1e6
+              << " M: " << lane_rate / one_rate << "x; every sample the same bits: " << (same ? "yes" : "NO") << "\n";
   }
 }
 
@@ -627,9 +627,9 @@ void bench_lanes(bool quick) {
   csv.save();
   // The complete variant: on the same box, and on the plugin's box with a
   // mirror and a glass ball (their bounces take the scalar step in their lane).
-  loom::bench::Csv complete("pathtrace_lanes_complete", {"scene", "threads", "pathtrace_loop_rays_per_cpu_s",
-                                                          "lanes_rays_per_cpu_s", "lanes_over_pathtrace_loop",
-                                                          "rays_per_path", "same_bits", "load1"});
+  loom::bench::Csv complete("pathtrace_lanes_complete",
+                            {"scene", "threads", "pathtrace_loop_rays_per_cpu_s", "lanes_rays_per_cpu_s",
+                             "lanes_over_pathtrace_loop", "rays_per_path", "same_bits", "load1"});
   complete_against_pathtrace("Embree's box", scene, rs, quick, complete);
   CornellBoxOptions balls;
   balls.contents = CornellContents::spheres;

@@ -42,8 +42,8 @@ PathScene::PathScene(const Scene& scene, const EmbreeScene& traced_scene,
       shading(object_shading(scene, traced_scene)),
       environment(scene.environment, environment_sampling),
       lights(scene, traced_scene, emission_of(shading), environment),
-      emitters_hittable(!environment.black() ||
-                        std::any_of(shading.begin(), shading.end(), [](const ObjectShading& sh) { return sh.emissive; })) {}
+      emitters_hittable(!environment.black() || std::any_of(shading.begin(), shading.end(),
+                                                            [](const ObjectShading& sh) { return sh.emissive; })) {}
 
 PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, PixelSampler& sampler) {
   const Strategies use = strategies(c);

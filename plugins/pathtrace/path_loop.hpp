@@ -241,7 +241,7 @@ inline Strategies strategies(const PathContext& c) {
 }
 
 inline PixelSampler start_sample(const PathContext& c, const CameraRays& cam, int width, int height, std::size_t index,
-                          int sample, Vec3f& origin, Vec3f& dir) {
+                                 int sample, Vec3f& origin, Vec3f& dir) {
   PixelSampler sampler(c.settings.sampler, c.settings.seed, index, std::uint64_t(sample));
   const Vec2f j = sampler.camera_jitter();
   cam.ray(2 * (float(index % std::size_t(width)) + j.x()) / width - 1,
@@ -257,7 +257,7 @@ inline std::optional<LightSample> sample_light(const PathContext& c, const Surfa
 }
 
 inline void add_light(const PathContext& c, const SurfaceHit& hit, const LightSample& ls, const Vec3f& L, PathResult& r,
-               PendingShadow& shadow) {
+                      PendingShadow& shadow) {
   if (ls.shadowed) {
     ++r.shadow_rays;
     shadow.ray = std::isinf(ls.distance) ? EmbreeScene::Segment{c.traced.offset(hit, ls.wi), ls.wi, path_detail::kInf}
@@ -280,8 +280,8 @@ inline void add_environment(const PathContext& c, const PathVertex& v, Strategie
   if (depth == 0) r.albedo = c.environment.radiance(v.dir);
 }
 
-inline Vec3f arrive(const PathContext& c, Strategies use, const PathVertex& v, int depth, SurfaceHit& hit, PathResult& r,
-             float& wo_side) {
+inline Vec3f arrive(const PathContext& c, Strategies use, const PathVertex& v, int depth, SurfaceHit& hit,
+                    PathResult& r, float& wo_side) {
   const ObjectShading& sh = c.shading[std::size_t(hit.object)];
   // With a normal map, a direction on the other side of the geometric
   // surface than wo is cut (reflection only: it would pass through).
@@ -308,19 +308,21 @@ inline Vec3f arrive(const PathContext& c, Strategies use, const PathVertex& v, i
   return base;
 }
 
-inline bool scatter(const PathContext& c, const SurfaceHit& hit, float wo_side, const ObjectShading& sh, const Vec3f& base,
-             Strategies use, PixelSampler& sampler, PathVertex& v, PathResult& r) {
+inline bool scatter(const PathContext& c, const SurfaceHit& hit, float wo_side, const ObjectShading& sh,
+                    const Vec3f& base, Strategies use, PixelSampler& sampler, PathVertex& v, PathResult& r) {
   if (sh.lambert)
-    return path_detail::scatter_by(c, hit, wo_side, path_detail::LambertBsdf{hit.ns.dot(v.dir) > 0 ? Vec3f(-hit.ns) : hit.ns, base}, use,
-                      sampler, v, r);
+    return path_detail::scatter_by(c, hit, wo_side,
+                                   path_detail::LambertBsdf{hit.ns.dot(v.dir) > 0 ? Vec3f(-hit.ns) : hit.ns, base}, use,
+                                   sampler, v, r);
   SurfaceMaterial m = sh.material;
   m.base = base;
   const Frame frame(hit.ns);
-  return path_detail::scatter_by(c, hit, wo_side, path_detail::FramedBsdf{m, frame, frame.to_local(-v.dir)}, use, sampler, v, r);
+  return path_detail::scatter_by(c, hit, wo_side, path_detail::FramedBsdf{m, frame, frame.to_local(-v.dir)}, use,
+                                 sampler, v, r);
 }
 
 inline bool next_ray(const PathContext& c, const SurfaceHit& hit, int depth, PixelSampler& sampler, PathVertex& v,
-              Vec3f& origin) {
+                     Vec3f& origin) {
   v.prev_point = hit.p;
   // A path that can gather nothing more ends here: its throughput is zero
   // (e.g. red after green), or the next hit would be past the last bounce
