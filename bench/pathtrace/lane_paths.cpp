@@ -10,7 +10,6 @@ namespace loom::pathtrace::bench {
 
 namespace {
 
-constexpr int kLanes = 16;
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Four lanes of floats and of masks (-1 or 0), in GCC's vector extensions:
@@ -60,34 +59,6 @@ bool packets_match_single_rays(const EmbreeScene& traced) {
   for (const TracedObject& o : traced.objects())
     if (o.spheres) return false;
   return true;
-}
-
-// The valid lanes' rays of `packet`, as one packet or one ray per call.
-void intersect(bool as_packet, const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRayHit16& packet) {
-  if (as_packet) return rtcIntersect16(valid, scene, context, &packet);
-  for (int k = 0; k < kLanes; ++k) {
-    if (!valid[k]) continue;
-    RTCRayHit h;
-    h.ray = {packet.ray.org_x[k], packet.ray.org_y[k], packet.ray.org_z[k], packet.ray.tnear[k],
-             packet.ray.dir_x[k], packet.ray.dir_y[k], packet.ray.dir_z[k], packet.ray.time[k],
-             packet.ray.tfar[k],  packet.ray.mask[k],  packet.ray.id[k],    packet.ray.flags[k]};
-    h.hit.geomID = RTC_INVALID_GEOMETRY_ID, h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene, context, &h);
-    packet.ray.tfar[k] = h.ray.tfar;
-    packet.hit.Ng_x[k] = h.hit.Ng_x, packet.hit.Ng_y[k] = h.hit.Ng_y, packet.hit.Ng_z[k] = h.hit.Ng_z;
-    packet.hit.u[k] = h.hit.u, packet.hit.v[k] = h.hit.v;
-    packet.hit.geomID[k] = h.hit.geomID, packet.hit.primID[k] = h.hit.primID;
-  }
-}
-void occluded(bool as_packet, const int* valid, RTCScene scene, RTCIntersectContext* context, RTCRay16& rays) {
-  if (as_packet) return rtcOccluded16(valid, scene, context, &rays);
-  for (int k = 0; k < kLanes; ++k) {
-    if (!valid[k]) continue;
-    RTCRay r{rays.org_x[k], rays.org_y[k], rays.org_z[k], rays.tnear[k], rays.dir_x[k], rays.dir_y[k],
-             rays.dir_z[k], rays.time[k],  rays.tfar[k],  rays.mask[k],  rays.id[k],    rays.flags[k]};
-    rtcOccluded1(scene, context, &r);
-    rays.tfar[k] = r.tfar;
-  }
 }
 
 // A lane's path, as path_loop.hpp's steps keep it.
@@ -168,6 +139,42 @@ void lambert_bounce(LambertLanes& l, bool mis) {
 
 }  // namespace
 
+int trace(bool as_packet, RTCScene scene, RTCIntersectContext* context, const int* valid, RTCRayHit16& packet) {
+  for (int k = 0; k < kLanes; ++k)
+    packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID, packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+  if (as_packet) rtcIntersect16(valid, scene, context, &packet);
+  for (int k = 0; k < kLanes && !as_packet; ++k) {
+    if (!valid[k]) continue;
+    RTCRayHit h;
+    h.ray = {packet.ray.org_x[k], packet.ray.org_y[k], packet.ray.org_z[k], packet.ray.tnear[k],
+             packet.ray.dir_x[k], packet.ray.dir_y[k], packet.ray.dir_z[k], packet.ray.time[k],
+             packet.ray.tfar[k],  packet.ray.mask[k],  packet.ray.id[k],    packet.ray.flags[k]};
+    h.hit.geomID = RTC_INVALID_GEOMETRY_ID, h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, context, &h);
+    packet.ray.tfar[k] = h.ray.tfar;
+    packet.hit.Ng_x[k] = h.hit.Ng_x, packet.hit.Ng_y[k] = h.hit.Ng_y, packet.hit.Ng_z[k] = h.hit.Ng_z;
+    packet.hit.u[k] = h.hit.u, packet.hit.v[k] = h.hit.v;
+    packet.hit.geomID[k] = h.hit.geomID, packet.hit.primID[k] = h.hit.primID;
+  }
+  int found = 0;
+  for (int k = 0; k < kLanes; ++k) found += valid[k] && packet.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+  return found;
+}
+
+int trace(bool as_packet, RTCScene scene, RTCIntersectContext* context, const int* valid, RTCRay16& rays) {
+  if (as_packet) rtcOccluded16(valid, scene, context, &rays);
+  for (int k = 0; k < kLanes && !as_packet; ++k) {
+    if (!valid[k]) continue;
+    RTCRay r{rays.org_x[k], rays.org_y[k], rays.org_z[k], rays.tnear[k], rays.dir_x[k], rays.dir_y[k],
+             rays.dir_z[k], rays.time[k],  rays.tfar[k],  rays.mask[k],  rays.id[k],    rays.flags[k]};
+    rtcOccluded1(scene, context, &r);
+    rays.tfar[k] = r.tfar;
+  }
+  int found = 0;
+  for (int k = 0; k < kLanes; ++k) found += valid[k] && rays.tfar[k] < 0;
+  return found;
+}
+
 void trace_lanes(const PathContext& c, const CameraRays& cam, int width, int height, const SampleJob* jobs,
                  std::size_t n, PathResult* results) {
   const Strategies use = strategies(c);
@@ -214,12 +221,11 @@ void trace_lanes(const PathContext& c, const CameraRays& cam, int width, int hei
       packet.ray.dir_z[k] = lane.v.dir.z(), packet.ray.time[k] = 0;
       packet.ray.tfar[k] = kInf, packet.ray.mask[k] = EmbreeScene::kCameraMask;
       packet.ray.id[k] = 0, packet.ray.flags[k] = 0;
-      packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID, packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
       if (!lane.live) continue;
       ++lane.r.rays;
       lane.sampler->start_bounce(lane.depth, light_point);
     }
-    intersect(packets, valid, scene, &context, packet);
+    trace(packets, scene, &context, valid, packet);
     // Each hit, lane by lane: what the path arrived at, and either the
     // scalar bounce (other materials, normal maps) or what the Lambertian
     // bounce in lanes reads.
@@ -287,7 +293,7 @@ void trace_lanes(const PathContext& c, const CameraRays& cam, int width, int hei
       shadows.tnear[k] = 0, shadows.time[k] = 0, shadows.tfar[k] = s.tmax;
       shadows.mask[k] = EmbreeScene::kShadowMask, shadows.id[k] = 0, shadows.flags[k] = 0;
     }
-    occluded(packets, shadowed, scene, &context, shadows);
+    trace(packets, scene, &context, shadowed, shadows);
     // The bounce's direction, and the next ray. (scatter's test of the
     // direction against wo's side cuts nothing here: these lanes have no
     // normal map, wo_side is 0.)

@@ -18,6 +18,16 @@
 
 namespace loom::pathtrace::bench {
 
+constexpr int kLanes = 16;
+
+// A packet's valid rays traced as one packet (rtcIntersect16) or one ray per
+// call (rtcIntersect1, results written back into the packet); its hits'
+// geometry ids are reset first. Returns how many found a surface.
+int trace(bool as_packet, RTCScene scene, RTCIntersectContext* context, const int* valid, RTCRayHit16& packet);
+// The same for shadow rays (rtcOccluded16 / rtcOccluded1); returns how many
+// found a blocker.
+int trace(bool as_packet, RTCScene scene, RTCIntersectContext* context, const int* valid, RTCRay16& rays);
+
 // One sample to trace: the pixel's index in the image and the sample's number.
 struct SampleJob {
   std::uint32_t pixel;

@@ -29,8 +29,6 @@ namespace loom::pathtrace::bench {
 
 namespace {
 
-constexpr int kLanes = 16;
-
 // 16 paths in flight, each lane one path, structure of arrays. The shading
 // loop over the lanes has no branches, so GCC turns it into SSE2 over 4 × 4
 // lanes; the gathers (albedo, PathTrace's pixel sampler per lane) are scalar.
@@ -73,45 +71,6 @@ struct Packet {
   bool shadow;
   int found;
 };
-
-// A packet's valid rays traced, as one packet or one ray per call
-// (rtcIntersect1, results written back into the packet). Returns how many
-// found a surface.
-int trace(bool packet, RTCScene scene, RTCIntersectContext* context, const int* valid, RTCRayHit16* p) {
-  for (int k = 0; k < kLanes; ++k)
-    p->hit.geomID[k] = RTC_INVALID_GEOMETRY_ID, p->hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-  if (packet) rtcIntersect16(valid, scene, context, p);
-  for (int k = 0; k < kLanes && !packet; ++k) {
-    if (!valid[k]) continue;
-    RTCRayHit h;
-    h.ray = {p->ray.org_x[k], p->ray.org_y[k], p->ray.org_z[k], p->ray.tnear[k], p->ray.dir_x[k], p->ray.dir_y[k],
-             p->ray.dir_z[k], p->ray.time[k],  p->ray.tfar[k],  p->ray.mask[k],  p->ray.id[k],    p->ray.flags[k]};
-    h.hit.geomID = RTC_INVALID_GEOMETRY_ID, h.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(scene, context, &h);
-    p->ray.tfar[k] = h.ray.tfar;
-    p->hit.Ng_x[k] = h.hit.Ng_x, p->hit.Ng_y[k] = h.hit.Ng_y, p->hit.Ng_z[k] = h.hit.Ng_z;
-    p->hit.u[k] = h.hit.u, p->hit.v[k] = h.hit.v;
-    p->hit.geomID[k] = h.hit.geomID, p->hit.primID[k] = h.hit.primID;
-  }
-  int found = 0;
-  for (int k = 0; k < kLanes; ++k) found += valid[k] && p->hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
-  return found;
-}
-// The same for shadow rays (rtcOccluded16 / rtcOccluded1); returns how many
-// found a blocker.
-int trace(bool packet, RTCScene scene, RTCIntersectContext* context, const int* valid, RTCRay16* p) {
-  if (packet) rtcOccluded16(valid, scene, context, p);
-  for (int k = 0; k < kLanes && !packet; ++k) {
-    if (!valid[k]) continue;
-    RTCRay r{p->org_x[k], p->org_y[k], p->org_z[k], p->tnear[k], p->dir_x[k], p->dir_y[k],
-             p->dir_z[k], p->time[k],  p->tfar[k],  p->mask[k],  p->id[k],    p->flags[k]};
-    rtcOccluded1(scene, context, &r);
-    p->tfar[k] = r.tfar;
-  }
-  int found = 0;
-  for (int k = 0; k < kLanes; ++k) found += valid[k] && p->tfar[k] < 0;
-  return found;
-}
 
 // A packet as the loop hands it to Embree, kept for the replay; returns where
 // its count of hits or blockers goes.
@@ -325,7 +284,7 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
       rh.ray.tfar[k] = INFINITY, rh.ray.mask[k] = EmbreeScene::kCameraMask, rh.ray.id[k] = 0, rh.ray.flags[k] = 0;
     }
     int* hits = record ? record_packet(*record, L.live, rh.ray, false) : nullptr;
-    const int found_surfaces = trace(s.packets, scene, &context, L.live, &rh);
+    const int found_surfaces = trace(s.packets, scene, &context, L.live, rh);
     if (hits) *hits = found_surfaces;
     for (int k = 0; k < kLanes; ++k) rays += L.live[k] & 1;
     if (s.lights)
@@ -338,7 +297,7 @@ std::uint64_t render_lanes(const Setup& s, int begin, int end, float* film, std:
       shadow.tfar[k] = S.stmax[k], shadow.mask[k] = EmbreeScene::kShadowMask, shadow.id[k] = 0, shadow.flags[k] = 0;
     }
     int* blockers = record ? record_packet(*record, S.shadow, shadow, true) : nullptr;
-    const int found_blockers = trace(s.packets, scene, &context, S.shadow, &shadow);
+    const int found_blockers = trace(s.packets, scene, &context, S.shadow, shadow);
     if (blockers) *blockers = found_blockers;
     for (int k = 0; k < kLanes; ++k) rays += S.shadow[k] & 1;
     // Unblocked contributions into the film (scattered by pixel).
@@ -484,11 +443,11 @@ void bench_lanes(bool quick) {
             const Packet& p = recorded[i];
             if (p.shadow) {
               RTCRay16 ray = p.rays;
-              found += std::uint64_t(trace(packets, rtc, &context, p.valid, &ray));
+              found += std::uint64_t(trace(packets, rtc, &context, p.valid, ray));
             } else {
               RTCRayHit16 h;
               h.ray = p.rays;
-              found += std::uint64_t(trace(packets, rtc, &context, p.valid, &h));
+              found += std::uint64_t(trace(packets, rtc, &context, p.valid, h));
             }
           }
           return found;
