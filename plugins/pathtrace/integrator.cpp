@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <limits>
-#include <optional>
 #include <vector>
 
 #include <tbb/blocked_range.h>
