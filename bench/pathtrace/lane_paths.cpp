@@ -2,15 +2,12 @@
 
 #include <emmintrin.h>
 
-#include <cmath>
-#include <limits>
 #include <optional>
 
 namespace loom::pathtrace::bench {
 
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
 
 // Four lanes of floats and of masks (-1 or 0), in GCC's vector extensions:
 // +, -, *, / and comparisons work lane by lane, as SSE2 instructions.
@@ -200,10 +197,11 @@ void trace_lanes(const PathContext& c, const CameraRays& cam, int width, int hei
     for (Lane& lane : lanes) {
       if (!lane.live && next < n) {
         const SampleJob job = jobs[next];
+        PathVertex v;
+        lane.sampler.emplace(start_sample(c, cam, width, height, job.pixel, job.sample, lane.origin, v.dir));
+        v.prev_point = lane.origin;
+        lane.v = v;
         lane.r = PathResult{};
-        lane.v.beta = Vec3f::Ones(), lane.v.prev_pdf = 0, lane.v.prev_delta = true;  // as PathVertex starts
-        lane.sampler.emplace(start_sample(c, cam, width, height, job.pixel, job.sample, lane.origin, lane.v.dir));
-        lane.v.prev_point = lane.origin;
         lane.job = next++;
         lane.depth = 0;
         lane.live = true;

@@ -55,7 +55,7 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, PixelSample
   for (int depth = 0;; ++depth) {
     ++r.rays;
     sampler.start_bounce(depth, use.nee && c.lights.reads_point());
-    if (!c.traced.intersect(origin, v.dir, path_detail::kInf, &hit, depth == 0)) {
+    if (!c.traced.intersect(origin, v.dir, kInf, &hit, depth == 0)) {
       add_environment(c, v, use, depth, r);
       break;
     }

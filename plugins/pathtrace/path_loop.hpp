@@ -133,9 +133,10 @@ PathResult trace_path(const PathContext& c, Vec3f origin, Vec3f dir, PixelSample
 
 // The steps' definitions, inline: both loops take them at every bounce.
 
-namespace path_detail {
-
+// The far end of a ray that has none (camera and bounce rays, distant lights).
 constexpr float kInf = std::numeric_limits<float>::infinity();
+
+namespace path_detail {
 
 // A scattered direction: weight = f cos θ / pdf.
 struct Scattered {
@@ -260,7 +261,7 @@ inline void add_light(const PathContext& c, const SurfaceHit& hit, const LightSa
                       PendingShadow& shadow) {
   if (ls.shadowed) {
     ++r.shadow_rays;
-    shadow.ray = std::isinf(ls.distance) ? EmbreeScene::Segment{c.traced.offset(hit, ls.wi), ls.wi, path_detail::kInf}
+    shadow.ray = std::isinf(ls.distance) ? EmbreeScene::Segment{c.traced.offset(hit, ls.wi), ls.wi, kInf}
                                          : c.traced.shadow_segment(hit, ls.point);
     shadow.L = L;
     shadow.pending = shadow.ray.tmax > 0;  // else nothing lies between: unblocked
