@@ -8,7 +8,6 @@ namespace loom::pathtrace::bench {
 
 namespace {
 
-
 // Four lanes of floats and of masks (-1 or 0), in GCC's vector extensions:
 // +, -, *, / and comparisons work lane by lane, as SSE2 instructions.
 using F4 = float __attribute__((vector_size(16)));
